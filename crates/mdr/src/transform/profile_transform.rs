@@ -1,0 +1,124 @@
+use halfspace_numerics::{diff::derivative_uniform, Backend, PowerSum, SquaredGrid};
+
+use super::{check_fits, check_len};
+use crate::{Material, MdrError, Profile};
+
+/// Profile transform `f(r) → g(x)` of the MDR (paper Eq. 1, discretized as Eq. 7; spec §1):
+///
+/// `Ĝ_i = h^{3/2} S^{1/2}_i[f̂']`, `g_i = 2 √ξ_i D[Ĝ]_i`,
+///
+/// with `S` the causal trapezoid sum of spec §0.3 and `D` the differences of §0.2. Written for the
+/// grading exponent `k` (Eq. 23: `h^{(3+k)/2} S^{(1+k)/2}`, `g_i = 2/(1+k) ξ_i^{(1−k)/2} D[Ĝ]_i`), of
+/// which the homogeneous medium is `k = 0`.
+pub struct ProfileTransform {
+    k: f64,
+    sum: PowerSum,
+    big_g: Vec<f64>,
+    dg: Vec<f64>,
+    slope: Vec<f64>,
+    samples: Vec<f64>,
+}
+
+impl ProfileTransform {
+    /// Builds the transform for grids of up to `capacity` nodes.
+    pub fn new(capacity: usize, material: &Material, backend: Backend) -> Result<Self, MdrError> {
+        let k = material.grading_exponent();
+        Ok(Self {
+            k,
+            sum: PowerSum::new(capacity, 0.5 * (1.0 + k), backend)?,
+            big_g: vec![0.0; capacity],
+            dg: vec![0.0; capacity],
+            slope: vec![0.0; capacity],
+            samples: vec![0.0; capacity],
+        })
+    }
+
+    /// Largest grid accepted.
+    pub fn capacity(&self) -> usize {
+        self.sum.capacity()
+    }
+
+    /// Eq. 7 (Eq. 23 for `k ≠ 0`): `g` on every node from `f̂' = df/dρ` on every node.
+    pub fn apply(
+        &mut self,
+        grid: &SquaredGrid,
+        f_hat_slope: &[f64],
+        g: &mut [f64],
+    ) -> Result<(), MdrError> {
+        check_fits("profile transform grid", grid, self.capacity())?;
+        let n = grid.len();
+        check_len("profile slope f̂'", n, f_hat_slope.len())?;
+        check_len("equivalent profile g", n, g.len())?;
+        let h = grid.step();
+        let big_g = &mut self.big_g[..n];
+        self.sum.causal(f_hat_slope, big_g)?;
+        let scale = h.powf(0.5 * (3.0 + self.k));
+        big_g.iter_mut().for_each(|v| *v *= scale);
+        let dg = &mut self.dg[..n];
+        derivative_uniform(big_g, h, dg)?;
+        let factor = 2.0 / (1.0 + self.k);
+        let power = 0.5 * (1.0 - self.k);
+        for (i, (gi, di)) in g.iter_mut().zip(dg.iter()).enumerate() {
+            *gi = if i == 0 {
+                0.0
+            } else {
+                factor * grid.squared(i).powf(power) * di
+            };
+        }
+        Ok(())
+    }
+
+    /// `g(x)` of a profile on every node, by Eq. 7 with two closed-form splits (spec §7 P4, P5):
+    /// `f = s₀ r + c₀ r² + f_rest`, where `s₀ = f'(0⁺)` and `c₀ = f̂'_rem(0)`, so that
+    /// `g = (π/2) s₀ |x| + 2 c₀ x² + Eq.7[f_rest]`. The cone part makes `f̂'` bounded (P5); the
+    /// parabolic part removes the `ξ^{3/2}` behaviour of `Ĝ` at the origin that makes `D[Ĝ]` first
+    /// order there (P4), so a paraboloid is transformed exactly and smooth profiles lose the
+    /// `O(h)` error at the first nodes. Returns the split `(s₀, c₀)`.
+    /// A flat punch has `g = 0` inside its radius and `+∞` beyond (a wall).
+    pub fn profile_to_equivalent(
+        &mut self,
+        profile: &Profile,
+        grid: &SquaredGrid,
+        g: &mut [f64],
+    ) -> Result<EquivalentSplit, MdrError> {
+        check_fits("profile transform grid", grid, self.capacity())?;
+        let n = grid.len();
+        check_len("equivalent profile g", n, g.len())?;
+        if let Profile::FlatPunch { radius } = *profile {
+            for (i, gi) in g.iter_mut().enumerate() {
+                *gi = if grid.coordinate(i) <= radius * (1.0 + 1e-12) {
+                    0.0
+                } else {
+                    f64::INFINITY
+                };
+            }
+            return Ok(EquivalentSplit::default());
+        }
+        let mut slope = std::mem::take(&mut self.slope);
+        let result = profile
+            .squared_slope(grid, &mut slope[..n], &mut self.samples[..n])
+            .and_then(|_| {
+                let c0 = slope[0];
+                slope[..n].iter_mut().for_each(|v| *v -= c0);
+                self.apply(grid, &slope[..n], g).map(|_| c0)
+            });
+        self.slope = slope;
+        let parabolic = result?;
+        let conical = profile.conical_slope();
+        let kappa1 = crate::analytic::power_law_factor(1.0);
+        for (i, gi) in g.iter_mut().enumerate() {
+            *gi += kappa1 * conical * grid.coordinate(i) + 2.0 * parabolic * grid.squared(i);
+        }
+        Ok(EquivalentSplit { conical, parabolic })
+    }
+}
+
+/// The closed-form parts of `f = s₀ r + c₀ r² + f_rest` split off by
+/// [`ProfileTransform::profile_to_equivalent`].
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct EquivalentSplit {
+    /// `s₀ = f'(0⁺)`, transformed to `(π/2) s₀ |x|`.
+    pub conical: f64,
+    /// `c₀`, transformed to `2 c₀ x²`.
+    pub parabolic: f64,
+}

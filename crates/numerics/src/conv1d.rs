@@ -1,0 +1,314 @@
+//! Causal linear convolution with a fixed kernel, `y_i = Σ_{j=0}^{i} x_j b_{i−j}` for
+//! `i < m`, where `m = x.len()` may be any length up to the capacity `n` the operator was built
+//! for (the first `m` outputs of a causal convolution depend only on the first `m` inputs).
+//!
+//! Two backends evaluate the *same* sum (design.md: they agree to rounding):
+//! * [`Backend::Fft`]: zero-padded to a 5-smooth length `P ≥ 2n − 1` (spec §7 P7: without the
+//!   padding the product is circular), kernel spectrum computed once, `apply` allocation-free;
+//!   O(P log P).
+//! * [`Backend::Mvm`]: the lower-triangular Toeplitz matrix–vector product, O(m²), with four
+//!   independent accumulators per row.
+
+use std::sync::Arc;
+
+use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
+use rustfft::num_complex::Complex;
+
+use crate::NumericsError;
+
+/// How a convolution sum is evaluated. Both give the same numbers to rounding.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Backend {
+    /// O(N log N) zero-padded real FFT.
+    Fft,
+    /// O(N²) matrix–vector product.
+    Mvm,
+}
+
+impl Backend {
+    /// `"fft"` or `"mvm"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Backend::Fft => "fft",
+            Backend::Mvm => "mvm",
+        }
+    }
+}
+
+/// Smallest `P ≥ min` of the form `2^a 3^b 5^c` (fast for rustfft's mixed-radix algorithms).
+pub fn fast_length(min: usize) -> usize {
+    let min = min.max(1);
+    let mut best = usize::MAX;
+    let mut p2 = 1usize;
+    while p2 < best {
+        let mut p3 = p2;
+        while p3 < best {
+            let mut p5 = p3;
+            while p5 < min {
+                p5 *= 5;
+            }
+            best = best.min(p5);
+            p3 *= 3;
+        }
+        p2 *= 2;
+    }
+    best
+}
+
+struct FftPlan {
+    forward: Arc<dyn RealToComplex<f64>>,
+    inverse: Arc<dyn ComplexToReal<f64>>,
+    /// FFT(b) / P: the normalization of the inverse transform is folded in.
+    spectrum: Vec<Complex<f64>>,
+    time: Vec<f64>,
+    freq: Vec<Complex<f64>>,
+    scratch: Vec<Complex<f64>>,
+}
+
+enum Engine {
+    Fft(Box<FftPlan>),
+    Mvm,
+}
+
+/// Causal linear convolution with a fixed kernel `b_0 … b_{n−1}` (see the module docs).
+/// Built once (plans and kernel spectrum); [`ToeplitzConvolution::apply`] does not allocate.
+pub struct ToeplitzConvolution {
+    kernel: Vec<f64>,
+    engine: Engine,
+}
+
+impl ToeplitzConvolution {
+    /// Builds the operator for the kernel `b` (its length is the capacity).
+    pub fn new(kernel: Vec<f64>, backend: Backend) -> Result<Self, NumericsError> {
+        if kernel.is_empty() {
+            return Err(NumericsError::TooFewNodes {
+                what: "a convolution kernel",
+                min: 1,
+                n: 0,
+            });
+        }
+        if let Some(&bad) = kernel.iter().find(|v| !v.is_finite()) {
+            return Err(NumericsError::InvalidParameter {
+                name: "convolution kernel entry",
+                value: bad,
+                allowed: "finite",
+            });
+        }
+        let engine = match backend {
+            Backend::Mvm => Engine::Mvm,
+            Backend::Fft => Engine::Fft(Box::new(FftPlan::new(&kernel))),
+        };
+        Ok(Self { kernel, engine })
+    }
+
+    /// Largest input length accepted.
+    pub fn capacity(&self) -> usize {
+        self.kernel.len()
+    }
+
+    /// The kernel `b`.
+    pub fn kernel(&self) -> &[f64] {
+        &self.kernel
+    }
+
+    /// Which backend evaluates the sum.
+    pub fn backend(&self) -> Backend {
+        match self.engine {
+            Engine::Fft(_) => Backend::Fft,
+            Engine::Mvm => Backend::Mvm,
+        }
+    }
+
+    /// Padded FFT length (`None` for the MVM backend).
+    pub fn padded_length(&self) -> Option<usize> {
+        match &self.engine {
+            Engine::Fft(plan) => Some(plan.time.len()),
+            Engine::Mvm => None,
+        }
+    }
+
+    /// `y_i = Σ_{j=0}^{i} x_j b_{i−j}`, `i = 0..m−1`, with `m = x.len() = y.len() ≤ capacity`.
+    pub fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), NumericsError> {
+        let m = x.len();
+        if y.len() != m {
+            return Err(NumericsError::LengthMismatch {
+                what: "convolution output",
+                expected: m,
+                got: y.len(),
+            });
+        }
+        if m > self.kernel.len() {
+            return Err(NumericsError::LengthMismatch {
+                what: "convolution input (at most the capacity)",
+                expected: self.kernel.len(),
+                got: m,
+            });
+        }
+        match &mut self.engine {
+            Engine::Mvm => toeplitz_lower_mvm(&self.kernel, x, y),
+            Engine::Fft(plan) => plan.apply(x, y),
+        }
+        Ok(())
+    }
+}
+
+impl FftPlan {
+    fn new(kernel: &[f64]) -> Self {
+        let n = kernel.len();
+        let p = fast_length(2 * n - 1);
+        let mut planner = RealFftPlanner::<f64>::new();
+        let forward = planner.plan_fft_forward(p);
+        let inverse = planner.plan_fft_inverse(p);
+        let mut time = vec![0.0; p];
+        time[..n].copy_from_slice(kernel);
+        let mut spectrum = forward.make_output_vec();
+        let scratch_len = forward.get_scratch_len().max(inverse.get_scratch_len());
+        let mut scratch = vec![Complex::new(0.0, 0.0); scratch_len];
+        forward
+            .process_with_scratch(&mut time, &mut spectrum, &mut scratch)
+            .expect("buffer lengths come from the plan");
+        let scale = 1.0 / p as f64;
+        for s in &mut spectrum {
+            *s *= scale;
+        }
+        let freq = forward.make_output_vec();
+        Self {
+            forward,
+            inverse,
+            spectrum,
+            time,
+            freq,
+            scratch,
+        }
+    }
+
+    fn apply(&mut self, x: &[f64], y: &mut [f64]) {
+        let m = x.len();
+        self.time[..m].copy_from_slice(x);
+        self.time[m..].fill(0.0);
+        self.forward
+            .process_with_scratch(&mut self.time, &mut self.freq, &mut self.scratch)
+            .expect("buffer lengths come from the plan");
+        for (f, s) in self.freq.iter_mut().zip(&self.spectrum) {
+            *f *= *s;
+        }
+        // The spectrum of a real signal has real DC (and Nyquist) bins; clear the rounding noise
+        // there so the inverse transform accepts it.
+        self.freq[0].im = 0.0;
+        if self.time.len() % 2 == 0 {
+            let last = self.freq.len() - 1;
+            self.freq[last].im = 0.0;
+        }
+        self.inverse
+            .process_with_scratch(&mut self.freq, &mut self.time, &mut self.scratch)
+            .expect("buffer lengths come from the plan");
+        y.copy_from_slice(&self.time[..m]);
+    }
+}
+
+/// `y_i = Σ_{j≤i} x_j b_{i−j}`: the lower-triangular Toeplitz product, O(m²).
+fn toeplitz_lower_mvm(b: &[f64], x: &[f64], y: &mut [f64]) {
+    for (i, yi) in y.iter_mut().enumerate() {
+        // Σ_{j=0}^{i} x_j b_{i-j}: pair x[0..=i] with b[0..=i] reversed.
+        let xs = &x[..=i];
+        let bs = &b[..=i];
+        let mut acc = [0.0f64; 4];
+        let chunks = xs.len() / 4;
+        for c in 0..chunks {
+            let j = 4 * c;
+            acc[0] += xs[j] * bs[i - j];
+            acc[1] += xs[j + 1] * bs[i - j - 1];
+            acc[2] += xs[j + 2] * bs[i - j - 2];
+            acc[3] += xs[j + 3] * bs[i - j - 3];
+        }
+        let mut s = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+        for j in 4 * chunks..=i {
+            s += xs[j] * bs[i - j];
+        }
+        *yi = s;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The obviously-correct control: the defining double loop.
+    fn naive(b: &[f64], x: &[f64]) -> Vec<f64> {
+        (0..x.len())
+            .map(|i| (0..=i).map(|j| x[j] * b[i - j]).sum())
+            .collect()
+    }
+
+    fn lcg(seed: u64, n: usize) -> Vec<f64> {
+        let mut s = seed;
+        (0..n)
+            .map(|_| {
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                ((s >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+            })
+            .collect()
+    }
+
+    #[test]
+    fn fast_length_is_five_smooth_and_minimal() {
+        assert_eq!(fast_length(1), 1);
+        assert_eq!(fast_length(7), 8);
+        assert_eq!(fast_length(4001), 4050);
+        assert_eq!(fast_length(17), 18);
+        for min in 1..2000 {
+            let p = fast_length(min);
+            assert!(p >= min);
+            let mut q = p;
+            for f in [2, 3, 5] {
+                while q % f == 0 {
+                    q /= f;
+                }
+            }
+            assert_eq!(q, 1, "{p} is not 5-smooth");
+        }
+    }
+
+    #[test]
+    fn both_backends_match_the_naive_sum_with_fixed_seeds() {
+        for (seed, n) in [(1u64, 1usize), (2, 2), (3, 7), (4, 64), (5, 257), (6, 1000)] {
+            let b = lcg(seed, n);
+            let x = lcg(seed + 100, n);
+            let want = naive(&b, &x);
+            let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1.0);
+            for backend in [Backend::Fft, Backend::Mvm] {
+                let mut op = ToeplitzConvolution::new(b.clone(), backend).unwrap();
+                let mut y = vec![0.0; n];
+                op.apply(&x, &mut y).unwrap();
+                for i in 0..n {
+                    assert!(
+                        (y[i] - want[i]).abs() <= 1e-13 * scale * (n as f64).sqrt(),
+                        "{backend:?} n={n} i={i}: {} vs {}",
+                        y[i],
+                        want[i]
+                    );
+                }
+                // A shorter input reuses the same plan: the first m outputs are unchanged.
+                let m = n / 2 + 1;
+                let mut ys = vec![0.0; m];
+                op.apply(&x[..m], &mut ys).unwrap();
+                for i in 0..m {
+                    assert!((ys[i] - want[i]).abs() <= 1e-13 * scale * (n as f64).sqrt());
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn bad_lengths_and_kernels_are_errors() {
+        let mut op = ToeplitzConvolution::new(vec![1.0; 4], Backend::Fft).unwrap();
+        let mut y = vec![0.0; 5];
+        assert!(op.apply(&[1.0; 5], &mut y).is_err());
+        let mut y = vec![0.0; 3];
+        assert!(op.apply(&[1.0; 2], &mut y).is_err());
+        assert!(ToeplitzConvolution::new(vec![], Backend::Mvm).is_err());
+        assert!(ToeplitzConvolution::new(vec![1.0, f64::NAN], Backend::Fft).is_err());
+    }
+}

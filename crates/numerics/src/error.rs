@@ -1,0 +1,36 @@
+use thiserror::Error;
+
+/// Errors of the numerical engine. Every variant names the offending value and what is allowed.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum NumericsError {
+    /// A length does not match what the operator was built for.
+    #[error("{what}: expected length {expected}, got {got}")]
+    LengthMismatch {
+        /// Which array.
+        what: &'static str,
+        /// Length the operator needs.
+        expected: usize,
+        /// Length that was passed.
+        got: usize,
+    },
+    /// Too few nodes for the requested operation.
+    #[error("{what} needs at least {min} nodes, got {n}")]
+    TooFewNodes {
+        /// Which operation.
+        what: &'static str,
+        /// Minimum number of nodes.
+        min: usize,
+        /// Number passed.
+        n: usize,
+    },
+    /// A scalar parameter is out of its allowed range or not finite.
+    #[error("{name} must be {allowed}, got {value}")]
+    InvalidParameter {
+        /// Parameter name.
+        name: &'static str,
+        /// Value passed.
+        value: f64,
+        /// Allowed range in words.
+        allowed: &'static str,
+    },
+}

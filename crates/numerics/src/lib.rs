@@ -1,0 +1,24 @@
+//! Shared numerical engine of halfspace.
+//!
+//! * [`conv1d`]: zero-padded linear convolution by real FFT, planned once and applied without
+//!   allocating, with a dense (O(N²)) twin that evaluates the same sum.
+//! * [`power_sum`]: the causal and anti-causal trapezoid sums with the kernel `m^γ` of
+//!   spec `mdr.md` §0.3, the single engine behind every MDR transform.
+//! * [`grid`]: the grid uniform in the square of the coordinate (spec §0.1, paper Eq. 6).
+//! * [`diff`]: second-order finite differences, one-sided at both ends (spec §0.2).
+//! * [`quad`]: trapezoid rules on uniform grids.
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod conv1d;
+pub mod diff;
+mod error;
+pub mod grid;
+pub mod power_sum;
+pub mod quad;
+pub mod special;
+
+pub use conv1d::{Backend, ToeplitzConvolution};
+pub use error::NumericsError;
+pub use grid::SquaredGrid;
+pub use power_sum::PowerSum;

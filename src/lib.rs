@@ -1,0 +1,6 @@
+//! halfspace: contact mechanics of elastic half-spaces.
+//!
+//! Facade over the workspace crates; see `docs/architecture.md`.
+pub use halfspace_data as data;
+pub use halfspace_mdr as mdr;
+pub use halfspace_numerics as numerics;
