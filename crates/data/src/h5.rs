@@ -1,0 +1,88 @@
+use std::path::Path;
+
+use hdf5::types::VarLenUnicode;
+
+use crate::{AttrValue, DataError, Record};
+
+fn h5err(path: &Path) -> impl Fn(hdf5::Error) -> DataError + '_ {
+    move |e| DataError::Hdf5 {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    }
+}
+
+pub(crate) fn write(path: &Path, record: &Record) -> Result<(), DataError> {
+    let e = h5err(path);
+    let file = hdf5::File::create(path).map_err(&e)?;
+    for (name, values) in &record.arrays {
+        file.new_dataset_builder()
+            .with_data(values.as_slice())
+            .create(name.as_str())
+            .map_err(&e)?;
+    }
+    for (name, value) in &record.attributes {
+        match value {
+            AttrValue::Float(v) => file
+                .new_attr::<f64>()
+                .create(name.as_str())
+                .and_then(|a| a.write_scalar(v)),
+            AttrValue::Int(v) => file
+                .new_attr::<i64>()
+                .create(name.as_str())
+                .and_then(|a| a.write_scalar(v)),
+            AttrValue::Text(v) => {
+                let text: VarLenUnicode = v.parse().map_err(|err| DataError::InvalidContent {
+                    path: path.to_path_buf(),
+                    message: format!("attribute '{name}' is not storable text: {err}"),
+                })?;
+                file.new_attr::<VarLenUnicode>()
+                    .create(name.as_str())
+                    .and_then(|a| a.write_scalar(&text))
+            }
+        }
+        .map_err(&e)?;
+    }
+    file.flush().map_err(&e)?;
+    file.close().map_err(&e)
+}
+
+pub(crate) fn read(path: &Path) -> Result<Record, DataError> {
+    let e = h5err(path);
+    if !path.exists() {
+        return Err(DataError::Io {
+            path: path.to_path_buf(),
+            source: std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"),
+        });
+    }
+    let file = hdf5::File::open(path).map_err(&e)?;
+    let mut record = Record::default();
+    for ds in file.datasets().map_err(&e)? {
+        let name = ds.name().trim_start_matches('/').to_string();
+        if ds.ndim() != 1 {
+            return Err(DataError::WrongShape {
+                path: path.to_path_buf(),
+                name,
+                expected: "1 dimension".into(),
+                got: ds.shape(),
+            });
+        }
+        let values: Vec<f64> = ds.read_raw::<f64>().map_err(|err| DataError::Format {
+            path: path.to_path_buf(),
+            message: format!("dataset '{name}' is not readable as float64: {err}"),
+        })?;
+        record.arrays.push((name, values));
+    }
+    for name in file.attr_names().map_err(&e)? {
+        let attr = file.attr(&name).map_err(&e)?;
+        let dtype = attr.dtype().map_err(&e)?;
+        let value = if dtype.is::<f64>() {
+            AttrValue::Float(attr.read_scalar::<f64>().map_err(&e)?)
+        } else if dtype.is::<i64>() {
+            AttrValue::Int(attr.read_scalar::<i64>().map_err(&e)?)
+        } else {
+            AttrValue::Text(attr.read_scalar::<VarLenUnicode>().map_err(&e)?.to_string())
+        };
+        record.attributes.push((name, value));
+    }
+    Ok(record)
+}

@@ -1,0 +1,87 @@
+use std::path::Path;
+
+use crate::DataError;
+
+/// A metadata value.
+#[derive(Debug, Clone, PartialEq)]
+pub enum AttrValue {
+    /// A real number.
+    Float(f64),
+    /// An integer.
+    Int(i64),
+    /// Text.
+    Text(String),
+}
+
+impl AttrValue {
+    /// As JSON.
+    pub fn to_json(&self) -> serde_json::Value {
+        match self {
+            AttrValue::Float(v) => serde_json::json!(v),
+            AttrValue::Int(v) => serde_json::json!(v),
+            AttrValue::Text(v) => serde_json::json!(v),
+        }
+    }
+}
+
+/// Named 1D `f64` arrays with named metadata: what the CLI writes and the fixtures hold.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Record {
+    /// `(name, values)`, in order.
+    pub arrays: Vec<(String, Vec<f64>)>,
+    /// `(name, value)`, in order.
+    pub attributes: Vec<(String, AttrValue)>,
+}
+
+impl Record {
+    /// Adds an array.
+    pub fn array(mut self, name: &str, values: Vec<f64>) -> Self {
+        self.arrays.push((name.to_string(), values));
+        self
+    }
+
+    /// Adds a metadata entry.
+    pub fn attr(mut self, name: &str, value: AttrValue) -> Self {
+        self.attributes.push((name.to_string(), value));
+        self
+    }
+
+    /// The array called `name`.
+    pub fn get(&self, name: &str) -> Option<&[f64]> {
+        self.arrays
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_slice())
+    }
+
+    /// The metadata entry called `name`.
+    pub fn get_attr(&self, name: &str) -> Option<&AttrValue> {
+        self.attributes.iter().find(|(n, _)| n == name).map(|(_, v)| v)
+    }
+
+    /// Metadata as one JSON object.
+    pub fn metadata_json(&self) -> serde_json::Value {
+        serde_json::Value::Object(
+            self.attributes
+                .iter()
+                .map(|(k, v)| (k.clone(), v.to_json()))
+                .collect(),
+        )
+    }
+
+    pub(crate) fn validate(&self, path: &Path) -> Result<(), DataError> {
+        let bad = |message: String| DataError::InvalidContent {
+            path: path.to_path_buf(),
+            message,
+        };
+        for (i, (name, _)) in self.arrays.iter().enumerate() {
+            if name.is_empty() || name == "metadata" || name.contains('/') {
+                return Err(bad(format!("array name '{name}' is reserved or invalid")));
+            }
+            if self.arrays[..i].iter().any(|(n, _)| n == name) {
+                return Err(bad(format!("array '{name}' appears twice")));
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,87 @@
+use halfspace_data::{read_profile_table, read_record, write_record, AttrValue, DataError, Record};
+use ndarray::{arr2, Array1};
+use ndarray_npy::WriteNpyExt;
+
+fn sample() -> Record {
+    Record::default()
+        .array("r", vec![0.0, 0.5, 1.0])
+        .array("pressure", vec![1.0, 0.5, 0.0])
+        .attr("e_star", AttrValue::Float(2.3e11))
+        .attr("n", AttrValue::Int(3))
+        .attr("profile", AttrValue::Text("sphere:R=1.05e-4 µm".into()))
+}
+
+#[test]
+fn npz_round_trip_keeps_arrays_and_metadata() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("out.npz");
+    write_record(&path, &sample()).unwrap();
+    let back = read_record(&path).unwrap();
+    assert_eq!(back.get("r").unwrap(), &[0.0, 0.5, 1.0]);
+    assert_eq!(back.get("pressure").unwrap(), &[1.0, 0.5, 0.0]);
+    assert_eq!(back.get_attr("e_star"), Some(&AttrValue::Float(2.3e11)));
+    assert_eq!(back.get_attr("n"), Some(&AttrValue::Int(3)));
+    // No temporary file left behind.
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+}
+
+#[cfg(feature = "hdf5")]
+#[test]
+fn h5_round_trip_keeps_arrays_and_attributes() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("out.h5");
+    write_record(&path, &sample()).unwrap();
+    let back = read_record(&path).unwrap();
+    assert_eq!(back.get("r").unwrap(), &[0.0, 0.5, 1.0]);
+    assert_eq!(back.get_attr("e_star"), Some(&AttrValue::Float(2.3e11)));
+    assert_eq!(back.get_attr("n"), Some(&AttrValue::Int(3)));
+    assert_eq!(
+        back.get_attr("profile"),
+        Some(&AttrValue::Text("sphere:R=1.05e-4 µm".into()))
+    );
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+}
+
+#[test]
+fn profile_tables_are_read_and_bad_ones_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("t.npy");
+    arr2(&[[0.0, 0.0], [1.0, 0.5], [2.0, 2.0]])
+        .write_npy(std::fs::File::create(&good).unwrap())
+        .unwrap();
+    let (r, f) = read_profile_table(&good).unwrap();
+    assert_eq!(r, vec![0.0, 1.0, 2.0]);
+    assert_eq!(f, vec![0.0, 0.5, 2.0]);
+
+    let shape = dir.path().join("shape.npy");
+    arr2(&[[0.0, 0.0, 1.0]])
+        .write_npy(std::fs::File::create(&shape).unwrap())
+        .unwrap();
+    assert!(matches!(read_profile_table(&shape), Err(DataError::WrongShape { .. })));
+
+    let dtype = dir.path().join("dtype.npy");
+    arr2(&[[0i32, 0], [1, 1]])
+        .write_npy(std::fs::File::create(&dtype).unwrap())
+        .unwrap();
+    let e = read_profile_table(&dtype).unwrap_err();
+    assert!(e.to_string().contains("dtype"), "{e}");
+
+    let one_d = dir.path().join("1d.npy");
+    Array1::from(vec![0.0, 1.0])
+        .write_npy(std::fs::File::create(&one_d).unwrap())
+        .unwrap();
+    assert!(read_profile_table(&one_d).is_err());
+
+    let missing = dir.path().join("missing.npy");
+    let e = read_profile_table(&missing).unwrap_err();
+    assert!(e.to_string().contains("missing.npy"), "{e}");
+}
+
+#[test]
+fn unknown_extension_and_missing_directory_are_errors() {
+    assert!(matches!(
+        write_record(std::path::Path::new("x.csv"), &sample()),
+        Err(DataError::UnknownFormat { .. })
+    ));
+    assert!(write_record(std::path::Path::new("/nonexistent-dir/x.npz"), &sample()).is_err());
+}

@@ -1,0 +1,154 @@
+//! `halfspace axisym`: axisymmetric normal contact by the MDR (design.md, CLI contract).
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::{Args, ValueEnum};
+use halfspace::data::{write_record, AttrValue, Record};
+use halfspace::mdr::{
+    Backend, ContactParams, ContactSolution, ContactSolver, DisplacementMethod, Load,
+};
+use serde_json::json;
+
+use super::{plot, spec, CliError};
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum Method {
+    /// O(N log N) FFT convolutions (Eqs. 7, 17; displacement by Eq. 13).
+    Fft,
+    /// O(N²) matrix–vector products (Eqs. 7, 17; displacement by Eq. 12).
+    Mvm,
+}
+
+#[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("load").required(true).args(["depth", "force"])))]
+pub struct AxisymArgs {
+    /// Indenter: sphere:R=.. | cone:slope=.. | flat:a=.. | power:c=..,n=.. | table:FILE.npy
+    #[arg(long)]
+    profile: String,
+    /// Half-space: homogeneous:E=..,nu=.. | homogeneous:Estar=..
+    #[arg(long)]
+    material: String,
+    /// Indentation depth δ in m.
+    #[arg(long, allow_negative_numbers = true)]
+    depth: Option<f64>,
+    /// Normal force F in N.
+    #[arg(long, allow_negative_numbers = true)]
+    force: Option<f64>,
+    /// Grid nodes N (≥ 8).
+    #[arg(long, default_value_t = 2001)]
+    n: usize,
+    /// Backend of the transforms.
+    #[arg(long, value_enum, default_value_t = Method::Fft)]
+    method: Method,
+    /// Domain size over contact radius, L/a ≥ 1.
+    #[arg(long, default_value_t = 1.5, allow_negative_numbers = true)]
+    domain_ratio: f64,
+    /// Write r, pressure, displacement, x, g (and the inputs as metadata) to FILE.h5 or FILE.npz.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Plot p(r) and u(r) to FILE.svg.
+    #[arg(long)]
+    plot: Option<PathBuf>,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(args: AxisymArgs) -> Result<(), CliError> {
+    let profile = spec::parse_profile(&args.profile)?;
+    let material = spec::parse_material(&args.material)?;
+    let load = match (args.depth, args.force) {
+        (Some(d), None) => Load::Depth(d),
+        (None, Some(f)) => Load::Force(f),
+        _ => return Err(CliError::Spec("give exactly one of --depth and --force".into())),
+    };
+    let backend = match args.method {
+        Method::Fft => Backend::Fft,
+        Method::Mvm => Backend::Mvm,
+    };
+    if let Some(path) = &args.out {
+        halfspace::data::Format::of(path)?;
+    }
+    if let Some(path) = &args.plot {
+        if path.extension().and_then(|e| e.to_str()) != Some("svg") {
+            return Err(CliError::Spec(format!("--plot {}: expected a .svg file", path.display())));
+        }
+    }
+    let params = ContactParams {
+        nodes: args.n,
+        backend,
+        domain_ratio: args.domain_ratio,
+        ..ContactParams::default()
+    };
+    let start = Instant::now();
+    let mut solver = ContactSolver::new(material, params)?;
+    let sol = solver.solve(&profile, load)?;
+    let seconds = start.elapsed().as_secs_f64();
+    let displacement_method = match DisplacementMethod::for_backend(backend) {
+        DisplacementMethod::ArccosKernel => "eq12",
+        DisplacementMethod::Convolution(_) => "eq13",
+    };
+    let summary = json!({
+        "contact_radius": sol.contact_radius,
+        "depth": sol.depth,
+        "force": sol.force,
+        "max_pressure": sol.max_pressure(),
+        "mean_pressure": sol.mean_pressure(),
+        "pressure_singular": sol.pressure_is_singular(),
+        "n": args.n,
+        "method": backend.name(),
+        "displacement_method": displacement_method,
+        "k": material.grading_exponent(),
+        "contact_modulus": material.contact_modulus(),
+        "normal_stiffness": sol.normal_stiffness(),
+        "grid_length": sol.grid.length(),
+        "edge_index": sol.edge_index,
+        "iterations": sol.iterations,
+        "profile": args.profile,
+        "material": args.material,
+        "seconds": seconds,
+    });
+    if let Some(path) = &args.out {
+        write_record(path, &record(&sol, &args, &summary))?;
+    }
+    if let Some(path) = &args.plot {
+        plot::pressure_and_displacement(path, &sol, &args.profile)
+            .map_err(|e| CliError::Plot(format!("{}: {e}", path.display())))?;
+    }
+    if args.json {
+        println!("{summary}");
+    } else {
+        println!("contact radius a  = {:.6e} m", sol.contact_radius);
+        println!("depth δ           = {:.6e} m", sol.depth);
+        println!("force F           = {:.6e} N", sol.force);
+        println!("max pressure      = {:.6e} Pa", sol.max_pressure());
+        println!("mean pressure     = {:.6e} Pa", sol.mean_pressure());
+        println!("N = {}, method = {}, {:.3} ms", args.n, backend.name(), 1e3 * seconds);
+    }
+    Ok(())
+}
+
+fn record(sol: &ContactSolution, args: &AxisymArgs, summary: &serde_json::Value) -> Record {
+    let r = sol.radii();
+    let mut rec = Record::default()
+        .array("r", r.clone())
+        .array("pressure", sol.pressure.clone())
+        .array("displacement", sol.displacement.clone())
+        .array("x", r)
+        .array("g", sol.equivalent.clone());
+    for (key, value) in summary.as_object().expect("summary is an object") {
+        let v = match value {
+            serde_json::Value::Number(n) if n.is_u64() || n.is_i64() => {
+                AttrValue::Int(n.as_i64().unwrap_or_default())
+            }
+            serde_json::Value::Number(n) => AttrValue::Float(n.as_f64().unwrap_or(f64::NAN)),
+            serde_json::Value::String(s) => AttrValue::Text(s.clone()),
+            other => AttrValue::Text(other.to_string()),
+        };
+        rec = rec.attr(key, v);
+    }
+    rec.attr("units", AttrValue::Text("SI: r, x, g, displacement in m; pressure in Pa".into()))
+        .attr("generator", AttrValue::Text(format!("halfspace {} axisym", env!("CARGO_PKG_VERSION"))))
+        .attr("domain_ratio", AttrValue::Float(args.domain_ratio))
+}

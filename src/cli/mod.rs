@@ -1,0 +1,61 @@
+//! Command-line front end: argument parsing (clap), one module per subcommand.
+
+mod axisym;
+mod plot;
+mod spec;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// Contact mechanics of elastic half-spaces.
+#[derive(Debug, Parser)]
+#[command(name = "halfspace", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Axisymmetric normal contact by the MDR: contact radius, force, pressure, displacement.
+    Axisym(axisym::AxisymArgs),
+}
+
+/// Errors of the CLI. Every one is reported as one line on stderr with exit code 2.
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    /// A malformed specification string or option.
+    #[error("{0}")]
+    Spec(String),
+    /// The MDR refused the input.
+    #[error(transparent)]
+    Mdr(#[from] halfspace::mdr::MdrError),
+    /// Reading or writing data failed.
+    #[error(transparent)]
+    Data(#[from] halfspace::data::DataError),
+    /// Plotting failed.
+    #[error("plot: {0}")]
+    Plot(String),
+}
+
+pub fn run() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            // clap prints help/version to stdout (exit 0) and usage errors to stderr (exit 2).
+            let _ = e.print();
+            return ExitCode::from(e.exit_code() as u8);
+        }
+    };
+    let result = match cli.command {
+        Command::Axisym(args) => axisym::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}

@@ -1,0 +1,154 @@
+//! Parsing of `kind:key=value,...` specifications (design.md, CLI contract).
+
+use std::path::Path;
+
+use halfspace::mdr::{Material, Profile};
+
+use super::CliError;
+
+/// `kind:key=value,key=value` → (kind, [(key, value)]). The value list of `table:` is a path.
+fn split(spec: &str, what: &str) -> Result<(String, Vec<(String, String)>), CliError> {
+    let (kind, rest) = spec.split_once(':').ok_or_else(|| {
+        CliError::Spec(format!("{what} '{spec}': expected KIND:KEY=VALUE,... (e.g. sphere:R=1e-4)"))
+    })?;
+    let mut pairs: Vec<(String, String)> = Vec::new();
+    if kind == "table" {
+        return Ok((kind.into(), vec![("file".into(), rest.into())]));
+    }
+    for item in rest.split(',').filter(|s| !s.trim().is_empty()) {
+        let (k, v) = item.split_once('=').ok_or_else(|| {
+            CliError::Spec(format!("{what} '{spec}': '{item}' is not KEY=VALUE"))
+        })?;
+        let k = k.trim().to_string();
+        if pairs.iter().any(|(p, _)| *p == k) {
+            return Err(CliError::Spec(format!("{what} '{spec}': key '{k}' given twice")));
+        }
+        pairs.push((k, v.trim().to_string()));
+    }
+    Ok((kind.trim().to_string(), pairs))
+}
+
+struct Keys<'a> {
+    spec: &'a str,
+    what: &'a str,
+    pairs: Vec<(String, String)>,
+}
+
+impl Keys<'_> {
+    fn take(&mut self, key: &str) -> Option<String> {
+        let i = self.pairs.iter().position(|(k, _)| k == key)?;
+        Some(self.pairs.remove(i).1)
+    }
+
+    fn number(&mut self, key: &str) -> Result<f64, CliError> {
+        let v = self.take(key).ok_or_else(|| {
+            CliError::Spec(format!("{} '{}': missing key '{key}'", self.what, self.spec))
+        })?;
+        v.parse::<f64>().map_err(|_| {
+            CliError::Spec(format!("{} '{}': {key}='{v}' is not a number", self.what, self.spec))
+        })
+    }
+
+    fn finish(self, allowed: &str) -> Result<(), CliError> {
+        match self.pairs.first() {
+            None => Ok(()),
+            Some((k, _)) => Err(CliError::Spec(format!(
+                "{} '{}': unknown key '{k}' (allowed: {allowed})",
+                self.what, self.spec
+            ))),
+        }
+    }
+}
+
+/// `sphere:R=..`, `cone:slope=..`, `flat:a=..`, `power:c=..,n=..`, `table:FILE.npy`.
+pub fn parse_profile(spec: &str) -> Result<Profile, CliError> {
+    let what = "--profile";
+    let (kind, pairs) = split(spec, what)?;
+    let mut keys = Keys { spec, what, pairs };
+    let profile = match kind.as_str() {
+        "sphere" => {
+            let p = Profile::sphere(keys.number("R")?)?;
+            keys.finish("R")?;
+            p
+        }
+        "cone" => {
+            let p = Profile::cone(keys.number("slope")?)?;
+            keys.finish("slope")?;
+            p
+        }
+        "flat" => {
+            let p = Profile::flat_punch(keys.number("a")?)?;
+            keys.finish("a")?;
+            p
+        }
+        "power" => {
+            let c = keys.number("c")?;
+            let n = keys.number("n")?;
+            keys.finish("c, n")?;
+            Profile::power(c, n)?
+        }
+        "table" => {
+            let file = keys.take("file").unwrap_or_default();
+            if file.is_empty() {
+                return Err(CliError::Spec(format!("{what} '{spec}': expected table:FILE.npy")));
+            }
+            let (r, f) = halfspace::data::read_profile_table(Path::new(&file))?;
+            Profile::tabulated(r, f).map_err(|e| CliError::Spec(format!("{file}: {e}")))?
+        }
+        other => {
+            return Err(CliError::Spec(format!(
+                "{what} '{spec}': unknown profile '{other}' (sphere, cone, flat, power, table)"
+            )))
+        }
+    };
+    Ok(profile)
+}
+
+/// `homogeneous:E=..,nu=..`, `homogeneous:Estar=..`; `graded:...` (not yet available).
+pub fn parse_material(spec: &str) -> Result<Material, CliError> {
+    let what = "--material";
+    let (kind, pairs) = split(spec, what)?;
+    let mut keys = Keys { spec, what, pairs };
+    match kind.as_str() {
+        "homogeneous" => {
+            if keys.pairs.iter().any(|(k, _)| k == "Estar") {
+                let m = Material::from_e_star(keys.number("Estar")?)?;
+                keys.finish("Estar, or E and nu")?;
+                Ok(m)
+            } else {
+                let e = keys.number("E")?;
+                let nu = keys.number("nu")?;
+                keys.finish("E, nu (or Estar)")?;
+                Ok(Material::homogeneous(e, nu)?)
+            }
+        }
+        "graded" => Err(CliError::Spec(format!(
+            "{what} '{spec}': power-law graded media are not available in this version \
+             (homogeneous only)"
+        ))),
+        other => Err(CliError::Spec(format!(
+            "{what} '{spec}': unknown material '{other}' (homogeneous, graded)"
+        ))),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn specs_parse_and_errors_name_the_problem() {
+        assert!(matches!(parse_profile("sphere:R=1e-4").unwrap(), Profile::Sphere { .. }));
+        assert!(matches!(parse_profile("power:c=2,n=3").unwrap(), Profile::Power { .. }));
+        let e = parse_profile("sphere:R=1,Q=2").unwrap_err().to_string();
+        assert!(e.contains("unknown key 'Q'"), "{e}");
+        let e = parse_profile("sphere:R=abc").unwrap_err().to_string();
+        assert!(e.contains("not a number"), "{e}");
+        let e = parse_profile("sphere").unwrap_err().to_string();
+        assert!(e.contains("KIND:KEY=VALUE"), "{e}");
+        let e = parse_material("homogeneous:E=1e9").unwrap_err().to_string();
+        assert!(e.contains("missing key 'nu'"), "{e}");
+        assert!(parse_material("homogeneous:Estar=1e9").is_ok());
+        assert!(parse_material("homogeneous:E=1e9,nu=0.6").is_err());
+    }
+}
