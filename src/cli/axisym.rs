@@ -61,7 +61,11 @@ pub fn run(args: AxisymArgs) -> Result<(), CliError> {
     let load = match (args.depth, args.force) {
         (Some(d), None) => Load::Depth(d),
         (None, Some(f)) => Load::Force(f),
-        _ => return Err(CliError::Spec("give exactly one of --depth and --force".into())),
+        _ => {
+            return Err(CliError::Spec(
+                "give exactly one of --depth and --force".into(),
+            ))
+        }
     };
     let backend = match args.method {
         Method::Fft => Backend::Fft,
@@ -72,7 +76,10 @@ pub fn run(args: AxisymArgs) -> Result<(), CliError> {
     }
     if let Some(path) = &args.plot {
         if path.extension().and_then(|e| e.to_str()) != Some("svg") {
-            return Err(CliError::Spec(format!("--plot {}: expected a .svg file", path.display())));
+            return Err(CliError::Spec(format!(
+                "--plot {}: expected a .svg file",
+                path.display()
+            )));
         }
     }
     let params = ContactParams {
@@ -124,7 +131,12 @@ pub fn run(args: AxisymArgs) -> Result<(), CliError> {
         println!("force F           = {:.6e} N", sol.force);
         println!("max pressure      = {:.6e} Pa", sol.max_pressure());
         println!("mean pressure     = {:.6e} Pa", sol.mean_pressure());
-        println!("N = {}, method = {}, {:.3} ms", args.n, backend.name(), 1e3 * seconds);
+        println!(
+            "N = {}, method = {}, {:.3} ms",
+            args.n,
+            backend.name(),
+            1e3 * seconds
+        );
     }
     Ok(())
 }
@@ -148,7 +160,13 @@ fn record(sol: &ContactSolution, args: &AxisymArgs, summary: &serde_json::Value)
         };
         rec = rec.attr(key, v);
     }
-    rec.attr("units", AttrValue::Text("SI: r, x, g, displacement in m; pressure in Pa".into()))
-        .attr("generator", AttrValue::Text(format!("halfspace {} axisym", env!("CARGO_PKG_VERSION"))))
-        .attr("domain_ratio", AttrValue::Float(args.domain_ratio))
+    rec.attr(
+        "units",
+        AttrValue::Text("SI: r, x, g, displacement in m; pressure in Pa".into()),
+    )
+    .attr(
+        "generator",
+        AttrValue::Text(format!("halfspace {} axisym", env!("CARGO_PKG_VERSION"))),
+    )
+    .attr("domain_ratio", AttrValue::Float(args.domain_ratio))
 }

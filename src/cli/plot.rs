@@ -28,8 +28,18 @@ pub fn pressure_and_displacement(path: &Path, sol: &ContactSolution, title: &str
     root.fill(&WHITE)?;
     let (left, right) = root.split_horizontally(450);
     let panels = [
-        (left, p, format!("pressure, max {:.4e} Pa", pmax), "p / max p"),
-        (right, u, format!("displacement, δ = {:.4e} m", sol.depth), "u / δ"),
+        (
+            left,
+            p,
+            format!("pressure, max {:.4e} Pa", pmax),
+            "p / max p",
+        ),
+        (
+            right,
+            u,
+            format!("displacement, δ = {:.4e} m", sol.depth),
+            "u / δ",
+        ),
     ];
     for (area, data, caption, ylabel) in panels {
         let ymax = data.iter().map(|(_, y)| *y).fold(0.0, f64::max) * 1.05;

@@ -9,19 +9,23 @@ use super::CliError;
 /// `kind:key=value,key=value` → (kind, [(key, value)]). The value list of `table:` is a path.
 fn split(spec: &str, what: &str) -> Result<(String, Vec<(String, String)>), CliError> {
     let (kind, rest) = spec.split_once(':').ok_or_else(|| {
-        CliError::Spec(format!("{what} '{spec}': expected KIND:KEY=VALUE,... (e.g. sphere:R=1e-4)"))
+        CliError::Spec(format!(
+            "{what} '{spec}': expected KIND:KEY=VALUE,... (e.g. sphere:R=1e-4)"
+        ))
     })?;
     let mut pairs: Vec<(String, String)> = Vec::new();
     if kind == "table" {
         return Ok((kind.into(), vec![("file".into(), rest.into())]));
     }
     for item in rest.split(',').filter(|s| !s.trim().is_empty()) {
-        let (k, v) = item.split_once('=').ok_or_else(|| {
-            CliError::Spec(format!("{what} '{spec}': '{item}' is not KEY=VALUE"))
-        })?;
+        let (k, v) = item
+            .split_once('=')
+            .ok_or_else(|| CliError::Spec(format!("{what} '{spec}': '{item}' is not KEY=VALUE")))?;
         let k = k.trim().to_string();
         if pairs.iter().any(|(p, _)| *p == k) {
-            return Err(CliError::Spec(format!("{what} '{spec}': key '{k}' given twice")));
+            return Err(CliError::Spec(format!(
+                "{what} '{spec}': key '{k}' given twice"
+            )));
         }
         pairs.push((k, v.trim().to_string()));
     }
@@ -42,10 +46,16 @@ impl Keys<'_> {
 
     fn number(&mut self, key: &str) -> Result<f64, CliError> {
         let v = self.take(key).ok_or_else(|| {
-            CliError::Spec(format!("{} '{}': missing key '{key}'", self.what, self.spec))
+            CliError::Spec(format!(
+                "{} '{}': missing key '{key}'",
+                self.what, self.spec
+            ))
         })?;
         v.parse::<f64>().map_err(|_| {
-            CliError::Spec(format!("{} '{}': {key}='{v}' is not a number", self.what, self.spec))
+            CliError::Spec(format!(
+                "{} '{}': {key}='{v}' is not a number",
+                self.what, self.spec
+            ))
         })
     }
 
@@ -90,7 +100,9 @@ pub fn parse_profile(spec: &str) -> Result<Profile, CliError> {
         "table" => {
             let file = keys.take("file").unwrap_or_default();
             if file.is_empty() {
-                return Err(CliError::Spec(format!("{what} '{spec}': expected table:FILE.npy")));
+                return Err(CliError::Spec(format!(
+                    "{what} '{spec}': expected table:FILE.npy"
+                )));
             }
             let (r, f) = halfspace::data::read_profile_table(Path::new(&file))?;
             Profile::tabulated(r, f).map_err(|e| CliError::Spec(format!("{file}: {e}")))?
@@ -138,8 +150,14 @@ mod tests {
 
     #[test]
     fn specs_parse_and_errors_name_the_problem() {
-        assert!(matches!(parse_profile("sphere:R=1e-4").unwrap(), Profile::Sphere { .. }));
-        assert!(matches!(parse_profile("power:c=2,n=3").unwrap(), Profile::Power { .. }));
+        assert!(matches!(
+            parse_profile("sphere:R=1e-4").unwrap(),
+            Profile::Sphere { .. }
+        ));
+        assert!(matches!(
+            parse_profile("power:c=2,n=3").unwrap(),
+            Profile::Power { .. }
+        ));
         let e = parse_profile("sphere:R=1,Q=2").unwrap_err().to_string();
         assert!(e.contains("unknown key 'Q'"), "{e}");
         let e = parse_profile("sphere:R=abc").unwrap_err().to_string();

@@ -66,7 +66,8 @@ pub(crate) fn write_npz(path: &Path, record: &Record) -> Result<(), DataError> {
             .map_err(err)?;
     }
     let meta = serde_json::to_vec(&record.metadata_json()).expect("JSON of plain values");
-    npz.add_array("metadata", &Array1::from(meta)).map_err(err)?;
+    npz.add_array("metadata", &Array1::from(meta))
+        .map_err(err)?;
     let writer = npz.finish().map_err(err)?;
     writer
         .into_inner()
@@ -84,15 +85,18 @@ pub(crate) fn read_npz(path: &Path) -> Result<Record, DataError> {
         let short = name.trim_end_matches(".npy").to_string();
         if short == "metadata" {
             let bytes: Array1<u8> = npz.by_name(&name).map_err(err)?;
-            let meta: serde_json::Value = serde_json::from_slice(bytes.as_slice().unwrap_or(&[]))
-                .map_err(|e| format_error(path, format!("metadata is not JSON: {e}")))?;
+            let meta: serde_json::Value =
+                serde_json::from_slice(bytes.as_slice().unwrap_or(&[]))
+                    .map_err(|e| format_error(path, format!("metadata is not JSON: {e}")))?;
             if let serde_json::Value::Object(map) = meta {
                 for (k, v) in map {
                     let value = match v {
                         serde_json::Value::Number(n) if n.is_i64() => {
                             AttrValue::Int(n.as_i64().unwrap_or_default())
                         }
-                        serde_json::Value::Number(n) => AttrValue::Float(n.as_f64().unwrap_or(f64::NAN)),
+                        serde_json::Value::Number(n) => {
+                            AttrValue::Float(n.as_f64().unwrap_or(f64::NAN))
+                        }
                         serde_json::Value::String(s) => AttrValue::Text(s),
                         other => AttrValue::Text(other.to_string()),
                     };

@@ -56,7 +56,10 @@ impl Record {
 
     /// The metadata entry called `name`.
     pub fn get_attr(&self, name: &str) -> Option<&AttrValue> {
-        self.attributes.iter().find(|(n, _)| n == name).map(|(_, v)| v)
+        self.attributes
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v)
     }
 
     /// Metadata as one JSON object.

@@ -57,7 +57,10 @@ fn profile_tables_are_read_and_bad_ones_named() {
     arr2(&[[0.0, 0.0, 1.0]])
         .write_npy(std::fs::File::create(&shape).unwrap())
         .unwrap();
-    assert!(matches!(read_profile_table(&shape), Err(DataError::WrongShape { .. })));
+    assert!(matches!(
+        read_profile_table(&shape),
+        Err(DataError::WrongShape { .. })
+    ));
 
     let dtype = dir.path().join("dtype.npy");
     arr2(&[[0i32, 0], [1, 1]])

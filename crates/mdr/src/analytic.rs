@@ -79,6 +79,31 @@ pub fn power_force(a: f64, c: f64, n: f64, e_star: f64) -> f64 {
     2.0 * e_star * n / (n + 1.0) * power_law_factor(n) * c * a.powf(n + 1.0)
 }
 
+/// Power law `f = c rⁿ`, pressure `p(r) = (E* n κ_n c/π) ∫_r^a x^{n−1} dx / √(x² − r²)` in
+/// closed form for `n = 2, 3, 4`; `None` for other `n`.
+pub fn power_pressure(r: f64, a: f64, c: f64, n: f64, e_star: f64) -> Option<f64> {
+    if r >= a {
+        return Some(0.0);
+    }
+    let w = (a * a - r * r).sqrt();
+    let integral = if n == 2.0 {
+        w
+    } else if n == 3.0 {
+        // r² arccosh(a/r) → 0 as r → 0.
+        let tail = if r > 0.0 {
+            r * r * (a / r).acosh()
+        } else {
+            0.0
+        };
+        0.5 * (a * w + tail)
+    } else if n == 4.0 {
+        w * (a * a + 2.0 * r * r) / 3.0
+    } else {
+        return None;
+    };
+    Some(e_star * n * power_law_factor(n) * c / PI * integral)
+}
+
 /// Flat punch of radius `a`: `F = 2E* a δ`.
 pub fn flat_punch_force(a: f64, depth: f64, e_star: f64) -> f64 {
     2.0 * e_star * a * depth
@@ -141,6 +166,12 @@ mod tests {
         assert!((quartic_load_stress(0.0, 1.0) - 0.424_413_2).abs() < 1e-7);
         // r = √0.25 etc.: spec gives σ at ρ = r².
         assert!((quartic_load_stress(0.5f64.sqrt(), 1.0) - 0.600_210_9).abs() < 1e-7);
+        // n = 2 is the sphere with R = 1/(2c); n = 3 at r = 0 is finite (acosh term → 0).
+        let p2 = power_pressure(0.1, 0.5, 0.5, 2.0, 1.0).unwrap();
+        assert!((p2 - sphere_pressure(0.1, 0.5, 1.0, 1.0)).abs() < 1e-15);
+        assert!(power_pressure(1e-300, 0.5, 1.0, 3.0, 1.0)
+            .unwrap()
+            .is_finite());
         // Continuity of the Hertz displacement at r = a.
         let a = 0.7;
         assert!(
