@@ -142,9 +142,7 @@ impl Profile {
         let out = &mut out[..n];
         match *self {
             Profile::Sphere { radius } => out.fill(0.5 / radius),
-            Profile::Cone { .. } | Profile::FlatPunch { .. } => out.fill(0.0),
-            Profile::Power { c, n: p } if p == 1.0 => {
-                let _ = c;
+            Profile::Cone { .. } | Profile::FlatPunch { .. } | Profile::Power { n: 1.0, .. } => {
                 out.fill(0.0)
             }
             Profile::Power { c, n: p } if p >= 2.0 => {

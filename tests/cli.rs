@@ -1,0 +1,235 @@
+//! The `halfspace axisym` contract (design.md) through the binary: the worked example of the
+//! composite paper, the output files, and exit code 2 with one line on stderr for bad input.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use halfspace::data::{read_record, AttrValue};
+use halfspace::mdr::analytic;
+use ndarray::Array2;
+use ndarray_npy::WriteNpyExt;
+
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_halfspace"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn json(out: &Output) -> serde_json::Value {
+    assert!(
+        out.status.success(),
+        "exit {:?}: {}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("one JSON object on stdout")
+}
+
+const HERTZ: [&str; 7] = [
+    "axisym",
+    "--profile",
+    "sphere:R=105e-6",
+    "--material",
+    "homogeneous:E=210e9,nu=0.3",
+    "--force",
+    "0.08",
+];
+
+/// R = 105 μm, E = 210 GPa, ν = 0.3, W = 80 mN → a = 3.011 μm, p0 = 4213 MPa.
+#[test]
+fn worked_example_of_the_composite_paper() {
+    for method in ["fft", "mvm"] {
+        let mut args = HERTZ.to_vec();
+        args.extend(["--method", method, "--json"]);
+        let v = json(&run(&args));
+        let a = v["contact_radius"].as_f64().unwrap();
+        let p0 = v["max_pressure"].as_f64().unwrap();
+        assert!((a / 3.011e-6 - 1.0).abs() < 2e-3, "{method}: a = {a}");
+        assert!((p0 / 4213e6 - 1.0).abs() < 5e-3, "{method}: p0 = {p0}");
+        // And against the closed form itself, far tighter.
+        let e_star = 210e9 / (1.0 - 0.09);
+        let a_exact = analytic::sphere_radius_for_force(0.08, 105e-6, e_star);
+        assert!((a / a_exact - 1.0).abs() < 1e-10, "{method}");
+        for key in [
+            "contact_radius", "depth", "force", "max_pressure", "mean_pressure", "n", "method", "k",
+        ] {
+            assert!(v.get(key).is_some(), "missing JSON key {key}");
+        }
+        assert_eq!(v["method"], method);
+        assert_eq!(v["n"], 2001);
+        assert_eq!(v["k"], 0.0);
+        let mean = v["mean_pressure"].as_f64().unwrap();
+        assert!((mean / p0 - 2.0 / 3.0).abs() < 1e-9, "Hertz: mean = 2/3 max");
+    }
+}
+
+fn check_record(path: &Path) {
+    let rec = read_record(path).unwrap();
+    let r = rec.get("r").unwrap();
+    for name in ["pressure", "displacement", "x", "g"] {
+        assert_eq!(rec.get(name).unwrap().len(), r.len(), "{name}");
+    }
+    assert_eq!(
+        rec.get_attr("profile"),
+        Some(&AttrValue::Text("sphere:R=105e-6".into()))
+    );
+    let a = match rec.get_attr("contact_radius") {
+        Some(AttrValue::Float(a)) => *a,
+        other => panic!("contact_radius attribute: {other:?}"),
+    };
+    // The written fields against Hertz: pressure inside, displacement inside and outside.
+    let e_star = 210e9 / 0.91;
+    let (p, u) = (rec.get("pressure").unwrap(), rec.get("displacement").unwrap());
+    let p0 = analytic::sphere_pressure(0.0, a, 105e-6, e_star);
+    let depth = analytic::sphere_depth(a, 105e-6);
+    for (i, &ri) in r.iter().enumerate() {
+        let pe = analytic::sphere_pressure(ri, a, 105e-6, e_star);
+        assert!((p[i] - pe).abs() < 1e-9 * p0, "p at r = {ri}");
+        let ue = analytic::sphere_displacement(ri, a, 105e-6);
+        // Eq. 13 (fft) on the Hertz U: max error 1.2e-6 δ at N = 2001 (tests in crates/mdr).
+        assert!((u[i] - ue).abs() < 5e-6 * depth, "u at r = {ri}: {} vs {ue}", u[i]);
+    }
+}
+
+#[test]
+fn out_files_hold_the_fields_and_the_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["hertz.npz", "hertz.h5"] {
+        let path = dir.path().join(name);
+        let mut args = HERTZ.to_vec();
+        let p = path.to_str().unwrap().to_string();
+        args.extend(["--out", &p, "--json"]);
+        json(&run(&args));
+        check_record(&path);
+    }
+}
+
+#[test]
+fn plot_is_an_svg() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("p.svg");
+    let mut args = HERTZ.to_vec();
+    let p = path.to_str().unwrap().to_string();
+    args.extend(["--plot", &p]);
+    let out = run(&args);
+    assert!(out.status.success());
+    let svg = std::fs::read_to_string(&path).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("polyline"));
+}
+
+fn table(dir: &Path, name: &str, rows: &[[f64; 2]]) -> String {
+    let path = dir.join(name);
+    let arr = Array2::from_shape_vec((rows.len(), 2), rows.iter().flatten().copied().collect()).unwrap();
+    arr.write_npy(std::fs::File::create(&path).unwrap()).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+fn assert_bad(args: &[&str], needle: &str) {
+    let out = run(args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+    assert!(out.stdout.is_empty(), "{args:?} printed to stdout");
+    assert!(stderr.contains(needle), "{args:?}: stderr {stderr:?} lacks {needle:?}");
+    if !needle.starts_with("--") && !stderr.contains("Usage") {
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: {stderr}");
+    }
+}
+
+#[test]
+fn bad_input_exits_2_with_one_line() {
+    let base = |profile: &str, material: &str, load: &[&str]| -> Vec<String> {
+        let mut v: Vec<String> = ["axisym", "--profile", profile, "--material", material]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        v.extend(load.iter().map(|s| s.to_string()));
+        v
+    };
+    let steel = "homogeneous:E=210e9,nu=0.3";
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (base("sphere:R=-1", steel, &["--force", "0.08"]), "sphere radius R"),
+        (base("sphere:R=nan", steel, &["--force", "0.08"]), "sphere radius R"),
+        (base("sphere:R=inf", steel, &["--force", "0.08"]), "sphere radius R"),
+        (base("sphere:R=1e-4", "homogeneous:E=0,nu=0.3", &["--force", "1"]), "Young's modulus"),
+        (base("sphere:R=1e-4", "homogeneous:Estar=-5", &["--force", "1"]), "contact modulus"),
+        (base("sphere:R=1e-4", "homogeneous:E=1e9,nu=0.6", &["--force", "1"]), "Poisson"),
+        (base("sphere:R=1e-4", "homogeneous:E=1e9,nu=-1", &["--force", "1"]), "Poisson"),
+        (base("sphere:R=1e-4", steel, &["--force", "0"]), "normal force"),
+        (base("sphere:R=1e-4", steel, &["--force", "-1"]), "normal force"),
+        (base("sphere:R=1e-4", steel, &["--depth", "nan"]), "indentation depth"),
+        (base("sphere:R=1e-4", steel, &["--depth", "1e-6", "--n", "7"]), "at least 8"),
+        (base("cone:slope=0", steel, &["--depth", "1e-6"]), "cone slope"),
+        (base("flat:a=-1", steel, &["--depth", "1e-6"]), "punch radius"),
+        (base("power:c=1,n=0.5", steel, &["--depth", "1e-6"]), "exponent n"),
+        (base("sphere:R=1e-4,X=1", steel, &["--depth", "1e-6"]), "unknown key 'X'"),
+        (base("ellipse:R=1", steel, &["--depth", "1e-6"]), "unknown profile"),
+        (base("sphere:R=1e-4", steel, &["--depth", "1e-6", "--out", "x.csv"]), "unknown format"),
+        (base("table:/nonexistent/t.npy", steel, &["--depth", "1e-6"]), "/nonexistent/t.npy"),
+    ];
+    for (args, needle) in &cases {
+        let args: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
+        assert_bad(&args, needle);
+    }
+    // Both loads, or none: clap's usage error, also exit 2.
+    assert_bad(&base("sphere:R=1", steel, &["--depth", "1", "--force", "1"]).iter().map(|s| s.as_str()).collect::<Vec<_>>(), "--depth");
+    assert_bad(&base("sphere:R=1", steel, &[]).iter().map(|s| s.as_str()).collect::<Vec<_>>(), "--depth");
+}
+
+#[test]
+fn bad_tables_exit_2_naming_the_problem() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let steel = "homogeneous:E=210e9,nu=0.3";
+    let cases = [
+        (table(d, "empty.npy", &[]), "at least 3 rows"),
+        (table(d, "order.npy", &[[0.0, 0.0], [2e-6, 1e-9], [1e-6, 2e-9]]), "increase"),
+        (table(d, "start.npy", &[[1e-7, 0.0], [1e-6, 1e-9], [2e-6, 2e-9]]), "start at r = 0"),
+        (table(d, "nan.npy", &[[0.0, 0.0], [1e-6, f64::NAN], [2e-6, 2e-9]]), "non-finite"),
+    ];
+    for (path, needle) in &cases {
+        let spec = format!("table:{path}");
+        assert_bad(&["axisym", "--profile", &spec, "--material", steel, "--depth", "1e-9"], needle);
+    }
+    // Wrong shape and dtype.
+    let shape = d.join("shape.npy");
+    Array2::<f64>::zeros((4, 3)).write_npy(std::fs::File::create(&shape).unwrap()).unwrap();
+    let dtype = d.join("dtype.npy");
+    Array2::<i32>::zeros((4, 2)).write_npy(std::fs::File::create(&dtype).unwrap()).unwrap();
+    for (path, needle) in [(shape, "shape"), (dtype, "dtype")] {
+        let spec = format!("table:{}", path.display());
+        assert_bad(&["axisym", "--profile", &spec, "--material", steel, "--depth", "1e-9"], needle);
+    }
+    // Contact beyond the table, and a non-convex table.
+    let rows: Vec<[f64; 2]> = (0..51).map(|i| {
+        let r = i as f64 * 1e-7;
+        [r, r * r / 2e-4]
+    }).collect();
+    let short = table(d, "short.npy", &rows);
+    assert_bad(&["axisym", "--profile", &format!("table:{short}"), "--material", steel, "--depth", "1e-6"], "table");
+    let rows: Vec<[f64; 2]> = (0..121).map(|i| {
+        let r = i as f64 * 0.01;
+        [r, r * r - r.powi(4)]
+    }).collect();
+    let bump = table(d, "bump.npy", &rows);
+    assert_bad(&["axisym", "--profile", &format!("table:{bump}"), "--material", "homogeneous:Estar=1", "--depth", "0.6"], "non-convex");
+}
+
+#[test]
+fn a_table_sampled_from_a_sphere_matches_hertz() {
+    let dir = tempfile::tempdir().unwrap();
+    let rows: Vec<[f64; 2]> = (0..401).map(|i| {
+        let r = i as f64 * 2e-8;
+        [r, r * r / (2.0 * 105e-6)]
+    }).collect();
+    let path = table(dir.path(), "sphere.npy", &rows);
+    let mut args = HERTZ.to_vec();
+    let spec = format!("table:{path}");
+    args[2] = &spec;
+    args.push("--json");
+    let v = json(&run(&args));
+    let a = v["contact_radius"].as_f64().unwrap();
+    let a_exact = analytic::sphere_radius_for_force(0.08, 105e-6, 210e9 / 0.91);
+    // Cubic Hermite interpolation is exact for a quadratic; the paraboloid split makes it exact.
+    assert!((a / a_exact - 1.0).abs() < 1e-9, "a = {a} vs {a_exact}");
+}
