@@ -52,7 +52,14 @@ fn worked_example_of_the_composite_paper() {
         let a_exact = analytic::sphere_radius_for_force(0.08, 105e-6, e_star);
         assert!((a / a_exact - 1.0).abs() < 1e-10, "{method}");
         for key in [
-            "contact_radius", "depth", "force", "max_pressure", "mean_pressure", "n", "method", "k",
+            "contact_radius",
+            "depth",
+            "force",
+            "max_pressure",
+            "mean_pressure",
+            "n",
+            "method",
+            "k",
         ] {
             assert!(v.get(key).is_some(), "missing JSON key {key}");
         }
@@ -60,7 +67,10 @@ fn worked_example_of_the_composite_paper() {
         assert_eq!(v["n"], 2001);
         assert_eq!(v["k"], 0.0);
         let mean = v["mean_pressure"].as_f64().unwrap();
-        assert!((mean / p0 - 2.0 / 3.0).abs() < 1e-9, "Hertz: mean = 2/3 max");
+        assert!(
+            (mean / p0 - 2.0 / 3.0).abs() < 1e-9,
+            "Hertz: mean = 2/3 max"
+        );
     }
 }
 
@@ -80,7 +90,10 @@ fn check_record(path: &Path) {
     };
     // The written fields against Hertz: pressure inside, displacement inside and outside.
     let e_star = 210e9 / 0.91;
-    let (p, u) = (rec.get("pressure").unwrap(), rec.get("displacement").unwrap());
+    let (p, u) = (
+        rec.get("pressure").unwrap(),
+        rec.get("displacement").unwrap(),
+    );
     let p0 = analytic::sphere_pressure(0.0, a, 105e-6, e_star);
     let depth = analytic::sphere_depth(a, 105e-6);
     for (i, &ri) in r.iter().enumerate() {
@@ -88,7 +101,11 @@ fn check_record(path: &Path) {
         assert!((p[i] - pe).abs() < 1e-9 * p0, "p at r = {ri}");
         let ue = analytic::sphere_displacement(ri, a, 105e-6);
         // Eq. 13 (fft) on the Hertz U: max error 1.2e-6 δ at N = 2001 (tests in crates/mdr).
-        assert!((u[i] - ue).abs() < 5e-6 * depth, "u at r = {ri}: {} vs {ue}", u[i]);
+        assert!(
+            (u[i] - ue).abs() < 5e-6 * depth,
+            "u at r = {ri}: {} vs {ue}",
+            u[i]
+        );
     }
 }
 
@@ -120,8 +137,10 @@ fn plot_is_an_svg() {
 
 fn table(dir: &Path, name: &str, rows: &[[f64; 2]]) -> String {
     let path = dir.join(name);
-    let arr = Array2::from_shape_vec((rows.len(), 2), rows.iter().flatten().copied().collect()).unwrap();
-    arr.write_npy(std::fs::File::create(&path).unwrap()).unwrap();
+    let arr =
+        Array2::from_shape_vec((rows.len(), 2), rows.iter().flatten().copied().collect()).unwrap();
+    arr.write_npy(std::fs::File::create(&path).unwrap())
+        .unwrap();
     path.to_str().unwrap().to_string()
 }
 
@@ -130,7 +149,10 @@ fn assert_bad(args: &[&str], needle: &str) {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
     assert!(out.stdout.is_empty(), "{args:?} printed to stdout");
-    assert!(stderr.contains(needle), "{args:?}: stderr {stderr:?} lacks {needle:?}");
+    assert!(
+        stderr.contains(needle),
+        "{args:?}: stderr {stderr:?} lacks {needle:?}"
+    );
     if !needle.starts_with("--") && !stderr.contains("Usage") {
         assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: {stderr}");
     }
@@ -148,32 +170,110 @@ fn bad_input_exits_2_with_one_line() {
     };
     let steel = "homogeneous:E=210e9,nu=0.3";
     let cases: Vec<(Vec<String>, &str)> = vec![
-        (base("sphere:R=-1", steel, &["--force", "0.08"]), "sphere radius R"),
-        (base("sphere:R=nan", steel, &["--force", "0.08"]), "sphere radius R"),
-        (base("sphere:R=inf", steel, &["--force", "0.08"]), "sphere radius R"),
-        (base("sphere:R=1e-4", "homogeneous:E=0,nu=0.3", &["--force", "1"]), "Young's modulus"),
-        (base("sphere:R=1e-4", "homogeneous:Estar=-5", &["--force", "1"]), "contact modulus"),
-        (base("sphere:R=1e-4", "homogeneous:E=1e9,nu=0.6", &["--force", "1"]), "Poisson"),
-        (base("sphere:R=1e-4", "homogeneous:E=1e9,nu=-1", &["--force", "1"]), "Poisson"),
-        (base("sphere:R=1e-4", steel, &["--force", "0"]), "normal force"),
-        (base("sphere:R=1e-4", steel, &["--force", "-1"]), "normal force"),
-        (base("sphere:R=1e-4", steel, &["--depth", "nan"]), "indentation depth"),
-        (base("sphere:R=1e-4", steel, &["--depth", "1e-6", "--n", "7"]), "at least 8"),
-        (base("cone:slope=0", steel, &["--depth", "1e-6"]), "cone slope"),
-        (base("flat:a=-1", steel, &["--depth", "1e-6"]), "punch radius"),
-        (base("power:c=1,n=0.5", steel, &["--depth", "1e-6"]), "exponent n"),
-        (base("sphere:R=1e-4,X=1", steel, &["--depth", "1e-6"]), "unknown key 'X'"),
-        (base("ellipse:R=1", steel, &["--depth", "1e-6"]), "unknown profile"),
-        (base("sphere:R=1e-4", steel, &["--depth", "1e-6", "--out", "x.csv"]), "unknown format"),
-        (base("table:/nonexistent/t.npy", steel, &["--depth", "1e-6"]), "/nonexistent/t.npy"),
+        (
+            base("sphere:R=-1", steel, &["--force", "0.08"]),
+            "sphere radius R",
+        ),
+        (
+            base("sphere:R=nan", steel, &["--force", "0.08"]),
+            "sphere radius R",
+        ),
+        (
+            base("sphere:R=inf", steel, &["--force", "0.08"]),
+            "sphere radius R",
+        ),
+        (
+            base("sphere:R=1e-4", "homogeneous:E=0,nu=0.3", &["--force", "1"]),
+            "Young's modulus",
+        ),
+        (
+            base("sphere:R=1e-4", "homogeneous:Estar=-5", &["--force", "1"]),
+            "contact modulus",
+        ),
+        (
+            base(
+                "sphere:R=1e-4",
+                "homogeneous:E=1e9,nu=0.6",
+                &["--force", "1"],
+            ),
+            "Poisson",
+        ),
+        (
+            base(
+                "sphere:R=1e-4",
+                "homogeneous:E=1e9,nu=-1",
+                &["--force", "1"],
+            ),
+            "Poisson",
+        ),
+        (
+            base("sphere:R=1e-4", steel, &["--force", "0"]),
+            "normal force",
+        ),
+        (
+            base("sphere:R=1e-4", steel, &["--force", "-1"]),
+            "normal force",
+        ),
+        (
+            base("sphere:R=1e-4", steel, &["--depth", "nan"]),
+            "indentation depth",
+        ),
+        (
+            base("sphere:R=1e-4", steel, &["--depth", "1e-6", "--n", "7"]),
+            "at least 8",
+        ),
+        (
+            base("cone:slope=0", steel, &["--depth", "1e-6"]),
+            "cone slope",
+        ),
+        (
+            base("flat:a=-1", steel, &["--depth", "1e-6"]),
+            "punch radius",
+        ),
+        (
+            base("power:c=1,n=0.5", steel, &["--depth", "1e-6"]),
+            "exponent n",
+        ),
+        (
+            base("sphere:R=1e-4,X=1", steel, &["--depth", "1e-6"]),
+            "unknown key 'X'",
+        ),
+        (
+            base("ellipse:R=1", steel, &["--depth", "1e-6"]),
+            "unknown profile",
+        ),
+        (
+            base(
+                "sphere:R=1e-4",
+                steel,
+                &["--depth", "1e-6", "--out", "x.csv"],
+            ),
+            "unknown format",
+        ),
+        (
+            base("table:/nonexistent/t.npy", steel, &["--depth", "1e-6"]),
+            "/nonexistent/t.npy",
+        ),
     ];
     for (args, needle) in &cases {
         let args: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
         assert_bad(&args, needle);
     }
     // Both loads, or none: clap's usage error, also exit 2.
-    assert_bad(&base("sphere:R=1", steel, &["--depth", "1", "--force", "1"]).iter().map(|s| s.as_str()).collect::<Vec<_>>(), "--depth");
-    assert_bad(&base("sphere:R=1", steel, &[]).iter().map(|s| s.as_str()).collect::<Vec<_>>(), "--depth");
+    assert_bad(
+        &base("sphere:R=1", steel, &["--depth", "1", "--force", "1"])
+            .iter()
+            .map(|s| s.as_str())
+            .collect::<Vec<_>>(),
+        "--depth",
+    );
+    assert_bad(
+        &base("sphere:R=1", steel, &[])
+            .iter()
+            .map(|s| s.as_str())
+            .collect::<Vec<_>>(),
+        "--depth",
+    );
 }
 
 #[test]
@@ -183,45 +283,108 @@ fn bad_tables_exit_2_naming_the_problem() {
     let steel = "homogeneous:E=210e9,nu=0.3";
     let cases = [
         (table(d, "empty.npy", &[]), "at least 3 rows"),
-        (table(d, "order.npy", &[[0.0, 0.0], [2e-6, 1e-9], [1e-6, 2e-9]]), "increase"),
-        (table(d, "start.npy", &[[1e-7, 0.0], [1e-6, 1e-9], [2e-6, 2e-9]]), "start at r = 0"),
-        (table(d, "nan.npy", &[[0.0, 0.0], [1e-6, f64::NAN], [2e-6, 2e-9]]), "non-finite"),
+        (
+            table(d, "order.npy", &[[0.0, 0.0], [2e-6, 1e-9], [1e-6, 2e-9]]),
+            "increase",
+        ),
+        (
+            table(d, "start.npy", &[[1e-7, 0.0], [1e-6, 1e-9], [2e-6, 2e-9]]),
+            "start at r = 0",
+        ),
+        (
+            table(d, "nan.npy", &[[0.0, 0.0], [1e-6, f64::NAN], [2e-6, 2e-9]]),
+            "non-finite",
+        ),
     ];
     for (path, needle) in &cases {
         let spec = format!("table:{path}");
-        assert_bad(&["axisym", "--profile", &spec, "--material", steel, "--depth", "1e-9"], needle);
+        assert_bad(
+            &[
+                "axisym",
+                "--profile",
+                &spec,
+                "--material",
+                steel,
+                "--depth",
+                "1e-9",
+            ],
+            needle,
+        );
     }
     // Wrong shape and dtype.
     let shape = d.join("shape.npy");
-    Array2::<f64>::zeros((4, 3)).write_npy(std::fs::File::create(&shape).unwrap()).unwrap();
+    Array2::<f64>::zeros((4, 3))
+        .write_npy(std::fs::File::create(&shape).unwrap())
+        .unwrap();
     let dtype = d.join("dtype.npy");
-    Array2::<i32>::zeros((4, 2)).write_npy(std::fs::File::create(&dtype).unwrap()).unwrap();
+    Array2::<i32>::zeros((4, 2))
+        .write_npy(std::fs::File::create(&dtype).unwrap())
+        .unwrap();
     for (path, needle) in [(shape, "shape"), (dtype, "dtype")] {
         let spec = format!("table:{}", path.display());
-        assert_bad(&["axisym", "--profile", &spec, "--material", steel, "--depth", "1e-9"], needle);
+        assert_bad(
+            &[
+                "axisym",
+                "--profile",
+                &spec,
+                "--material",
+                steel,
+                "--depth",
+                "1e-9",
+            ],
+            needle,
+        );
     }
     // Contact beyond the table, and a non-convex table.
-    let rows: Vec<[f64; 2]> = (0..51).map(|i| {
-        let r = i as f64 * 1e-7;
-        [r, r * r / 2e-4]
-    }).collect();
+    let rows: Vec<[f64; 2]> = (0..51)
+        .map(|i| {
+            let r = i as f64 * 1e-7;
+            [r, r * r / 2e-4]
+        })
+        .collect();
     let short = table(d, "short.npy", &rows);
-    assert_bad(&["axisym", "--profile", &format!("table:{short}"), "--material", steel, "--depth", "1e-6"], "table");
-    let rows: Vec<[f64; 2]> = (0..121).map(|i| {
-        let r = i as f64 * 0.01;
-        [r, r * r - r.powi(4)]
-    }).collect();
+    assert_bad(
+        &[
+            "axisym",
+            "--profile",
+            &format!("table:{short}"),
+            "--material",
+            steel,
+            "--depth",
+            "1e-6",
+        ],
+        "table",
+    );
+    let rows: Vec<[f64; 2]> = (0..121)
+        .map(|i| {
+            let r = i as f64 * 0.01;
+            [r, r * r - r.powi(4)]
+        })
+        .collect();
     let bump = table(d, "bump.npy", &rows);
-    assert_bad(&["axisym", "--profile", &format!("table:{bump}"), "--material", "homogeneous:Estar=1", "--depth", "0.6"], "non-convex");
+    assert_bad(
+        &[
+            "axisym",
+            "--profile",
+            &format!("table:{bump}"),
+            "--material",
+            "homogeneous:Estar=1",
+            "--depth",
+            "0.6",
+        ],
+        "non-convex",
+    );
 }
 
 #[test]
 fn a_table_sampled_from_a_sphere_matches_hertz() {
     let dir = tempfile::tempdir().unwrap();
-    let rows: Vec<[f64; 2]> = (0..401).map(|i| {
-        let r = i as f64 * 2e-8;
-        [r, r * r / (2.0 * 105e-6)]
-    }).collect();
+    let rows: Vec<[f64; 2]> = (0..401)
+        .map(|i| {
+            let r = i as f64 * 2e-8;
+            [r, r * r / (2.0 * 105e-6)]
+        })
+        .collect();
     let path = table(dir.path(), "sphere.npy", &rows);
     let mut args = HERTZ.to_vec();
     let spec = format!("table:{path}");

@@ -1,1 +1,116 @@
-fn main() {}
+//! Profile (Eq. 7) and stress (Eq. 17) transforms, apply only (planned beforehand), FFT vs MVM,
+//! and the FFT apply against a bare realfft convolution of the same padded length.
+//! Run: `cargo bench -p halfspace-mdr --bench transforms`; the table in docs/performance.md comes
+//! from `python3 docs/perf_table.py` over target/criterion.
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use halfspace_mdr::{Backend, Material, ProfileTransform, SquaredGrid, StressTransform};
+use halfspace_numerics::conv1d::fast_length;
+use realfft::num_complex::Complex;
+use realfft::RealFftPlanner;
+
+const SIZES: [usize; 7] = [100, 1_000, 2_001, 10_000, 20_001, 100_000, 1_000_000];
+const MVM_LIMIT: usize = 20_001;
+
+fn unit() -> Material {
+    Material::from_e_star(1.0).unwrap()
+}
+
+fn profile_transform(c: &mut Criterion) {
+    let mut group = c.benchmark_group("profile_transform");
+    for &n in &SIZES {
+        let grid = SquaredGrid::new(n, 1.0).unwrap();
+        let slope: Vec<f64> = (0..n).map(|i| 0.5 + 0.1 * grid.squared(i)).collect();
+        let mut g = vec![0.0; n];
+        for backend in [Backend::Fft, Backend::Mvm] {
+            if backend == Backend::Mvm && n > MVM_LIMIT {
+                continue;
+            }
+            let mut t = ProfileTransform::new(n, &unit(), backend).unwrap();
+            group.bench_with_input(BenchmarkId::new(backend.name(), n), &n, |b, _| {
+                b.iter(|| t.apply(&grid, black_box(&slope), &mut g).unwrap())
+            });
+        }
+    }
+    group.finish();
+}
+
+fn stress_transform(c: &mut Criterion) {
+    let mut group = c.benchmark_group("stress_transform");
+    for &n in &SIZES {
+        let grid = SquaredGrid::new(n, 1.0).unwrap();
+        let q: Vec<f64> = (0..n).map(|i| 1.0 - grid.squared(i).powi(2)).collect();
+        let mut sigma = vec![0.0; n];
+        for backend in [Backend::Fft, Backend::Mvm] {
+            if backend == Backend::Mvm && n > MVM_LIMIT {
+                continue;
+            }
+            let mut t = StressTransform::new(n, &unit(), backend).unwrap();
+            group.bench_with_input(BenchmarkId::new(backend.name(), n), &n, |b, _| {
+                b.iter(|| {
+                    t.line_load_to_stress(&grid, black_box(&q), 0.0, &mut sigma)
+                        .unwrap()
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
+/// The floor: forward real FFT, spectrum product, inverse real FFT of the same padded length,
+/// with everything planned and allocated beforehand.
+fn bare_realfft(c: &mut Criterion) {
+    let mut group = c.benchmark_group("bare_realfft_convolution");
+    for &n in &SIZES {
+        let p = fast_length(2 * n - 1);
+        let mut planner = RealFftPlanner::<f64>::new();
+        let fwd = planner.plan_fft_forward(p);
+        let inv = planner.plan_fft_inverse(p);
+        let mut time = vec![0.0; p];
+        let mut freq = fwd.make_output_vec();
+        let spectrum: Vec<Complex<f64>> = (0..freq.len())
+            .map(|k| Complex::new(1.0 / (1.0 + k as f64), 0.0))
+            .collect();
+        let mut scratch =
+            vec![Complex::new(0.0, 0.0); fwd.get_scratch_len().max(inv.get_scratch_len())];
+        let x: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
+        group.bench_with_input(BenchmarkId::new("fft", n), &n, |b, _| {
+            b.iter(|| {
+                time[..n].copy_from_slice(black_box(&x));
+                time[n..].fill(0.0);
+                fwd.process_with_scratch(&mut time, &mut freq, &mut scratch)
+                    .unwrap();
+                for (f, s) in freq.iter_mut().zip(&spectrum) {
+                    *f *= *s;
+                }
+                freq[0].im = 0.0;
+                let last = freq.len() - 1;
+                if p % 2 == 0 {
+                    freq[last].im = 0.0;
+                }
+                inv.process_with_scratch(&mut freq, &mut time, &mut scratch)
+                    .unwrap();
+                black_box(time[0])
+            })
+        });
+    }
+    group.finish();
+}
+
+fn config() -> Criterion {
+    Criterion::default()
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_millis(1200))
+        .without_plots()
+}
+
+criterion_group! {
+    name = benches;
+    config = config();
+    targets = profile_transform, stress_transform, bare_realfft
+}
+criterion_main!(benches);
