@@ -3,6 +3,7 @@
 mod axisym;
 mod plot;
 mod spec;
+mod study;
 
 use std::process::ExitCode;
 
@@ -20,6 +21,8 @@ struct Cli {
 enum Command {
     /// Axisymmetric normal contact by the MDR: contact radius, force, pressure, displacement.
     Axisym(axisym::AxisymArgs),
+    /// Convergence studies against closed forms (the figures of docs/).
+    Study(study::StudyArgs),
 }
 
 /// Errors of the CLI. Every one is reported as one line on stderr with exit code 2.
@@ -50,6 +53,7 @@ pub fn run() -> ExitCode {
     };
     let result = match cli.command {
         Command::Axisym(args) => axisym::run(args),
+        Command::Study(args) => study::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

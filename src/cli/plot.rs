@@ -60,3 +60,65 @@ pub fn pressure_and_displacement(path: &Path, sol: &ContactSolution, title: &str
     root.present()?;
     Ok(())
 }
+
+/// Log–log errors against N, one line per series.
+pub fn convergence(
+    path: &Path,
+    title: &str,
+    ns: &[usize],
+    series: &[(&str, Vec<f64>)],
+) -> PlotResult {
+    let xmin = *ns.first().unwrap_or(&1) as f64 * 0.8;
+    let xmax = *ns.last().unwrap_or(&10) as f64 * 1.25;
+    let all = series.iter().flat_map(|(_, e)| e.iter().copied());
+    let ymin = all.clone().fold(f64::INFINITY, f64::min) * 0.5;
+    let ymax = all.fold(0.0, f64::max) * 2.0;
+    let root = SVGBackend::new(path, (640, 480)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 15))
+        .margin(14)
+        .x_label_area_size(40)
+        .y_label_area_size(64)
+        .build_cartesian_2d((xmin..xmax).log_scale(), (ymin..ymax).log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc("N (nodes)")
+        .y_desc("error")
+        .x_label_formatter(&|v| format!("{v:.0}"))
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .draw()?;
+    let colors = [BLUE, RED, GREEN, MAGENTA];
+    for (k, (name, errors)) in series.iter().enumerate() {
+        let color = colors[k % colors.len()];
+        let pts: Vec<(f64, f64)> = ns
+            .iter()
+            .map(|&n| n as f64)
+            .zip(errors.iter().copied())
+            .collect();
+        chart
+            .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?
+            .label(*name)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color));
+        chart.draw_series(pts.iter().map(|p| Circle::new(*p, 3, color.filled())))?;
+    }
+    // Reference slope N^{-3/2} through the first point of the first series.
+    if let Some((_, e)) = series.first() {
+        let (n0, e0) = (ns[0] as f64, e[0]);
+        let line: Vec<(f64, f64)> = ns
+            .iter()
+            .map(|&n| (n as f64, e0 * (n as f64 / n0).powf(-1.5)))
+            .collect();
+        chart
+            .draw_series(LineSeries::new(line, BLACK.mix(0.4)))?
+            .label("slope −3/2")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK.mix(0.4)));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()?;
+    root.present()?;
+    Ok(())
+}

@@ -9,6 +9,7 @@ use std::time::Duration;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use halfspace_mdr::{Backend, Material, ProfileTransform, SquaredGrid, StressTransform};
 use halfspace_numerics::conv1d::fast_length;
+use halfspace_numerics::ToeplitzConvolution;
 use realfft::num_complex::Complex;
 use realfft::RealFftPlanner;
 
@@ -56,6 +57,22 @@ fn stress_transform(c: &mut Criterion) {
                 })
             });
         }
+    }
+    group.finish();
+}
+
+/// The engine alone: `ToeplitzConvolution::apply` (copy in, forward FFT, product, inverse, copy
+/// out), to compare with the bare realfft floor below.
+fn engine(c: &mut Criterion) {
+    let mut group = c.benchmark_group("engine_convolution");
+    for &n in &SIZES {
+        let kernel: Vec<f64> = (0..n).map(|m| (m as f64).sqrt()).collect();
+        let mut op = ToeplitzConvolution::new(kernel, Backend::Fft).unwrap();
+        let x: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
+        let mut y = vec![0.0; n];
+        group.bench_with_input(BenchmarkId::new("fft", n), &n, |b, _| {
+            b.iter(|| op.apply(black_box(&x), &mut y).unwrap())
+        });
     }
     group.finish();
 }
@@ -111,6 +128,6 @@ fn config() -> Criterion {
 criterion_group! {
     name = benches;
     config = config();
-    targets = profile_transform, stress_transform, bare_realfft
+    targets = profile_transform, stress_transform, engine, bare_realfft
 }
 criterion_main!(benches);

@@ -18,6 +18,7 @@ pub mod contact;
 mod error;
 pub mod material;
 pub mod profile;
+pub mod studies;
 pub mod transform;
 
 pub use contact::{ContactParams, ContactSolution, ContactSolver, Load};

@@ -22,3 +22,13 @@ pub use conv1d::{Backend, ToeplitzConvolution};
 pub use error::NumericsError;
 pub use grid::SquaredGrid;
 pub use power_sum::PowerSum;
+
+/// `x^p`, by `sqrt` when `p = 1/2` (the homogeneous exponent: several times cheaper than `powf`).
+#[inline]
+pub fn pow_or_sqrt(x: f64, p: f64) -> f64 {
+    if p == 0.5 {
+        x.sqrt()
+    } else {
+        x.powf(p)
+    }
+}

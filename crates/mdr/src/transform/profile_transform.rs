@@ -1,4 +1,4 @@
-use halfspace_numerics::{diff::derivative_uniform, Backend, PowerSum, SquaredGrid};
+use halfspace_numerics::{diff::derivative_uniform, pow_or_sqrt, Backend, PowerSum, SquaredGrid};
 
 use super::{check_fits, check_len};
 use crate::{Material, MdrError, Profile};
@@ -62,7 +62,7 @@ impl ProfileTransform {
             *gi = if i == 0 {
                 0.0
             } else {
-                factor * grid.squared(i).powf(power) * di
+                factor * pow_or_sqrt(grid.squared(i), power) * di
             };
         }
         Ok(())

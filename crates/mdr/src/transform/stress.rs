@@ -1,4 +1,4 @@
-use halfspace_numerics::{diff::derivative_uniform, Backend, PowerSum, SquaredGrid};
+use halfspace_numerics::{diff::derivative_uniform, pow_or_sqrt, Backend, PowerSum, SquaredGrid};
 
 use super::{check_fits, check_len};
 use crate::{Material, MdrError};
@@ -71,7 +71,7 @@ impl StressTransform {
         let a2 = grid.squared(m - 1);
         for j in 0..m - 1 {
             let gap = a2 - grid.squared(j);
-            let mut s = pref * (-edge_slope * gap.powf(gamma) + scale * t[j]);
+            let mut s = pref * (-edge_slope * pow_or_sqrt(gap, gamma) + scale * t[j]);
             if edge_load != 0.0 {
                 s += edge_load / std::f64::consts::PI * gap.powf(gamma - 1.0);
             }
