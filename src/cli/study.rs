@@ -8,6 +8,9 @@ use serde_json::json;
 
 use super::{plot, CliError};
 
+/// Named error series of one study.
+type Series = Vec<(&'static str, Vec<f64>)>;
+
 #[derive(Debug, Clone, Copy, ValueEnum)]
 pub enum Study {
     /// Eq. 17 on the Eq. 18 pair q = 1 − x⁴: mean relative error (Eq. 19) against N.
@@ -30,7 +33,7 @@ pub struct StudyArgs {
 }
 
 pub fn run(args: StudyArgs) -> Result<(), CliError> {
-    let (title, ns, series): (&str, Vec<usize>, Vec<(&str, Vec<f64>)>) = match args.study {
+    let (title, ns, series): (&str, Vec<usize>, Series) = match args.study {
         Study::Eq17 => {
             let ns = vec![11, 101, 1001, 2001, 10001, 100001];
             let e: Result<Vec<f64>, _> = ns
