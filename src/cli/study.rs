@@ -65,7 +65,10 @@ pub fn run(args: StudyArgs) -> Result<(), CliError> {
             ("Hertz displacement (a = 0.7, L = 1): max error", ns, series)
         }
     };
-    let orders: Vec<f64> = series.iter().map(|(_, e)| observed_order(&ns, e)).collect();
+    let orders: Vec<f64> = series
+        .iter()
+        .map(|(_, e)| studies::observed_order(&ns, e))
+        .collect();
     if let Some(path) = &args.plot {
         plot::convergence(path, title, &ns, &series)
             .map_err(|e| CliError::Plot(format!("{}: {e}", path.display())))?;
@@ -87,15 +90,4 @@ pub fn run(args: StudyArgs) -> Result<(), CliError> {
         }
     }
     Ok(())
-}
-
-/// Least-squares slope of ln(error) against ln(N), negated.
-fn observed_order(ns: &[usize], errors: &[f64]) -> f64 {
-    let xs: Vec<f64> = ns.iter().map(|&n| (n as f64).ln()).collect();
-    let ys: Vec<f64> = errors.iter().map(|e| e.ln()).collect();
-    let k = xs.len() as f64;
-    let (mx, my) = (xs.iter().sum::<f64>() / k, ys.iter().sum::<f64>() / k);
-    let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
-    let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
-    -sxy / sxx
 }

@@ -36,3 +36,14 @@ pub fn displacement_hertz_error(n: usize, method: DisplacementMethod) -> Result<
         .map(|j| (out[j] - analytic::sphere_displacement(grid.coordinate(j), a, 1.0)).abs())
         .fold(0.0, f64::max))
 }
+
+/// Observed order of convergence: minus the least-squares slope of `ln error` against `ln N`.
+pub fn observed_order(ns: &[usize], errors: &[f64]) -> f64 {
+    let xs: Vec<f64> = ns.iter().map(|&n| (n as f64).ln()).collect();
+    let ys: Vec<f64> = errors.iter().map(|e| e.ln()).collect();
+    let k = xs.len() as f64;
+    let (mx, my) = (xs.iter().sum::<f64>() / k, ys.iter().sum::<f64>() / k);
+    let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
+    -sxy / sxx
+}
