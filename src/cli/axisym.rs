@@ -93,7 +93,7 @@ pub fn run(args: AxisymArgs) -> Result<(), CliError> {
     let sol = solver.solve(&profile, load)?;
     let seconds = start.elapsed().as_secs_f64();
     let displacement_method = match DisplacementMethod::for_backend(backend) {
-        DisplacementMethod::ArccosKernel => "eq12",
+        DisplacementMethod::DenseKernel => "eq12",
         DisplacementMethod::Convolution(_) => "eq13",
     };
     let summary = json!({

@@ -50,7 +50,7 @@ pub fn run(args: StudyArgs) -> Result<(), CliError> {
             let ns = vec![101, 301, 1001, 4001, 10001];
             let mut series = Vec::new();
             for (name, method) in [
-                ("Eq. 12 (arccos kernel)", DisplacementMethod::ArccosKernel),
+                ("Eq. 12 (arccos kernel)", DisplacementMethod::DenseKernel),
                 (
                     "Eq. 13 (FFT, parabolic split)",
                     DisplacementMethod::Convolution(Backend::Fft),

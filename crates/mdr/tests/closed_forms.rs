@@ -246,7 +246,7 @@ fn displacement_tests_of_spec_section_2() {
     let spec13 = [1.53e-2, 1.65e-3, 8.3e-4];
     let ns = [101usize, 1001, 2001];
     for (method, spec) in [
-        (DisplacementMethod::ArccosKernel, spec12),
+        (DisplacementMethod::DenseKernel, spec12),
         (DisplacementMethod::Convolution(Backend::Fft), spec13),
     ] {
         let mut errors = Vec::new();
@@ -276,7 +276,7 @@ fn displacement_tests_of_spec_section_2() {
     let ns = [101usize, 1001, 4001];
     let spec = [1.6e-4, 5.6e-6, 7.2e-7];
     for method in [
-        DisplacementMethod::ArccosKernel,
+        DisplacementMethod::DenseKernel,
         DisplacementMethod::Convolution(Backend::Fft),
         DisplacementMethod::Convolution(Backend::Mvm),
     ] {

@@ -11,7 +11,7 @@ use crate::MdrError;
 pub enum DisplacementMethod {
     /// Eq. 12: `û(ρ) = U(0) + (2/π) ∫_0^ρ Û'(ξ) arccos √(ξ/ρ) dξ`, a dense (not Toeplitz)
     /// O(N²) product; the kernel is evaluated on the fly, rows in parallel.
-    ArccosKernel,
+    DenseKernel,
     /// Eq. 13: `û(ρ) = U(0) + (2/π)[√ρ L₀ + ∫_0^ρ β(ξ) √(ρ−ξ) dξ]`, `β = d/dξ (Û/√ξ)`, a causal
     /// convolution evaluated by the given backend (FFT, or its dense twin).
     Convolution(Backend),
@@ -21,7 +21,7 @@ impl DisplacementMethod {
     /// The method the CLI's `--method` selects: `mvm` → Eq. 12, `fft` → Eq. 13 by FFT.
     pub fn for_backend(backend: Backend) -> Self {
         match backend {
-            Backend::Mvm => DisplacementMethod::ArccosKernel,
+            Backend::Mvm => DisplacementMethod::DenseKernel,
             Backend::Fft => DisplacementMethod::Convolution(Backend::Fft),
         }
     }
@@ -57,7 +57,7 @@ impl DisplacementTransform {
     /// Builds the transform for grids of up to `capacity` nodes.
     pub fn new(capacity: usize, method: DisplacementMethod) -> Result<Self, MdrError> {
         let sum = match method {
-            DisplacementMethod::ArccosKernel => None,
+            DisplacementMethod::DenseKernel => None,
             DisplacementMethod::Convolution(backend) => {
                 Some(PowerSum::new(capacity, 0.5, backend)?)
             }
@@ -107,7 +107,7 @@ impl DisplacementTransform {
             });
         }
         match self.method {
-            DisplacementMethod::ArccosKernel => self.arccos_kernel(grid, u_contact, l0, out),
+            DisplacementMethod::DenseKernel => self.arccos_kernel(grid, u_contact, l0, out),
             DisplacementMethod::Convolution(_) => self.convolution(grid, u_contact, l0, out),
         }
     }
