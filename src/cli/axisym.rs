@@ -26,7 +26,8 @@ pub struct AxisymArgs {
     /// Indenter: sphere:R=.. | cone:slope=.. | flat:a=.. | power:c=..,n=.. | table:FILE.npy
     #[arg(long)]
     profile: String,
-    /// Half-space: homogeneous:E=..,nu=.. | homogeneous:Estar=..
+    /// Half-space: homogeneous:E=..,nu=.. | homogeneous:Estar=.. | graded:E0=..,z0=..,nu=..,k=..
+    /// (E(z) = E0 (z/z0)^k, −1 < k < 1)
     #[arg(long)]
     material: String,
     /// Indentation depth δ in m.
@@ -92,10 +93,8 @@ pub fn run(args: AxisymArgs) -> Result<(), CliError> {
     let mut solver = ContactSolver::new(material, params)?;
     let sol = solver.solve(&profile, load)?;
     let seconds = start.elapsed().as_secs_f64();
-    let displacement_method = match DisplacementMethod::for_backend(backend) {
-        DisplacementMethod::DenseKernel => "eq12",
-        DisplacementMethod::Convolution(_) => "eq13",
-    };
+    let displacement_method =
+        DisplacementMethod::for_backend(backend).equation(material.grading_exponent());
     let summary = json!({
         "contact_radius": sol.contact_radius,
         "depth": sol.depth,
@@ -108,6 +107,7 @@ pub fn run(args: AxisymArgs) -> Result<(), CliError> {
         "displacement_method": displacement_method,
         "k": material.grading_exponent(),
         "contact_modulus": material.contact_modulus(),
+        "c_n": material.contact_modulus(),
         "normal_stiffness": sol.normal_stiffness(),
         "grid_length": sol.grid.length(),
         "edge_index": sol.edge_index,

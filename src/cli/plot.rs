@@ -61,12 +61,13 @@ pub fn pressure_and_displacement(path: &Path, sol: &ContactSolution, title: &str
     Ok(())
 }
 
-/// Log–log errors against N, one line per series.
+/// Log–log errors against N, one line per series, with a reference line of slope `−order`.
 pub fn convergence(
     path: &Path,
     title: &str,
     ns: &[usize],
     series: &[(&str, Vec<f64>)],
+    order: f64,
 ) -> PlotResult {
     let xmin = *ns.first().unwrap_or(&1) as f64 * 0.8;
     let xmax = *ns.last().unwrap_or(&10) as f64 * 1.25;
@@ -102,16 +103,16 @@ pub fn convergence(
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color));
         chart.draw_series(pts.iter().map(|p| Circle::new(*p, 3, color.filled())))?;
     }
-    // Reference slope N^{-3/2} through the first point of the first series.
+    // Reference slope through the first point of the first series.
     if let Some((_, e)) = series.first() {
         let (n0, e0) = (ns[0] as f64, e[0]);
         let line: Vec<(f64, f64)> = ns
             .iter()
-            .map(|&n| (n as f64, e0 * (n as f64 / n0).powf(-1.5)))
+            .map(|&n| (n as f64, e0 * (n as f64 / n0).powf(-order)))
             .collect();
         chart
             .draw_series(LineSeries::new(line, BLACK.mix(0.4)))?
-            .label("slope −3/2")
+            .label(format!("slope −{order}"))
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK.mix(0.4)));
     }
     chart
@@ -119,6 +120,61 @@ pub fn convergence(
         .background_style(WHITE.mix(0.8))
         .border_style(BLACK)
         .draw()?;
+    root.present()?;
+    Ok(())
+}
+
+/// Labelled curves `(label, [(x, y)])`.
+pub type Curves = [(String, Vec<(f64, f64)>)];
+
+/// Two panels of curves against `r`: pressure and surface displacement, one line per label.
+pub fn curves(
+    path: &Path,
+    title: &str,
+    xlabel: &str,
+    left: (&str, &Curves),
+    right: (&str, &Curves),
+) -> PlotResult {
+    let root = SVGBackend::new(path, (960, 440)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let root = root.titled(title, ("sans-serif", 15))?;
+    let (a, b) = root.split_horizontally(480);
+    let colors = [RED, BLACK, BLUE, GREEN, MAGENTA];
+    for (area, (ylabel, lines)) in [(a, left), (b, right)] {
+        let xmax = lines
+            .iter()
+            .flat_map(|(_, p)| p.iter().map(|v| v.0))
+            .fold(0.0, f64::max);
+        let ymax = lines
+            .iter()
+            .flat_map(|(_, p)| p.iter().map(|v| v.1))
+            .filter(|v| v.is_finite())
+            .fold(0.0, f64::max)
+            * 1.05;
+        let mut chart = ChartBuilder::on(&area)
+            .margin(12)
+            .x_label_area_size(36)
+            .y_label_area_size(64)
+            .build_cartesian_2d(0.0..xmax, 0.0..ymax.max(1e-300))?;
+        chart
+            .configure_mesh()
+            .x_desc(xlabel)
+            .y_desc(ylabel)
+            .draw()?;
+        for (k, (label, pts)) in lines.iter().enumerate() {
+            let color = colors[k % colors.len()];
+            let pts: Vec<(f64, f64)> = pts.iter().copied().filter(|p| p.1.is_finite()).collect();
+            chart
+                .draw_series(LineSeries::new(pts, color.stroke_width(2)))?
+                .label(label.as_str())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color));
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()?;
+    }
     root.present()?;
     Ok(())
 }

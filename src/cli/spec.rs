@@ -116,7 +116,7 @@ pub fn parse_profile(spec: &str) -> Result<Profile, CliError> {
     Ok(profile)
 }
 
-/// `homogeneous:E=..,nu=..`, `homogeneous:Estar=..`; `graded:...` (not yet available).
+/// `homogeneous:E=..,nu=..`, `homogeneous:Estar=..`, `graded:E0=..,z0=..,nu=..,k=..`.
 pub fn parse_material(spec: &str) -> Result<Material, CliError> {
     let what = "--material";
     let (kind, pairs) = split(spec, what)?;
@@ -134,10 +134,14 @@ pub fn parse_material(spec: &str) -> Result<Material, CliError> {
                 Ok(Material::homogeneous(e, nu)?)
             }
         }
-        "graded" => Err(CliError::Spec(format!(
-            "{what} '{spec}': power-law graded media are not available in this version \
-             (homogeneous only)"
-        ))),
+        "graded" => {
+            let e0 = keys.number("E0")?;
+            let z0 = keys.number("z0")?;
+            let nu = keys.number("nu")?;
+            let k = keys.number("k")?;
+            keys.finish("E0, z0, nu, k")?;
+            Ok(Material::power_law(e0, z0, nu, k)?)
+        }
         other => Err(CliError::Spec(format!(
             "{what} '{spec}': unknown material '{other}' (homogeneous, graded)"
         ))),
@@ -168,5 +172,15 @@ mod tests {
         assert!(e.contains("missing key 'nu'"), "{e}");
         assert!(parse_material("homogeneous:Estar=1e9").is_ok());
         assert!(parse_material("homogeneous:E=1e9,nu=0.6").is_err());
+        let m = parse_material("graded:E0=2e11,z0=1e-6,nu=0.3,k=0.5").unwrap();
+        assert_eq!(m.grading_exponent(), 0.5);
+        let e = parse_material("graded:E0=2e11,z0=1e-6,nu=0.3,k=1")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("grading exponent k"), "{e}");
+        let e = parse_material("graded:E0=2e11,nu=0.3,k=0.5")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("missing key 'z0'"), "{e}");
     }
 }

@@ -17,6 +17,10 @@ pub enum Study {
     Eq17,
     /// Eqs. 12 and 13 on Hertz (spec §2 test 2): max error against N.
     Displacement,
+    /// Eqs. 25 and 26 on the Eq. 27 pair U = x⁴ at k = ±0.5: mean relative error against N.
+    Eq27,
+    /// Graded Hertz (E0 = z0 = R = 1, ν = 0.3, δ = 0.01) for k = −0.5, 0, 0.5: p(r) and u(r).
+    GradedHertz,
 }
 
 #[derive(Debug, Args)]
@@ -33,6 +37,9 @@ pub struct StudyArgs {
 }
 
 pub fn run(args: StudyArgs) -> Result<(), CliError> {
+    if let Study::GradedHertz = args.study {
+        return graded_hertz(&args);
+    }
     let (title, ns, series): (&str, Vec<usize>, Series) = match args.study {
         Study::Eq17 => {
             let ns = vec![11, 101, 1001, 2001, 10001, 100001];
@@ -64,13 +71,51 @@ pub fn run(args: StudyArgs) -> Result<(), CliError> {
             }
             ("Hertz displacement (a = 0.7, L = 1): max error", ns, series)
         }
+        Study::Eq27 => {
+            let ns = vec![101, 301, 1001, 2001, 4001];
+            let mut series = Vec::new();
+            for (name, k, method) in [
+                (
+                    "Eq. 26 (FFT), k = −0.5",
+                    -0.5,
+                    DisplacementMethod::Convolution(Backend::Fft),
+                ),
+                (
+                    "Eq. 25 (2F1 kernel), k = −0.5",
+                    -0.5,
+                    DisplacementMethod::DenseKernel,
+                ),
+                (
+                    "Eq. 26 (FFT), k = 0.5",
+                    0.5,
+                    DisplacementMethod::Convolution(Backend::Fft),
+                ),
+                (
+                    "Eq. 25 (2F1 kernel), k = 0.5",
+                    0.5,
+                    DisplacementMethod::DenseKernel,
+                ),
+            ] {
+                let e: Result<Vec<f64>, _> = ns
+                    .iter()
+                    .map(|&n| studies::graded_quartic_displacement_error(n, k, method))
+                    .collect();
+                series.push((name, e?));
+            }
+            ("Eq. 27, U = x⁴ (L = 1): mean relative error", ns, series)
+        }
+        Study::GradedHertz => unreachable!("handled above"),
     };
     let orders: Vec<f64> = series
         .iter()
         .map(|(_, e)| studies::observed_order(&ns, e))
         .collect();
     if let Some(path) = &args.plot {
-        plot::convergence(path, title, &ns, &series)
+        let reference = match args.study {
+            Study::Eq27 => 1.0,
+            _ => 1.5,
+        };
+        plot::convergence(path, title, &ns, &series, reference)
             .map_err(|e| CliError::Plot(format!("{}: {e}", path.display())))?;
     }
     if args.json {
@@ -87,6 +132,61 @@ pub fn run(args: StudyArgs) -> Result<(), CliError> {
             for (n, err) in ns.iter().zip(e) {
                 println!("  N = {n:>7}  {err:.3e}");
             }
+        }
+    }
+    Ok(())
+}
+
+/// Graded Hertz for k = −0.5, 0, 0.5 through the contact solver (N = 2001, FFT).
+fn graded_hertz(args: &StudyArgs) -> Result<(), CliError> {
+    use halfspace::mdr::{ContactParams, ContactSolver, Load, Material, Profile};
+    let mut pressures = Vec::new();
+    let mut displacements = Vec::new();
+    let mut rows = Vec::new();
+    for k in [-0.5, 0.0, 0.5] {
+        let material = Material::power_law(1.0, 1.0, 0.3, k)?;
+        let params = ContactParams {
+            domain_ratio: 2.5,
+            ..ContactParams::default()
+        };
+        let sol = ContactSolver::new(material, params)?
+            .solve(&Profile::sphere(1.0)?, Load::Depth(0.01))?;
+        let r = sol.radii();
+        let label = format!("k = {k}");
+        pressures.push((
+            label.clone(),
+            r.iter()
+                .copied()
+                .zip(sol.pressure.iter().copied())
+                .collect(),
+        ));
+        displacements.push((
+            label,
+            r.iter()
+                .copied()
+                .zip(sol.displacement.iter().copied())
+                .collect(),
+        ));
+        rows.push(json!({
+            "k": k, "c_n": material.contact_modulus(), "contact_radius": sol.contact_radius,
+            "force": sol.force, "max_pressure": sol.max_pressure(),
+        }));
+    }
+    if let Some(path) = &args.plot {
+        plot::curves(
+            path,
+            "Graded Hertz: E(z) = E0 (z/z0)^k, E0 = z0 = R = 1, ν = 0.3, δ = 0.01",
+            "r",
+            ("pressure p", &pressures),
+            ("surface displacement u", &displacements),
+        )
+        .map_err(|e| CliError::Plot(format!("{}: {e}", path.display())))?;
+    }
+    if args.json {
+        println!("{}", json!({"study": "graded Hertz", "cases": rows}));
+    } else {
+        for row in rows {
+            println!("{row}");
         }
     }
     Ok(())

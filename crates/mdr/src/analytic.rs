@@ -1,14 +1,128 @@
-//! Closed forms of the homogeneous MDR (spec §1–§3), shared by tests, docs and benches.
-//! `E*` is the contact modulus; all functions are pure and take SI values.
+//! Closed forms of the MDR (spec §1–§4), shared by tests, docs and benches. `E*` is the contact
+//! modulus of a homogeneous medium, `c_N` that of a power-law graded one (spec §4.2); all
+//! functions are pure and take SI values.
 
 use std::f64::consts::PI;
 
-use halfspace_numerics::special::gamma;
+use halfspace_numerics::special::{gamma, hyp2f1, incomplete_beta};
+use halfspace_numerics::NumericsError;
 
 /// `κ_n = √π Γ(n/2 + 1) / Γ(n/2 + 1/2)`: `f = c rⁿ ↦ g = κ_n c |x|ⁿ` (spec §1 table);
 /// `κ₁ = π/2`, `κ₂ = 2`, `κ₃ = 3π/4`, `κ₄ = 8/3`.
 pub fn power_law_factor(n: f64) -> f64 {
-    PI.sqrt() * gamma(0.5 * n + 1.0) / gamma(0.5 * n + 0.5)
+    graded_power_law_factor(n, 0.0)
+}
+
+/// `κ_n(k) = Γ(1 + n/2) Γ((1+k)/2) / Γ((1+k+n)/2)`: `f = c rⁿ ↦ g = κ_n(k) c |x|ⁿ` in a graded
+/// medium (spec §4.1); `κ₂(k) = 2/(1+k)`, and `κ_n(0) = κ_n`.
+pub fn graded_power_law_factor(n: f64, k: f64) -> f64 {
+    gamma(1.0 + 0.5 * n) * gamma(0.5 * (1.0 + k)) / gamma(0.5 * (1.0 + k + n))
+}
+
+/// Kernel of Eq. 25 (spec §4.3): `K_k(y) = 1 − 2cos(kπ/2)/(π(1+k)) · H(y; k)`,
+/// `H(y; k) = y^{(1+k)/2} ₂F₁((1+k)/2, (1+k)/2; (3+k)/2; y)`, `0 ≤ y ≤ 1`; `K_k(0) = 1`,
+/// `K_k(1) = 0`, `K_0(y) = (2/π) arccos √y` (Eq. 12's kernel, evaluated so at `k = 0`).
+pub fn displacement_kernel(y: f64, k: f64) -> Result<f64, NumericsError> {
+    if k == 0.0 {
+        return Ok(2.0 / PI * y.sqrt().min(1.0).acos());
+    }
+    if y <= 0.0 {
+        return Ok(1.0);
+    }
+    let a = 0.5 * (1.0 + k);
+    let h = y.powf(a) * hyp2f1(a, a, a + 1.0, y.min(1.0))?;
+    Ok(1.0 - 2.0 * (0.5 * k * PI).cos() / (PI * (1.0 + k)) * h)
+}
+
+/// `I_k(r, a) = ∫_r^a (x² − r²)^{(k−1)/2} dx = (r^k/2) B_{1−r²/a²}((1+k)/2, −k/2)`, the line
+/// integral of Eq. 28 for a constant `g'` (the graded cone); `arccosh(a/r)` at `k = 0`, `a^k/k` at
+/// `r = 0` for `k > 0` and `+∞` there for `k ≤ 0`.
+pub fn graded_cone_integral(r: f64, a: f64, k: f64) -> Result<f64, NumericsError> {
+    if r >= a {
+        return Ok(0.0);
+    }
+    if r <= 0.0 {
+        return Ok(if k > 0.0 {
+            a.powf(k) / k
+        } else {
+            f64::INFINITY
+        });
+    }
+    if k == 0.0 {
+        return Ok((a / r).acosh());
+    }
+    let tau = (r / a) * (r / a);
+    Ok(0.5 * r.powf(k) * incomplete_beta(0.5 * (1.0 + k), -0.5 * k, 1.0 - tau)?)
+}
+
+/// Surface displacement of the 1D displacement `U(x) = x` for `|x| ≤ a`, 0 beyond (Eq. 24):
+/// `r/κ₁(k)` inside, `(cos(kπ/2)/π) r B_{a²/r²}((2+k)/2, (1−k)/2)` outside;
+/// `(2/π)(r − √(r² − a²))` outside at `k = 0`.
+pub fn cut_linear_displacement(r: f64, a: f64, k: f64) -> Result<f64, NumericsError> {
+    if r <= a {
+        return Ok(r / graded_power_law_factor(1.0, k));
+    }
+    if k == 0.0 {
+        return Ok(2.0 / PI * (r - (r * r - a * a).sqrt()));
+    }
+    let z = (a / r) * (a / r);
+    Ok((0.5 * k * PI).cos() / PI * r * incomplete_beta(0.5 * (2.0 + k), 0.5 * (1.0 - k), z)?)
+}
+
+/// Graded Hertz (spec §4.5): `a = √((1+k) R δ)`.
+pub fn graded_sphere_radius(depth: f64, radius: f64, k: f64) -> f64 {
+    ((1.0 + k) * radius * depth).sqrt()
+}
+
+/// Graded Hertz: `F = 4 c_N a^{3+k} / ((1+k)² (3+k) R)`.
+pub fn graded_sphere_force(a: f64, radius: f64, c_n: f64, k: f64) -> f64 {
+    4.0 * c_n * a.powf(3.0 + k) / ((1.0 + k).powi(2) * (3.0 + k) * radius)
+}
+
+/// Graded Hertz: `p(r) = 2 c_N (a² − r²)^{(1+k)/2} / (π (1+k)² R)`.
+pub fn graded_sphere_pressure(r: f64, a: f64, radius: f64, c_n: f64, k: f64) -> f64 {
+    if r >= a {
+        0.0
+    } else {
+        2.0 * c_n * (a * a - r * r).powf(0.5 * (1.0 + k)) / (PI * (1.0 + k).powi(2) * radius)
+    }
+}
+
+/// Graded flat punch: `F = 2 c_N δ a^{1+k}/(1+k)`.
+pub fn graded_flat_punch_force(a: f64, depth: f64, c_n: f64, k: f64) -> f64 {
+    2.0 * c_n * depth * a.powf(1.0 + k) / (1.0 + k)
+}
+
+/// Graded flat punch: `p(r) = (c_N δ/π) (a² − r²)^{(k−1)/2}`.
+pub fn graded_flat_punch_pressure(r: f64, a: f64, depth: f64, c_n: f64, k: f64) -> f64 {
+    if r >= a {
+        0.0
+    } else {
+        c_n * depth / PI * (a * a - r * r).powf(0.5 * (k - 1.0))
+    }
+}
+
+/// Graded power law `f = c rⁿ`: `F = 2n c_N κ_n(k) c a^{n+1+k} / ((1+k)(n+1+k))`.
+pub fn graded_power_force(a: f64, c: f64, n: f64, c_n: f64, k: f64) -> f64 {
+    2.0 * n * c_n * graded_power_law_factor(n, k) * c * a.powf(n + 1.0 + k)
+        / ((1.0 + k) * (n + 1.0 + k))
+}
+
+/// Eq. 29 test pair (spec §4.5): `g = x⁴ ↦ p(r) = (2c_N/π)[2/(k+3) (a²−r²)^{(k+3)/2}
+/// + 2r²/(k+1) (a²−r²)^{(k+1)/2}]`.
+pub fn graded_quartic_pressure(r: f64, a: f64, c_n: f64, k: f64) -> f64 {
+    if r >= a {
+        return 0.0;
+    }
+    let w = a * a - r * r;
+    2.0 * c_n / PI
+        * (2.0 / (k + 3.0) * w.powf(0.5 * (k + 3.0))
+            + 2.0 * r * r / (k + 1.0) * w.powf(0.5 * (k + 1.0)))
+}
+
+/// Eq. 27 pair: `U = x⁴ ↦ u = (1+k)(3+k)/8 · r⁴`.
+pub fn graded_quartic_displacement(r: f64, k: f64) -> f64 {
+    (1.0 + k) * (3.0 + k) / 8.0 * r.powi(4)
 }
 
 /// Sphere (paraboloid `f = r²/2R`): `g = x²/R`.
@@ -144,6 +258,57 @@ pub fn quartic_displacement(r: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn graded_closed_forms() {
+        // κ₂(k) = 2/(1+k), κ_n(0) = κ_n.
+        for k in [-0.5, 0.3, 0.9] {
+            assert!((graded_power_law_factor(2.0, k) - 2.0 / (1.0 + k)).abs() < 1e-14);
+        }
+        // Eq. 25 kernel: K_k(0) = 1, K_k(1) = 0, K_0 = (2/π) arccos √y through the 2F1 path too.
+        for k in [-0.9, -0.5, 0.5, 0.9] {
+            assert!((displacement_kernel(0.0, k).unwrap() - 1.0).abs() < 1e-15);
+            assert!(displacement_kernel(1.0, k).unwrap().abs() < 1e-13, "k={k}");
+        }
+        for y in [0.1f64, 0.5, 0.9] {
+            let a = 0.5;
+            let h = y.powf(a) * hyp2f1(a, a, a + 1.0, y).unwrap();
+            let via_2f1 = 1.0 - 2.0 / PI * h;
+            assert!((via_2f1 - displacement_kernel(y, 0.0).unwrap()).abs() < 1e-14);
+        }
+        // I_k by Gauss–Legendre-free check: for k = 1/2 substitute x = r cosh t? Use a fine midpoint
+        // rule on x = r + s², which removes the endpoint singularity.
+        let (r, a, k) = (0.3f64, 1.0f64, 0.5f64);
+        let smax = (a - r).sqrt();
+        let m = 200_000;
+        let mut sum = 0.0;
+        for i in 0..m {
+            let s = (i as f64 + 0.5) * smax / m as f64;
+            let x = r + s * s;
+            sum += (x * x - r * r).powf(0.5 * (k - 1.0)) * 2.0 * s * smax / m as f64;
+        }
+        assert!((graded_cone_integral(r, a, k).unwrap() / sum - 1.0).abs() < 1e-8);
+        assert!(
+            (graded_cone_integral(0.3, 1.0, 0.0).unwrap() - (1.0f64 / 0.3).acosh()).abs() < 1e-15
+        );
+        // The cut linear displacement is continuous at r = a and matches k = 0 from both sides.
+        for k in [-0.5, 0.5] {
+            let inside = cut_linear_displacement(0.7, 0.7, k).unwrap();
+            let outside = cut_linear_displacement(0.7 * (1.0 + 1e-12), 0.7, k).unwrap();
+            // The outside branch approaches like (1 − a²/r²)^{(1−k)/2}.
+            let tol = 10.0 * (2e-12f64).powf(0.5 * (1.0 - k));
+            assert!((inside - outside).abs() < tol, "k={k}: {inside} {outside}");
+        }
+        // Graded Hertz table (spec §4.5), E₀ = z₀ = R = 1, ν = 0.3, δ = 0.01.
+        for (k, c_n, a, f, p0) in [
+            (-0.5, 0.4017282, 0.0707107, 3.4184152e-3, 0.27202884),
+            (0.5, 1.2542952, 0.1224745, 4.0960844e-4, 1.5211282e-2),
+        ] {
+            assert!((graded_sphere_radius(0.01, 1.0, k) - a).abs() < 1e-7);
+            assert!((graded_sphere_force(a, 1.0, c_n, k) / f - 1.0).abs() < 1e-5);
+            assert!((graded_sphere_pressure(0.0, a, 1.0, c_n, k) / p0 - 1.0).abs() < 1e-5);
+        }
+    }
 
     #[test]
     fn reference_numbers_of_spec_section_1() {

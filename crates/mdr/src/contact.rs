@@ -1,8 +1,10 @@
-//! Macroscopic relations and the contact solve (spec §1), homogeneous medium.
+//! Macroscopic relations and the contact solve (spec §1; §4.2 for graded media, of which the
+//! homogeneous medium is `k = 0`, `c_N = E*`).
 //!
 //! * `δ = g(a)`;
-//! * `F = 2E* ∫_0^a (δ − g) dx = 2E* ∫_0^{a²} √ξ ĝ'(ξ) dξ` (Eq. 2, last form on the grid);
-//! * `p` from the line load `q = E*(δ − g)` by Eq. 17, `u` from `U = δ − g` by Eq. 12 or 13.
+//! * `F = 2c_N ∫_0^a x^k (δ − g) dx = 2c_N/(1+k) ∫_0^{a²} ξ^{(1+k)/2} ĝ'(ξ) dξ` (Eq. 2, §4.2; the last
+//!   form on the grid);
+//! * `p` from `Q = c_N(δ − g)` by Eq. 17 (Eq. 29), `u` from `U = δ − g` by Eq. 12/25 or 13/26.
 //!
 //! The contact radius is found on the grid (interpolating `g` or the cumulative force), then the
 //! grid is rebuilt so that `a²` is a node (the stress transform needs `a² = (M−1)h`, spec §1), and
@@ -11,11 +13,13 @@
 
 use std::f64::consts::PI;
 
-use halfspace_numerics::{diff::derivative_uniform, quad, Backend, SquaredGrid};
+use halfspace_numerics::{diff::derivative_uniform, pow_or_sqrt, quad, Backend, SquaredGrid};
 
 use crate::{
-    analytic::power_law_factor, error::positive, DisplacementMethod, DisplacementTransform,
-    Material, MdrError, Profile, ProfileTransform, StressTransform,
+    analytic::{graded_cone_integral, graded_power_law_factor},
+    error::positive,
+    DisplacementMethod, DisplacementTransform, Material, MdrError, Profile, ProfileTransform,
+    StressTransform,
 };
 
 /// What is prescribed.
@@ -68,8 +72,10 @@ pub struct ContactSolution {
     pub depth: f64,
     /// Normal force `F` in N.
     pub force: f64,
-    /// Contact modulus used (`E*`).
+    /// Contact modulus used (`E*`, or `c_N` of a graded medium).
     pub contact_modulus: f64,
+    /// Grading exponent `k` (0 for a homogeneous medium).
+    pub grading_exponent: f64,
     /// Equivalent profile `g(x)` on every node (`+∞` beyond a flat punch).
     pub equivalent: Vec<f64>,
     /// Pressure `p(r)` on every node (0 outside; `+∞` where it is singular: a punch edge, a cone
@@ -103,14 +109,15 @@ impl ContactSolution {
         self.force / (PI * self.contact_radius * self.contact_radius)
     }
 
-    /// Normal stiffness `dF/dδ = 2E* a` (spec §1).
+    /// Normal stiffness `dF/dδ = 2c_N a^{1+k}/(1+k)` (`2E* a` homogeneous, spec §1, §4.2).
     pub fn normal_stiffness(&self) -> f64 {
-        2.0 * self.contact_modulus * self.contact_radius
+        let k = self.grading_exponent;
+        2.0 * self.contact_modulus * self.contact_radius.powf(1.0 + k) / (1.0 + k)
     }
 
-    /// `dF/da = 2E* a g'(a)` (spec §1), with `g'(a)` from the grid.
+    /// `dF/da = 2c_N a^{1+k} g'(a)/(1+k)` (`2E* a g'(a)` homogeneous, spec §1), `g'(a)` from the grid.
     pub fn force_radius_slope(&self) -> f64 {
-        2.0 * self.contact_modulus * self.contact_radius * self.edge_slope
+        self.normal_stiffness() * self.edge_slope
     }
 
     /// Whether the pressure has a singular node (punch edge, cone apex).
@@ -168,6 +175,7 @@ impl ContactSolver {
             stress_tf: StressTransform::new(n, &material, params.backend)?,
             displacement_tf: DisplacementTransform::new(
                 n,
+                &material,
                 DisplacementMethod::for_backend(params.backend),
             )?,
             g: vec![0.0; n],
@@ -265,9 +273,13 @@ impl ContactSolver {
         self.stress_tf
             .line_load_to_stress(&grid, &q, 0.0, &mut pressure[..m])?;
         pressure[edge] = 0.0;
+        let k = self.material.grading_exponent();
+        let kappa1 = graded_power_law_factor(1.0, k);
         if s0 != 0.0 {
+            // Eq. 28 for the cone part g = κ₁ s₀ x: p = (c_N κ₁ s₀/π) ∫_r^a (x²−r²)^{(k−1)/2} dx.
             for (j, pj) in pressure.iter_mut().enumerate().take(edge) {
-                *pj += 0.5 * c_n * s0 * (a / grid.coordinate(j)).acosh();
+                let integral = graded_cone_integral(grid.coordinate(j), a, k)?;
+                *pj += c_n * kappa1 * s0 / PI * integral;
             }
         }
         // Displacement from U = δ − g on the contact.
@@ -277,9 +289,9 @@ impl ContactSolver {
         }
         u_contact[edge] = 0.0;
         let mut displacement = vec![0.0; n];
-        let l0 = -power_law_factor(1.0) * s0;
+        let l1 = -kappa1 * s0;
         self.displacement_tf
-            .apply(&grid, &u_contact, l0, &mut displacement)?;
+            .apply(&grid, &u_contact, l1, &mut displacement)?;
         Ok(ContactSolution {
             grid,
             edge_index: edge,
@@ -287,6 +299,7 @@ impl ContactSolver {
             depth,
             force,
             contact_modulus: c_n,
+            grading_exponent: k,
             equivalent: self.g[..n].to_vec(),
             pressure,
             displacement,
@@ -298,9 +311,12 @@ impl ContactSolver {
     fn solve_flat_punch(&mut self, radius: f64, load: Load) -> Result<ContactSolution, MdrError> {
         let n = self.params.nodes;
         let c_n = self.material.contact_modulus();
+        let k = self.material.grading_exponent();
+        // F = 2c_N δ a^{1+k}/(1+k) (spec §4.5; 2E* a δ at k = 0).
+        let stiffness = 2.0 * c_n * radius.powf(1.0 + k) / (1.0 + k);
         let (depth, force) = match load {
-            Load::Depth(d) => (d, 2.0 * c_n * radius * d),
-            Load::Force(f) => (f / (2.0 * c_n * radius), f),
+            Load::Depth(d) => (d, stiffness * d),
+            Load::Force(f) => (f / stiffness, f),
         };
         let edge = self.edge_index(self.params.domain_ratio)?;
         let grid = SquaredGrid::with_node_at(n, radius, edge)?;
@@ -322,6 +338,7 @@ impl ContactSolver {
             depth,
             force,
             contact_modulus: c_n,
+            grading_exponent: k,
             equivalent,
             pressure,
             displacement,
@@ -367,8 +384,9 @@ impl ContactSolver {
     }
 
     /// `g` (and its smooth part without the cone), `ĝ'`, and the cumulative force
-    /// `F_i = 2E* ∫_0^{ξ_i} √ξ ĝ' dξ` (Eq. 2), its cone part `(π/2) E* s₀ ξ_i` and parabolic part
-    /// `(8/3) E* c₀ ξ_i^{3/2}` in closed form, the rest by the trapezoid rule.
+    /// `F_i = 2c_N/(1+k) ∫_0^{ξ_i} ξ^{(1+k)/2} ĝ' dξ` (Eq. 2, §4.2), its cone part
+    /// `κ₁ s₀ ξ^{(2+k)/2}/(2+k)` and parabolic part `2κ₂ c₀ ξ^{(3+k)/2}/(3+k)` (inside the bracket)
+    /// in closed form, the rest by the trapezoid rule. At `k = 0`: `(π/2)E* s₀ ξ + (8/3)E* c₀ ξ^{3/2}`.
     fn equivalent_and_force(
         &mut self,
         profile: &Profile,
@@ -379,23 +397,26 @@ impl ContactSolver {
             .profile_tf
             .profile_to_equivalent(profile, grid, &mut self.g[..n])?;
         let (s0, c0) = (split.conical, split.parabolic);
-        let kappa1 = power_law_factor(1.0);
+        let k = self.material.grading_exponent();
+        let kappa1 = graded_power_law_factor(1.0, k);
+        let kappa2 = 2.0 / (1.0 + k);
         for i in 0..n {
             self.g_smooth[i] = self.g[i] - kappa1 * s0 * grid.coordinate(i);
-            self.work[i] = self.g_smooth[i] - 2.0 * c0 * grid.squared(i);
+            self.work[i] = self.g_smooth[i] - kappa2 * c0 * grid.squared(i);
         }
         let h = grid.step();
         derivative_uniform(&self.work[..n], h, &mut self.dg[..n])?;
+        let weight_power = 0.5 * (1.0 + k);
         for i in 0..n {
-            self.work[i] = self.dg[i] * grid.squared(i).sqrt();
+            self.work[i] = self.dg[i] * pow_or_sqrt(grid.squared(i), weight_power);
         }
         quad::cumulative_trapezoid_uniform(&self.work[..n], h, &mut self.force_curve[..n]);
         let c_n = self.material.contact_modulus();
         for i in 0..n {
             let xi = grid.squared(i);
-            self.force_curve[i] =
-                2.0 * c_n * (self.force_curve[i] + 4.0 / 3.0 * c0 * xi * xi.sqrt())
-                    + 0.5 * PI * c_n * s0 * xi;
+            let closed = 2.0 * kappa2 * c0 * xi.powf(0.5 * (3.0 + k)) / (3.0 + k)
+                + kappa1 * s0 * xi.powf(0.5 * (2.0 + k)) / (2.0 + k);
+            self.force_curve[i] = 2.0 * c_n / (1.0 + k) * (self.force_curve[i] + closed);
         }
         derivative_uniform(&self.g[..n], h, &mut self.dg[..n])?;
         Ok(())

@@ -187,6 +187,10 @@ impl ProfileTable {
     /// Minimum number of rows.
     pub const MIN_ROWS: usize = 3;
 
+    /// Relative floor under which a table's apex slope counts as zero (see
+    /// [`Self::slope_at_origin`]).
+    pub const APEX_SLOPE_FLOOR: f64 = 1e-4;
+
     /// Validates and prepares a table.
     pub fn new(r: Vec<f64>, f: Vec<f64>) -> Result<Self, MdrError> {
         if r.len() != f.len() {
@@ -253,9 +257,17 @@ impl ProfileTable {
         *self.r.last().expect("validated: at least 3 rows")
     }
 
-    /// `f'(0⁺)` from the interpolant.
+    /// `f'(0⁺)` from the interpolant, or 0 when it is below [`Self::APEX_SLOPE_FLOOR`] times the
+    /// table's mean slope `f(r_max)/r_max`: a smooth apex sampled in a table gives a slope estimate
+    /// of the size of the interpolation error (`O(h²)` times the third derivative), which the
+    /// conical split would turn into a spurious infinite pressure at the apex (spec §7 P5).
     pub fn slope_at_origin(&self) -> f64 {
-        self.slope[0]
+        let mean = (self.f[self.f.len() - 1] / self.max_radius()).abs();
+        if self.slope[0].abs() <= Self::APEX_SLOPE_FLOOR * mean {
+            0.0
+        } else {
+            self.slope[0]
+        }
     }
 
     /// Interpolated `f(r)`; linear extension beyond the last row.

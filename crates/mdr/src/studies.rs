@@ -29,12 +29,33 @@ pub fn displacement_hertz_error(n: usize, method: DisplacementMethod) -> Result<
     let m = (0.49 * (n - 1) as f64).round() as usize;
     let a = grid.coordinate(m);
     let u: Vec<f64> = (0..=m).map(|i| a * a - grid.squared(i)).collect();
-    let mut t = DisplacementTransform::new(n, method)?;
+    let mut t = DisplacementTransform::new(n, &Material::from_e_star(1.0)?, method)?;
     let mut out = vec![0.0; n];
     t.apply(&grid, &u, 0.0, &mut out)?;
     Ok((0..n)
         .map(|j| (out[j] - analytic::sphere_displacement(grid.coordinate(j), a, 1.0)).abs())
         .fold(0.0, f64::max))
+}
+
+/// Mean relative error (over `j ≥ 1`) of the graded displacement transform on the Eq. 27 pair
+/// `U = x⁴ ↦ u = (1+k)(3+k)/8 r⁴` (L = 1, no cut; spec §4.3).
+pub fn graded_quartic_displacement_error(
+    n: usize,
+    k: f64,
+    method: DisplacementMethod,
+) -> Result<f64, MdrError> {
+    let grid = SquaredGrid::new(n, 1.0)?;
+    let u: Vec<f64> = (0..n).map(|i| grid.squared(i).powi(2)).collect();
+    let mut t = DisplacementTransform::new(n, &Material::power_law(1.0, 1.0, 0.3, k)?, method)?;
+    let mut out = vec![0.0; n];
+    t.apply(&grid, &u, 0.0, &mut out)?;
+    let sum: f64 = (1..n)
+        .map(|j| {
+            let exact = analytic::graded_quartic_displacement(grid.coordinate(j), k);
+            ((out[j] - exact) / exact).abs()
+        })
+        .sum();
+    Ok(sum / (n - 1) as f64)
 }
 
 /// Observed order of convergence: minus the least-squares slope of `ln error` against `ln N`.

@@ -253,7 +253,7 @@ fn displacement_tests_of_spec_section_2() {
         for (k, &n) in ns.iter().enumerate() {
             let grid = SquaredGrid::new(n, 1.0).unwrap();
             let u: Vec<f64> = (0..n).map(|i| grid.squared(i).powi(2)).collect();
-            let mut t = DisplacementTransform::new(n, method).unwrap();
+            let mut t = DisplacementTransform::new(n, &unit_material(), method).unwrap();
             let mut out = vec![0.0; n];
             t.apply(&grid, &u, 0.0, &mut out).unwrap();
             let exact: Vec<f64> = (0..n)
@@ -285,7 +285,7 @@ fn displacement_tests_of_spec_section_2() {
             let grid = SquaredGrid::new(n, 1.0).unwrap();
             let m = (0.49 * (n - 1) as f64).round() as usize;
             let u: Vec<f64> = (0..=m).map(|i| 0.49 - grid.squared(i)).collect();
-            let mut t = DisplacementTransform::new(n, method).unwrap();
+            let mut t = DisplacementTransform::new(n, &unit_material(), method).unwrap();
             let mut out = vec![0.0; n];
             t.apply(&grid, &u, 0.0, &mut out).unwrap();
             let exact: Vec<f64> = (0..n)
@@ -304,4 +304,8 @@ fn displacement_tests_of_spec_section_2() {
     }
     // Spec check value: a = 0.5 gives u(1) = 0.0544989.
     assert!((analytic::sphere_displacement(1.0, 0.5, 1.0) - 0.054_498_9).abs() < 1e-7);
+}
+
+fn unit_material() -> Material {
+    Material::from_e_star(1.0).unwrap()
 }

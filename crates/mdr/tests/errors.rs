@@ -106,7 +106,12 @@ fn transforms_refuse_wrong_lengths() {
     assert!(st
         .line_load_to_stress(&grid, &[1.0, 0.0], 0.0, &mut [0.0; 2])
         .is_err());
-    let mut dt = DisplacementTransform::new(16, DisplacementMethod::DenseKernel).unwrap();
+    let mut dt =
+        DisplacementTransform::new(16, &unit_material(), DisplacementMethod::DenseKernel).unwrap();
     assert!(dt.apply(&grid, &[1.0; 4], f64::NAN, &mut g).is_err());
     assert!(dt.apply(&grid, &[1.0; 17], 0.0, &mut g).is_err());
+}
+
+fn unit_material() -> Material {
+    Material::from_e_star(1.0).unwrap()
 }

@@ -1,51 +1,73 @@
-use std::f64::consts::FRAC_2_PI;
+use std::f64::consts::PI;
 
-use halfspace_numerics::{diff::derivative_uniform, Backend, NumericsError, PowerSum, SquaredGrid};
+use halfspace_numerics::{
+    diff::derivative_uniform, pow_or_sqrt, Backend, NumericsError, PowerSum, SquaredGrid,
+};
 use rayon::prelude::*;
 
 use super::{check_fits, check_len};
-use crate::MdrError;
+use crate::analytic::{cut_linear_displacement, displacement_kernel};
+use crate::{Material, MdrError};
 
-/// Which discretization of the displacement transform (spec §2).
+/// Which discretization of the displacement transform (spec §2, §4.3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DisplacementMethod {
-    /// Eq. 12: `û(ρ) = U(0) + (2/π) ∫_0^ρ Û'(ξ) arccos √(ξ/ρ) dξ`, a dense (not Toeplitz)
-    /// O(N²) product; the kernel is evaluated on the fly, rows in parallel.
+    /// Eq. 12 (Eq. 25 graded): `û(ρ) = U(0) + ∫_0^ρ Û'(ξ) K_k(ξ/ρ) dξ` with
+    /// `K_0(y) = (2/π) arccos √y` and the ₂F₁ kernel of spec §4.3 for `k ≠ 0`: a dense (not
+    /// Toeplitz) O(N²) product. At `k = 0` the kernel is evaluated on the fly; for `k ≠ 0` it is
+    /// tabulated once when the transform is built (`N²/2` entries, at most [`Self::MAX_KERNEL_NODES`]
+    /// nodes).
     DenseKernel,
-    /// Eq. 13: `û(ρ) = U(0) + (2/π)[√ρ L₀ + ∫_0^ρ β(ξ) √(ρ−ξ) dξ]`, `β = d/dξ (Û/√ξ)`, a causal
-    /// convolution evaluated by the given backend (FFT, or its dense twin).
+    /// Eq. 13 (Eq. 26 graded): `û(ρ) = U(0) + 2cos(kπ/2)/(π(1−k)) [ρ^{(1−k)/2} L₀ +
+    /// ∫_0^ρ β(ξ)(ρ−ξ)^{(1−k)/2} dξ]`, `β = d/dξ (ξ^{(k−1)/2} Û)`: a causal convolution evaluated
+    /// by the given backend (FFT, or its dense twin).
     Convolution(Backend),
 }
 
 impl DisplacementMethod {
-    /// The method the CLI's `--method` selects: `mvm` → Eq. 12, `fft` → Eq. 13 by FFT.
+    /// Largest grid for which the graded Eq. 25 kernel is tabulated (`N²/2` doubles ≈ 270 MB).
+    pub const MAX_KERNEL_NODES: usize = 8193;
+
+    /// The method the CLI's `--method` selects: `mvm` → Eq. 12/25, `fft` → Eq. 13/26 by FFT.
     pub fn for_backend(backend: Backend) -> Self {
         match backend {
             Backend::Mvm => DisplacementMethod::DenseKernel,
             Backend::Fft => DisplacementMethod::Convolution(Backend::Fft),
         }
     }
+
+    /// The paper's equation numbers, e.g. `"eq12"` / `"eq25"`.
+    pub fn equation(self, k: f64) -> &'static str {
+        match (self, k == 0.0) {
+            (DisplacementMethod::DenseKernel, true) => "eq12",
+            (DisplacementMethod::DenseKernel, false) => "eq25",
+            (DisplacementMethod::Convolution(_), true) => "eq13",
+            (DisplacementMethod::Convolution(_), false) => "eq26",
+        }
+    }
 }
 
-/// Displacement transform `U(x) → u(r)` of the MDR (paper Eq. 8; spec §2):
-/// `u(r) = (2/π) ∫_0^r U(x) / √(r² − x²) dx`, for a 1D displacement `U` given on the contact nodes
-/// `0..M` and zero beyond (`a² = ξ_{M−1}`), evaluated on every node of the grid, inside and outside
-/// the contact.
+/// Displacement transform `U(x) → u(r)` of the MDR (paper Eqs. 8, 24; spec §2, §4.3):
+/// `u(r) = (2/π) cos(kπ/2) ∫_0^r x^k U(x) / (r² − x²)^{(1+k)/2} dx` for a 1D displacement `U` given
+/// on the contact nodes `0..M` and zero beyond (`a² = ξ_{M−1}`), evaluated on every node of the
+/// grid, inside and outside the contact.
 ///
-/// Both discretizations treat the edge of the contact exactly: `Û'` is differenced on the array cut
-/// at `a` (spec §7 P3) and the jump `U(a⁻)` contributes its closed form. Two further closed-form
-/// splits make them accurate for every profile (spec §7 P11 — these are this project's additions,
-/// not the paper's):
-/// * Eq. 12 splits off `U(0) + L₀ x` (`L₀ = lim Ũ/x`, the conical part), whose transform is
-///   `U(0) + (2/π) L₀ r` inside and `(2/π)[U(0) arcsin(a/r) + L₀ (r − √(r² − a²))]` outside.
-/// * Eq. 13 needs `Ũ = L₀ x + O(x³)`; a parabolic term `c₂ x²`, present in every smooth contact, is
-///   subtracted over the whole grid and added back as its transform `c₂ r²/2` (`c₂` is estimated
-///   from the first nodes; any value is exact, a good one keeps `β` smooth). Without this split
-///   Eq. 13 converges as `O(N^{−1/2})` on Hertz (spec §2 test 2).
+/// `U = U(0) + L₁ x + V` on the contact is split: the first two parts, cut at `a`, are transformed
+/// in closed form (`U(0)` inside, `U(0)(1 − K_k(a²/r²))` outside; `L₁ r/κ₁(k)` inside and an
+/// incomplete beta function outside, [`crate::analytic::cut_linear_displacement`]); `V = O(x²)` goes
+/// through Eq. 12/25 or Eq. 13/26, differenced on the array cut at `a` (spec §7 P3), with its jump
+/// `V(a⁻)` at the edge in closed form. For Eq. 13/26 a parabolic term `c₂ x²`, present in every
+/// smooth contact and outside the equation's validity (spec §7 P11), is subtracted over the whole
+/// grid and added back as its transform `c₂ (1+k) r²/2`. These splits are exact identities and
+/// this project's additions to the paper's discretization: without them Eq. 13 converges as
+/// `O(N^{−1/2})` on Hertz (spec §2 test 2); with them it matches Eq. 12.
 pub struct DisplacementTransform {
     method: DisplacementMethod,
+    k: f64,
     capacity: usize,
     sum: Option<PowerSum>,
+    /// Packed lower triangle `K_k(i/j)`, row `j` at `j(j+1)/2` (graded Eq. 25 only).
+    kernel: Vec<f64>,
     du: Vec<f64>,
     b: Vec<f64>,
     beta: Vec<f64>,
@@ -54,18 +76,38 @@ pub struct DisplacementTransform {
 }
 
 impl DisplacementTransform {
-    /// Builds the transform for grids of up to `capacity` nodes.
-    pub fn new(capacity: usize, method: DisplacementMethod) -> Result<Self, MdrError> {
+    /// Builds the transform for grids of up to `capacity` nodes in `material`. For the graded
+    /// Eq. 25 this tabulates the kernel (O(N²) ₂F₁ evaluations, rows in parallel).
+    pub fn new(
+        capacity: usize,
+        material: &Material,
+        method: DisplacementMethod,
+    ) -> Result<Self, MdrError> {
+        let k = material.grading_exponent();
         let sum = match method {
             DisplacementMethod::DenseKernel => None,
             DisplacementMethod::Convolution(backend) => {
-                Some(PowerSum::new(capacity, 0.5, backend)?)
+                Some(PowerSum::new(capacity, 0.5 * (1.0 - k), backend)?)
             }
+        };
+        let kernel = if method == DisplacementMethod::DenseKernel && k != 0.0 {
+            if capacity > DisplacementMethod::MAX_KERNEL_NODES {
+                return Err(MdrError::InvalidParameter {
+                    name: "grid nodes N for the Eq. 25 kernel (N²/2 entries)",
+                    value: capacity as f64,
+                    allowed: "≤ 8193; use Eq. 26 (--method fft) for larger grids",
+                });
+            }
+            tabulate_kernel(capacity, k)?
+        } else {
+            Vec::new()
         };
         Ok(Self {
             method,
+            k,
             capacity,
             sum,
+            kernel,
             du: vec![0.0; capacity],
             b: vec![0.0; capacity],
             beta: vec![0.0; capacity],
@@ -80,12 +122,12 @@ impl DisplacementTransform {
     }
 
     /// `u` on every node from `U` on the contact nodes `0..M` (`M = u_contact.len() ≥ 3`, `U = 0`
-    /// beyond) and `L₀ = lim_{x→0} (U(x) − U(0))/x`.
+    /// beyond) and `L₁ = lim_{x→0} (U(x) − U(0))/x` (the conical part; 0 for smooth `U`).
     pub fn apply(
         &mut self,
         grid: &SquaredGrid,
         u_contact: &[f64],
-        l0: f64,
+        l1: f64,
         out: &mut [f64],
     ) -> Result<(), MdrError> {
         check_fits("displacement transform grid", grid, self.capacity)?;
@@ -99,114 +141,188 @@ impl DisplacementTransform {
                 n: m_nodes,
             }));
         }
-        if !l0.is_finite() {
+        if !l1.is_finite() {
             return Err(MdrError::InvalidParameter {
-                name: "slope at the origin L₀",
-                value: l0,
+                name: "slope at the origin L₁",
+                value: l1,
                 allowed: "finite",
             });
         }
+        let m = m_nodes - 1;
+        let u0 = u_contact[0];
+        // V = U − U(0) − L₁ x on the contact (smooth, O(x²)), kept in `b`.
+        for (i, vi) in self.b[..=m].iter_mut().enumerate() {
+            *vi = u_contact[i] - u0 - l1 * grid.coordinate(i);
+        }
+        self.closed_form_part(grid, m, u0, l1, out)?;
         match self.method {
-            DisplacementMethod::DenseKernel => self.arccos_kernel(grid, u_contact, l0, out),
-            DisplacementMethod::Convolution(_) => self.convolution(grid, u_contact, l0, out),
+            DisplacementMethod::DenseKernel => self.dense_kernel(grid, m, out),
+            DisplacementMethod::Convolution(_) => self.convolution(grid, m, out),
         }
     }
 
-    /// Eq. 12 with the trapezoid rule over `0 ≤ ξ ≤ min(ρ_j, a²)` (spec §2 Variant A).
-    fn arccos_kernel(
-        &mut self,
+    /// `(U(0) + L₁ x)` cut at `a`, in closed form, written into `out`.
+    fn closed_form_part(
+        &self,
         grid: &SquaredGrid,
-        u: &[f64],
-        l0: f64,
+        m: usize,
+        u0: f64,
+        l1: f64,
         out: &mut [f64],
     ) -> Result<(), MdrError> {
-        let m = u.len() - 1;
-        let h = grid.step();
-        let u0 = u[0];
-        // V = U − U(0) − L₀ x on the contact (smooth, O(x²)); its ξ-derivative cut at a.
-        let v = &mut self.b[..=m];
-        for (i, vi) in v.iter_mut().enumerate() {
-            *vi = u[i] - u0 - l0 * grid.coordinate(i);
-        }
-        let v_edge = v[m];
-        derivative_uniform(v, h, &mut self.du[..=m])?;
-        let dv = &self.du[..=m];
-        let sq = &self.sqrt_index;
-        out.par_iter_mut().enumerate().for_each(|(j, uj)| {
-            if j == 0 {
-                *uj = u0;
-                return;
-            }
-            let top = j.min(m);
-            let inv = 1.0 / sq[j];
-            let mut acc = 0.5 * dv[0] * std::f64::consts::FRAC_PI_2;
-            for i in 1..top {
-                acc += dv[i] * (sq[i] * inv).min(1.0).acos();
-            }
-            acc += 0.5 * dv[top] * (sq[top] * inv).min(1.0).acos();
+        let (k, a) = (self.k, grid.coordinate(m));
+        let inside_slope = 1.0 / crate::analytic::graded_power_law_factor(1.0, k);
+        for (j, uj) in out.iter_mut().enumerate() {
             let r = grid.coordinate(j);
-            let mut value = FRAC_2_PI * h * acc;
-            if j <= m {
-                value += u0 + FRAC_2_PI * l0 * r;
+            *uj = if j <= m {
+                u0 + l1 * inside_slope * r
             } else {
-                let ratio = sq[m] * inv;
-                let a = grid.coordinate(m);
-                value += -FRAC_2_PI * v_edge * ratio.acos()
-                    + FRAC_2_PI * u0 * ratio.asin()
-                    + FRAC_2_PI * l0 * (r - (r * r - a * a).max(0.0).sqrt());
-            }
-            *uj = value;
-        });
+                let y = grid.squared(m) / grid.squared(j);
+                let mut v = u0 * (1.0 - displacement_kernel(y, k)?);
+                if l1 != 0.0 {
+                    v += l1 * cut_linear_displacement(r, a, k)?;
+                }
+                v
+            };
+        }
         Ok(())
     }
 
-    /// Eq. 13 with the parabolic split and the exact edge jump (spec §2 Variant B).
-    fn convolution(
+    /// `V = c₂ x² + R` over the whole grid, `R = V − c₂ξ` on the contact and `−c₂ξ` beyond (`V` in
+    /// `self.b[..=m]` on entry). Writes `R̂'` into `self.beta` (differenced on each side of the edge,
+    /// averaged on the edge node) after transforming `R` by `weight(ξ)` (1 for Eq. 12/25,
+    /// `ξ^{(k−1)/2}` for Eq. 13/26), and returns `c₂`. `c₂ = lim V/x²` is extrapolated quadratically in
+    /// `x` from nodes 1–3, exact when `V` is a polynomial of degree ≤ 4 in `x`.
+    fn split_parabola(
         &mut self,
         grid: &SquaredGrid,
-        u: &[f64],
-        l0: f64,
-        out: &mut [f64],
-    ) -> Result<(), MdrError> {
+        m: usize,
+        weight: impl Fn(f64) -> f64,
+    ) -> Result<f64, MdrError> {
         let n = grid.len();
-        let m = u.len() - 1;
         let h = grid.step();
-        let u0 = u[0];
         let x = |i: usize| grid.coordinate(i);
-        // c₂ ≈ lim (Ũ − L₀x)/x², by linear extrapolation in x from nodes 1 and 2.
-        let v1 = (u[1] - u0 - l0 * x(1)) / grid.squared(1);
-        let v2 = (u[2] - u0 - l0 * x(2)) / grid.squared(2);
-        let c2 = (v1 * x(2) - v2 * x(1)) / (x(2) - x(1));
-        // B = (Ũ − c₂ξ)/√ξ inside (B₀ = L₀), and its outside branch from node m on.
+        let ratio = |i: usize| self.b[i] / grid.squared(i);
+        let c2 = if m >= 3 {
+            let (x1, x2, x3) = (x(1), x(2), x(3));
+            ratio(1) * x2 * x3 / ((x1 - x2) * (x1 - x3))
+                + ratio(2) * x1 * x3 / ((x2 - x1) * (x2 - x3))
+                + ratio(3) * x1 * x2 / ((x3 - x1) * (x3 - x2))
+        } else {
+            (ratio(1) * x(2) - ratio(2) * x(1)) / (x(2) - x(1))
+        };
         let b = &mut self.b[..n];
-        b[0] = l0;
-        for i in 1..=m {
-            b[i] = (u[i] - u0 - c2 * grid.squared(i)) / x(i);
+        for (i, bi) in b.iter_mut().enumerate().take(m + 1) {
+            let xi = grid.squared(i);
+            *bi = if i == 0 {
+                0.0
+            } else {
+                weight(xi) * (*bi - c2 * xi)
+            };
         }
-        let jump = -u[m] / x(m);
         derivative_uniform(&b[..=m], h, &mut self.beta[..=m])?;
         if m + 1 < n {
             for (i, bi) in b.iter_mut().enumerate().skip(m) {
-                *bi = (-u0 - c2 * grid.squared(i)) / x(i);
+                let xi = grid.squared(i);
+                *bi = -c2 * xi * weight(xi);
             }
             derivative_uniform(&b[m..], h, &mut self.du[m..n])?;
             self.beta[m] = 0.5 * (self.beta[m] + self.du[m]);
             self.beta[m + 1..n].copy_from_slice(&self.du[m + 1..n]);
         }
+        Ok(c2)
+    }
+
+    /// Eq. 12/25 on `V = c₂x² + R`: the trapezoid rule over `0 ≤ ξ ≤ ρ_j` of `R̂' K_k(ξ/ρ_j)`, the
+    /// edge jump `−V(a⁻) K_k(a²/ρ_j)` for `ρ_j > a²`, and `c₂ (1+k) ρ_j/2`; added to `out`.
+    fn dense_kernel(
+        &mut self,
+        grid: &SquaredGrid,
+        m: usize,
+        out: &mut [f64],
+    ) -> Result<(), MdrError> {
+        let h = grid.step();
+        let k = self.k;
+        let v_edge = self.b[m];
+        let c2 = self.split_parabola(grid, m, |_| 1.0)?;
+        let dr = &self.beta[..grid.len()];
+        let sq = &self.sqrt_index;
+        let table = &self.kernel;
+        let graded = k != 0.0;
+        out.par_iter_mut().enumerate().for_each(|(j, uj)| {
+            if j == 0 {
+                return;
+            }
+            let kernel = |i: usize| {
+                if graded {
+                    table[j * (j + 1) / 2 + i]
+                } else {
+                    2.0 / PI * (sq[i] / sq[j]).min(1.0).acos()
+                }
+            };
+            // The upper end carries K(1) = 0.
+            let mut acc = 0.5 * dr[0] * kernel(0);
+            for (i, d) in dr.iter().enumerate().take(j).skip(1) {
+                acc += d * kernel(i);
+            }
+            let mut value = h * acc + 0.5 * (1.0 + k) * c2 * grid.squared(j);
+            if j > m {
+                value -= v_edge * kernel(m);
+            }
+            *uj += value;
+        });
+        Ok(())
+    }
+
+    /// Eq. 13/26 on `V = c₂x² + R` (`B = ξ^{(k−1)/2} R`, `B₀ = 0`), the edge jump and
+    /// `c₂ (1+k) ρ/2`; added to `out`.
+    fn convolution(
+        &mut self,
+        grid: &SquaredGrid,
+        m: usize,
+        out: &mut [f64],
+    ) -> Result<(), MdrError> {
+        let n = grid.len();
+        let (h, k) = (grid.step(), self.k);
+        let power = 0.5 * (k - 1.0);
+        let v_edge = self.b[m];
+        let c2 = self.split_parabola(grid, m, |xi| xi.powf(power))?;
         let sum = self
             .sum
             .as_mut()
-            .expect("convolution method owns a power sum");
+            .expect("the convolution method owns a power sum");
         sum.causal(&self.beta[..n], &mut self.s[..n])?;
-        let scale = h.powf(1.5);
+        let gamma = 0.5 * (1.0 - k);
+        let scale = h.powf(0.5 * (3.0 - k));
+        let pref = 2.0 * (0.5 * k * PI).cos() / (PI * (1.0 - k));
+        let jump = -v_edge * grid.squared(m).powf(power);
         for (j, uj) in out.iter_mut().enumerate() {
             let rho = grid.squared(j);
-            let mut bracket = rho.sqrt() * l0 + scale * self.s[j];
+            let mut bracket = scale * self.s[j];
             if j > m {
-                bracket += jump * (rho - grid.squared(m)).sqrt();
+                bracket += jump * pow_or_sqrt(rho - grid.squared(m), gamma);
             }
-            *uj = u0 + 0.5 * c2 * rho + FRAC_2_PI * bracket;
+            *uj += 0.5 * (1.0 + k) * c2 * rho + pref * bracket;
         }
         Ok(())
     }
+}
+
+/// `K_k(i/j)` for `0 ≤ i ≤ j < n`, packed by rows.
+fn tabulate_kernel(n: usize, k: f64) -> Result<Vec<f64>, MdrError> {
+    let rows: Result<Vec<Vec<f64>>, _> = (0..n)
+        .into_par_iter()
+        .map(|j| {
+            (0..=j)
+                .map(|i| {
+                    if j == 0 {
+                        Ok(1.0)
+                    } else {
+                        displacement_kernel(i as f64 / j as f64, k)
+                    }
+                })
+                .collect::<Result<Vec<f64>, _>>()
+        })
+        .collect();
+    Ok(rows?.concat())
 }

@@ -68,9 +68,9 @@ impl ProfileTransform {
         Ok(())
     }
 
-    /// `g(x)` of a profile on every node, by Eq. 7 with two closed-form splits (spec §7 P4, P5):
-    /// `f = s₀ r + c₀ r² + f_rest`, where `s₀ = f'(0⁺)` and `c₀ = f̂'_rem(0)`, so that
-    /// `g = (π/2) s₀ |x| + 2 c₀ x² + Eq.7[f_rest]`. The cone part makes `f̂'` bounded (P5); the
+    /// `g(x)` of a profile on every node, by Eq. 7 (Eq. 23) with two closed-form splits (spec §7
+    /// P4, P5): `f = s₀ r + c₀ r² + f_rest`, where `s₀ = f'(0⁺)` and `c₀ = f̂'_rem(0)`, so that
+    /// `g = κ₁(k) s₀ |x| + κ₂(k) c₀ x² + Eq.7[f_rest]` (`κ₁(0) = π/2`, `κ₂(k) = 2/(1+k)`). The cone part makes `f̂'` bounded (P5); the
     /// parabolic part removes the `ξ^{3/2}` behaviour of `Ĝ` at the origin that makes `D[Ĝ]` first
     /// order there (P4), so a paraboloid is transformed exactly and smooth profiles lose the
     /// `O(h)` error at the first nodes. Returns the split `(s₀, c₀)`.
@@ -105,9 +105,10 @@ impl ProfileTransform {
         self.slope = slope;
         let parabolic = result?;
         let conical = profile.conical_slope();
-        let kappa1 = crate::analytic::power_law_factor(1.0);
+        let kappa1 = crate::analytic::graded_power_law_factor(1.0, self.k);
+        let kappa2 = 2.0 / (1.0 + self.k);
         for (i, gi) in g.iter_mut().enumerate() {
-            *gi += kappa1 * conical * grid.coordinate(i) + 2.0 * parabolic * grid.squared(i);
+            *gi += kappa1 * conical * grid.coordinate(i) + kappa2 * parabolic * grid.squared(i);
         }
         Ok(EquivalentSplit { conical, parabolic })
     }
@@ -117,8 +118,8 @@ impl ProfileTransform {
 /// [`ProfileTransform::profile_to_equivalent`].
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct EquivalentSplit {
-    /// `s₀ = f'(0⁺)`, transformed to `(π/2) s₀ |x|`.
+    /// `s₀ = f'(0⁺)`, transformed to `κ₁(k) s₀ |x|`.
     pub conical: f64,
-    /// `c₀`, transformed to `2 c₀ x²`.
+    /// `c₀`, transformed to `κ₂(k) c₀ x²`.
     pub parabolic: f64,
 }
