@@ -480,6 +480,32 @@ fn graded_hertz_through_the_binary() {
         ],
         "Poisson",
     );
+    // Eq. 13/26 cannot take a profile r^{3/2}: the error names the Eq. 12/25 alternative.
+    assert_bad(
+        &[
+            "axisym",
+            "--profile",
+            "power:c=1,n=1.5",
+            "--material",
+            "graded:E0=1,z0=1,nu=0.3,k=0.5",
+            "--depth",
+            "0.01",
+        ],
+        "--method mvm",
+    );
+    let ok = run(&[
+        "axisym",
+        "--profile",
+        "power:c=1,n=1.5",
+        "--material",
+        "graded:E0=1,z0=1,nu=0.3,k=0.5",
+        "--depth",
+        "0.01",
+        "--method",
+        "mvm",
+        "--json",
+    ]);
+    json(&ok);
     // Eq. 25's tabulated kernel has a size limit; the error names Eq. 26 as the alternative.
     assert_bad(
         &[

@@ -201,6 +201,19 @@ impl ContactSolver {
         if let Profile::FlatPunch { radius } = *profile {
             return self.solve_flat_punch(radius, load);
         }
+        if let (Profile::Power { n, .. }, DisplacementMethod::Convolution(_)) =
+            (profile, self.displacement_tf.method())
+        {
+            // g − κ₂c₀x² − κ₁s₀x starts like xⁿ: Eq. 13/26 needs n ∉ (1, 5/2) \ {2} (spec §7 P11).
+            if *n > 1.0 && *n < 2.5 && *n != 2.0 {
+                return Err(MdrError::InvalidParameter {
+                    name: "power-law exponent n for the Eq. 13/26 displacement (use --method mvm: \
+                           Eq. 12/25)",
+                    value: *n,
+                    allowed: "1, 2 or ≥ 5/2 (spec §7 P11)",
+                });
+            }
+        }
         let n = self.params.nodes;
         let tol = self.params.tolerance;
         let mut a = self.initial_radius(profile, load);
@@ -291,7 +304,7 @@ impl ContactSolver {
         let mut displacement = vec![0.0; n];
         let l1 = -kappa1 * s0;
         self.displacement_tf
-            .apply(&grid, &u_contact, l1, &mut displacement)?;
+            .apply_unchecked(&grid, &u_contact, l1, &mut displacement)?;
         Ok(ContactSolution {
             grid,
             edge_index: edge,

@@ -402,7 +402,7 @@ proptest! {
             StressTransform::new(n, &graded(k), backend).unwrap()
                 .line_load_to_stress(&grid, &q, 0.0, &mut p[i]).unwrap();
             DisplacementTransform::new(n, &graded(k), DisplacementMethod::Convolution(backend)).unwrap()
-                .apply(&grid, &q, 0.0, &mut u[i]).unwrap();
+                .apply_unchecked(&grid, &q, 0.0, &mut u[i]).unwrap();
         }
         prop_assert!(relative_max_norm(&p[1], &p[0]) < tol, "p {}", relative_max_norm(&p[1], &p[0]));
         prop_assert!(relative_max_norm(&u[1], &u[0]) < tol, "u {}", relative_max_norm(&u[1], &u[0]));
@@ -424,5 +424,39 @@ proptest! {
         let area_force = std::f64::consts::PI * h * integral;
         prop_assert!(rel(area_force, sol.force) < 1e-4 * (1.0 + (-k).max(0.0) * 20.0),
             "k={k}: ∫p dA = {area_force}, F = {}", sol.force);
+    }
+}
+
+#[test]
+fn eq26_refuses_a_displacement_outside_its_validity_and_names_eq25() {
+    for k in [0.0, -0.5, 0.5] {
+        let n = 501;
+        let grid = SquaredGrid::new(n, 1.0).unwrap();
+        // U = x^{3/2}: β ~ ξ^{(k−3/2)/2}, outside Eq. 26's restriction.
+        let u: Vec<f64> = (0..n).map(|i| grid.coordinate(i).powf(1.5)).collect();
+        let mut out = vec![0.0; n];
+        let mut eq26 = DisplacementTransform::new(
+            n,
+            &graded(k),
+            DisplacementMethod::Convolution(Backend::Fft),
+        )
+        .unwrap();
+        let e = eq26.apply(&grid, &u, 0.0, &mut out).unwrap_err();
+        assert!(e.to_string().contains("--method mvm"), "{e}");
+        assert!(
+            (e.to_string().contains("Eq. 25") && k != 0.0)
+                || (e.to_string().contains("Eq. 12") && k == 0.0),
+            "{e}"
+        );
+        // Eq. 25 takes it: u = c r^{3/2} with c = (2/π)cos(kπ/2) ∫_0^1 t^{k+3/2}(1−t²)^{−(1+k)/2} dt.
+        let mut eq25 =
+            DisplacementTransform::new(n, &graded(k), DisplacementMethod::DenseKernel).unwrap();
+        eq25.apply(&grid, &u, 0.0, &mut out).unwrap();
+        assert!(out.iter().all(|v| v.is_finite()));
+        // Smooth U (x⁴, Hertz) and the x² term are accepted.
+        let u: Vec<f64> = (0..n)
+            .map(|i| 0.3 - grid.squared(i) + grid.squared(i).powi(2))
+            .collect();
+        eq26.apply(&grid, &u, 0.0, &mut out).unwrap();
     }
 }

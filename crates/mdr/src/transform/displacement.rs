@@ -73,6 +73,9 @@ pub struct DisplacementTransform {
     beta: Vec<f64>,
     s: Vec<f64>,
     sqrt_index: Vec<f64>,
+    /// `max |U|` of the current input (the rounding scale of the Eq. 26 applicability check).
+    input_scale: f64,
+    check_applicability: bool,
 }
 
 impl DisplacementTransform {
@@ -113,6 +116,8 @@ impl DisplacementTransform {
             beta: vec![0.0; capacity],
             s: vec![0.0; capacity],
             sqrt_index: (0..capacity).map(|i| (i as f64).sqrt()).collect(),
+            input_scale: 0.0,
+            check_applicability: true,
         })
     }
 
@@ -123,6 +128,8 @@ impl DisplacementTransform {
 
     /// `u` on every node from `U` on the contact nodes `0..M` (`M = u_contact.len() ≥ 3`, `U = 0`
     /// beyond) and `L₁ = lim_{x→0} (U(x) − U(0))/x` (the conical part; 0 for smooth `U`).
+    /// For Eq. 13/26, a `U` whose remainder starts with a power below `x^{5/2}` (other than the
+    /// split-off `x` and `x²`) is refused with an error that names Eq. 12/25 (spec §7 P11).
     pub fn apply(
         &mut self,
         grid: &SquaredGrid,
@@ -130,6 +137,31 @@ impl DisplacementTransform {
         l1: f64,
         out: &mut [f64],
     ) -> Result<(), MdrError> {
+        self.apply_with_check(grid, u_contact, l1, out, true)
+    }
+
+    /// [`Self::apply`] without the Eq. 13/26 applicability check, for inputs whose leading powers
+    /// are known from elsewhere (the contact solver checks the profile instead: a computed `g`
+    /// carries discretization noise at the first nodes that the check would read as a low power).
+    pub fn apply_unchecked(
+        &mut self,
+        grid: &SquaredGrid,
+        u_contact: &[f64],
+        l1: f64,
+        out: &mut [f64],
+    ) -> Result<(), MdrError> {
+        self.apply_with_check(grid, u_contact, l1, out, false)
+    }
+
+    fn apply_with_check(
+        &mut self,
+        grid: &SquaredGrid,
+        u_contact: &[f64],
+        l1: f64,
+        out: &mut [f64],
+        check: bool,
+    ) -> Result<(), MdrError> {
+        self.check_applicability = check;
         check_fits("displacement transform grid", grid, self.capacity)?;
         let n = grid.len();
         check_len("surface displacement u", n, out.len())?;
@@ -150,6 +182,7 @@ impl DisplacementTransform {
         }
         let m = m_nodes - 1;
         let u0 = u_contact[0];
+        self.input_scale = u_contact.iter().fold(0.0f64, |a, b| a.max(b.abs()));
         // V = U − U(0) − L₁ x on the contact (smooth, O(x²)), kept in `b`.
         for (i, vi) in self.b[..=m].iter_mut().enumerate() {
             *vi = u_contact[i] - u0 - l1 * grid.coordinate(i);
@@ -201,16 +234,7 @@ impl DisplacementTransform {
     ) -> Result<f64, MdrError> {
         let n = grid.len();
         let h = grid.step();
-        let x = |i: usize| grid.coordinate(i);
-        let ratio = |i: usize| self.b[i] / grid.squared(i);
-        let c2 = if m >= 3 {
-            let (x1, x2, x3) = (x(1), x(2), x(3));
-            ratio(1) * x2 * x3 / ((x1 - x2) * (x1 - x3))
-                + ratio(2) * x1 * x3 / ((x2 - x1) * (x2 - x3))
-                + ratio(3) * x1 * x2 / ((x3 - x1) * (x3 - x2))
-        } else {
-            (ratio(1) * x(2) - ratio(2) * x(1)) / (x(2) - x(1))
-        };
+        let c2 = parabolic_coefficient(&self.b[..=m], grid);
         let b = &mut self.b[..n];
         for (i, bi) in b.iter_mut().enumerate().take(m + 1) {
             let xi = grid.squared(i);
@@ -286,6 +310,9 @@ impl DisplacementTransform {
         let (h, k) = (grid.step(), self.k);
         let power = 0.5 * (k - 1.0);
         let v_edge = self.b[m];
+        if self.check_applicability {
+            check_eq26_applicability(&self.b[..=m], grid, k, self.input_scale)?;
+        }
         let c2 = self.split_parabola(grid, m, |xi| xi.powf(power))?;
         let sum = self
             .sum
@@ -306,6 +333,59 @@ impl DisplacementTransform {
         }
         Ok(())
     }
+}
+
+/// `c₂ = lim V/x²` for `V = O(x²)` on the contact nodes, extrapolated quadratically in `x` from
+/// nodes 1–3 (linearly from 1–2 when the contact has only 3 nodes).
+fn parabolic_coefficient(v: &[f64], grid: &SquaredGrid) -> f64 {
+    let x = |i: usize| grid.coordinate(i);
+    let ratio = |i: usize| v[i] / grid.squared(i);
+    if v.len() >= 4 {
+        let (x1, x2, x3) = (x(1), x(2), x(3));
+        ratio(1) * x2 * x3 / ((x1 - x2) * (x1 - x3))
+            + ratio(2) * x1 * x3 / ((x2 - x1) * (x2 - x3))
+            + ratio(3) * x1 * x2 / ((x3 - x1) * (x3 - x2))
+    } else {
+        (ratio(1) * x(2) - ratio(2) * x(1)) / (x(2) - x(1))
+    }
+}
+
+/// Eq. 13/26 needs `β = d/dξ(ξ^{(k−1)/2} R)` bounded enough for the trapezoid rule, where
+/// `R = V − c₂x²` is what remains after the closed-form parts (spec §2 Variant B, §7 P11). A
+/// remainder that starts like `x^m` with `m < 5/2` (e.g. `x^{3/2}` from a profile `r^{3/2}`) makes
+/// `β ~ ξ^{(m+k−3)/2}` too singular: refuse it and name Eq. 12/25. The exponent is estimated from
+/// nodes 1–4 and only when the remainder there is above rounding (`1e-9` of `max |U|`).
+fn check_eq26_applicability(
+    v: &[f64],
+    grid: &SquaredGrid,
+    k: f64,
+    scale: f64,
+) -> Result<(), MdrError> {
+    if v.len() < 6 {
+        return Ok(());
+    }
+    let c2 = parabolic_coefficient(v, grid);
+    let r: Vec<f64> = (1..=4).map(|i| v[i] - c2 * grid.squared(i)).collect();
+    if scale == 0.0 || r.iter().any(|ri| ri.abs() <= 1e-9 * scale) {
+        return Ok(());
+    }
+    if !(r.iter().all(|ri| *ri > 0.0) || r.iter().all(|ri| *ri < 0.0)) {
+        return Ok(());
+    }
+    // Local exponent between nodes 2 and 4 (node 1 is disturbed by the extrapolated c₂).
+    let m = (r[3] / r[1]).abs().ln() / (grid.coordinate(4) / grid.coordinate(2)).ln();
+    if m < 2.5 {
+        return Err(MdrError::InvalidParameter {
+            name: if k == 0.0 {
+                "leading exponent of U − U(0) − L₁x − c₂x² for Eq. 13 (use Eq. 12: --method mvm)"
+            } else {
+                "leading exponent of U − U(0) − L₁x − c₂x² for Eq. 26 (use Eq. 25: --method mvm)"
+            },
+            value: m,
+            allowed: "≥ 5/2 (no terms between x² and x^{5/2} at the origin, spec §7 P11)",
+        });
+    }
+    Ok(())
 }
 
 /// `K_k(i/j)` for `0 ≤ i ≤ j < n`, packed by rows.
