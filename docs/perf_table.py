@@ -27,7 +27,7 @@ def fmt(ns):
 
 sizes = [100, 1000, 2001, 10000, 20001, 100000, 1000000]
 out = []
-for group in ("profile_transform", "stress_transform"):
+for group in ("profile_transform", "stress_transform", "graded_profile_transform", "graded_stress_transform"):
     out.append(f"\n**{group.replace('_', ' ')}** (apply only, planned beforehand)\n")
     out.append("| N | FFT | MVM | MVM / FFT | bare realfft conv. | FFT / bare |")
     out.append("|---:|---:|---:|---:|---:|---:|")
@@ -43,6 +43,14 @@ for n in sizes:
     e, b = median("engine_convolution", "fft", n), median("bare_realfft_convolution", "fft", n)
     over = f"{e / b:.2f}" if (e and b) else "—"
     out.append(f"| {n} | {fmt(e)} | {fmt(b)} | {over} |")
+out.append("\n**graded displacement** (k = 0.5): Eq. 25 kernel build (once per N) and one apply\n")
+out.append("| N | Eq. 25 kernel build | Eq. 25 apply | Eq. 26 apply (FFT) | Eq. 25 / Eq. 26 apply |")
+out.append("|---:|---:|---:|---:|---:|")
+for n in (101, 1001, 2001, 4001):
+    b = median("eq25_kernel_build", "build", n)
+    d, f = median("graded_displacement_apply", "eq25", n), median("graded_displacement_apply", "eq26_fft", n)
+    ratio = f"{d / f:.1f}×" if (d and f) else "—"
+    out.append(f"| {n} | {fmt(b)} | {fmt(d)} | {fmt(f)} | {ratio} |")
 text = "\n".join(out)
 print(text)
 if len(sys.argv) > 1:

@@ -7,7 +7,10 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use halfspace_mdr::{Backend, Material, ProfileTransform, SquaredGrid, StressTransform};
+use halfspace_mdr::{
+    Backend, DisplacementMethod, DisplacementTransform, Material, ProfileTransform, SquaredGrid,
+    StressTransform,
+};
 use halfspace_numerics::conv1d::fast_length;
 use halfspace_numerics::ToeplitzConvolution;
 use realfft::num_complex::Complex;
@@ -20,8 +23,17 @@ fn unit() -> Material {
     Material::from_e_star(1.0).unwrap()
 }
 
+fn graded() -> Material {
+    Material::power_law(1.0, 1.0, 0.3, 0.5).unwrap()
+}
+
 fn profile_transform(c: &mut Criterion) {
-    let mut group = c.benchmark_group("profile_transform");
+    profile_transform_in(c, "profile_transform", unit());
+    profile_transform_in(c, "graded_profile_transform", graded());
+}
+
+fn profile_transform_in(c: &mut Criterion, name: &str, material: Material) {
+    let mut group = c.benchmark_group(name);
     for &n in &SIZES {
         let grid = SquaredGrid::new(n, 1.0).unwrap();
         let slope: Vec<f64> = (0..n).map(|i| 0.5 + 0.1 * grid.squared(i)).collect();
@@ -30,7 +42,7 @@ fn profile_transform(c: &mut Criterion) {
             if backend == Backend::Mvm && n > MVM_LIMIT {
                 continue;
             }
-            let mut t = ProfileTransform::new(n, &unit(), backend).unwrap();
+            let mut t = ProfileTransform::new(n, &material, backend).unwrap();
             group.bench_with_input(BenchmarkId::new(backend.name(), n), &n, |b, _| {
                 b.iter(|| t.apply(&grid, black_box(&slope), &mut g).unwrap())
             });
@@ -40,7 +52,12 @@ fn profile_transform(c: &mut Criterion) {
 }
 
 fn stress_transform(c: &mut Criterion) {
-    let mut group = c.benchmark_group("stress_transform");
+    stress_transform_in(c, "stress_transform", unit());
+    stress_transform_in(c, "graded_stress_transform", graded());
+}
+
+fn stress_transform_in(c: &mut Criterion, name: &str, material: Material) {
+    let mut group = c.benchmark_group(name);
     for &n in &SIZES {
         let grid = SquaredGrid::new(n, 1.0).unwrap();
         let q: Vec<f64> = (0..n).map(|i| 1.0 - grid.squared(i).powi(2)).collect();
@@ -49,12 +66,43 @@ fn stress_transform(c: &mut Criterion) {
             if backend == Backend::Mvm && n > MVM_LIMIT {
                 continue;
             }
-            let mut t = StressTransform::new(n, &unit(), backend).unwrap();
+            let mut t = StressTransform::new(n, &material, backend).unwrap();
             group.bench_with_input(BenchmarkId::new(backend.name(), n), &n, |b, _| {
                 b.iter(|| {
                     t.line_load_to_stress(&grid, black_box(&q), 0.0, &mut sigma)
                         .unwrap()
                 })
+            });
+        }
+    }
+    group.finish();
+}
+
+/// Graded displacement: building the Eq. 25 kernel (O(N²) ₂F₁ evaluations, once) and applying
+/// Eq. 25 (dense) and Eq. 26 (FFT) to a Hertz-like U.
+fn graded_displacement(c: &mut Criterion) {
+    let mut group = c.benchmark_group("eq25_kernel_build");
+    for n in [101usize, 1001, 2001, 4001] {
+        group.bench_with_input(BenchmarkId::new("build", n), &n, |b, &n| {
+            b.iter(|| {
+                DisplacementTransform::new(n, &graded(), DisplacementMethod::DenseKernel).unwrap()
+            })
+        });
+    }
+    group.finish();
+    let mut group = c.benchmark_group("graded_displacement_apply");
+    for n in [1001usize, 2001, 4001] {
+        let grid = SquaredGrid::new(n, 1.5).unwrap();
+        let m = (n - 1) * 4 / 9;
+        let u: Vec<f64> = (0..=m).map(|i| grid.squared(m) - grid.squared(i)).collect();
+        let mut out = vec![0.0; n];
+        for (name, method) in [
+            ("eq25", DisplacementMethod::DenseKernel),
+            ("eq26_fft", DisplacementMethod::Convolution(Backend::Fft)),
+        ] {
+            let mut t = DisplacementTransform::new(n, &graded(), method).unwrap();
+            group.bench_with_input(BenchmarkId::new(name, n), &n, |b, _| {
+                b.iter(|| t.apply(&grid, black_box(&u), 0.0, &mut out).unwrap())
             });
         }
     }
@@ -128,6 +176,6 @@ fn config() -> Criterion {
 criterion_group! {
     name = benches;
     config = config();
-    targets = profile_transform, stress_transform, engine, bare_realfft
+    targets = profile_transform, stress_transform, engine, bare_realfft, graded_displacement
 }
 criterion_main!(benches);

@@ -42,6 +42,11 @@ impl PowerSum {
         self.gamma
     }
 
+    /// The kernel `b_m = m^γ`, `m = 0..capacity` (reused by callers that need `(i h)^γ = h^γ b_i`).
+    pub fn kernel(&self) -> &[f64] {
+        self.conv.kernel()
+    }
+
     /// Largest input length.
     pub fn capacity(&self) -> usize {
         self.conv.capacity()

@@ -68,12 +68,16 @@ impl StressTransform {
         let pref = 2.0 / (std::f64::consts::PI * (1.0 + self.k));
         let scale = h.powf(0.5 * (3.0 + self.k));
         let edge_slope = d1[m - 1];
-        let a2 = grid.squared(m - 1);
+        // (a² − ρ_j)^γ = h^γ (M−1−j)^γ: the power sum's own kernel, no powf per node.
+        let h_gamma = pow_or_sqrt(h, gamma);
+        let gap_power = self.sum.kernel();
         for j in 0..m - 1 {
-            let gap = a2 - grid.squared(j);
-            let mut s = pref * (-edge_slope * pow_or_sqrt(gap, gamma) + scale * t[j]);
+            let gap_gamma = h_gamma * gap_power[m - 1 - j];
+            let mut s = pref * (-edge_slope * gap_gamma + scale * t[j]);
             if edge_load != 0.0 {
-                s += edge_load / std::f64::consts::PI * gap.powf(gamma - 1.0);
+                // (a² − ρ_j)^{γ−1}, the edge term of §3 (flat punch).
+                let gap = h * (m - 1 - j) as f64;
+                s += edge_load / std::f64::consts::PI * gap_gamma / gap;
             }
             sigma[j] = s;
         }
