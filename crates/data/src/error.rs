@@ -55,6 +55,24 @@ pub enum DataError {
         /// The library's message.
         message: String,
     },
+    /// A fixture's content does not match the checksum recorded in its manifest.
+    #[error("{path}: checksum mismatch (MANIFEST.json has {expected}, the file hashes to {actual}); regenerate with `python -m verify` or restore the file")]
+    ChecksumMismatch {
+        /// The file.
+        path: PathBuf,
+        /// sha256 in the manifest.
+        expected: String,
+        /// sha256 of the file.
+        actual: String,
+    },
+    /// A fixture or group is not listed where it should be.
+    #[error("{path}: {message}")]
+    Missing {
+        /// The file.
+        path: PathBuf,
+        /// What is missing.
+        message: String,
+    },
     /// Built without the `hdf5` feature.
     #[error("{path}: this build has no HDF5 support (build with the 'hdf5' feature)")]
     Hdf5Unavailable {

@@ -46,7 +46,7 @@ pub(crate) fn write(path: &Path, record: &Record) -> Result<(), DataError> {
     file.close().map_err(&e)
 }
 
-pub(crate) fn read(path: &Path) -> Result<Record, DataError> {
+pub(crate) fn read(path: &Path, group: &str) -> Result<Record, DataError> {
     let e = h5err(path);
     if !path.exists() {
         return Err(DataError::Io {
@@ -55,9 +55,17 @@ pub(crate) fn read(path: &Path) -> Result<Record, DataError> {
         });
     }
     let file = hdf5::File::open(path).map_err(&e)?;
+    let file = if group == "/" || group.is_empty() {
+        file.as_group().map_err(&e)?
+    } else {
+        file.group(group).map_err(|_| DataError::Missing {
+            path: path.to_path_buf(),
+            message: format!("no group '{group}'"),
+        })?
+    };
     let mut record = Record::default();
     for ds in file.datasets().map_err(&e)? {
-        let name = ds.name().trim_start_matches('/').to_string();
+        let name = ds.name().rsplit('/').next().unwrap_or_default().to_string();
         if ds.ndim() != 1 {
             return Err(DataError::WrongShape {
                 path: path.to_path_buf(),
@@ -79,8 +87,13 @@ pub(crate) fn read(path: &Path) -> Result<Record, DataError> {
             AttrValue::Float(attr.read_scalar::<f64>().map_err(&e)?)
         } else if dtype.is::<i64>() {
             AttrValue::Int(attr.read_scalar::<i64>().map_err(&e)?)
+        } else if let Ok(text) = attr.read_scalar::<VarLenUnicode>() {
+            AttrValue::Text(text.to_string())
+        } else if let Ok(v) = attr.read_scalar::<f64>() {
+            AttrValue::Float(v)
         } else {
-            AttrValue::Text(attr.read_scalar::<VarLenUnicode>().map_err(&e)?.to_string())
+            // h5py writes Python str as variable-length UTF-8; anything else is reported as such.
+            AttrValue::Text(format!("<unreadable attribute of type {dtype:?}>"))
         };
         record.attributes.push((name, value));
     }

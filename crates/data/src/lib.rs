@@ -9,12 +9,14 @@ mod atomic;
 mod error;
 #[cfg(feature = "hdf5")]
 mod h5;
+mod manifest;
 mod npy;
 mod record;
 
 pub use atomic::write_atomic;
 pub use error::DataError;
-pub use npy::read_profile_table;
+pub use manifest::Manifest;
+pub use npy::{read_npy_1d, read_npy_2d, read_profile_table};
 pub use record::{AttrValue, Record};
 
 use std::path::Path;
@@ -72,7 +74,21 @@ fn write_hdf5(path: &Path, _record: &Record) -> Result<(), DataError> {
 
 #[cfg(feature = "hdf5")]
 fn read_hdf5(path: &Path) -> Result<Record, DataError> {
-    h5::read(path)
+    h5::read(path, "/")
+}
+
+/// Reads one group of an HDF5 file (its 1D datasets and its attributes) as a [`Record`].
+#[cfg(feature = "hdf5")]
+pub fn read_h5_group(path: &Path, group: &str) -> Result<Record, DataError> {
+    h5::read(path, group)
+}
+
+/// Reads one group of an HDF5 file (needs the `hdf5` feature).
+#[cfg(not(feature = "hdf5"))]
+pub fn read_h5_group(path: &Path, _group: &str) -> Result<Record, DataError> {
+    Err(DataError::Hdf5Unavailable {
+        path: path.to_path_buf(),
+    })
 }
 
 #[cfg(not(feature = "hdf5"))]

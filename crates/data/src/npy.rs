@@ -57,6 +57,20 @@ pub fn read_profile_table(path: &Path) -> Result<(Vec<f64>, Vec<f64>), DataError
     Ok((table.column(0).to_vec(), table.column(1).to_vec()))
 }
 
+/// Reads a 1D float64 `.npy`.
+pub fn read_npy_1d(path: &Path) -> Result<Vec<f64>, DataError> {
+    let file = File::open(path).map_err(io(path))?;
+    let a = Array1::<f64>::read_npy(BufReader::new(file)).map_err(|e| npy_error(path, e))?;
+    Ok(a.to_vec())
+}
+
+/// Reads a 2D float64 `.npy` as `(rows, columns, row-major values)`.
+pub fn read_npy_2d(path: &Path) -> Result<(usize, usize, Vec<f64>), DataError> {
+    let file = File::open(path).map_err(io(path))?;
+    let a = Array2::<f64>::read_npy(BufReader::new(file)).map_err(|e| npy_error(path, e))?;
+    Ok((a.nrows(), a.ncols(), a.iter().copied().collect()))
+}
+
 pub(crate) fn write_npz(path: &Path, record: &Record) -> Result<(), DataError> {
     let file = File::create(path).map_err(io(path))?;
     let mut npz = NpzWriter::new(BufWriter::new(file));

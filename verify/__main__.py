@@ -1,0 +1,114 @@
+"""python -m verify {quad,fe,hyp2f1,all,check}
+
+quad    scipy-quadrature references  -> datasets/quadrature.h5 + datasets/npy/quad_*
+fe      scikit-fem axisymmetric FE   -> datasets/fe.h5 + datasets/npy/fe_*   (minutes)
+hyp2f1  mpmath 2F1 values            -> datasets/hyp2f1_mpmath.npy
+all     all of the above
+check   regenerate quad and hyp2f1 in a temporary directory and compare with the committed files
+        (values to 1e-12 relative); exit 1 on a difference
+"""
+import json
+import pathlib
+import platform
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+
+def versions():
+    import h5py
+    import mpmath
+    import scipy
+    out = {"python": platform.python_version(), "numpy": np.__version__, "scipy": scipy.__version__,
+           "h5py": h5py.__version__, "mpmath": mpmath.__version__}
+    try:
+        import skfem
+        out["scikit-fem"] = skfem.__version__
+    except ImportError:
+        pass
+    return out
+
+
+def run_quad(root):
+    from . import quadrature, store
+    t = time.time()
+    cases = quadrature.generate()
+    for c in cases:
+        c["case"] = "quad_" + c["case"]
+    entries = store.write_cases("quadrature", "scipy-quad", cases, versions(), root)
+    store.update_manifest("scipy-quad", entries, root)
+    print(f"quad: {len(cases)} cases in {time.time() - t:.1f} s")
+
+
+def run_hyp2f1(root):
+    from . import hyp2f1_ref, store
+    t = time.time()
+    arr = hyp2f1_ref.generate()
+    path = root / "hyp2f1_mpmath.npy"
+    store.atomic_save_npy(path, arr)
+    store.update_manifest("mpmath-hyp2f1", [{
+        "path": "datasets/hyp2f1_mpmath.npy", "generator": "mpmath-hyp2f1", "sha256": store.sha256(path),
+        "parameters": {"columns": "a, b, c, z, 2F1(a,b;c;z)", "digits": 40}, "versions": versions()}], root)
+    print(f"hyp2f1: {arr.shape[0]} rows in {time.time() - t:.1f} s")
+
+
+def run_fe(root):
+    from . import fe, store
+    t = time.time()
+    cases = fe.generate()
+    entries = store.write_cases("fe", "scikit-fem", cases, versions(), root)
+    store.update_manifest("scikit-fem", entries, root)
+    print(f"fe: {len(cases)} cases in {time.time() - t:.1f} s")
+
+
+def check():
+    from . import store
+    import h5py
+    ok = True
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = pathlib.Path(tmp)
+        (tmp / "npy").mkdir()
+        run_quad(tmp)
+        run_hyp2f1(tmp)
+        for name in ["quadrature.h5"]:
+            with h5py.File(store.DATASETS / name) as a, h5py.File(tmp / name) as b:
+                def visit(path, obj):
+                    nonlocal ok
+                    if isinstance(obj, h5py.Dataset):
+                        x, y = obj[()], b[path][()]
+                        scale = np.maximum(np.abs(x), 1e-300)
+                        worst = float(np.max(np.abs(x - y) / scale)) if x.size else 0.0
+                        if worst > 1e-12:
+                            ok = False
+                            print(f"MISMATCH {name}:{path}: {worst:.3e}")
+                a.visititems(visit)
+        x, y = np.load(store.DATASETS / "hyp2f1_mpmath.npy"), np.load(tmp / "hyp2f1_mpmath.npy")
+        if x.shape != y.shape or np.max(np.abs(x - y) / np.maximum(np.abs(x), 1e-300)) > 1e-12:
+            ok = False
+            print("MISMATCH hyp2f1_mpmath.npy")
+    print("check: the committed quadrature and 2F1 fixtures reproduce to 1e-12" if ok else "check: FAILED")
+    return ok
+
+
+def main(argv):
+    from . import store
+    what = argv[1] if len(argv) > 1 else "all"
+    root = store.DATASETS
+    if what in ("quad", "all"):
+        run_quad(root)
+    if what in ("hyp2f1", "all"):
+        run_hyp2f1(root)
+    if what in ("fe", "all"):
+        run_fe(root)
+    if what == "check":
+        return 0 if check() else 1
+    if what not in ("quad", "fe", "hyp2f1", "all", "check"):
+        print(__doc__)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
