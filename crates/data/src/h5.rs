@@ -83,7 +83,13 @@ pub(crate) fn read(path: &Path, group: &str) -> Result<Record, DataError> {
     for name in file.attr_names().map_err(&e)? {
         let attr = file.attr(&name).map_err(&e)?;
         let dtype = attr.dtype().map_err(&e)?;
-        let value = if dtype.is::<f64>() {
+        let value = if attr.ndim() > 0 {
+            // Array attributes (e.g. a list of domain sizes) are kept as their text form.
+            match attr.read_raw::<f64>() {
+                Ok(v) => AttrValue::Text(format!("{v:?}")),
+                Err(_) => AttrValue::Text(format!("<array attribute of type {dtype:?}>")),
+            }
+        } else if dtype.is::<f64>() {
             AttrValue::Float(attr.read_scalar::<f64>().map_err(&e)?)
         } else if dtype.is::<i64>() {
             AttrValue::Int(attr.read_scalar::<i64>().map_err(&e)?)
