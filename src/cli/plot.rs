@@ -134,12 +134,25 @@ pub fn curves(
     xlabel: &str,
     left: (&str, &Curves),
     right: (&str, &Curves),
+    paired: bool,
 ) -> PlotResult {
     let root = SVGBackend::new(path, (960, 440)).into_drawing_area();
     root.fill(&WHITE)?;
     let root = root.titled(title, ("sans-serif", 15))?;
     let (a, b) = root.split_horizontally(480);
-    let colors = [RED, BLACK, BLUE, GREEN, MAGENTA];
+    // With `paired`, consecutive lines (MDR, reference) share a hue, the second lighter.
+    let colors: Vec<RGBColor> = if paired {
+        vec![
+            RED,
+            RGBColor(255, 150, 150),
+            BLACK,
+            RGBColor(160, 160, 160),
+            BLUE,
+            RGBColor(140, 170, 255),
+        ]
+    } else {
+        vec![RED, BLACK, BLUE, GREEN, MAGENTA]
+    };
     for (area, (ylabel, lines)) in [(a, left), (b, right)] {
         let xmax = lines
             .iter()

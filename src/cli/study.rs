@@ -21,6 +21,8 @@ pub enum Study {
     Eq27,
     /// Graded Hertz (E0 = z0 = R = 1, ν = 0.3, δ = 0.01) for k = −0.5, 0, 0.5: p(r) and u(r).
     GradedHertz,
+    /// MDR against the scikit-fem references in datasets/fe.h5 (k = 0, ±0.3).
+    FeComparison,
 }
 
 #[derive(Debug, Args)]
@@ -34,11 +36,17 @@ pub struct StudyArgs {
     /// Print one JSON object on stdout.
     #[arg(long)]
     json: bool,
+    /// Directory of the reference fixtures (fe-comparison).
+    #[arg(long, default_value = "datasets")]
+    datasets: PathBuf,
 }
 
 pub fn run(args: StudyArgs) -> Result<(), CliError> {
     if let Study::GradedHertz = args.study {
         return graded_hertz(&args);
+    }
+    if let Study::FeComparison = args.study {
+        return fe_comparison(&args);
     }
     let (title, ns, series): (&str, Vec<usize>, Series) = match args.study {
         Study::Eq17 => {
@@ -104,7 +112,7 @@ pub fn run(args: StudyArgs) -> Result<(), CliError> {
             }
             ("Eq. 27, U = x⁴ (L = 1): mean relative error", ns, series)
         }
-        Study::GradedHertz => unreachable!("handled above"),
+        Study::GradedHertz | Study::FeComparison => unreachable!("handled above"),
     };
     let orders: Vec<f64> = series
         .iter()
@@ -179,6 +187,7 @@ fn graded_hertz(args: &StudyArgs) -> Result<(), CliError> {
             "r",
             ("pressure p", &pressures),
             ("surface displacement u", &displacements),
+            false,
         )
         .map_err(|e| CliError::Plot(format!("{}: {e}", path.display())))?;
     }
@@ -189,5 +198,83 @@ fn graded_hertz(args: &StudyArgs) -> Result<(), CliError> {
             println!("{row}");
         }
     }
+    Ok(())
+}
+
+/// MDR (N = 8001) against the FE fixtures: pressure and surface displacement for k = 0, ±0.3.
+fn fe_comparison(args: &StudyArgs) -> Result<(), CliError> {
+    use halfspace::data::{read_h5_group, AttrValue};
+    use halfspace::mdr::{ContactParams, ContactSolver, Load, Material, Profile};
+    let path = args.datasets.join("fe.h5");
+    let mut pressures = Vec::new();
+    let mut displacements = Vec::new();
+    let mut rows = Vec::new();
+    for k in [0.0, 0.3, -0.3] {
+        let rec = read_h5_group(&path, &format!("fe_sphere_k{k:+.1}"))?;
+        let depth = match rec.get_attr("depth") {
+            Some(AttrValue::Float(d)) => *d,
+            _ => {
+                return Err(CliError::Spec(format!(
+                    "{}: case k = {k} has no depth",
+                    path.display()
+                )))
+            }
+        };
+        let params = ContactParams {
+            nodes: 8001,
+            domain_ratio: 3.05,
+            ..ContactParams::default()
+        };
+        let sol = ContactSolver::new(Material::power_law(1.0, 1.0, 0.3, k)?, params)?
+            .solve(&Profile::sphere(10.0)?, Load::Depth(depth))?;
+        let r = sol.radii();
+        let missing = |name: &str| CliError::Spec(format!("{}: no array '{name}'", path.display()));
+        let (pr, p) = (
+            rec.get("pressure_r").ok_or_else(|| missing("pressure_r"))?,
+            rec.get("pressure").ok_or_else(|| missing("pressure"))?,
+        );
+        let (ru, u) = (
+            rec.get("r").ok_or_else(|| missing("r"))?,
+            rec.get("displacement")
+                .ok_or_else(|| missing("displacement"))?,
+        );
+        let mdr_p: Vec<(f64, f64)> = r
+            .iter()
+            .copied()
+            .zip(sol.pressure.iter().copied())
+            .collect();
+        let mdr_u: Vec<(f64, f64)> = r
+            .iter()
+            .copied()
+            .zip(sol.displacement.iter().copied())
+            .collect();
+        pressures.push((
+            format!("MDR k = {k}"),
+            mdr_p.into_iter().filter(|(x, _)| *x <= 1.2).collect(),
+        ));
+        pressures.push((
+            format!("FE k = {k}"),
+            pr.iter().copied().zip(p.iter().copied()).collect(),
+        ));
+        displacements.push((format!("MDR k = {k}"), mdr_u));
+        displacements.push((
+            format!("FE k = {k}"),
+            ru.iter().copied().zip(u.iter().copied()).collect(),
+        ));
+        rows.push(json!({"k": k, "depth": depth, "mdr_force": sol.force, "fe_force": rec.get_attr("force").map(|v| v.to_json())}));
+    }
+    if let Some(plot_path) = &args.plot {
+        plot::curves(
+            plot_path,
+            "MDR (lines) against scikit-fem (FE): sphere R = 10a, E0 = 1, ν = 0.3",
+            "r / a",
+            ("contact pressure p", &pressures),
+            ("surface displacement u", &displacements),
+            true,
+        )
+        .map_err(|e| CliError::Plot(format!("{}: {e}", plot_path.display())))?;
+    }
+    let summary = json!({"study": "fe comparison", "cases": rows});
+    println!("{summary}");
     Ok(())
 }
