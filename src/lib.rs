@@ -2,5 +2,6 @@
 //!
 //! Facade over the workspace crates; see `docs/architecture.md`.
 pub use halfspace_data as data;
+pub use halfspace_fretting as fretting;
 pub use halfspace_mdr as mdr;
 pub use halfspace_numerics as numerics;

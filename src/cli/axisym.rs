@@ -12,7 +12,7 @@ use serde_json::json;
 
 use super::{plot, spec, CliError};
 
-#[derive(Debug, Clone, Copy, ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Method {
     /// O(N log N) FFT convolutions (Eqs. 7, 17; displacement by Eq. 13).
     Fft,

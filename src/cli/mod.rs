@@ -1,6 +1,7 @@
 //! Command-line front end: argument parsing (clap), one module per subcommand.
 
 mod axisym;
+mod fretting;
 mod plot;
 mod spec;
 mod study;
@@ -21,6 +22,8 @@ struct Cli {
 enum Command {
     /// Axisymmetric normal contact by the MDR: contact radius, force, pressure, displacement.
     Axisym(axisym::AxisymArgs),
+    /// Fretting wear on the MDR (Willert 2021, Section 4): worn profiles, contact growth.
+    FrettingWear(fretting::FrettingArgs),
     /// Convergence studies against closed forms (the figures of docs/).
     Study(study::StudyArgs),
 }
@@ -54,6 +57,7 @@ pub fn run() -> ExitCode {
     let result = match cli.command {
         Command::Axisym(args) => axisym::run(args),
         Command::Study(args) => study::run(args),
+        Command::FrettingWear(args) => fretting::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

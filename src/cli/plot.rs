@@ -1,4 +1,5 @@
-//! SVG figures (plotters, SVG backend: no system fonts needed).
+//! Figures (plotters: SVG, and PNG through the bitmap backend), with an embedded font
+//! (DejaVu Sans in assets/fonts) so that no system font library is needed.
 
 use std::path::Path;
 
@@ -24,6 +25,7 @@ pub fn pressure_and_displacement(path: &Path, sol: &ContactSolution, title: &str
         .zip(&sol.displacement)
         .map(|(x, u)| (*x, u / sol.depth))
         .collect();
+    register_font()?;
     let root = SVGBackend::new(path, (900, 420)).into_drawing_area();
     root.fill(&WHITE)?;
     let (left, right) = root.split_horizontally(450);
@@ -74,6 +76,7 @@ pub fn convergence(
     let all = series.iter().flat_map(|(_, e)| e.iter().copied());
     let ymin = all.clone().fold(f64::INFINITY, f64::min) * 0.5;
     let ymax = all.fold(0.0, f64::max) * 2.0;
+    register_font()?;
     let root = SVGBackend::new(path, (640, 480)).into_drawing_area();
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)
@@ -136,6 +139,7 @@ pub fn curves(
     right: (&str, &Curves),
     paired: bool,
 ) -> PlotResult {
+    register_font()?;
     let root = SVGBackend::new(path, (960, 440)).into_drawing_area();
     root.fill(&WHITE)?;
     let root = root.titled(title, ("sans-serif", 15))?;
@@ -188,6 +192,115 @@ pub fn curves(
             .border_style(BLACK)
             .draw()?;
     }
+    root.present()?;
+    Ok(())
+}
+
+/// The embedded font for bitmap output (DejaVu Sans, assets/fonts; no system font libraries).
+fn register_font() -> PlotResult {
+    static FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+    plotters::style::register_font("sans-serif", plotters::style::FontStyle::Normal, FONT)
+        .map_err(|_| "the embedded font could not be loaded")?;
+    Ok(())
+}
+
+/// Worn profiles `f/d` against `r/a₀` for every snapshot, the limiting profile dashed (the paper's
+/// Fig. 4). SVG or PNG by the extension.
+pub fn worn_profiles(path: &Path, sim: &halfspace::fretting::FrettingSimulation) -> PlotResult {
+    register_font()?;
+    if path.extension().and_then(|e| e.to_str()) == Some("png") {
+        let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
+        draw_worn(root, sim)
+    } else {
+        let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
+        draw_worn(root, sim)
+    }
+}
+
+fn draw_worn<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    sim: &halfspace::fretting::FrettingSimulation,
+) -> PlotResult
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let p = sim.params();
+    let r = sim.grid().coordinates();
+    let xmax = p.length.min(1.6);
+    let take = |v: &[f64]| -> Vec<(f64, f64)> {
+        r.iter()
+            .copied()
+            .zip(v.iter().copied())
+            .filter(|(x, _)| *x <= xmax)
+            .collect()
+    };
+    let ymax = r
+        .iter()
+        .filter(|x| **x <= xmax)
+        .map(|x| 0.5 * x * x)
+        .fold(0.0, f64::max)
+        * 1.05;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!(
+                "Fretting wear (MDR): χ = {}, N = {}, Δτ = {}",
+                p.chi, p.nodes, p.dtau
+            ),
+            ("sans-serif", 20),
+        )
+        .margin(16)
+        .x_label_area_size(44)
+        .y_label_area_size(56)
+        .build_cartesian_2d(0.0..xmax, 0.0..ymax)?;
+    chart
+        .configure_mesh()
+        .x_desc("r / a0")
+        .y_desc("f / d")
+        .draw()?;
+    let initial: Vec<(f64, f64)> = r
+        .iter()
+        .filter(|x| **x <= xmax)
+        .map(|&x| (x, 0.5 * x * x))
+        .collect();
+    chart
+        .draw_series(LineSeries::new(initial, BLACK.stroke_width(1)))?
+        .label("τ = 0")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK));
+    let colors = [
+        BLUE,
+        GREEN,
+        MAGENTA,
+        RED,
+        CYAN,
+        RGBColor(255, 140, 0),
+        RGBColor(120, 60, 0),
+    ];
+    for (k, s) in sim.state().snapshots.iter().enumerate() {
+        let color = colors[k % colors.len()];
+        chart
+            .draw_series(LineSeries::new(take(&s.profile), color.stroke_width(2)))?
+            .label(format!("τ = {}", s.step as f64 * p.dtau))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color));
+    }
+    // Limiting profile f∞ on c < r ≤ r* (f₀ beyond), dashed.
+    let r_star = sim.limit_contact_radius();
+    let limit: Vec<(f64, f64)> = r
+        .iter()
+        .zip(sim.limiting_profile())
+        .filter(|(x, _)| **x <= xmax)
+        .map(|(&x, &f)| (x, if x <= r_star { f } else { 0.5 * x * x }))
+        .collect();
+    chart
+        .draw_series(DashedLineSeries::new(limit, 8, 6, BLACK.stroke_width(2)))?
+        .label("limit (Popov)")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK.stroke_width(2)));
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()?;
     root.present()?;
     Ok(())
 }

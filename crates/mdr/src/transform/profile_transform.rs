@@ -98,11 +98,7 @@ impl ProfileTransform {
         let mut slope = std::mem::take(&mut self.slope);
         let result = profile
             .squared_slope(grid, &mut slope[..n], &mut self.samples[..n])
-            .and_then(|_| {
-                let c0 = slope[0];
-                slope[..n].iter_mut().for_each(|v| *v -= c0);
-                self.apply(grid, &slope[..n], g).map(|_| c0)
-            });
+            .and_then(|_| self.split_apply(grid, &mut slope[..n], g));
         self.slope = slope;
         let parabolic = result?;
         let conical = profile.conical_slope();
@@ -112,6 +108,38 @@ impl ProfileTransform {
             *gi += kappa1 * conical * grid.coordinate(i) + kappa2 * parabolic * grid.squared(i);
         }
         Ok(EquivalentSplit { conical, parabolic })
+    }
+}
+
+impl ProfileTransform {
+    /// `g` from samples of `f̂' = df/dρ` with the parabolic split of
+    /// [`ProfileTransform::profile_to_equivalent`]: `c₀ = f̂'_0` is taken out, transformed to
+    /// `κ₂(k) c₀ x²`, the rest goes through Eq. 7. `slope` is used as scratch (left with `c₀`
+    /// subtracted). Returns `c₀`. For evolving profiles (fretting wear) given as samples.
+    pub fn slope_to_equivalent(
+        &mut self,
+        grid: &SquaredGrid,
+        slope: &mut [f64],
+        g: &mut [f64],
+    ) -> Result<f64, MdrError> {
+        let c0 = self.split_apply(grid, slope, g)?;
+        let kappa2 = 2.0 / (1.0 + self.k);
+        for (i, gi) in g.iter_mut().enumerate() {
+            *gi += kappa2 * c0 * grid.squared(i);
+        }
+        Ok(c0)
+    }
+
+    fn split_apply(
+        &mut self,
+        grid: &SquaredGrid,
+        slope: &mut [f64],
+        g: &mut [f64],
+    ) -> Result<f64, MdrError> {
+        let c0 = slope[0];
+        slope.iter_mut().for_each(|v| *v -= c0);
+        self.apply(grid, slope, g)?;
+        Ok(c0)
     }
 }
 

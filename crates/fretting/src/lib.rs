@@ -1,0 +1,20 @@
+//! Fretting wear of an axisymmetric contact on the MDR (Willert 2021, Section 4; spec `mdr.md` §5).
+//!
+//! A paraboloid pressed to a fixed depth `d` (`a₀ = √(Rd)`) oscillates tangentially with amplitude
+//! `u_A = χ u_max` in partial slip; Archard wear removes material where it slips. In the normalized
+//! variables `r̃ = r/a₀`, `f̃ = f/d`, `p̃ = p a₀²/F₀`, `Δũ = Δu/u_A`, `τ = N/N₀` the wear law is
+//! parameter-free: `∂f̃/∂τ = p̃ Δũ` (Eq. 30–31). Each step (one wear increment `Δτ`):
+//! `f → g` (Eq. 7), contact edge (§7 P9), `q → p` (Eq. 17), slip (Cattaneo–Mindlin in MDR form),
+//! explicit Euler. [`limit`] has the closed forms: Popov's limiting profile `f̃∞`, the limiting
+//! contact radius `r*`, the Hertz slip.
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+mod error;
+pub mod limit;
+mod params;
+mod simulation;
+
+pub use error::FrettingError;
+pub use params::FrettingParams;
+pub use simulation::{FrettingSimulation, FrettingState, Snapshot};

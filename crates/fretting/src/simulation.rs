@@ -1,0 +1,291 @@
+use halfspace_mdr::{Material, MdrError, ProfileTransform, StressTransform};
+use halfspace_numerics::{diff::derivative_uniform, SquaredGrid};
+
+use crate::limit::{initial_profile, limit_contact_radius, limiting_profile, stick_radius};
+use crate::{FrettingError, FrettingParams};
+
+/// `E*` of the normalized problem: with `q̃ = E*(1 − g̃)`, Eq. 17 gives `p̃ = p a₀²/F₀`
+/// (`p̃ = (3/4π) ∫ g̃'/√(x̃² − r̃²)`, spec §5).
+const NORMALIZED_MODULUS: f64 = 0.75;
+
+/// The state at one recorded `τ`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Snapshot {
+    /// Step index (`τ = step · Δτ`).
+    pub step: u64,
+    /// Profile `f̃` on the grid nodes.
+    pub profile: Vec<f64>,
+    /// Pressure `p̃` on the grid nodes (of the step that starts from this profile).
+    pub pressure: Vec<f64>,
+    /// Slip per cycle `Δũ` on the grid nodes.
+    pub slip: Vec<f64>,
+    /// Contact radius `a/a₀`.
+    pub contact_radius: f64,
+}
+
+/// Everything a run needs to continue: the step, the profile, the histories and the snapshots.
+/// A run resumed from a state ends bit for bit where the uninterrupted run ends.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrettingState {
+    /// Steps done.
+    pub step: u64,
+    /// Profile `f̃` on the grid nodes.
+    pub profile: Vec<f64>,
+    /// `a/a₀` after each step (index = step − 1).
+    pub contact_radius_history: Vec<f64>,
+    /// Snapshots taken so far.
+    pub snapshots: Vec<Snapshot>,
+}
+
+/// The per-cycle loop of spec §5, planned once: no allocation per step.
+pub struct FrettingSimulation {
+    params: FrettingParams,
+    grid: SquaredGrid,
+    profile_tf: ProfileTransform,
+    stress_tf: StressTransform,
+    limit: Vec<f64>,
+    stick: f64,
+    r_star: f64,
+    slope: Vec<f64>,
+    g: Vec<f64>,
+    q: Vec<f64>,
+    p: Vec<f64>,
+    slip: Vec<f64>,
+    state: FrettingState,
+    snapshot_steps: Vec<u64>,
+    /// Edge node of the current profile when g, p and the slip are up to date with it.
+    current_edge: Option<usize>,
+}
+
+impl FrettingSimulation {
+    /// A new run from the initial paraboloid `f̃₀ = r̃²/2`.
+    pub fn new(params: FrettingParams) -> Result<Self, FrettingError> {
+        params.validate()?;
+        let grid = SquaredGrid::new(params.nodes, params.length).map_err(MdrError::from)?;
+        let profile = grid
+            .coordinates()
+            .iter()
+            .map(|&r| initial_profile(r))
+            .collect();
+        let state = FrettingState {
+            step: 0,
+            profile,
+            contact_radius_history: Vec::new(),
+            snapshots: Vec::new(),
+        };
+        Self::with_state(params, grid, state)
+    }
+
+    /// Continues a run from a saved state (`--resume`).
+    pub fn resume(params: FrettingParams, state: FrettingState) -> Result<Self, FrettingError> {
+        params.validate()?;
+        let grid = SquaredGrid::new(params.nodes, params.length).map_err(MdrError::from)?;
+        if state.profile.len() != params.nodes
+            || state.contact_radius_history.len() as u64 != state.step
+            || state.step > params.total_steps()
+            || state.profile.iter().any(|v| !v.is_finite())
+        {
+            return Err(FrettingError::Checkpoint(format!(
+                "state does not match the parameters (N = {}, {} steps): profile of {} nodes, \
+                 step {}, {} history entries",
+                params.nodes,
+                params.total_steps(),
+                state.profile.len(),
+                state.step,
+                state.contact_radius_history.len()
+            )));
+        }
+        Self::with_state(params, grid, state)
+    }
+
+    fn with_state(
+        params: FrettingParams,
+        grid: SquaredGrid,
+        state: FrettingState,
+    ) -> Result<Self, FrettingError> {
+        let n = params.nodes;
+        let material = Material::from_e_star(NORMALIZED_MODULUS)?;
+        let limit = grid
+            .coordinates()
+            .iter()
+            .map(|&r| limiting_profile(r, params.chi))
+            .collect();
+        Ok(Self {
+            profile_tf: ProfileTransform::new(n, &material, params.backend)?,
+            stress_tf: StressTransform::new(n, &material, params.backend)?,
+            limit,
+            stick: stick_radius(params.chi),
+            r_star: limit_contact_radius(params.chi),
+            slope: vec![0.0; n],
+            g: vec![0.0; n],
+            q: vec![0.0; n],
+            p: vec![0.0; n],
+            slip: vec![0.0; n],
+            snapshot_steps: params.snapshot_steps(),
+            grid,
+            params,
+            state,
+            current_edge: None,
+        })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &FrettingParams {
+        &self.params
+    }
+
+    /// The grid (`r̃_i = √(i h)`).
+    pub fn grid(&self) -> &SquaredGrid {
+        &self.grid
+    }
+
+    /// The current state (for checkpoints and results).
+    pub fn state(&self) -> &FrettingState {
+        &self.state
+    }
+
+    /// `r*/a₀`, the limit of the contact radius.
+    pub fn limit_contact_radius(&self) -> f64 {
+        self.r_star
+    }
+
+    /// Popov's limiting profile `f̃∞` on the grid nodes.
+    pub fn limiting_profile(&self) -> &[f64] {
+        &self.limit
+    }
+
+    /// Whether all steps are done.
+    pub fn is_finished(&self) -> bool {
+        self.state.step >= self.params.total_steps()
+    }
+
+    /// `f̃(a₀)`, linear in `ξ` between the nodes around `r̃ = 1`.
+    pub fn profile_at_a0(&self) -> f64 {
+        let t = self.grid.fractional_index(1.0);
+        let i = (t.floor() as usize).min(self.grid.len() - 2);
+        let w = t - i as f64;
+        (1.0 - w) * self.state.profile[i] + w * self.state.profile[i + 1]
+    }
+
+    /// One wear step (spec §5, per-cycle loop): `f → g` (Eq. 7), the contact edge as the outermost
+    /// node with `g < d` plus one (§7 P9), `q = E* max(d − g, 0)`, `q → p` (Eq. 17, clipped ≥ 0), the
+    /// slip `Δũ`, and `f̃ ← f̃ + Δτ p̃ Δũ`. Takes a snapshot first when this step is a snapshot step.
+    pub fn step(&mut self) -> Result<(), FrettingError> {
+        let edge = self.current()?;
+        let step = self.state.step;
+        if self.snapshot_steps.binary_search(&step).is_ok()
+            && !self.state.snapshots.iter().any(|s| s.step == step)
+        {
+            self.take_snapshot(edge);
+        }
+        if self.is_finished() {
+            return Ok(());
+        }
+        let dtau = self.params.dtau;
+        for i in 0..edge {
+            self.state.profile[i] += dtau * self.p[i] * self.slip[i];
+        }
+        self.state.step += 1;
+        self.current_edge = None;
+        let edge = self.current()?;
+        let a = self.grid.coordinate(edge);
+        self.state.contact_radius_history.push(a);
+        // Wear only raises f, so a/a₀ approaches r* from below; three cells of slack for the snapped
+        // edge (spec §7 P10: an unstable step overshoots it).
+        let cell = self.grid.step() / (2.0 * self.r_star);
+        if a > self.r_star + 3.0 * cell {
+            return Err(FrettingError::Unstable {
+                tau: self.state.step as f64 * dtau,
+                contact_radius: a,
+                limit: self.r_star,
+                suggested: 0.5 * dtau,
+            });
+        }
+        if self.is_finished() && self.snapshot_steps.binary_search(&self.state.step).is_ok() {
+            self.take_snapshot(edge);
+        }
+        Ok(())
+    }
+
+    /// The edge of the current profile, computing g, p and the slip only when the profile changed
+    /// (one profile and one stress transform per step).
+    fn current(&mut self) -> Result<usize, FrettingError> {
+        match self.current_edge {
+            Some(edge) => Ok(edge),
+            None => {
+                let edge = self.contact_state()?;
+                self.current_edge = Some(edge);
+                Ok(edge)
+            }
+        }
+    }
+
+    /// Computes g, p and the slip of the current profile; returns the edge node.
+    fn contact_state(&mut self) -> Result<usize, FrettingError> {
+        let n = self.grid.len();
+        let h = self.grid.step();
+        derivative_uniform(&self.state.profile, h, &mut self.slope).map_err(MdrError::from)?;
+        self.profile_tf
+            .slope_to_equivalent(&self.grid, &mut self.slope, &mut self.g)?;
+        let outermost = self.g.iter().rposition(|&g| g < 1.0).unwrap_or(0);
+        let edge = outermost + 1;
+        if edge >= n - 1 {
+            return Err(FrettingError::ContactOutsideGrid {
+                length: self.params.length,
+            });
+        }
+        for i in 0..=edge {
+            self.q[i] = NORMALIZED_MODULUS * (1.0 - self.g[i]).max(0.0);
+        }
+        let m = edge + 1;
+        self.stress_tf
+            .line_load_to_stress(&self.grid, &self.q[..m], 0.0, &mut self.p[..m])?;
+        self.p[..m].iter_mut().for_each(|v| *v = v.max(0.0));
+        self.p[m..].fill(0.0);
+        self.p[edge] = 0.0;
+        let chi = self.params.chi;
+        for i in 0..n {
+            let r = self.grid.coordinate(i);
+            self.slip[i] = if i < edge && r > self.stick {
+                let s = 4.0
+                    * ((self.state.profile[i] - self.limit[i]) / chi
+                        + 2.0 / std::f64::consts::PI * (self.stick / r).min(1.0).acos());
+                s.max(0.0)
+            } else {
+                0.0
+            };
+        }
+        Ok(edge)
+    }
+
+    fn take_snapshot(&mut self, edge: usize) {
+        self.state.snapshots.push(Snapshot {
+            step: self.state.step,
+            profile: self.state.profile.clone(),
+            pressure: self.p.clone(),
+            slip: self.slip.clone(),
+            contact_radius: self.grid.coordinate(edge),
+        });
+    }
+
+    /// Runs until `τ_end` (or until `stop` returns true after a step, for checkpoints and progress).
+    pub fn run(&mut self, mut after_step: impl FnMut(&Self) -> bool) -> Result<(), FrettingError> {
+        while !self.is_finished() {
+            self.step()?;
+            if after_step(self) {
+                return Ok(());
+            }
+        }
+        // Make sure the final snapshot exists (a run resumed at its last step).
+        if !self
+            .state
+            .snapshots
+            .iter()
+            .any(|s| s.step == self.state.step)
+        {
+            let edge = self.current()?;
+            self.take_snapshot(edge);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,385 @@
+//! `halfspace fretting-wear`: fretting wear on the MDR (spec §5), the project's main job.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use clap::Args;
+use halfspace::data::{read_record, write_record, AttrValue, Record};
+use halfspace::fretting::{FrettingParams, FrettingSimulation, FrettingState, Snapshot};
+use halfspace::mdr::Backend;
+use serde::Deserialize;
+use serde_json::json;
+
+use super::axisym::Method;
+use super::{plot, CliError};
+
+#[derive(Debug, Args)]
+pub struct FrettingArgs {
+    /// TOML file with any of: chi, n, dtau, tau_end, length, snapshots, method.
+    #[arg(long)]
+    config: Option<PathBuf>,
+    /// Output directory (results.h5, results.npz, worn_profiles.png/.svg, checkpoint.npz).
+    #[arg(long, default_value = "fretting-out")]
+    out: PathBuf,
+    /// Backend of the transforms.
+    #[arg(long, value_enum)]
+    method: Option<Method>,
+    /// Continue a killed run from DIR/checkpoint.npz.
+    #[arg(long)]
+    resume: bool,
+    /// Overwrite another run's results in DIR.
+    #[arg(long)]
+    force: bool,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
+    /// u_A / u_max, 0 < χ < 1.
+    #[arg(long, allow_negative_numbers = true)]
+    chi: Option<f64>,
+    /// Grid nodes N.
+    #[arg(long)]
+    n: Option<usize>,
+    /// Wear step Δτ.
+    #[arg(long, allow_negative_numbers = true)]
+    dtau: Option<f64>,
+    /// Final τ = N/N0.
+    #[arg(long, allow_negative_numbers = true)]
+    tau_end: Option<f64>,
+    /// Domain size L/a0 (≥ 1.45).
+    #[arg(long, allow_negative_numbers = true)]
+    length: Option<f64>,
+    /// Seconds of work between checkpoints.
+    #[arg(long, default_value_t = 2.0)]
+    checkpoint_seconds: f64,
+    /// Testing hook: stop (as if killed) after this many steps, leaving the checkpoint.
+    #[arg(long, hide = true)]
+    stop_after: Option<u64>,
+}
+
+/// The config file: every key optional, unknown keys refused by name.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Config {
+    chi: Option<f64>,
+    n: Option<usize>,
+    dtau: Option<f64>,
+    tau_end: Option<f64>,
+    length: Option<f64>,
+    snapshots: Option<Vec<f64>>,
+    method: Option<String>,
+}
+
+fn params_of(args: &FrettingArgs) -> Result<FrettingParams, CliError> {
+    let config: Config = match &args.config {
+        None => Config::default(),
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| CliError::Spec(format!("--config {}: {e}", path.display())))?;
+            toml::from_str(&text).map_err(|e| {
+                CliError::Spec(format!("--config {}: {}", path.display(), e.message()))
+            })?
+        }
+    };
+    let mut p = FrettingParams::default();
+    let backend = |name: &str| match name {
+        "fft" => Ok(Backend::Fft),
+        "mvm" => Ok(Backend::Mvm),
+        other => Err(CliError::Spec(format!(
+            "config method = '{other}': use \"fft\" or \"mvm\""
+        ))),
+    };
+    if let Some(m) = &config.method {
+        p.backend = backend(m)?;
+    }
+    if let Some(m) = args.method {
+        p.backend = match m {
+            Method::Fft => Backend::Fft,
+            Method::Mvm => Backend::Mvm,
+        };
+    }
+    p.chi = args.chi.or(config.chi).unwrap_or(p.chi);
+    p.nodes = args.n.or(config.n).unwrap_or(p.nodes);
+    p.dtau = args.dtau.or(config.dtau).unwrap_or(p.dtau);
+    p.tau_end = args.tau_end.or(config.tau_end).unwrap_or(p.tau_end);
+    p.length = args.length.or(config.length).unwrap_or(p.length);
+    if let Some(s) = config.snapshots {
+        p.snapshots = s;
+    }
+    p.snapshots.retain(|t| *t <= p.tau_end + 1e-12);
+    p.validate().map_err(fretting_error)?;
+    Ok(p)
+}
+
+fn fretting_error(e: halfspace::fretting::FrettingError) -> CliError {
+    CliError::Spec(e.to_string())
+}
+
+fn params_attrs(p: &FrettingParams) -> Vec<(&'static str, AttrValue)> {
+    vec![
+        ("chi", AttrValue::Float(p.chi)),
+        ("n", AttrValue::Int(p.nodes as i64)),
+        ("dtau", AttrValue::Float(p.dtau)),
+        ("tau_end", AttrValue::Float(p.tau_end)),
+        ("length", AttrValue::Float(p.length)),
+        ("method", AttrValue::Text(p.backend.name().into())),
+        ("snapshots", AttrValue::Text(format!("{:?}", p.snapshots))),
+    ]
+}
+
+fn checkpoint_record(sim: &FrettingSimulation) -> Record {
+    let state = sim.state();
+    let mut rec = Record::default()
+        .array("profile", state.profile.clone())
+        .array(
+            "contact_radius_history",
+            state.contact_radius_history.clone(),
+        )
+        .attr("step", AttrValue::Int(state.step as i64))
+        .attr(
+            "snapshot_count",
+            AttrValue::Int(state.snapshots.len() as i64),
+        );
+    for (k, s) in state.snapshots.iter().enumerate() {
+        rec = rec
+            .array(&format!("snapshot{k}_profile"), s.profile.clone())
+            .array(&format!("snapshot{k}_pressure"), s.pressure.clone())
+            .array(&format!("snapshot{k}_slip"), s.slip.clone())
+            .attr(&format!("snapshot{k}_step"), AttrValue::Int(s.step as i64))
+            .attr(
+                &format!("snapshot{k}_contact_radius"),
+                AttrValue::Float(s.contact_radius),
+            );
+    }
+    for (name, value) in params_attrs(sim.params()) {
+        rec = rec.attr(name, value);
+    }
+    rec
+}
+
+fn state_from_checkpoint(path: &Path, params: &FrettingParams) -> Result<FrettingState, CliError> {
+    let rec = read_record(path)?;
+    let bad = |what: String| CliError::Spec(format!("--resume {}: {what}", path.display()));
+    for (name, value) in params_attrs(params) {
+        if rec.get_attr(name) != Some(&value) {
+            return Err(bad(format!(
+                "the checkpoint was made with {name} = {:?}, this run has {:?}; resume with the same \
+                 parameters or start over with --force",
+                rec.get_attr(name),
+                value
+            )));
+        }
+    }
+    let int = |name: &str| match rec.get_attr(name) {
+        Some(AttrValue::Int(v)) => Ok(*v),
+        other => Err(bad(format!("attribute {name} is {other:?}"))),
+    };
+    let array = |name: &str| {
+        rec.get(name)
+            .map(|v| v.to_vec())
+            .ok_or_else(|| bad(format!("array {name} is missing")))
+    };
+    let mut snapshots = Vec::new();
+    for k in 0..int("snapshot_count")? {
+        snapshots.push(Snapshot {
+            step: int(&format!("snapshot{k}_step"))? as u64,
+            profile: array(&format!("snapshot{k}_profile"))?,
+            pressure: array(&format!("snapshot{k}_pressure"))?,
+            slip: array(&format!("snapshot{k}_slip"))?,
+            contact_radius: match rec.get_attr(&format!("snapshot{k}_contact_radius")) {
+                Some(AttrValue::Float(v)) => *v,
+                other => return Err(bad(format!("snapshot {k} contact radius is {other:?}"))),
+            },
+        });
+    }
+    Ok(FrettingState {
+        step: int("step")? as u64,
+        profile: array("profile")?,
+        contact_radius_history: array("contact_radius_history")?,
+        snapshots,
+    })
+}
+
+pub fn run(args: FrettingArgs) -> Result<(), CliError> {
+    let params = params_of(&args)?;
+    if !(args.checkpoint_seconds.is_finite() && args.checkpoint_seconds > 0.0) {
+        return Err(CliError::Spec(format!(
+            "--checkpoint-seconds must be finite and > 0, got {}",
+            args.checkpoint_seconds
+        )));
+    }
+    let dir = &args.out;
+    let checkpoint = dir.join("checkpoint.npz");
+    let results = dir.join("results.h5");
+    if args.resume && args.force {
+        return Err(CliError::Spec("give --resume or --force, not both".into()));
+    }
+    if dir.exists() && !args.resume && !args.force && (checkpoint.exists() || results.exists()) {
+        return Err(CliError::Spec(format!(
+            "{} holds another run's results; use --resume to continue it or --force to overwrite",
+            dir.display()
+        )));
+    }
+    std::fs::create_dir_all(dir)
+        .map_err(|e| CliError::Spec(format!("--out {}: {e}", dir.display())))?;
+    let start = Instant::now();
+    let mut sim = if args.resume {
+        if !checkpoint.exists() {
+            return Err(CliError::Spec(format!(
+                "--resume: {} has no checkpoint.npz",
+                dir.display()
+            )));
+        }
+        let state = state_from_checkpoint(&checkpoint, &params)?;
+        FrettingSimulation::resume(params.clone(), state).map_err(fretting_error)?
+    } else {
+        FrettingSimulation::new(params.clone()).map_err(fretting_error)?
+    };
+    let total = params.total_steps();
+    let bar = if std::io::stderr().is_terminal() && !args.json {
+        let bar = indicatif::ProgressBar::new(total);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{bar:40} {pos}/{len} steps  τ = {msg}  ETA {eta}",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar.set_position(sim.state().step);
+        Some(bar)
+    } else {
+        None
+    };
+    let every = Duration::from_secs_f64(args.checkpoint_seconds);
+    let mut last_checkpoint = Instant::now();
+    let mut checkpoint_error = None;
+    let mut stopped = false;
+    let result = sim.run(|s| {
+        let step = s.state().step;
+        if let Some(bar) = &bar {
+            if step % 64 == 0 {
+                bar.set_position(step);
+                bar.set_message(format!("{:.3}", step as f64 * s.params().dtau));
+            }
+        }
+        let stop = args.stop_after.is_some_and(|k| step >= k);
+        if stop || last_checkpoint.elapsed() >= every {
+            if let Err(e) = write_record(&checkpoint, &checkpoint_record(s)) {
+                checkpoint_error = Some(e);
+                return true;
+            }
+            last_checkpoint = Instant::now();
+        }
+        stopped = stop;
+        stop
+    });
+    if let Some(bar) = &bar {
+        bar.finish_and_clear();
+    }
+    if let Some(e) = checkpoint_error {
+        return Err(e.into());
+    }
+    if let Err(e) = result {
+        // Keep what was done: the checkpoint holds the last good state.
+        let _ = write_record(&checkpoint, &checkpoint_record(&sim));
+        return Err(fretting_error(e));
+    }
+    if stopped {
+        return Ok(());
+    }
+    write_record(&checkpoint, &checkpoint_record(&sim))?;
+    let seconds = start.elapsed().as_secs_f64();
+    let rec = results_record(&sim);
+    write_record(&results, &rec)?;
+    write_record(&dir.join("results.npz"), &rec)?;
+    for ext in ["svg", "png"] {
+        let path = dir.join(format!("worn_profiles.{ext}"));
+        plot::worn_profiles(&path, &sim)
+            .map_err(|e| CliError::Plot(format!("{}: {e}", path.display())))?;
+    }
+    let state = sim.state();
+    let summary = json!({
+        "tau_final": state.step as f64 * params.dtau,
+        "cycles": state.step,
+        "contact_radius_over_a0": state.contact_radius_history.last().copied().unwrap_or(1.0),
+        "profile_at_a0_over_d": sim.profile_at_a0(),
+        "limit_contact_radius_over_a0": sim.limit_contact_radius(),
+        "seconds": seconds,
+        "method": params.backend.name(),
+        "n": params.nodes,
+        "chi": params.chi,
+        "dtau": params.dtau,
+        "out": dir.display().to_string(),
+    });
+    if args.json {
+        println!("{summary}");
+    } else {
+        println!(
+            "τ = {:.3}: a/a0 = {:.4} (limit r*/a0 = {:.4}), f(a0)/d = {:.4}; {} steps in {seconds:.2} s; results in {}",
+            state.step as f64 * params.dtau,
+            summary["contact_radius_over_a0"].as_f64().unwrap_or(f64::NAN),
+            sim.limit_contact_radius(),
+            sim.profile_at_a0(),
+            state.step,
+            dir.display()
+        );
+    }
+    Ok(())
+}
+
+fn results_record(sim: &FrettingSimulation) -> Record {
+    let p = sim.params();
+    let state = sim.state();
+    let mut rec = Record::default()
+        .array("r", sim.grid().coordinates())
+        .array("limiting_profile", sim.limiting_profile().to_vec())
+        .array(
+            "tau_history",
+            (1..=state.contact_radius_history.len())
+                .map(|k| k as f64 * p.dtau)
+                .collect(),
+        )
+        .array(
+            "contact_radius_history",
+            state.contact_radius_history.clone(),
+        )
+        .array(
+            "snapshot_tau",
+            state
+                .snapshots
+                .iter()
+                .map(|s| s.step as f64 * p.dtau)
+                .collect(),
+        )
+        .array(
+            "snapshot_contact_radius",
+            state.snapshots.iter().map(|s| s.contact_radius).collect(),
+        );
+    for (k, s) in state.snapshots.iter().enumerate() {
+        rec = rec
+            .array(&format!("f_{k}"), s.profile.clone())
+            .array(&format!("p_{k}"), s.pressure.clone())
+            .array(&format!("slip_{k}"), s.slip.clone());
+    }
+    for (name, value) in params_attrs(p) {
+        rec = rec.attr(name, value);
+    }
+    rec.attr(
+        "limit_contact_radius",
+        AttrValue::Float(sim.limit_contact_radius()),
+    )
+    .attr(
+        "units",
+        AttrValue::Text(
+            "normalized (spec §5): r/a0, f/d, p a0²/F0, slip per cycle / u_A, tau = N/N0; \
+                 f_k, p_k, slip_k at snapshot_tau[k]"
+                .into(),
+        ),
+    )
+    .attr(
+        "generator",
+        AttrValue::Text(format!(
+            "halfspace {} fretting-wear",
+            env!("CARGO_PKG_VERSION")
+        )),
+    )
+}
