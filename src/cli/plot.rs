@@ -143,7 +143,12 @@ pub fn curves(
     let root = SVGBackend::new(path, (960, 440)).into_drawing_area();
     root.fill(&WHITE)?;
     let root = root.titled(title, ("sans-serif", 15))?;
-    let (a, b) = root.split_horizontally(480);
+    let panels: Vec<_> = if right.1.is_empty() {
+        vec![(root.clone(), left)]
+    } else {
+        let (a, b) = root.split_horizontally(480);
+        vec![(a, left), (b, right)]
+    };
     // With `paired`, consecutive lines (MDR, reference) share a hue, the second lighter.
     let colors: Vec<RGBColor> = if paired {
         vec![
@@ -157,22 +162,30 @@ pub fn curves(
     } else {
         vec![RED, BLACK, BLUE, GREEN, MAGENTA]
     };
-    for (area, (ylabel, lines)) in [(a, left), (b, right)] {
+    for (area, (ylabel, lines)) in panels {
         let xmax = lines
             .iter()
             .flat_map(|(_, p)| p.iter().map(|v| v.0))
             .fold(0.0, f64::max);
-        let ymax = lines
-            .iter()
-            .flat_map(|(_, p)| p.iter().map(|v| v.1))
-            .filter(|v| v.is_finite())
-            .fold(0.0, f64::max)
-            * 1.05;
+        let ys = || {
+            lines
+                .iter()
+                .flat_map(|(_, p)| p.iter().map(|v| v.1))
+                .filter(|v| v.is_finite())
+        };
+        let (ylo, yhi) = (ys().fold(f64::INFINITY, f64::min), ys().fold(0.0, f64::max));
+        let ymax = yhi * 1.05;
+        // Start at 0 unless the data sit far from it (then pad 5 % of the range).
+        let ymin = if ylo > 0.3 * yhi {
+            ylo - 0.05 * (yhi - ylo)
+        } else {
+            0.0
+        };
         let mut chart = ChartBuilder::on(&area)
             .margin(12)
             .x_label_area_size(36)
             .y_label_area_size(64)
-            .build_cartesian_2d(0.0..xmax, 0.0..ymax.max(1e-300))?;
+            .build_cartesian_2d(0.0..xmax, ymin..ymax.max(ymin + 1e-300))?;
         chart
             .configure_mesh()
             .x_desc(xlabel)

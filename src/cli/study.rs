@@ -23,6 +23,8 @@ pub enum Study {
     GradedHertz,
     /// MDR against the scikit-fem references in datasets/fe.h5 (k = 0, ±0.3).
     FeComparison,
+    /// Fretting wear: a/a0 against τ for χ = 0.3, 0.5, 0.9 and their limits r*/a0 (spec §5).
+    FrettingLimit,
 }
 
 #[derive(Debug, Args)]
@@ -47,6 +49,9 @@ pub fn run(args: StudyArgs) -> Result<(), CliError> {
     }
     if let Study::FeComparison = args.study {
         return fe_comparison(&args);
+    }
+    if let Study::FrettingLimit = args.study {
+        return fretting_limit(&args);
     }
     let (title, ns, series): (&str, Vec<usize>, Series) = match args.study {
         Study::Eq17 => {
@@ -112,7 +117,9 @@ pub fn run(args: StudyArgs) -> Result<(), CliError> {
             }
             ("Eq. 27, U = x⁴ (L = 1): mean relative error", ns, series)
         }
-        Study::GradedHertz | Study::FeComparison => unreachable!("handled above"),
+        Study::GradedHertz | Study::FeComparison | Study::FrettingLimit => {
+            unreachable!("handled above")
+        }
     };
     let orders: Vec<f64> = series
         .iter()
@@ -276,5 +283,60 @@ fn fe_comparison(args: &StudyArgs) -> Result<(), CliError> {
     }
     let summary = json!({"study": "fe comparison", "cases": rows});
     println!("{summary}");
+    Ok(())
+}
+
+/// a/a0 against τ for χ = 0.3, 0.5 (Δτ = 1e-3) and 0.9 (Δτ = 2.5e-4, the stable step there),
+/// N = 2001, L = 1.6 a0, τ ≤ 30, with the limits r*/a0.
+fn fretting_limit(args: &StudyArgs) -> Result<(), CliError> {
+    use halfspace::fretting::{FrettingParams, FrettingSimulation};
+    let mut curves = Vec::new();
+    let mut limits = Vec::new();
+    let mut rows = Vec::new();
+    for (chi, dtau) in [(0.3, 1e-3), (0.5, 1e-3), (0.9, 2.5e-4)] {
+        let params = FrettingParams {
+            chi,
+            dtau,
+            snapshots: vec![],
+            ..FrettingParams::default()
+        };
+        let mut sim = FrettingSimulation::new(params).map_err(|e| CliError::Spec(e.to_string()))?;
+        sim.run(|_| false)
+            .map_err(|e| CliError::Spec(e.to_string()))?;
+        let h = &sim.state().contact_radius_history;
+        // Every 50th point keeps the figure light.
+        let pts: Vec<(f64, f64)> = h
+            .iter()
+            .enumerate()
+            .step_by(50)
+            .map(|(k, a)| ((k + 1) as f64 * dtau, *a))
+            .collect();
+        let r_star = sim.limit_contact_radius();
+        curves.push((format!("χ = {chi}"), pts));
+        limits.push((
+            format!("r*/a0 = {r_star:.4}"),
+            vec![(0.0, r_star), (30.0, r_star)],
+        ));
+        let at = |tau: f64| h[((tau / dtau).round() as usize).min(h.len()) - 1];
+        rows.push(json!({"chi": chi, "dtau": dtau, "r_star": r_star,
+            "a_at_tau": {"0.1": at(0.1), "1": at(1.0), "3": at(3.0), "10": at(10.0), "30": at(30.0)}}));
+    }
+    if let Some(path) = &args.plot {
+        let mut all = Vec::new();
+        for (c, l) in curves.into_iter().zip(limits) {
+            all.push(c);
+            all.push(l);
+        }
+        plot::curves(
+            path,
+            "Fretting wear: contact radius a/a0 against τ = N/N0 (limits r*/a0)",
+            "τ",
+            ("a / a0", &all),
+            ("a / a0", &[]),
+            true,
+        )
+        .map_err(|e| CliError::Plot(format!("{}: {e}", path.display())))?;
+    }
+    println!("{}", json!({"study": "fretting limit", "cases": rows}));
     Ok(())
 }

@@ -88,3 +88,31 @@ fn unknown_extension_and_missing_directory_are_errors() {
     ));
     assert!(write_record(std::path::Path::new("/nonexistent-dir/x.npz"), &sample()).is_err());
 }
+
+#[test]
+fn float_attributes_round_trip_bit_for_bit() {
+    // Checkpoints rely on it: a resumed run must continue from exactly the saved numbers.
+    let dir = tempfile::tempdir().unwrap();
+    let values = [
+        1.0 / 3.0,
+        1.1353237423748348,
+        2.0f64.sqrt(),
+        1e-300,
+        6.02214076e23,
+    ];
+    for ext in ["npz", "h5"] {
+        let path = dir.path().join(format!("f.{ext}"));
+        let mut rec = Record::default().array("x", values.to_vec());
+        for (i, v) in values.iter().enumerate() {
+            rec = rec.attr(&format!("v{i}"), AttrValue::Float(*v));
+        }
+        write_record(&path, &rec).unwrap();
+        let back = read_record(&path).unwrap();
+        for (i, v) in values.iter().enumerate() {
+            match back.get_attr(&format!("v{i}")) {
+                Some(AttrValue::Float(b)) => assert_eq!(b.to_bits(), v.to_bits(), "{ext} v{i}"),
+                other => panic!("{other:?}"),
+            }
+        }
+    }
+}

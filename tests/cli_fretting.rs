@@ -1,0 +1,253 @@
+//! `halfspace fretting-wear` through the binary: the default (reference) run, outputs, resume after
+//! a simulated kill (bit for bit), configs and bad input.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use halfspace::data::read_record;
+
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_halfspace"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn ok_json(out: &Output) -> serde_json::Value {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("one JSON object")
+}
+
+fn bad(args: &[&str], needle: &str) {
+    let out = run(args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+    assert!(err.contains(needle), "{args:?}: {err:?} lacks {needle:?}");
+}
+
+#[test]
+fn default_run_is_the_reference_run_and_writes_everything() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("run");
+    let o = out_dir.to_str().unwrap();
+    let v = ok_json(&run(&["fretting-wear", "--out", o, "--json"]));
+    for key in [
+        "tau_final",
+        "cycles",
+        "contact_radius_over_a0",
+        "profile_at_a0_over_d",
+        "limit_contact_radius_over_a0",
+        "seconds",
+        "method",
+        "n",
+    ] {
+        assert!(v.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(v["tau_final"].as_f64().unwrap(), 30.0);
+    assert_eq!(v["n"], 2001);
+    assert_eq!(v["method"], "fft");
+    // Spec §5 at τ = 30: a/a0 = 1.1353, f(a0)/d = 0.5862, r*/a0 = 1.1397.
+    assert!((v["contact_radius_over_a0"].as_f64().unwrap() / 1.1353 - 1.0).abs() < 5e-3);
+    assert!((v["profile_at_a0_over_d"].as_f64().unwrap() / 0.5862 - 1.0).abs() < 5e-3);
+    assert!((v["limit_contact_radius_over_a0"].as_f64().unwrap() - 1.1397).abs() < 1e-4);
+    for f in [
+        "results.h5",
+        "results.npz",
+        "worn_profiles.png",
+        "worn_profiles.svg",
+        "checkpoint.npz",
+    ] {
+        assert!(out_dir.join(f).is_file(), "{f} missing");
+    }
+    let png = std::fs::read(out_dir.join("worn_profiles.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+    let rec = read_record(&out_dir.join("results.h5")).unwrap();
+    assert_eq!(
+        rec.get("snapshot_tau").unwrap(),
+        &[0.1, 1.0, 3.0, 10.0, 30.0]
+    );
+    for k in 0..5 {
+        assert_eq!(rec.get(&format!("f_{k}")).unwrap().len(), 2001);
+    }
+    // Another run's results are not overwritten without --force.
+    bad(&["fretting-wear", "--out", o], "--resume");
+    let v = ok_json(&run(&[
+        "fretting-wear",
+        "--out",
+        o,
+        "--force",
+        "--tau-end",
+        "0.2",
+        "--json",
+    ]));
+    assert_eq!(v["cycles"], 200);
+}
+
+fn arrays_equal(a: &Path, b: &Path) {
+    let (ra, rb) = (read_record(a).unwrap(), read_record(b).unwrap());
+    assert_eq!(ra.arrays.len(), rb.arrays.len());
+    for (name, values) in &ra.arrays {
+        let other = rb.get(name).unwrap_or_else(|| panic!("{name} missing"));
+        // Bit for bit.
+        assert!(
+            values
+                .iter()
+                .zip(other)
+                .all(|(x, y)| x.to_bits() == y.to_bits()),
+            "{name} differs"
+        );
+    }
+}
+
+#[test]
+fn resume_after_a_kill_gives_the_same_results_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    let common = ["--n", "401", "--dtau", "4e-3", "--tau-end", "2", "--json"];
+    let mut args = vec!["fretting-wear", "--out", a.to_str().unwrap()];
+    args.extend(common);
+    ok_json(&run(&args));
+    // Killed after 137 steps: only the checkpoint is there.
+    let mut args = vec![
+        "fretting-wear",
+        "--out",
+        b.to_str().unwrap(),
+        "--stop-after",
+        "137",
+    ];
+    args.extend(common);
+    assert!(run(&args).status.success());
+    assert!(b.join("checkpoint.npz").is_file() && !b.join("results.h5").exists());
+    // Resuming with other parameters is refused, naming the parameter.
+    bad(
+        &[
+            "fretting-wear",
+            "--out",
+            b.to_str().unwrap(),
+            "--resume",
+            "--n",
+            "401",
+            "--dtau",
+            "4e-3",
+            "--tau-end",
+            "2",
+            "--chi",
+            "0.4",
+        ],
+        "chi",
+    );
+    let mut args = vec!["fretting-wear", "--out", b.to_str().unwrap(), "--resume"];
+    args.extend(common);
+    let v = ok_json(&run(&args));
+    assert_eq!(v["cycles"], 500);
+    arrays_equal(&a.join("results.npz"), &b.join("results.npz"));
+    arrays_equal(&a.join("results.h5"), &b.join("results.h5"));
+    // --resume without a checkpoint.
+    let empty = dir.path().join("empty");
+    bad(
+        &[
+            "fretting-wear",
+            "--out",
+            empty.to_str().unwrap(),
+            "--resume",
+        ],
+        "checkpoint",
+    );
+}
+
+#[test]
+fn configs_and_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("run.toml");
+    std::fs::write(
+        &cfg,
+        "chi = 0.3\nn = 401\ndtau = 4e-3\ntau_end = 0.4\nsnapshots = [0.2]\nmethod = \"mvm\"\n",
+    )
+    .unwrap();
+    let out = dir.path().join("cfg");
+    let v = ok_json(&run(&[
+        "fretting-wear",
+        "--config",
+        cfg.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ]));
+    assert_eq!(v["chi"], 0.3);
+    assert_eq!(v["method"], "mvm");
+    assert_eq!(v["n"], 401);
+    // Flags override the config.
+    let out2 = dir.path().join("cfg2");
+    let v = ok_json(&run(&[
+        "fretting-wear",
+        "--config",
+        cfg.to_str().unwrap(),
+        "--chi",
+        "0.6",
+        "--method",
+        "fft",
+        "--out",
+        out2.to_str().unwrap(),
+        "--json",
+    ]));
+    assert_eq!(v["chi"], 0.6);
+    assert_eq!(v["method"], "fft");
+    // Unknown key, unreadable file, bad values.
+    let bad_cfg = dir.path().join("bad.toml");
+    std::fs::write(&bad_cfg, "chi = 0.3\nfrobnicate = 1\n").unwrap();
+    let o = dir.path().join("x");
+    let o = o.to_str().unwrap();
+    bad(
+        &[
+            "fretting-wear",
+            "--config",
+            bad_cfg.to_str().unwrap(),
+            "--out",
+            o,
+        ],
+        "frobnicate",
+    );
+    bad(
+        &["fretting-wear", "--config", "/nonexistent.toml", "--out", o],
+        "nonexistent.toml",
+    );
+    std::fs::write(&bad_cfg, "chi = \"half\"\n").unwrap();
+    bad(
+        &[
+            "fretting-wear",
+            "--config",
+            bad_cfg.to_str().unwrap(),
+            "--out",
+            o,
+        ],
+        "--config",
+    );
+    bad(&["fretting-wear", "--chi", "1.2", "--out", o], "chi");
+    bad(&["fretting-wear", "--chi", "0", "--out", o], "chi");
+    bad(&["fretting-wear", "--dtau", "0", "--out", o], "dtau");
+    bad(
+        &["fretting-wear", "--dtau", "0.01", "--out", o],
+        "stability",
+    );
+    bad(&["fretting-wear", "--length", "1.2", "--out", o], "length");
+    bad(&["fretting-wear", "--n", "10", "--out", o], "n must be");
+    // An unstable run says so (χ = 0.9 with Δτ = 1e-3 passes r*), keeping its checkpoint.
+    let u = dir.path().join("unstable");
+    bad(
+        &[
+            "fretting-wear",
+            "--chi",
+            "0.9",
+            "--tau-end",
+            "2",
+            "--out",
+            u.to_str().unwrap(),
+        ],
+        "smaller --dtau",
+    );
+    assert!(u.join("checkpoint.npz").is_file());
+}
