@@ -5,3 +5,4 @@ pub use halfspace_data as data;
 pub use halfspace_fretting as fretting;
 pub use halfspace_mdr as mdr;
 pub use halfspace_numerics as numerics;
+pub use halfspace_sam as sam;

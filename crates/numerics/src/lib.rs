@@ -11,6 +11,7 @@
 #![warn(missing_docs)]
 
 pub mod conv1d;
+pub mod conv2d;
 pub mod diff;
 mod error;
 pub mod grid;

@@ -1,0 +1,56 @@
+use halfspace_numerics::NumericsError;
+use thiserror::Error;
+
+/// Errors of the 3D contact solvers.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SamError {
+    /// A parameter is out of range.
+    #[error("{name} must be {allowed}, got {value}")]
+    InvalidParameter {
+        /// Parameter name.
+        name: &'static str,
+        /// Value passed.
+        value: f64,
+        /// Allowed range in words.
+        allowed: &'static str,
+    },
+    /// An iterative solver stopped before its tolerance.
+    #[error("{solver} did not converge: {iterations} iterations, residual {residual:e}")]
+    NoConvergence {
+        /// Which solver.
+        solver: &'static str,
+        /// Iterations done.
+        iterations: usize,
+        /// Last residual.
+        residual: f64,
+    },
+    /// The contact reaches the edge of the computational domain.
+    #[error("the contact reaches the edge of the domain (pressure on the boundary cells); enlarge --extent")]
+    ContactAtDomainEdge,
+    /// No contact at all (the indenter does not touch).
+    #[error("no contact: the indenter does not reach the surface at this load")]
+    NoContact,
+    /// A prescribed tangential force at or beyond gross slip.
+    #[error("tangential force {force:e} N ≥ μW = {limit:e} N: gross slip (no partial-slip solution)")]
+    GrossSlip {
+        /// Requested |Q|.
+        force: f64,
+        /// μ W.
+        limit: f64,
+    },
+    /// Grid shape or array length problems.
+    #[error(transparent)]
+    Numerics(#[from] NumericsError),
+}
+
+pub(crate) fn positive(name: &'static str, v: f64) -> Result<f64, SamError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(SamError::InvalidParameter {
+            name,
+            value: v,
+            allowed: "finite and > 0",
+        })
+    }
+}

@@ -1,0 +1,21 @@
+//! 3D semi-analytical contact of elastic half-spaces (spec `sam.md`; Leroux & Nélias 2011):
+//! influence coefficients of uniform tractions on rectangles ([`influence`]), DC-FFT operators,
+//! the Polonsky–Keer normal solver ([`normal`]), the stick–slip tangential solver ([`tangential`])
+//! and their Panagiotopoulos coupling and load paths ([`coupled`]).
+//!
+//! Conventions (spec §0): body 2 is the half-space `x₃ ≥ 0` (depth), body 1 the indenter; tractions
+//! are those of body 1 on body 2 (`p ≥ 0` compressive, `q` along `+x_α`); displacements of body 2,
+//! two-body quantities relative. SI units.
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod coupled;
+mod error;
+pub mod grid;
+pub mod influence;
+pub mod normal;
+pub mod tangential;
+
+pub use error::SamError;
+pub use grid::SurfaceGrid;
+pub use influence::{Body, Compliance};
