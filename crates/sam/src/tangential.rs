@@ -1,1 +1,257 @@
-pub fn _todo() {}
+//! Stick–slip tangential contact with Coulomb friction (spec §4): one increment is the convex QP
+//! `min ½ q·Tq − b·q` subject to `|q_i| ≤ g_i = μ p_i` (§4.2), solved by accelerated projected
+//! gradient (FISTA with gradient restart, Beck & Teboulle 2009, O'Donoghue & Candès 2015; §4.3)
+//! and stopped on the KKT residual. The slip of the increment is `S = b − Tq`.
+
+use halfspace_numerics::conv2d::{DcFft2d, GridOperator, KernelFn};
+
+use crate::{Compliance, SamError, SurfaceGrid};
+
+/// Stopping rule of the tangential solve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TangentialParams {
+    /// `Σ|q_new − q_old| / Σ|q_new|` below which the iteration may stop.
+    pub tolerance: f64,
+    /// KKT residual (relative to `max |b|`) required as well.
+    pub kkt_tolerance: f64,
+    /// Iteration limit.
+    pub max_iterations: usize,
+}
+
+impl Default for TangentialParams {
+    fn default() -> Self {
+        Self {
+            tolerance: 1e-10,
+            kkt_tolerance: 1e-8,
+            max_iterations: 50_000,
+        }
+    }
+}
+
+/// What the solve did and found.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TangentialInfo {
+    /// FISTA iterations.
+    pub iterations: usize,
+    /// Final relative change of `q`.
+    pub residual: f64,
+    /// Final KKT residual (relative).
+    pub kkt: f64,
+    /// Cells that stick (`|q| < g (1 − 1e-9)`, in contact).
+    pub stick_cells: usize,
+    /// Cells that slip (in contact, on the friction cone).
+    pub slip_cells: usize,
+}
+
+/// The 2 × 2 block tangential compliance `T` as a DC-FFT operator, with the FISTA solver.
+pub struct TangentialSolver {
+    grid: SurfaceGrid,
+    op: DcFft2d,
+    lipschitz: f64,
+    s: [Vec<f64>; 2],
+    y: [Vec<f64>; 2],
+    q_old: [Vec<f64>; 2],
+    tq: [Vec<f64>; 2],
+}
+
+impl TangentialSolver {
+    /// Plans `T` for the pair's tangential compliance on `grid`.
+    pub fn new(grid: SurfaceGrid, compliance: &Compliance) -> Result<Self, SamError> {
+        let (d1, d2) = (2.0 * grid.half1, 2.0 * grid.half2);
+        let k = |a: usize, b: usize| {
+            move |m: i64, n: i64| compliance.tangential(&grid, a, b, m as f64 * d1, n as f64 * d2)
+        };
+        let (k11, k12, k21, k22) = (k(0, 0), k(0, 1), k(1, 0), k(1, 1));
+        let kernels: [Option<KernelFn>; 4] = [Some(&k11), Some(&k12), Some(&k21), Some(&k22)];
+        let op = DcFft2d::new(grid.n1, grid.n2, 2, 2, &kernels)?;
+        // L ≥ λ_max(T): the largest eigenvalue of the 2 × 2 symbol over the padded frequencies.
+        let scale = (4 * grid.n1 * grid.n2) as f64;
+        let (s11, s12, s22) = (
+            op.spectrum(0, 0).expect("block"),
+            op.spectrum(0, 1).expect("block"),
+            op.spectrum(1, 1).expect("block"),
+        );
+        let mut lipschitz: f64 = 0.0;
+        for k in 0..s11.len() {
+            let (a, b, c) = (s11[k].re * scale, s12[k].norm() * scale, s22[k].re * scale);
+            let lam = 0.5 * (a + c) + (0.25 * (a - c) * (a - c) + b * b).sqrt();
+            lipschitz = lipschitz.max(lam);
+        }
+        let n = grid.len();
+        let z = || [vec![0.0; n], vec![0.0; n]];
+        Ok(Self {
+            grid,
+            op,
+            lipschitz,
+            s: z(),
+            y: z(),
+            q_old: z(),
+            tq: z(),
+        })
+    }
+
+    /// The grid.
+    pub fn grid(&self) -> &SurfaceGrid {
+        &self.grid
+    }
+
+    /// `Δu = T q` (relative tangential displacement of a shear field).
+    pub fn displacement(&mut self, q: [&[f64]; 2], u: [&mut [f64]; 2]) -> Result<(), SamError> {
+        let [u0, u1] = u;
+        self.op.apply(&q, &mut [u0, u1])?;
+        Ok(())
+    }
+
+    /// Solves one increment: `q` (warm start in, result out) with `|q_i| ≤ bound_i`, for the known
+    /// part `b = w + D − c` of the slip; writes the slip `S = b − Tq`.
+    pub fn solve(
+        &mut self,
+        bound: &[f64],
+        b: [&[f64]; 2],
+        q: [&mut [f64]; 2],
+        slip: [&mut [f64]; 2],
+        params: &TangentialParams,
+    ) -> Result<TangentialInfo, SamError> {
+        let n = self.grid.len();
+        let [q0, q1] = q;
+        let [s_out0, s_out1] = slip;
+        for len in [bound.len(), b[0].len(), b[1].len(), q0.len(), q1.len(), s_out0.len(), s_out1.len()] {
+            if len != n {
+                return Err(SamError::Numerics(halfspace_numerics::NumericsError::LengthMismatch {
+                    what: "tangential solve fields",
+                    expected: n,
+                    got: len,
+                }));
+            }
+        }
+        let b_scale = b[0]
+            .iter()
+            .chain(b[1])
+            .fold(0.0f64, |m, v| m.max(v.abs()))
+            .max(f64::MIN_POSITIVE);
+        project(bound, q0, q1);
+        if bound.iter().all(|g| *g <= 0.0) {
+            // No contact: no shear; the slip is b.
+            s_out0.copy_from_slice(b[0]);
+            s_out1.copy_from_slice(b[1]);
+            return Ok(TangentialInfo { iterations: 0, residual: 0.0, kkt: 0.0, stick_cells: 0, slip_cells: 0 });
+        }
+        self.y[0].copy_from_slice(q0);
+        self.y[1].copy_from_slice(q1);
+        let inv_l = 1.0 / self.lipschitz;
+        let mut t = 1.0f64;
+        let mut residual = f64::INFINITY;
+        for it in 1..=params.max_iterations {
+            // S = b − T y, gradient step, projection.
+            {
+                let [t0, t1] = &mut self.tq;
+                self.op.apply(&[&self.y[0], &self.y[1]], &mut [t0, t1])?;
+            }
+            self.q_old[0].copy_from_slice(q0);
+            self.q_old[1].copy_from_slice(q1);
+            for k in 0..n {
+                self.s[0][k] = b[0][k] - self.tq[0][k];
+                self.s[1][k] = b[1][k] - self.tq[1][k];
+                q0[k] = self.y[0][k] + inv_l * self.s[0][k];
+                q1[k] = self.y[1][k] + inv_l * self.s[1][k];
+            }
+            project(bound, q0, q1);
+            let tn = 0.5 * (1.0 + (1.0 + 4.0 * t * t).sqrt());
+            // Gradient restart: (y − q_new)·(q_new − q_old) > 0.
+            let mut dot = 0.0;
+            for k in 0..n {
+                dot += (self.y[0][k] - q0[k]) * (q0[k] - self.q_old[0][k])
+                    + (self.y[1][k] - q1[k]) * (q1[k] - self.q_old[1][k]);
+            }
+            let (t_now, tn) = if dot > 0.0 { (1.0, 1.0) } else { (t, tn) };
+            let mom = (t_now - 1.0) / tn;
+            let (mut change, mut size) = (0.0, 0.0);
+            for k in 0..n {
+                let d0 = q0[k] - self.q_old[0][k];
+                let d1 = q1[k] - self.q_old[1][k];
+                self.y[0][k] = q0[k] + mom * d0;
+                self.y[1][k] = q1[k] + mom * d1;
+                change += d0.abs() + d1.abs();
+                size += q0[k].abs() + q1[k].abs();
+            }
+            t = tn;
+            residual = if size > 0.0 { change / size } else { 0.0 };
+            if residual < params.tolerance || it == params.max_iterations {
+                // KKT at q: slip S = b − Tq.
+                {
+                    let [t0, t1] = &mut self.tq;
+                    self.op.apply(&[&*q0, &*q1], &mut [t0, t1])?;
+                }
+                for k in 0..n {
+                    s_out0[k] = b[0][k] - self.tq[0][k];
+                    s_out1[k] = b[1][k] - self.tq[1][k];
+                }
+                let (kkt, stick, slipping) = kkt_residual(bound, q0, q1, s_out0, s_out1);
+                let kkt = kkt / b_scale;
+                if kkt < params.kkt_tolerance {
+                    return Ok(TangentialInfo {
+                        iterations: it,
+                        residual,
+                        kkt,
+                        stick_cells: stick,
+                        slip_cells: slipping,
+                    });
+                }
+                if it == params.max_iterations {
+                    return Err(SamError::NoConvergence {
+                        solver: "FISTA tangential contact",
+                        iterations: it,
+                        residual: kkt,
+                    });
+                }
+            }
+        }
+        Err(SamError::NoConvergence { solver: "FISTA tangential contact", iterations: params.max_iterations, residual })
+    }
+}
+
+/// Per cell: `q ← q min(1, g/|q|)`; `q = 0` where `g = 0`.
+fn project(bound: &[f64], q0: &mut [f64], q1: &mut [f64]) {
+    for k in 0..bound.len() {
+        let g = bound[k];
+        if g <= 0.0 {
+            q0[k] = 0.0;
+            q1[k] = 0.0;
+            continue;
+        }
+        let m = (q0[k] * q0[k] + q1[k] * q1[k]).sqrt();
+        if m > g {
+            let s = g / m;
+            q0[k] *= s;
+            q1[k] *= s;
+        }
+    }
+}
+
+/// `max_stick |S|` and `max_slip |S − (S·q̂)₊ q̂|` over the contact, with the stick/slip counts.
+fn kkt_residual(bound: &[f64], q0: &[f64], q1: &[f64], s0: &[f64], s1: &[f64]) -> (f64, usize, usize) {
+    let (mut worst, mut stick, mut slip) = (0.0f64, 0usize, 0usize);
+    for k in 0..bound.len() {
+        let g = bound[k];
+        if g <= 0.0 {
+            continue;
+        }
+        let m = (q0[k] * q0[k] + q1[k] * q1[k]).sqrt();
+        if m < g * (1.0 - 1e-9) {
+            stick += 1;
+            worst = worst.max((s0[k] * s0[k] + s1[k] * s1[k]).sqrt());
+        } else {
+            slip += 1;
+            let (e0, e1) = (q0[k] / m, q1[k] / m);
+            let along = (s0[k] * e0 + s1[k] * e1).max(0.0);
+            let (r0, r1) = (s0[k] - along * e0, s1[k] - along * e1);
+            worst = worst.max((r0 * r0 + r1 * r1).sqrt());
+        }
+    }
+    (worst, stick, slip)
+}
+
+/// Whether cell `k` sticks (`|q| < g (1 − 1e-9)`, in contact).
+pub fn is_stick(bound: f64, q0: f64, q1: f64) -> bool {
+    bound > 0.0 && (q0 * q0 + q1 * q1).sqrt() < bound * (1.0 - 1e-9)
+}

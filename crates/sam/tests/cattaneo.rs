@@ -1,0 +1,66 @@
+//! Cattaneo–Mindlin with the coupling off (spec §7.2): rigid sphere on steel, Hertz data of §7.1,
+//! 128² over 4a (2Δ = a/32), the shift D₁ prescribed at the Cattaneo–Mindlin value.
+
+use halfspace_sam::normal::{NormalLoad, NormalParams, NormalSolver};
+use halfspace_sam::tangential::{TangentialParams, TangentialSolver};
+use halfspace_sam::{Body, Compliance, SurfaceGrid};
+
+const R: f64 = 105e-6;
+const W: f64 = 0.08;
+const MU: f64 = 0.3;
+
+#[test]
+fn cattaneo_mindlin_stick_radius_and_shear() {
+    let e_star = 210e9 / 0.91;
+    let a = (3.0 * W * R / (4.0 * e_star)).cbrt();
+    let n = 128;
+    let grid = SurfaceGrid::square(n, 4.0 * a).unwrap();
+    let c = Compliance::pair(Body::Rigid, Body::elastic(210e9, 0.3).unwrap()).unwrap().uncoupled();
+    let mut normal = NormalSolver::new(grid, &c).unwrap();
+    let h: Vec<f64> = (0..grid.len()).map(|k| {
+        let (x, y) = grid.centre(k / n, k % n);
+        (x * x + y * y) / (2.0 * R)
+    }).collect();
+    let mut p = vec![0.0; grid.len()];
+    normal.solve(&h, NormalLoad::Force(W), &mut p, &NormalParams::default()).unwrap();
+    let bound: Vec<f64> = p.iter().map(|v| MU * v).collect();
+    let mut tang = TangentialSolver::new(grid, &c).unwrap();
+    let g_mod = 210e9 / 2.6;
+    let k_cm = 3.0 * MU * W / (16.0 * a) * ((2.0 - 0.3) / g_mod);
+    let p0 = 3.0 * W / (2.0 * std::f64::consts::PI * a * a);
+    let mut q = [vec![0.0; grid.len()], vec![0.0; grid.len()]];
+    let mut s = [vec![0.0; grid.len()], vec![0.0; grid.len()]];
+    // Spec: Q/μP = 0.30010/0.60025/0.90047/0.99018; c/a = 0.8948/0.7405/0.4651/0.2145;
+    // L2 of q₁ 1.9/1.0/0.7 % (128², same case).
+    for ratio in [0.3, 0.6, 0.9, 0.99] {
+        let d1 = k_cm * (1.0 - (1.0f64 - ratio).powf(2.0 / 3.0));
+        let b0 = vec![d1; grid.len()];
+        let b1 = vec![0.0; grid.len()];
+        let [q0, q1] = &mut q;
+        let [s0, s1] = &mut s;
+        let info = tang.solve(&bound, [&b0, &b1], [q0, q1], [s0, s1], &TangentialParams::default()).unwrap();
+        let qsum: f64 = q[0].iter().sum::<f64>() * grid.cell_area();
+        let stick_radius = (info.stick_cells as f64 * grid.cell_area() / std::f64::consts::PI).sqrt();
+        let c_cm = (1.0 - ratio).cbrt() * a;
+        let (mut num, mut den) = (0.0, 0.0);
+        for k in 0..grid.len() {
+            let (x, y) = grid.centre(k / n, k % n);
+            let r = (x * x + y * y).sqrt();
+            let mut qc = if r < a { MU * p0 * (1.0 - r * r / (a * a)).sqrt() } else { 0.0 };
+            if r < c_cm {
+                qc -= MU * p0 * c_cm / a * (1.0 - r * r / (c_cm * c_cm)).sqrt();
+            }
+            num += (q[0][k] - qc).powi(2);
+            den += qc * qc;
+        }
+        let l2 = (num / den).sqrt();
+        eprintln!(
+            "Q/μP target {ratio}: got {:.5}, c/a {:.4} (CM {:.4}), L2 {:.2} %, {} iterations, KKT {:.1e}",
+            qsum / (MU * W), stick_radius / a, c_cm / a, 100.0 * l2, info.iterations, info.kkt
+        );
+        assert!((qsum / (MU * W) - ratio).abs() < 2e-3 * ratio.max(0.5));
+        // Within one cell (2Δ = a/32) of CM.
+        assert!((stick_radius - c_cm).abs() < 2.0 * grid.half1, "stick radius {stick_radius:e} vs {c_cm:e}");
+        assert!(l2 < 0.03, "L2 {l2}");
+    }
+}
