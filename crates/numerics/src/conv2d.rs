@@ -171,7 +171,11 @@ impl DcFft2d {
             row[0].im = 0.0;
             row[h2 - 1].im = 0.0;
             self.row_inv
-                .process_with_scratch(row, &mut self.real[a * p2..(a + 1) * p2], &mut self.row_scratch)
+                .process_with_scratch(
+                    row,
+                    &mut self.real[a * p2..(a + 1) * p2],
+                    &mut self.row_scratch,
+                )
                 .expect("lengths from the plan");
         }
     }
@@ -353,7 +357,9 @@ mod tests {
         let mut s = seed;
         (0..n)
             .map(|_| {
-                s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
                 ((s >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
             })
             .collect()
@@ -373,7 +379,12 @@ mod tests {
             fast.apply(&[&a, &b], &mut [&mut f0, &mut f1]).unwrap();
             dense.apply(&[&a, &b], &mut [&mut d0, &mut d1]).unwrap();
             let scale = d0.iter().chain(&d1).fold(0.0f64, |m, v| m.max(v.abs()));
-            let err = f0.iter().zip(&d0).chain(f1.iter().zip(&d1)).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+            let err = f0
+                .iter()
+                .zip(&d0)
+                .chain(f1.iter().zip(&d1))
+                .map(|(x, y)| (x - y).abs())
+                .fold(0.0, f64::max);
             assert!(err <= 1e-13 * scale, "{n1}×{n2}: {err:e} of {scale:e}");
         }
     }

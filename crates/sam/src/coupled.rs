@@ -1,1 +1,474 @@
-pub fn _todo() {}
+//! Normal and tangential contact together (spec §4.4–4.5): the Panagiotopoulos alternation for
+//! coupled (dissimilar) bodies, the incremental (history-dependent) friction law, load paths and
+//! fretting loops.
+
+use halfspace_numerics::conv2d::{DcFft2d, GridOperator, KernelFn};
+
+use crate::normal::{NormalInfo, NormalLoad, NormalParams, NormalSolver};
+use crate::tangential::{is_stick, TangentialInfo, TangentialParams, TangentialSolver};
+use crate::{Compliance, SamError, SurfaceGrid};
+
+/// Parameters of a coupled contact problem.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactParams {
+    /// Coulomb friction coefficient `μ ≥ 0`.
+    pub friction: f64,
+    /// Normal solver stopping rule.
+    pub normal: NormalParams,
+    /// Tangential solver stopping rule.
+    pub tangential: TangentialParams,
+    /// Alternation tolerance: `max|Δp|/max p` and `max|Δq|/(μ max p)` (spec §4.5: 1e-7).
+    pub alternation_tolerance: f64,
+    /// Alternation limit.
+    pub max_alternations: usize,
+}
+
+impl Default for ContactParams {
+    fn default() -> Self {
+        Self {
+            friction: 0.3,
+            normal: NormalParams::default(),
+            tangential: TangentialParams::default(),
+            alternation_tolerance: 1e-7,
+            max_alternations: 200,
+        }
+    }
+}
+
+/// The converged state after an increment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactState {
+    /// Pressure `p` per cell.
+    pub pressure: Vec<f64>,
+    /// Shear `q = (q₁, q₂)` per cell.
+    pub shear: [Vec<f64>; 2],
+    /// Total relative tangential displacement `Δu` per cell (history variable, spec §4.1).
+    pub tangential_displacement: [Vec<f64>; 2],
+    /// Slip of the last increment `S` per cell.
+    pub slip: [Vec<f64>; 2],
+    /// Rigid tangential displacement `D`.
+    pub shift: [f64; 2],
+    /// Rigid approach `δ`.
+    pub approach: f64,
+    /// Normal force `W`.
+    pub force: f64,
+}
+
+/// Summary of one increment.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IncrementInfo {
+    /// Panagiotopoulos alternations (1 when uncoupled).
+    pub alternations: usize,
+    /// Last normal solve.
+    pub normal: NormalInfo,
+    /// Last tangential solve.
+    pub tangential: TangentialInfo,
+    /// Tangential force `Q = A Σ q`.
+    pub tangential_force: [f64; 2],
+    /// Contact area `A · #(p > 0)`.
+    pub contact_area: f64,
+    /// Stick area `A · #stick`.
+    pub stick_area: f64,
+    /// Largest pressure.
+    pub max_pressure: f64,
+}
+
+/// A contact problem on one grid: geometry, bodies, friction, solvers and the current state.
+pub struct ContactProblem {
+    grid: SurfaceGrid,
+    params: ContactParams,
+    coupled: bool,
+    normal: NormalSolver,
+    tangential: TangentialSolver,
+    /// q → Δu₃: `κ ⟦P_B^{(α)}⟧ *` (1 × 2 blocks).
+    shear_to_normal: Option<DcFft2d>,
+    /// p → Δu_α: `−κ ⟦P_B^{(α)}⟧ *` (2 × 1 blocks).
+    pressure_to_tangential: Option<DcFft2d>,
+    geometry: Vec<f64>,
+    state: ContactState,
+    h: Vec<f64>,
+    c: [Vec<f64>; 2],
+    b: [Vec<f64>; 2],
+    bound: Vec<f64>,
+    p_prev: Vec<f64>,
+    q_prev: [Vec<f64>; 2],
+    tq: [Vec<f64>; 2],
+}
+
+impl ContactProblem {
+    /// A problem with initial separation `geometry` (per cell, m) on `grid`.
+    pub fn new(
+        grid: SurfaceGrid,
+        compliance: Compliance,
+        geometry: Vec<f64>,
+        params: ContactParams,
+    ) -> Result<Self, SamError> {
+        if !(params.friction.is_finite() && params.friction >= 0.0) {
+            return Err(SamError::InvalidParameter {
+                name: "friction coefficient μ",
+                value: params.friction,
+                allowed: "finite and ≥ 0",
+            });
+        }
+        let n = grid.len();
+        if geometry.len() != n {
+            return Err(SamError::Numerics(
+                halfspace_numerics::NumericsError::LengthMismatch {
+                    what: "geometry",
+                    expected: n,
+                    got: geometry.len(),
+                },
+            ));
+        }
+        let coupled = compliance.coupling != 0.0 && params.friction > 0.0;
+        let (d1, d2) = (2.0 * grid.half1, 2.0 * grid.half2);
+        let kappa = compliance.coupling;
+        let shape = |alpha: usize, sign: f64| {
+            move |m: i64, n: i64| {
+                sign * kappa * compliance.coupling_shape(&grid, alpha, m as f64 * d1, n as f64 * d2)
+            }
+        };
+        let (c1p, c2p, c1m, c2m) = (shape(0, 1.0), shape(1, 1.0), shape(0, -1.0), shape(1, -1.0));
+        let (shear_to_normal, pressure_to_tangential) = if coupled {
+            let a: [Option<KernelFn>; 2] = [Some(&c1p), Some(&c2p)];
+            let b: [Option<KernelFn>; 2] = [Some(&c1m), Some(&c2m)];
+            (
+                Some(DcFft2d::new(grid.n1, grid.n2, 2, 1, &a)?),
+                Some(DcFft2d::new(grid.n1, grid.n2, 1, 2, &b)?),
+            )
+        } else {
+            (None, None)
+        };
+        let z = || vec![0.0; n];
+        Ok(Self {
+            normal: NormalSolver::new(grid, &compliance)?,
+            tangential: TangentialSolver::new(grid, &compliance)?,
+            shear_to_normal,
+            pressure_to_tangential,
+            grid,
+            params,
+            coupled,
+            geometry,
+            state: ContactState {
+                pressure: z(),
+                shear: [z(), z()],
+                tangential_displacement: [z(), z()],
+                slip: [z(), z()],
+                shift: [0.0; 2],
+                approach: 0.0,
+                force: 0.0,
+            },
+            h: z(),
+            c: [z(), z()],
+            b: [z(), z()],
+            bound: z(),
+            p_prev: z(),
+            q_prev: [z(), z()],
+            tq: [z(), z()],
+        })
+    }
+
+    /// The grid.
+    pub fn grid(&self) -> &SurfaceGrid {
+        &self.grid
+    }
+
+    /// Whether the normal–tangential coupling is active (`κ ≠ 0` and `μ > 0`).
+    pub fn is_coupled(&self) -> bool {
+        self.coupled
+    }
+
+    /// The converged state of the last increment.
+    pub fn state(&self) -> &ContactState {
+        &self.state
+    }
+
+    /// One increment to normal load `load` and rigid shift `shift` (spec §4.4): Panagiotopoulos
+    /// alternation of the normal solve (shear frozen) and the tangential solve (pressure frozen)
+    /// until both stop changing (§4.5); one pass when uncoupled.
+    pub fn increment(
+        &mut self,
+        load: NormalLoad,
+        shift: [f64; 2],
+    ) -> Result<IncrementInfo, SamError> {
+        for s in shift {
+            if !s.is_finite() {
+                return Err(SamError::InvalidParameter {
+                    name: "tangential shift",
+                    value: s,
+                    allowed: "finite",
+                });
+            }
+        }
+        let n = self.grid.len();
+        let mu = self.params.friction;
+        // History: w = Δuⁿ − Dⁿ.
+        let w = [
+            self.state.tangential_displacement[0]
+                .iter()
+                .map(|v| v - self.state.shift[0])
+                .collect::<Vec<_>>(),
+            self.state.tangential_displacement[1]
+                .iter()
+                .map(|v| v - self.state.shift[1])
+                .collect::<Vec<_>>(),
+        ];
+        let mut alternations = 0;
+        let (mut normal_info, mut tangential_info);
+        loop {
+            alternations += 1;
+            self.p_prev.copy_from_slice(&self.state.pressure);
+            self.q_prev[0].copy_from_slice(&self.state.shear[0]);
+            self.q_prev[1].copy_from_slice(&self.state.shear[1]);
+            // Normal solve with q frozen: h = h₀ + κ⟦P_B⟧ * q.
+            self.h.copy_from_slice(&self.geometry);
+            if let Some(op) = &mut self.shear_to_normal {
+                let mut u3 = vec![0.0; n];
+                op.apply(
+                    &[&self.state.shear[0], &self.state.shear[1]],
+                    &mut [&mut u3],
+                )?;
+                self.h.iter_mut().zip(&u3).for_each(|(h, u)| *h += u);
+            }
+            normal_info =
+                self.normal
+                    .solve(&self.h, load, &mut self.state.pressure, &self.params.normal)?;
+            // Tangential solve with p frozen: c = −κ⟦P_B⟧ * p, b = w + D − c.
+            if let Some(op) = &mut self.pressure_to_tangential {
+                let [c0, c1] = &mut self.c;
+                op.apply(&[&self.state.pressure], &mut [c0, c1])?;
+            }
+            for k in 0..n {
+                self.bound[k] = mu * self.state.pressure[k];
+                for a in 0..2 {
+                    self.b[a][k] = w[a][k] + shift[a] - self.c[a][k];
+                }
+            }
+            let [q0, q1] = &mut self.state.shear;
+            let [s0, s1] = &mut self.state.slip;
+            tangential_info = self.tangential.solve(
+                &self.bound,
+                [&self.b[0], &self.b[1]],
+                [q0, q1],
+                [s0, s1],
+                &self.params.tangential,
+            )?;
+            if !self.coupled {
+                break;
+            }
+            let pmax = self.state.pressure.iter().cloned().fold(0.0, f64::max);
+            let dp = self
+                .state
+                .pressure
+                .iter()
+                .zip(&self.p_prev)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            let dq = (0..2)
+                .flat_map(|a| {
+                    self.state.shear[a]
+                        .iter()
+                        .zip(&self.q_prev[a])
+                        .map(|(x, y)| (x - y).abs())
+                })
+                .fold(0.0, f64::max);
+            let tol = self.params.alternation_tolerance;
+            if alternations > 1 && dp <= tol * pmax && dq <= tol * mu * pmax {
+                break;
+            }
+            if alternations >= self.params.max_alternations {
+                return Err(SamError::NoConvergence {
+                    solver: "Panagiotopoulos alternation",
+                    iterations: alternations,
+                    residual: (dp / pmax).max(dq / (mu * pmax)),
+                });
+            }
+        }
+        // Δuⁿ⁺¹ = T q + c.
+        {
+            let [t0, t1] = &mut self.tq;
+            self.tangential
+                .displacement([&self.state.shear[0], &self.state.shear[1]], [t0, t1])?;
+        }
+        for a in 0..2 {
+            for k in 0..n {
+                self.state.tangential_displacement[a][k] = self.tq[a][k] + self.c[a][k];
+            }
+        }
+        self.state.shift = shift;
+        self.state.approach = normal_info.approach;
+        self.state.force = normal_info.force;
+        let area = self.grid.cell_area();
+        let stick = (0..n)
+            .filter(|&k| {
+                is_stick(
+                    self.bound[k],
+                    self.state.shear[0][k],
+                    self.state.shear[1][k],
+                )
+            })
+            .count();
+        Ok(IncrementInfo {
+            alternations,
+            normal: normal_info,
+            tangential: tangential_info,
+            tangential_force: [
+                area * self.state.shear[0].iter().sum::<f64>(),
+                area * self.state.shear[1].iter().sum::<f64>(),
+            ],
+            contact_area: area * normal_info.contact_cells as f64,
+            stick_area: area * stick as f64,
+            max_pressure: self.state.pressure.iter().cloned().fold(0.0, f64::max),
+        })
+    }
+
+    /// One increment to a prescribed tangential force `Q₁` (with `Q₂` left free at `D₂ = 0`): the
+    /// shift `D₁` is found by Brent's method on the monotone map `D₁ ↦ Q₁(D₁)` (spec §4.3), each
+    /// evaluation a displacement-controlled increment from the same history. `|Q₁| ≥ μW` is gross
+    /// slip and refused.
+    pub fn increment_with_force(
+        &mut self,
+        load: NormalLoad,
+        force: f64,
+        bracket: f64,
+    ) -> Result<(IncrementInfo, f64), SamError> {
+        let mu = self.params.friction;
+        let saved = self.state.clone();
+        let w_force = match load {
+            NormalLoad::Force(w) => w,
+            NormalLoad::Approach(_) => {
+                let info = self.increment(load, saved.shift)?;
+                self.state = saved.clone();
+                info.normal.force
+            }
+        };
+        if !force.is_finite() || force.abs() >= mu * w_force {
+            return Err(SamError::GrossSlip {
+                force: force.abs(),
+                limit: mu * w_force,
+            });
+        }
+        let eval = |this: &mut Self, d: f64| -> Result<(f64, IncrementInfo), SamError> {
+            this.state = saved.clone();
+            let info = this.increment(load, [d, saved.shift[1]])?;
+            Ok((info.tangential_force[0] - force, info))
+        };
+        // Bracket: from the previous shift, step by `bracket` toward the target until the sign flips.
+        let start = saved.shift[0];
+        let (mut a, (mut fa, _)) = (start, eval(self, start)?);
+        let dir = if fa < 0.0 { 1.0 } else { -1.0 };
+        let mut step = bracket.abs().max(f64::MIN_POSITIVE);
+        let (mut b, (mut fb, mut info_b)) = (start + dir * step, eval(self, start + dir * step)?);
+        let mut expansions = 0;
+        while fa * fb > 0.0 {
+            expansions += 1;
+            if expansions > 60 {
+                return Err(SamError::NoConvergence {
+                    solver: "tangential force bracket",
+                    iterations: expansions,
+                    residual: fb,
+                });
+            }
+            a = b;
+            fa = fb;
+            step *= 2.0;
+            b = a + dir * step;
+            let r = eval(self, b)?;
+            fb = r.0;
+            info_b = r.1;
+        }
+        // Brent's method.
+        let (mut c, mut fc) = (a, fa);
+        let mut d = b - a;
+        let mut e = d;
+        let tol_q = 1e-6 * mu * w_force;
+        for _ in 0..100 {
+            if fb.abs() <= tol_q {
+                return Ok((info_b, b));
+            }
+            if (fc > 0.0) == (fb > 0.0) {
+                c = a;
+                fc = fa;
+                d = b - a;
+                e = d;
+            }
+            if fc.abs() < fb.abs() {
+                a = b;
+                b = c;
+                c = a;
+                fa = fb;
+                fb = fc;
+                fc = fa;
+            }
+            let tol = 2.0 * f64::EPSILON * b.abs() + 1e-15;
+            let m = 0.5 * (c - b);
+            if m.abs() <= tol {
+                break;
+            }
+            if e.abs() >= tol && fa.abs() > fb.abs() {
+                let s = fb / fa;
+                let (mut p, mut q);
+                if a == c {
+                    p = 2.0 * m * s;
+                    q = 1.0 - s;
+                } else {
+                    let qq = fa / fc;
+                    let r = fb / fc;
+                    p = s * (2.0 * m * qq * (qq - r) - (b - a) * (r - 1.0));
+                    q = (qq - 1.0) * (r - 1.0) * (s - 1.0);
+                }
+                if p > 0.0 {
+                    q = -q;
+                } else {
+                    p = -p;
+                }
+                if 2.0 * p < (3.0 * m * q - (tol * q).abs()).min((e * q).abs()) {
+                    e = d;
+                    d = p / q;
+                } else {
+                    d = m;
+                    e = m;
+                }
+            } else {
+                d = m;
+                e = m;
+            }
+            a = b;
+            fa = fb;
+            b += if d.abs() > tol { d } else { tol * m.signum() };
+            let r = eval(self, b)?;
+            fb = r.0;
+            info_b = r.1;
+        }
+        Ok((info_b, b))
+    }
+}
+
+/// The Mindlin–Deresiewicz closed forms for a Hertzian contact (spec §7.3), uncoupled.
+pub mod mindlin {
+    /// `Q(D)` on first loading: `μP[1 − (1 − D/K)^{3/2}]`, capped at `μP`.
+    pub fn loading(d: f64, k_cm: f64, mu_p: f64) -> f64 {
+        if d >= k_cm {
+            return mu_p;
+        }
+        mu_p * (1.0 - (1.0 - d / k_cm).powf(1.5))
+    }
+
+    /// Unloading from `(D*, Q*)`: `Q* − 2μP[1 − (1 − (D* − D)/(2K))^{3/2}]`, capped at `−μP`.
+    pub fn unloading(d: f64, d_star: f64, q_star: f64, k_cm: f64, mu_p: f64) -> f64 {
+        let x = (d_star - d) / (2.0 * k_cm);
+        if x >= 1.0 {
+            return -mu_p;
+        }
+        (q_star - 2.0 * mu_p * (1.0 - (1.0 - x).powf(1.5))).max(-mu_p)
+    }
+
+    /// Dissipated energy per partial-slip cycle, `r = Q*/μP`:
+    /// `(4/5) K μP {6[1 − (1−r)^{5/3}] − 5r[1 + (1−r)^{2/3}]}`.
+    pub fn dissipated_energy(r: f64, k_cm: f64, mu_p: f64) -> f64 {
+        0.8 * k_cm
+            * mu_p
+            * (6.0 * (1.0 - (1.0 - r).powf(5.0 / 3.0))
+                - 5.0 * r * (1.0 + (1.0 - r).powf(2.0 / 3.0)))
+    }
+}

@@ -31,7 +31,9 @@ pub enum SamError {
     #[error("no contact: the indenter does not reach the surface at this load")]
     NoContact,
     /// A prescribed tangential force at or beyond gross slip.
-    #[error("tangential force {force:e} N ≥ μW = {limit:e} N: gross slip (no partial-slip solution)")]
+    #[error(
+        "tangential force {force:e} N ≥ μW = {limit:e} N: gross slip (no partial-slip solution)"
+    )]
     GrossSlip {
         /// Requested |Q|.
         force: f64,

@@ -10,15 +10,31 @@ use crate::{SamError, SurfaceGrid};
 
 /// `P_A`: `∂²P/∂c₁∂c₂ = 1/ρ`; `c₁ asinh(c₂/|c₁|) + c₂ asinh(c₁/|c₂|)` (zero prefactor → 0).
 pub fn primitive_a(c1: f64, c2: f64) -> f64 {
-    let t1 = if c1 == 0.0 { 0.0 } else { c1 * (c2 / c1.abs()).asinh() };
-    let t2 = if c2 == 0.0 { 0.0 } else { c2 * (c1 / c2.abs()).asinh() };
+    let t1 = if c1 == 0.0 {
+        0.0
+    } else {
+        c1 * (c2 / c1.abs()).asinh()
+    };
+    let t2 = if c2 == 0.0 {
+        0.0
+    } else {
+        c2 * (c1 / c2.abs()).asinh()
+    };
     t1 + t2
 }
 
 /// `P_B`: `∂²P/∂c₁∂c₂ = c₁/ρ²`; `c₁ arctan(c₂/c₁) + ½ c₂ ln(c₁² + c₂²)`.
 pub fn primitive_b(c1: f64, c2: f64) -> f64 {
-    let t1 = if c1 == 0.0 { 0.0 } else { c1 * (c2 / c1).atan() };
-    let t2 = if c2 == 0.0 { 0.0 } else { 0.5 * c2 * (c1 * c1 + c2 * c2).ln() };
+    let t1 = if c1 == 0.0 {
+        0.0
+    } else {
+        c1 * (c2 / c1).atan()
+    };
+    let t2 = if c2 == 0.0 {
+        0.0
+    } else {
+        0.5 * c2 * (c1 * c1 + c2 * c2).ln()
+    };
     t1 + t2
 }
 
@@ -160,14 +176,20 @@ impl Compliance {
         let (d1, d2) = (g.half1, g.half2);
         match (alpha, beta) {
             (0, 0) => corner_sum(
-                |a, b| self.tangential_a1 * primitive_a1(a, b) + self.tangential_a2 * primitive_a1(b, a),
+                |a, b| {
+                    self.tangential_a1 * primitive_a1(a, b)
+                        + self.tangential_a2 * primitive_a1(b, a)
+                },
                 x1,
                 x2,
                 d1,
                 d2,
             ),
             (1, 1) => corner_sum(
-                |a, b| self.tangential_a1 * primitive_a1(b, a) + self.tangential_a2 * primitive_a1(a, b),
+                |a, b| {
+                    self.tangential_a1 * primitive_a1(b, a)
+                        + self.tangential_a2 * primitive_a1(a, b)
+                },
                 x1,
                 x2,
                 d1,
@@ -186,11 +208,19 @@ mod tests {
     fn surface_coefficients_of_spec_7_5() {
         // E = 1, ν = 0.3, rectangle half-widths (1, 0.6), observed at (1.7, −0.4).
         let one = Compliance::pair(Body::Rigid, Body::elastic(1.0, 0.3).unwrap()).unwrap();
-        let g = SurfaceGrid { n1: 8, n2: 8, half1: 1.0, half2: 0.6 };
+        let g = SurfaceGrid {
+            n1: 8,
+            n2: 8,
+            half1: 1.0,
+            half2: 0.6,
+        };
         let (x1, x2) = (1.7, -0.4);
         let want = [
             (one.normal_from_pressure(&g, x1, x2), 0.43606728),
-            (-one.coupling * one.coupling_shape(&g, 0, x1, x2), -0.11680032),
+            (
+                -one.coupling * one.coupling_shape(&g, 0, x1, x2),
+                -0.11680032,
+            ),
             (one.tangential(&g, 0, 0, x1, x2), 0.60150760),
             (one.tangential(&g, 1, 1, x1, x2), 0.45751292),
             (one.tangential(&g, 1, 0, x1, x2), -0.03982511),
@@ -204,9 +234,16 @@ mod tests {
     #[test]
     fn self_values_and_symmetry() {
         let c = Compliance::pair(Body::Rigid, Body::elastic(2.0, 0.25).unwrap()).unwrap();
-        let g = SurfaceGrid { n1: 8, n2: 8, half1: 0.5, half2: 0.5 };
+        let g = SurfaceGrid {
+            n1: 8,
+            n2: 8,
+            half1: 0.5,
+            half2: 0.5,
+        };
         let asinh1 = 1f64.asinh();
-        assert!((c.normal_from_pressure(&g, 0.0, 0.0) - c.normal * 8.0 * 0.5 * asinh1).abs() < 1e-14);
+        assert!(
+            (c.normal_from_pressure(&g, 0.0, 0.0) - c.normal * 8.0 * 0.5 * asinh1).abs() < 1e-14
+        );
         let gmod = 2.0 / 2.5;
         let want = (2.0 - 0.25) * 4.0 * 0.5 * asinh1 / (2.0 * PI * gmod);
         assert!((c.tangential(&g, 0, 0, 0.0, 0.0) - want).abs() < 1e-14);
@@ -214,9 +251,16 @@ mod tests {
         assert_eq!(c.tangential(&g, 0, 1, 0.0, 0.0), 0.0);
         for (x1, x2) in [(1.0, 2.0), (-3.0, 1.0), (2.0, -5.0)] {
             // Even kernels: K(x) = K(−x); the coupling shape is odd in x_α.
-            assert!((c.normal_from_pressure(&g, x1, x2) - c.normal_from_pressure(&g, -x1, -x2)).abs() < 1e-15);
-            assert!((c.coupling_shape(&g, 0, x1, x2) + c.coupling_shape(&g, 0, -x1, x2)).abs() < 1e-14);
-            assert!((c.tangential(&g, 0, 1, x1, x2) - c.tangential(&g, 1, 0, x1, x2)).abs() < 1e-15);
+            assert!(
+                (c.normal_from_pressure(&g, x1, x2) - c.normal_from_pressure(&g, -x1, -x2)).abs()
+                    < 1e-15
+            );
+            assert!(
+                (c.coupling_shape(&g, 0, x1, x2) + c.coupling_shape(&g, 0, -x1, x2)).abs() < 1e-14
+            );
+            assert!(
+                (c.tangential(&g, 0, 1, x1, x2) - c.tangential(&g, 1, 0, x1, x2)).abs() < 1e-15
+            );
         }
     }
 }

@@ -62,7 +62,8 @@ impl NormalSolver {
     /// Plans `K^p_3 *` for the pair's normal compliance on `grid`.
     pub fn new(grid: SurfaceGrid, compliance: &Compliance) -> Result<Self, SamError> {
         let (d1, d2) = (2.0 * grid.half1, 2.0 * grid.half2);
-        let kernel = |m: i64, n: i64| compliance.normal_from_pressure(&grid, m as f64 * d1, n as f64 * d2);
+        let kernel =
+            |m: i64, n: i64| compliance.normal_from_pressure(&grid, m as f64 * d1, n as f64 * d2);
         let kernels: [Option<KernelFn>; 1] = [Some(&kernel)];
         let n = grid.len();
         Ok(Self {
@@ -99,14 +100,20 @@ impl NormalSolver {
     ) -> Result<NormalInfo, SamError> {
         let n = self.grid.len();
         if h.len() != n || p.len() != n {
-            return Err(SamError::Numerics(halfspace_numerics::NumericsError::LengthMismatch {
-                what: "normal solve fields",
-                expected: n,
-                got: h.len().min(p.len()),
-            }));
+            return Err(SamError::Numerics(
+                halfspace_numerics::NumericsError::LengthMismatch {
+                    what: "normal solve fields",
+                    expected: n,
+                    got: h.len().min(p.len()),
+                },
+            ));
         }
         if let Some(v) = h.iter().find(|v| !v.is_finite()) {
-            return Err(SamError::InvalidParameter { name: "initial separation", value: *v, allowed: "finite" });
+            return Err(SamError::InvalidParameter {
+                name: "initial separation",
+                value: *v,
+                allowed: "finite",
+            });
         }
         let area = self.grid.cell_area();
         let (force_control, target) = match load {
@@ -124,7 +131,11 @@ impl NormalSolver {
                 }
                 let scale = (target - hmin) / (self.grid.half1 * 1e3);
                 for (pi, hi) in p.iter_mut().zip(h) {
-                    *pi = if *hi < target { scale * (target - hi) } else { 0.0 };
+                    *pi = if *hi < target {
+                        scale * (target - hi)
+                    } else {
+                        0.0
+                    };
                 }
             }
         } else if force_control {
@@ -157,16 +168,27 @@ impl NormalSolver {
                 self.g.iter_mut().for_each(|v| *v -= mean);
             }
             // 3–4: conjugate direction on the contact set.
-            let big_g: f64 = (0..n).filter(|&k| p[k] > 0.0).map(|k| self.g[k] * self.g[k]).sum();
+            let big_g: f64 = (0..n)
+                .filter(|&k| p[k] > 0.0)
+                .map(|k| self.g[k] * self.g[k])
+                .sum();
             let beta = if conjugate { big_g / g_old } else { 0.0 };
             for k in 0..n {
-                self.t[k] = if p[k] > 0.0 { self.g[k] + beta * self.t[k] } else { 0.0 };
+                self.t[k] = if p[k] > 0.0 {
+                    self.g[k] + beta * self.t[k]
+                } else {
+                    0.0
+                };
             }
             g_old = big_g;
             // 5–6: step length.
             self.op.apply(&[&self.t], &mut [&mut self.r])?;
             if force_control {
-                let rmean = (0..n).filter(|&k| p[k] > 0.0).map(|k| self.r[k]).sum::<f64>() / count as f64;
+                let rmean = (0..n)
+                    .filter(|&k| p[k] > 0.0)
+                    .map(|k| self.r[k])
+                    .sum::<f64>()
+                    / count as f64;
                 self.r.iter_mut().for_each(|v| *v -= rmean);
             }
             let (mut num, mut den) = (0.0, 0.0);

@@ -115,13 +115,23 @@ impl TangentialSolver {
         let n = self.grid.len();
         let [q0, q1] = q;
         let [s_out0, s_out1] = slip;
-        for len in [bound.len(), b[0].len(), b[1].len(), q0.len(), q1.len(), s_out0.len(), s_out1.len()] {
+        for len in [
+            bound.len(),
+            b[0].len(),
+            b[1].len(),
+            q0.len(),
+            q1.len(),
+            s_out0.len(),
+            s_out1.len(),
+        ] {
             if len != n {
-                return Err(SamError::Numerics(halfspace_numerics::NumericsError::LengthMismatch {
-                    what: "tangential solve fields",
-                    expected: n,
-                    got: len,
-                }));
+                return Err(SamError::Numerics(
+                    halfspace_numerics::NumericsError::LengthMismatch {
+                        what: "tangential solve fields",
+                        expected: n,
+                        got: len,
+                    },
+                ));
             }
         }
         let b_scale = b[0]
@@ -134,7 +144,13 @@ impl TangentialSolver {
             // No contact: no shear; the slip is b.
             s_out0.copy_from_slice(b[0]);
             s_out1.copy_from_slice(b[1]);
-            return Ok(TangentialInfo { iterations: 0, residual: 0.0, kkt: 0.0, stick_cells: 0, slip_cells: 0 });
+            return Ok(TangentialInfo {
+                iterations: 0,
+                residual: 0.0,
+                kkt: 0.0,
+                stick_cells: 0,
+                slip_cells: 0,
+            });
         }
         self.y[0].copy_from_slice(q0);
         self.y[1].copy_from_slice(q1);
@@ -206,7 +222,11 @@ impl TangentialSolver {
                 }
             }
         }
-        Err(SamError::NoConvergence { solver: "FISTA tangential contact", iterations: params.max_iterations, residual })
+        Err(SamError::NoConvergence {
+            solver: "FISTA tangential contact",
+            iterations: params.max_iterations,
+            residual,
+        })
     }
 }
 
@@ -229,7 +249,13 @@ fn project(bound: &[f64], q0: &mut [f64], q1: &mut [f64]) {
 }
 
 /// `max_stick |S|` and `max_slip |S − (S·q̂)₊ q̂|` over the contact, with the stick/slip counts.
-fn kkt_residual(bound: &[f64], q0: &[f64], q1: &[f64], s0: &[f64], s1: &[f64]) -> (f64, usize, usize) {
+fn kkt_residual(
+    bound: &[f64],
+    q0: &[f64],
+    q1: &[f64],
+    s0: &[f64],
+    s1: &[f64],
+) -> (f64, usize, usize) {
     let (mut worst, mut stick, mut slip) = (0.0f64, 0usize, 0usize);
     for k in 0..bound.len() {
         let g = bound[k];

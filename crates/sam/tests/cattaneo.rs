@@ -15,14 +15,20 @@ fn cattaneo_mindlin_stick_radius_and_shear() {
     let a = (3.0 * W * R / (4.0 * e_star)).cbrt();
     let n = 128;
     let grid = SurfaceGrid::square(n, 4.0 * a).unwrap();
-    let c = Compliance::pair(Body::Rigid, Body::elastic(210e9, 0.3).unwrap()).unwrap().uncoupled();
+    let c = Compliance::pair(Body::Rigid, Body::elastic(210e9, 0.3).unwrap())
+        .unwrap()
+        .uncoupled();
     let mut normal = NormalSolver::new(grid, &c).unwrap();
-    let h: Vec<f64> = (0..grid.len()).map(|k| {
-        let (x, y) = grid.centre(k / n, k % n);
-        (x * x + y * y) / (2.0 * R)
-    }).collect();
+    let h: Vec<f64> = (0..grid.len())
+        .map(|k| {
+            let (x, y) = grid.centre(k / n, k % n);
+            (x * x + y * y) / (2.0 * R)
+        })
+        .collect();
     let mut p = vec![0.0; grid.len()];
-    normal.solve(&h, NormalLoad::Force(W), &mut p, &NormalParams::default()).unwrap();
+    normal
+        .solve(&h, NormalLoad::Force(W), &mut p, &NormalParams::default())
+        .unwrap();
     let bound: Vec<f64> = p.iter().map(|v| MU * v).collect();
     let mut tang = TangentialSolver::new(grid, &c).unwrap();
     let g_mod = 210e9 / 2.6;
@@ -38,15 +44,28 @@ fn cattaneo_mindlin_stick_radius_and_shear() {
         let b1 = vec![0.0; grid.len()];
         let [q0, q1] = &mut q;
         let [s0, s1] = &mut s;
-        let info = tang.solve(&bound, [&b0, &b1], [q0, q1], [s0, s1], &TangentialParams::default()).unwrap();
+        let info = tang
+            .solve(
+                &bound,
+                [&b0, &b1],
+                [q0, q1],
+                [s0, s1],
+                &TangentialParams::default(),
+            )
+            .unwrap();
         let qsum: f64 = q[0].iter().sum::<f64>() * grid.cell_area();
-        let stick_radius = (info.stick_cells as f64 * grid.cell_area() / std::f64::consts::PI).sqrt();
+        let stick_radius =
+            (info.stick_cells as f64 * grid.cell_area() / std::f64::consts::PI).sqrt();
         let c_cm = (1.0 - ratio).cbrt() * a;
         let (mut num, mut den) = (0.0, 0.0);
         for k in 0..grid.len() {
             let (x, y) = grid.centre(k / n, k % n);
             let r = (x * x + y * y).sqrt();
-            let mut qc = if r < a { MU * p0 * (1.0 - r * r / (a * a)).sqrt() } else { 0.0 };
+            let mut qc = if r < a {
+                MU * p0 * (1.0 - r * r / (a * a)).sqrt()
+            } else {
+                0.0
+            };
             if r < c_cm {
                 qc -= MU * p0 * c_cm / a * (1.0 - r * r / (c_cm * c_cm)).sqrt();
             }
@@ -60,7 +79,10 @@ fn cattaneo_mindlin_stick_radius_and_shear() {
         );
         assert!((qsum / (MU * W) - ratio).abs() < 2e-3 * ratio.max(0.5));
         // Within one cell (2Δ = a/32) of CM.
-        assert!((stick_radius - c_cm).abs() < 2.0 * grid.half1, "stick radius {stick_radius:e} vs {c_cm:e}");
+        assert!(
+            (stick_radius - c_cm).abs() < 2.0 * grid.half1,
+            "stick radius {stick_radius:e} vs {c_cm:e}"
+        );
         assert!(l2 < 0.03, "L2 {l2}");
     }
 }

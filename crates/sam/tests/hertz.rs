@@ -36,7 +36,9 @@ fn solve(n: usize, load: NormalLoad) -> (Run, f64, f64) {
         }
     }
     let mut p = vec![0.0; grid.len()];
-    let info = solver.solve(&h, load, &mut p, &NormalParams::default()).unwrap();
+    let info = solver
+        .solve(&h, load, &mut p, &NormalParams::default())
+        .unwrap();
     let p0 = 3.0 * W / (2.0 * std::f64::consts::PI * a * a);
     let delta_h = a * a / R;
     let (mut num, mut den) = (0.0, 0.0);
@@ -44,7 +46,11 @@ fn solve(n: usize, load: NormalLoad) -> (Run, f64, f64) {
         for j in 0..n {
             let (x, y) = grid.centre(i, j);
             let r2 = (x * x + y * y) / (a * a);
-            let ph = if r2 < 1.0 { p0 * (1.0 - r2).sqrt() } else { 0.0 };
+            let ph = if r2 < 1.0 {
+                p0 * (1.0 - r2).sqrt()
+            } else {
+                0.0
+            };
             num += (p[i * n + j] - ph).powi(2);
             den += ph * ph;
         }
@@ -73,17 +79,37 @@ fn hertz_under_load_control_and_its_convergence() {
         let (run, force, _) = solve(n, NormalLoad::Force(W));
         eprintln!(
             "{n}²: p_max/p0 {:.5}  δ/δH {:.5}  L2 {:.3} %  iterations {}  radius/a {:.4}",
-            run.p_max_ratio, run.delta_ratio, 100.0 * run.l2, run.iterations, run.area_radius_ratio
+            run.p_max_ratio,
+            run.delta_ratio,
+            100.0 * run.l2,
+            run.iterations,
+            run.area_radius_ratio
         );
         assert!((force / W - 1.0).abs() < 1e-12);
         if n >= 128 {
             // a/(2Δ) ≥ 16 → within 1e-3 (spec acceptance).
-            assert!((run.p_max_ratio - 1.0).abs() < 1e-3, "{n}: {}", run.p_max_ratio);
-            assert!((run.delta_ratio - 1.0).abs() < 1e-3, "{n}: {}", run.delta_ratio);
+            assert!(
+                (run.p_max_ratio - 1.0).abs() < 1e-3,
+                "{n}: {}",
+                run.p_max_ratio
+            );
+            assert!(
+                (run.delta_ratio - 1.0).abs() < 1e-3,
+                "{n}: {}",
+                run.delta_ratio
+            );
         }
         // Spec §3: 47/64/87 iterations; measured 40/53/71 (the first step from a uniform start).
-        let spec = match n { 64 => 47, 128 => 64, _ => 87 };
-        assert!(run.iterations <= spec * 6 / 5, "{n}: {} iterations", run.iterations);
+        let spec = match n {
+            64 => 47,
+            128 => 64,
+            _ => 87,
+        };
+        assert!(
+            run.iterations <= spec * 6 / 5,
+            "{n}: {} iterations",
+            run.iterations
+        );
         l2.push(run.l2);
     }
     // h = a/32 (128²): L2 error ≤ 0.6 %; first order in h (the cell-averaged edge).
@@ -116,11 +142,25 @@ fn normal_compliance_matches_hertz() {
         .collect();
     let mut approach = |w: f64| {
         let mut p = vec![0.0; grid.len()];
-        solver.solve(&h, NormalLoad::Force(w), &mut p, &NormalParams { tolerance: 1e-13, ..Default::default() }).unwrap().approach
+        solver
+            .solve(
+                &h,
+                NormalLoad::Force(w),
+                &mut p,
+                &NormalParams {
+                    tolerance: 1e-13,
+                    ..Default::default()
+                },
+            )
+            .unwrap()
+            .approach
     };
     let fd = (approach(W + eps) - approach(W - eps)) / (2.0 * eps);
     let hertz = 1.0 / (2.0 * e_star() * a);
     // The grid's contact radius moves by whole cells only; the compliance is a smooth average:
     // agreement to the discretization level (δ itself is within 5e-5).
-    assert!((fd / hertz - 1.0).abs() < 5e-3, "dδ/dW = {fd:e}, Hertz {hertz:e}");
+    assert!(
+        (fd / hertz - 1.0).abs() < 5e-3,
+        "dδ/dW = {fd:e}, Hertz {hertz:e}"
+    );
 }
