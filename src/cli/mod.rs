@@ -1,6 +1,7 @@
 //! Command-line front end: argument parsing (clap), one module per subcommand.
 
 mod axisym;
+mod contact3d;
 mod fretting;
 mod plot;
 mod spec;
@@ -24,6 +25,10 @@ enum Command {
     Axisym(axisym::AxisymArgs),
     /// Fretting wear on the MDR (Willert 2021, Section 4): worn profiles, contact growth.
     FrettingWear(fretting::FrettingArgs),
+    /// 3D semi-analytical contact (DC-FFT, Polonsky–Keer, stick–slip with Coulomb friction).
+    Contact3d(contact3d::Contact3dArgs),
+    /// The fretting loop of Leroux & Nélias (2011): normal ramp, then cyclic tangential shift.
+    FrettingLoop(contact3d::FrettingLoopArgs),
     /// Convergence studies against closed forms (the figures of docs/).
     Study(study::StudyArgs),
 }
@@ -37,6 +42,9 @@ pub enum CliError {
     /// The MDR refused the input.
     #[error(transparent)]
     Mdr(#[from] halfspace::mdr::MdrError),
+    /// The 3D contact solvers refused the input or did not converge.
+    #[error(transparent)]
+    Sam(#[from] halfspace::sam::SamError),
     /// Reading or writing data failed.
     #[error(transparent)]
     Data(#[from] halfspace::data::DataError),
@@ -58,6 +66,8 @@ pub fn run() -> ExitCode {
         Command::Axisym(args) => axisym::run(args),
         Command::Study(args) => study::run(args),
         Command::FrettingWear(args) => fretting::run(args),
+        Command::Contact3d(args) => contact3d::run(args),
+        Command::FrettingLoop(args) => contact3d::run_loop(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -140,7 +140,26 @@ pub fn curves(
     paired: bool,
 ) -> PlotResult {
     register_font()?;
-    let root = SVGBackend::new(path, (960, 440)).into_drawing_area();
+    if path.extension().and_then(|e| e.to_str()) == Some("png") {
+        let root = BitMapBackend::new(path, (960, 440)).into_drawing_area();
+        draw_curves(root, title, xlabel, left, right, paired)
+    } else {
+        let root = SVGBackend::new(path, (960, 440)).into_drawing_area();
+        draw_curves(root, title, xlabel, left, right, paired)
+    }
+}
+
+fn draw_curves<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    xlabel: &str,
+    left: (&str, &Curves),
+    right: (&str, &Curves),
+    paired: bool,
+) -> PlotResult
+where
+    DB::ErrorType: 'static,
+{
     root.fill(&WHITE)?;
     let root = root.titled(title, ("sans-serif", 15))?;
     let panels: Vec<_> = if right.1.is_empty() {
@@ -160,7 +179,7 @@ pub fn curves(
             RGBColor(140, 170, 255),
         ]
     } else {
-        vec![RED, BLACK, BLUE, GREEN, MAGENTA]
+        vec![RED, BLACK, BLUE, GREEN, MAGENTA, CYAN]
     };
     for (area, (ylabel, lines)) in panels {
         let xmax = lines

@@ -7,6 +7,7 @@
 
 use std::sync::Arc;
 
+use rayon::prelude::*;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use rustfft::{num_complex::Complex, Fft, FftPlanner};
 
@@ -30,18 +31,21 @@ pub struct DcFft2d {
     n2: usize,
     n_in: usize,
     n_out: usize,
-    /// `spectra[o * n_in + i]`: FFT₂ of the padded kernel / (4 N₁ N₂), or `None` for a zero block.
+    /// `spectra[o * n_in + i]`: FFT₂ of the padded kernel / (4 N₁ N₂), column-major, or `None` for a
+    /// zero block.
     spectra: Vec<Option<Vec<Complex<f64>>>>,
     row_fwd: Arc<dyn RealToComplex<f64>>,
     row_inv: Arc<dyn ComplexToReal<f64>>,
     col_fwd: Arc<dyn Fft<f64>>,
     col_inv: Arc<dyn Fft<f64>>,
     real: Vec<f64>,
+    /// Row transforms, `2N₁ × (N₂+1)` row-major.
+    rows: Vec<Complex<f64>>,
     inputs_hat: Vec<Vec<Complex<f64>>>,
     out_hat: Vec<Complex<f64>>,
-    column: Vec<Complex<f64>>,
-    row_scratch: Vec<Complex<f64>>,
-    col_scratch: Vec<Complex<f64>>,
+    /// One scratch buffer per worker thread (rows and columns are transformed in parallel).
+    row_scratch: Vec<Vec<Complex<f64>>>,
+    col_scratch: Vec<Vec<Complex<f64>>>,
 }
 
 impl DcFft2d {
@@ -79,6 +83,7 @@ impl DcFft2d {
         let col_scratch_len = col_fwd
             .get_inplace_scratch_len()
             .max(col_inv.get_inplace_scratch_len());
+        let threads = rayon::current_num_threads().max(1);
         let mut op = Self {
             n1,
             n2,
@@ -90,11 +95,11 @@ impl DcFft2d {
             col_fwd,
             col_inv,
             real: vec![0.0; p1 * p2],
+            rows: vec![Complex::new(0.0, 0.0); spec_len],
             inputs_hat: vec![vec![Complex::new(0.0, 0.0); spec_len]; n_in],
             out_hat: vec![Complex::new(0.0, 0.0); spec_len],
-            column: vec![Complex::new(0.0, 0.0); p1],
-            row_scratch: vec![Complex::new(0.0, 0.0); row_scratch_len],
-            col_scratch: vec![Complex::new(0.0, 0.0); col_scratch_len],
+            row_scratch: vec![vec![Complex::new(0.0, 0.0); row_scratch_len]; threads],
+            col_scratch: vec![vec![Complex::new(0.0, 0.0); col_scratch_len.max(1)]; threads],
         };
         let scale = 1.0 / (p1 * p2) as f64;
         for kernel in kernels {
@@ -119,7 +124,7 @@ impl DcFft2d {
                         });
                     }
                     let mut spec = vec![Complex::new(0.0, 0.0); spec_len];
-                    op.forward_real(&mut spec);
+                    op.forward_real(&mut spec, p1);
                     spec.iter_mut().for_each(|s| *s *= scale);
                     Some(spec)
                 }
@@ -129,55 +134,78 @@ impl DcFft2d {
         Ok(op)
     }
 
-    /// `2N₁ × (N₂+1)` spectrum of `self.real` (overwritten).
-    fn forward_real(&mut self, spec: &mut [Complex<f64>]) {
+    /// Spectrum of `self.real` (overwritten), stored column-major (`(N₂+1) × 2N₁`, column `b` at
+    /// `b · 2N₁`); only its first `nonzero_rows` rows may be nonzero (the zero padding is skipped).
+    /// Rows and then columns are transformed in parallel, one preallocated scratch per thread.
+    fn forward_real(&mut self, spec: &mut [Complex<f64>], nonzero_rows: usize) {
         let (p1, p2, h2) = (2 * self.n1, 2 * self.n2, self.n2 + 1);
-        for a in 0..p1 {
-            self.row_fwd
-                .process_with_scratch(
-                    &mut self.real[a * p2..(a + 1) * p2],
-                    &mut spec[a * h2..(a + 1) * h2],
-                    &mut self.row_scratch,
-                )
-                .expect("lengths from the plan");
-        }
-        for b in 0..h2 {
-            for a in 0..p1 {
-                self.column[a] = spec[a * h2 + b];
-            }
-            self.col_fwd
-                .process_with_scratch(&mut self.column, &mut self.col_scratch);
-            for a in 0..p1 {
-                spec[a * h2 + b] = self.column[a];
-            }
-        }
+        let threads = self.row_scratch.len();
+        let chunk = nonzero_rows.div_ceil(threads).max(1);
+        let fwd = &self.row_fwd;
+        self.real[..nonzero_rows * p2]
+            .par_chunks_mut(chunk * p2)
+            .zip(self.rows[..nonzero_rows * h2].par_chunks_mut(chunk * h2))
+            .zip(self.row_scratch.par_iter_mut())
+            .for_each(|((real, rows), scratch)| {
+                for (r, c) in real.chunks_mut(p2).zip(rows.chunks_mut(h2)) {
+                    fwd.process_with_scratch(r, c, scratch)
+                        .expect("lengths from the plan");
+                }
+            });
+        self.rows[nonzero_rows * h2..].fill(Complex::new(0.0, 0.0));
+        // Transpose to columns and transform them.
+        let rows = &self.rows;
+        let col = &self.col_fwd;
+        let chunk = h2.div_ceil(threads).max(1);
+        spec.par_chunks_mut(chunk * p1)
+            .zip(self.col_scratch.par_iter_mut())
+            .enumerate()
+            .for_each(|(t, (cols, scratch))| {
+                for (k, column) in cols.chunks_mut(p1).enumerate() {
+                    let b = t * chunk + k;
+                    for (a, v) in column.iter_mut().enumerate() {
+                        *v = rows[a * h2 + b];
+                    }
+                    col.process_with_scratch(column, scratch);
+                }
+            });
     }
 
-    /// Writes the real array of the inverse transform of `self.out_hat` into `self.real`.
+    /// Writes the first `N₁` rows of the inverse transform of `self.out_hat` (column-major) into
+    /// `self.real` (only those rows are kept by the crop).
     fn inverse_to_real(&mut self) {
-        let (p1, p2, h2) = (2 * self.n1, 2 * self.n2, self.n2 + 1);
-        for b in 0..h2 {
-            for a in 0..p1 {
-                self.column[a] = self.out_hat[a * h2 + b];
-            }
-            self.col_inv
-                .process_with_scratch(&mut self.column, &mut self.col_scratch);
-            for a in 0..p1 {
-                self.out_hat[a * h2 + b] = self.column[a];
-            }
-        }
-        for a in 0..p1 {
-            let row = &mut self.out_hat[a * h2..(a + 1) * h2];
-            row[0].im = 0.0;
-            row[h2 - 1].im = 0.0;
-            self.row_inv
-                .process_with_scratch(
-                    row,
-                    &mut self.real[a * p2..(a + 1) * p2],
-                    &mut self.row_scratch,
-                )
-                .expect("lengths from the plan");
-        }
+        let (n1, p1, p2, h2) = (self.n1, 2 * self.n1, 2 * self.n2, self.n2 + 1);
+        let threads = self.col_scratch.len();
+        let inv = &self.col_inv;
+        let chunk = h2.div_ceil(threads).max(1);
+        self.out_hat
+            .par_chunks_mut(chunk * p1)
+            .zip(self.col_scratch.par_iter_mut())
+            .for_each(|(cols, scratch)| {
+                for column in cols.chunks_mut(p1) {
+                    inv.process_with_scratch(column, scratch);
+                }
+            });
+        let out = &self.out_hat;
+        let rinv = &self.row_inv;
+        let chunk = n1.div_ceil(threads).max(1);
+        self.rows[..n1 * h2]
+            .par_chunks_mut(chunk * h2)
+            .zip(self.real[..n1 * p2].par_chunks_mut(chunk * p2))
+            .zip(self.row_scratch.par_iter_mut())
+            .enumerate()
+            .for_each(|(t, ((rows, real), scratch))| {
+                for (k, (row, r)) in rows.chunks_mut(h2).zip(real.chunks_mut(p2)).enumerate() {
+                    let a = t * chunk + k;
+                    for (b, v) in row.iter_mut().enumerate() {
+                        *v = out[b * p1 + a];
+                    }
+                    row[0].im = 0.0;
+                    row[h2 - 1].im = 0.0;
+                    rinv.process_with_scratch(row, r, scratch)
+                        .expect("lengths from the plan");
+                }
+            });
     }
 
     /// The block spectra (for bounds such as the largest eigenvalue of the operator).
@@ -233,12 +261,12 @@ impl GridOperator for DcFft2d {
         check_io(self.n_in, self.n_out, n1 * n2, x, y)?;
         let p2 = 2 * n2;
         for (i, xi) in x.iter().enumerate() {
-            self.real.fill(0.0);
             for a in 0..n1 {
                 self.real[a * p2..a * p2 + n2].copy_from_slice(&xi[a * n2..(a + 1) * n2]);
+                self.real[a * p2 + n2..(a + 1) * p2].fill(0.0);
             }
             let mut spec = std::mem::take(&mut self.inputs_hat[i]);
-            self.forward_real(&mut spec);
+            self.forward_real(&mut spec, n1);
             self.inputs_hat[i] = spec;
         }
         for (o, yo) in y.iter_mut().enumerate() {

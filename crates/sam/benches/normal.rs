@@ -1,1 +1,42 @@
-fn main() {}
+//! Frictionless Hertz by DC-FFT + Polonsky–Keer (tolerance 1e-10), grids 128²…512²: one full solve
+//! from a cold start per iteration of the benchmark (operator planned beforehand).
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use halfspace_sam::normal::{NormalLoad, NormalParams, NormalSolver};
+use halfspace_sam::{Body, Compliance, SurfaceGrid};
+
+fn hertz(c: &mut Criterion) {
+    let (r, w): (f64, f64) = (105e-6, 0.08);
+    let a = (3.0 * w * r / (4.0 * 210e9 / 0.91)).cbrt();
+    let mut group = c.benchmark_group("hertz_normal_solve");
+    for n in [128usize, 256, 512] {
+        let grid = SurfaceGrid::square(n, 4.0 * a).unwrap();
+        let comp = Compliance::pair(Body::Rigid, Body::elastic(210e9, 0.3).unwrap()).unwrap();
+        let mut solver = NormalSolver::new(grid, &comp).unwrap();
+        let h: Vec<f64> = (0..grid.len())
+            .map(|k| {
+                let (x, y) = grid.centre(k / n, k % n);
+                (x * x + y * y) / (2.0 * r)
+            })
+            .collect();
+        let mut p = vec![0.0; grid.len()];
+        group.bench_with_input(BenchmarkId::new("dcfft_pk", n), &n, |b, _| {
+            b.iter(|| {
+                p.fill(0.0);
+                solver
+                    .solve(&h, NormalLoad::Force(w), &mut p, &NormalParams::default())
+                    .unwrap()
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(10).warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(3)).without_plots();
+    targets = hertz
+}
+criterion_main!(benches);

@@ -173,6 +173,11 @@ impl ContactProblem {
         &self.grid
     }
 
+    /// The friction coefficient μ.
+    pub fn friction(&self) -> f64 {
+        self.params.friction
+    }
+
     /// Whether the normal–tangential coupling is active (`κ ≠ 0` and `μ > 0`).
     pub fn is_coupled(&self) -> bool {
         self.coupled

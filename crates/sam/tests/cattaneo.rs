@@ -1,5 +1,6 @@
 //! Cattaneo–Mindlin with the coupling off (spec §7.2): rigid sphere on steel, Hertz data of §7.1,
 //! 128² over 4a (2Δ = a/32), the shift D₁ prescribed at the Cattaneo–Mindlin value.
+#![allow(clippy::needless_range_loop)]
 
 use halfspace_sam::normal::{NormalLoad, NormalParams, NormalSolver};
 use halfspace_sam::tangential::{TangentialParams, TangentialSolver};

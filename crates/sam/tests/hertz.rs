@@ -1,5 +1,6 @@
 //! Polonsky–Keer normal contact against Hertz (spec §7.1): R = 105 μm, E = 210 GPa, ν = 0.3,
 //! W = 80 mN (a = 3.0111 μm, p0 = 4213 MPa), domain 4a.
+#![allow(clippy::needless_range_loop)]
 
 use halfspace_sam::normal::{NormalLoad, NormalParams, NormalSolver};
 use halfspace_sam::{Body, Compliance, SurfaceGrid};

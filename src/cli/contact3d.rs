@@ -1,0 +1,677 @@
+//! `halfspace contact3d` and `halfspace fretting-loop`: 3D semi-analytical contact (spec `sam.md`).
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+use halfspace::data::{read_npy_2d, write_record, AttrValue, Record};
+use halfspace::sam::coupled::{ContactParams, ContactProblem, IncrementInfo};
+use halfspace::sam::normal::{NormalLoad, NormalParams};
+use halfspace::sam::tangential::TangentialParams;
+use halfspace::sam::{Body, Compliance, SurfaceGrid};
+use serde::Deserialize;
+use serde_json::json;
+
+use super::{plot, CliError};
+
+#[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("load").required(true).args(["force", "depth"])))]
+pub struct Contact3dArgs {
+    /// sphere:R=.. | ellipsoid:Rx=..,Ry=.. | cone:slope=.. | flat:a=.. | table:FILE.npy (heights on the grid)
+    #[arg(long)]
+    indenter: String,
+    /// Half-space: homogeneous:E=..,nu=..
+    #[arg(long)]
+    material: String,
+    /// Indenter: rigid (default) or homogeneous:E=..,nu=..
+    #[arg(long, default_value = "rigid")]
+    indenter_material: String,
+    /// Normal force W in N.
+    #[arg(long, allow_negative_numbers = true)]
+    force: Option<f64>,
+    /// Rigid approach δ in m.
+    #[arg(long, allow_negative_numbers = true)]
+    depth: Option<f64>,
+    /// Rigid tangential shift along x in m (after the normal load).
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        conflicts_with = "tangential_force"
+    )]
+    shift_x: Option<f64>,
+    /// Tangential force along x in N (after the normal load).
+    #[arg(long, allow_negative_numbers = true)]
+    tangential_force: Option<f64>,
+    /// Coulomb friction coefficient μ.
+    #[arg(long, default_value_t = 0.3, allow_negative_numbers = true)]
+    friction: f64,
+    /// Cells per side.
+    #[arg(long, default_value_t = 128)]
+    grid: usize,
+    /// Side of the square domain in m (default: 4 estimated contact radii).
+    #[arg(long, allow_negative_numbers = true)]
+    extent: Option<f64>,
+    /// Relative tolerance of the normal and tangential solvers.
+    #[arg(long, default_value_t = 1e-10, allow_negative_numbers = true)]
+    tol: f64,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
+    /// Write the fields to FILE.h5 or FILE.npz.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+enum Indenter {
+    Ellipsoid(f64, f64),
+    Cone(f64),
+    Flat(f64),
+    Table(PathBuf),
+}
+
+fn keys(spec: &str, what: &str) -> Result<(String, Vec<(String, f64)>), CliError> {
+    let (kind, rest) = spec
+        .split_once(':')
+        .ok_or_else(|| CliError::Spec(format!("{what} '{spec}': expected KIND:KEY=VALUE,...")))?;
+    if kind == "table" {
+        return Ok((kind.into(), vec![]));
+    }
+    let mut out = Vec::new();
+    for item in rest.split(',').filter(|s| !s.is_empty()) {
+        let (k, v) = item
+            .split_once('=')
+            .ok_or_else(|| CliError::Spec(format!("{what} '{spec}': '{item}' is not KEY=VALUE")))?;
+        let v: f64 = v
+            .trim()
+            .parse()
+            .map_err(|_| CliError::Spec(format!("{what} '{spec}': {k}='{v}' is not a number")))?;
+        out.push((k.trim().to_string(), v));
+    }
+    Ok((kind.to_string(), out))
+}
+
+fn take(
+    spec: &str,
+    what: &str,
+    pairs: &mut Vec<(String, f64)>,
+    key: &str,
+) -> Result<f64, CliError> {
+    let i = pairs
+        .iter()
+        .position(|(k, _)| k == key)
+        .ok_or_else(|| CliError::Spec(format!("{what} '{spec}': missing key '{key}'")))?;
+    let v = pairs.remove(i).1;
+    if !(v.is_finite() && v > 0.0) {
+        return Err(CliError::Spec(format!(
+            "{what} '{spec}': {key} must be finite and > 0, got {v}"
+        )));
+    }
+    Ok(v)
+}
+
+fn done(spec: &str, what: &str, pairs: &[(String, f64)]) -> Result<(), CliError> {
+    match pairs.first() {
+        None => Ok(()),
+        Some((k, _)) => Err(CliError::Spec(format!(
+            "{what} '{spec}': unknown key '{k}'"
+        ))),
+    }
+}
+
+fn parse_indenter(spec: &str) -> Result<Indenter, CliError> {
+    let what = "--indenter";
+    let (kind, mut p) = keys(spec, what)?;
+    let ind = match kind.as_str() {
+        "sphere" => {
+            let r = take(spec, what, &mut p, "R")?;
+            Indenter::Ellipsoid(r, r)
+        }
+        "ellipsoid" => Indenter::Ellipsoid(
+            take(spec, what, &mut p, "Rx")?,
+            take(spec, what, &mut p, "Ry")?,
+        ),
+        "cone" => Indenter::Cone(take(spec, what, &mut p, "slope")?),
+        "flat" => Indenter::Flat(take(spec, what, &mut p, "a")?),
+        "table" => Indenter::Table(PathBuf::from(
+            spec.split_once(':').map(|x| x.1).unwrap_or_default(),
+        )),
+        other => {
+            return Err(CliError::Spec(format!(
+                "{what} '{spec}': unknown indenter '{other}' (sphere, ellipsoid, cone, flat, table)"
+            )))
+        }
+    };
+    done(spec, what, &p)?;
+    Ok(ind)
+}
+
+fn parse_body(spec: &str, what: &str) -> Result<Body, CliError> {
+    if spec == "rigid" {
+        return Ok(Body::Rigid);
+    }
+    let (kind, mut p) = keys(spec, what)?;
+    if kind != "homogeneous" {
+        return Err(CliError::Spec(format!(
+            "{what} '{spec}': use homogeneous:E=..,nu=.. (or rigid)"
+        )));
+    }
+    let e = take(spec, what, &mut p, "E")?;
+    let i = p
+        .iter()
+        .position(|(k, _)| k == "nu")
+        .ok_or_else(|| CliError::Spec(format!("{what} '{spec}': missing key 'nu'")))?;
+    let nu = p.remove(i).1;
+    done(spec, what, &p)?;
+    Ok(Body::elastic(e, nu)?)
+}
+
+/// Estimated contact radius for the default domain.
+fn estimate_radius(ind: &Indenter, e_star: f64, load: NormalLoad) -> Option<f64> {
+    match (ind, load) {
+        (Indenter::Ellipsoid(rx, ry), NormalLoad::Force(w)) => {
+            Some((3.0 * w * (rx * ry).sqrt() / (4.0 * e_star)).cbrt())
+        }
+        (Indenter::Ellipsoid(rx, ry), NormalLoad::Approach(d)) => {
+            Some((d * (rx * ry).sqrt()).sqrt())
+        }
+        (Indenter::Cone(s), NormalLoad::Force(w)) => {
+            Some((2.0 * w / (std::f64::consts::PI * e_star * s)).sqrt())
+        }
+        (Indenter::Cone(s), NormalLoad::Approach(d)) => Some(2.0 * d / (std::f64::consts::PI * s)),
+        (Indenter::Flat(a), _) => Some(*a * 0.75),
+        (Indenter::Table(_), _) => None,
+    }
+}
+
+fn geometry(ind: &Indenter, grid: &SurfaceGrid) -> Result<Vec<f64>, CliError> {
+    let n = grid.n1;
+    if let Indenter::Table(path) = ind {
+        let (rows, cols, v) = read_npy_2d(path)?;
+        if rows != grid.n1 || cols != grid.n2 {
+            return Err(CliError::Spec(format!(
+                "{}: height table has shape ({rows}, {cols}); the grid is ({n}, {n}) (--grid)",
+                path.display()
+            )));
+        }
+        if let Some(bad) = v.iter().find(|x| !x.is_finite()) {
+            return Err(CliError::Spec(format!(
+                "{}: non-finite height {bad}",
+                path.display()
+            )));
+        }
+        return Ok(v);
+    }
+    let wall = 1e3 * 2.0 * grid.half1 * n as f64;
+    Ok((0..grid.len())
+        .map(|k| {
+            let (x, y) = grid.centre(k / grid.n2, k % grid.n2);
+            match ind {
+                Indenter::Ellipsoid(rx, ry) => x * x / (2.0 * rx) + y * y / (2.0 * ry),
+                Indenter::Cone(s) => s * (x * x + y * y).sqrt(),
+                Indenter::Flat(a) => {
+                    if x * x + y * y <= a * a {
+                        0.0
+                    } else {
+                        wall
+                    }
+                }
+                Indenter::Table(_) => unreachable!(),
+            }
+        })
+        .collect())
+}
+
+pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
+    let start = Instant::now();
+    let indenter = parse_indenter(&args.indenter)?;
+    let half = parse_body(&args.material, "--material")?;
+    let tool = parse_body(&args.indenter_material, "--indenter-material")?;
+    if matches!(half, Body::Rigid) {
+        return Err(CliError::Spec(
+            "--material: the half-space must be elastic".into(),
+        ));
+    }
+    let load = match (args.force, args.depth) {
+        (Some(w), None) => NormalLoad::Force(w),
+        (None, Some(d)) => NormalLoad::Approach(d),
+        _ => {
+            return Err(CliError::Spec(
+                "give exactly one of --force and --depth".into(),
+            ))
+        }
+    };
+    for (name, v) in [("--force", args.force), ("--depth", args.depth)] {
+        if let Some(v) = v {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(CliError::Spec(format!(
+                    "{name} must be finite and > 0, got {v}"
+                )));
+            }
+        }
+    }
+    if !(args.friction.is_finite() && args.friction >= 0.0) {
+        return Err(CliError::Spec(format!(
+            "--friction must be finite and ≥ 0, got {}",
+            args.friction
+        )));
+    }
+    if !(args.tol.is_finite() && args.tol > 0.0 && args.tol < 1e-2) {
+        return Err(CliError::Spec(format!(
+            "--tol must be in (0, 1e-2), got {}",
+            args.tol
+        )));
+    }
+    if let Some(path) = &args.out {
+        halfspace::data::Format::of(path)?;
+    }
+    let e_star = 1.0 / (tool.normal_term() + half.normal_term());
+    let extent = match (args.extent, estimate_radius(&indenter, e_star, load)) {
+        (Some(x), _) => x,
+        (None, Some(a)) => 4.0 * a,
+        (None, None) => {
+            return Err(CliError::Spec(
+                "--indenter table: give --extent (the side of the grid in m)".into(),
+            ))
+        }
+    };
+    // A grid of any size is accepted; FFT sizes need no padding to powers of two (5-smooth is fastest).
+    let grid = SurfaceGrid::square(args.grid, extent)?;
+    let geometry = geometry(&indenter, &grid)?;
+    let compliance = Compliance::pair(tool, half)?;
+    let params = ContactParams {
+        friction: args.friction,
+        normal: NormalParams {
+            tolerance: args.tol,
+            ..NormalParams::default()
+        },
+        tangential: TangentialParams {
+            tolerance: args.tol,
+            ..TangentialParams::default()
+        },
+        ..ContactParams::default()
+    };
+    let mut problem = ContactProblem::new(grid, compliance, geometry, params)?;
+    let setup_seconds = start.elapsed().as_secs_f64();
+    let solve_start = Instant::now();
+    let mut info = problem.increment(load, [0.0, 0.0])?;
+    let mut iterations = info.normal.iterations + info.tangential.iterations;
+    let mut shift = 0.0;
+    if let Some(dx) = args.shift_x {
+        info = problem.increment(load, [dx, 0.0])?;
+        iterations += info.normal.iterations + info.tangential.iterations;
+        shift = dx;
+    } else if let Some(qx) = args.tangential_force {
+        let bracket = 0.05 * extent * 1e-3;
+        let (i, d) = problem.increment_with_force(load, qx, bracket)?;
+        info = i;
+        iterations += info.normal.iterations + info.tangential.iterations;
+        shift = d;
+    }
+    let state = problem.state();
+    let seconds = start.elapsed().as_secs_f64();
+    let solve_seconds = solve_start.elapsed().as_secs_f64();
+    let summary = json!({
+        "contact_radius": (info.contact_area / std::f64::consts::PI).sqrt(),
+        "contact_area": info.contact_area,
+        "max_pressure": info.max_pressure,
+        "force": state.force,
+        "depth": state.approach,
+        "tangential_force": info.tangential_force[0],
+        "tangential_force_y": info.tangential_force[1],
+        "shift_x": shift,
+        "stick_radius": (info.stick_area / std::f64::consts::PI).sqrt(),
+        "iterations": iterations,
+        "alternations": info.alternations,
+        "residual": info.normal.residual.max(info.tangential.residual),
+        "kkt": info.tangential.kkt,
+        "grid": args.grid,
+        "extent": extent,
+        "coupled": problem.is_coupled(),
+        "seconds": seconds,
+        "setup_seconds": setup_seconds,
+        "solve_seconds": solve_seconds,
+    });
+    if let Some(path) = &args.out {
+        write_record(path, &fields_record(&problem, &summary))?;
+    }
+    if args.json {
+        println!("{summary}");
+    } else {
+        println!(
+            "contact radius {:.4e} m, max pressure {:.4e} Pa, force {:.4e} N, approach {:.4e} m, Q {:.4e} N, stick radius {:.4e} m ({seconds:.2} s)",
+            summary["contact_radius"].as_f64().unwrap_or(0.0),
+            info.max_pressure,
+            state.force,
+            state.approach,
+            info.tangential_force[0],
+            summary["stick_radius"].as_f64().unwrap_or(0.0)
+        );
+    }
+    Ok(())
+}
+
+fn fields_record(problem: &ContactProblem, summary: &serde_json::Value) -> Record {
+    let g = problem.grid();
+    let s = problem.state();
+    let (x, y): (Vec<f64>, Vec<f64>) = (0..g.len()).map(|k| g.centre(k / g.n2, k % g.n2)).unzip();
+    let stick = (0..g.len())
+        .map(|k| {
+            let bound = problem.friction() * s.pressure[k];
+            f64::from(u8::from(halfspace::sam::tangential::is_stick(
+                bound,
+                s.shear[0][k],
+                s.shear[1][k],
+            )))
+        })
+        .collect();
+    let mut rec = Record::default()
+        .array("x", x)
+        .array("y", y)
+        .array("pressure", s.pressure.clone())
+        .array("shear_x", s.shear[0].clone())
+        .array("shear_y", s.shear[1].clone())
+        .array("slip_x", s.slip[0].clone())
+        .array("slip_y", s.slip[1].clone())
+        .array("stick", stick);
+    for (k, v) in summary.as_object().expect("object") {
+        let value = match v {
+            serde_json::Value::Number(n) if n.is_i64() || n.is_u64() => {
+                AttrValue::Int(n.as_i64().unwrap_or_default())
+            }
+            serde_json::Value::Number(n) => AttrValue::Float(n.as_f64().unwrap_or(f64::NAN)),
+            other => AttrValue::Text(other.to_string()),
+        };
+        rec = rec.attr(k, value);
+    }
+    rec.attr(
+        "layout",
+        AttrValue::Text(format!(
+            "{} × {} cells, row-major (x index slow)",
+            g.n1, g.n2
+        )),
+    )
+}
+
+#[derive(Debug, Args)]
+pub struct FrettingLoopArgs {
+    /// TOML file with any of: radius, e, nu, friction, force, normal_steps, amplitude, shift_step, grid, extent_over_a.
+    #[arg(long)]
+    config: Option<PathBuf>,
+    /// Output directory (results.h5, fretting_loop.png/.svg, fretting_profiles.svg).
+    #[arg(long, default_value = "fretting-loop-out")]
+    out: PathBuf,
+    /// Cells per side (overrides the config).
+    #[arg(long)]
+    grid: Option<usize>,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
+}
+
+/// The fretting-loop case (defaults: [LN11]'s homogeneous case).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+struct LoopConfig {
+    radius: f64,
+    e: f64,
+    nu: f64,
+    friction: f64,
+    force: f64,
+    normal_steps: usize,
+    amplitude: f64,
+    shift_step: f64,
+    grid: usize,
+    extent_over_a: f64,
+}
+
+impl Default for LoopConfig {
+    fn default() -> Self {
+        Self {
+            radius: 105e-6,
+            e: 210e9,
+            nu: 0.3,
+            friction: 0.3,
+            force: 0.08,
+            normal_steps: 80,
+            amplitude: 0.04e-6,
+            shift_step: 0.002e-6,
+            grid: 64,
+            extent_over_a: 4.16,
+        }
+    }
+}
+
+/// (label, pressure along x, shear q_x along x, pressure along y) at one of the points A–D.
+type Profiles = (String, Vec<f64>, Vec<f64>, Vec<f64>);
+
+pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
+    let start = Instant::now();
+    let mut cfg: LoopConfig = match &args.config {
+        None => LoopConfig::default(),
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| CliError::Spec(format!("--config {}: {e}", path.display())))?;
+            toml::from_str(&text).map_err(|e| {
+                CliError::Spec(format!("--config {}: {}", path.display(), e.message()))
+            })?
+        }
+    };
+    if let Some(g) = args.grid {
+        cfg.grid = g;
+    }
+    for (name, v) in [
+        ("radius", cfg.radius),
+        ("force", cfg.force),
+        ("amplitude", cfg.amplitude),
+        ("shift_step", cfg.shift_step),
+        ("extent_over_a", cfg.extent_over_a),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(CliError::Spec(format!(
+                "fretting-loop: {name} must be finite and > 0, got {v}"
+            )));
+        }
+    }
+    if cfg.normal_steps == 0 {
+        return Err(CliError::Spec(
+            "fretting-loop: normal_steps must be ≥ 1".into(),
+        ));
+    }
+    let half = Body::elastic(cfg.e, cfg.nu)?;
+    let e_star = cfg.e / (1.0 - cfg.nu * cfg.nu);
+    let a = (3.0 * cfg.force * cfg.radius / (4.0 * e_star)).cbrt();
+    let grid = SurfaceGrid::square(cfg.grid, cfg.extent_over_a * a)?;
+    let geometry = (0..grid.len())
+        .map(|k| {
+            let (x, y) = grid.centre(k / grid.n2, k % grid.n2);
+            (x * x + y * y) / (2.0 * cfg.radius)
+        })
+        .collect();
+    let compliance = Compliance::pair(Body::Rigid, half)?;
+    let params = ContactParams {
+        friction: cfg.friction,
+        ..ContactParams::default()
+    };
+    let mut problem = ContactProblem::new(grid, compliance, geometry, params)?;
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| CliError::Spec(format!("--out {}: {e}", args.out.display())))?;
+    // Path: W ramp at D = 0, then D: 0 → +A → −A → +A.
+    let quarter = (cfg.amplitude / cfg.shift_step).round().max(1.0) as usize;
+    let mut path: Vec<(f64, f64)> = (1..=cfg.normal_steps)
+        .map(|i| (cfg.force * i as f64 / cfg.normal_steps as f64, 0.0))
+        .collect();
+    let dd = cfg.amplitude / quarter as f64;
+    for i in 1..=quarter {
+        path.push((cfg.force, i as f64 * dd));
+    }
+    for i in 1..=2 * quarter {
+        path.push((cfg.force, cfg.amplitude - i as f64 * dd));
+    }
+    for i in 1..=2 * quarter {
+        path.push((cfg.force, -cfg.amplitude + i as f64 * dd));
+    }
+    let bar = if std::io::stderr().is_terminal() && !args.json {
+        let bar = indicatif::ProgressBar::new(path.len() as u64);
+        Some(bar)
+    } else {
+        None
+    };
+    let mut history: Vec<(f64, f64, IncrementInfo)> = Vec::new();
+    let mut profiles: Vec<Profiles> = Vec::new();
+    let n = cfg.grid;
+    let mid = n / 2;
+    // Points A–D ([LN11] Fig. 6 style): end of normal loading; D = +A; D = 0 on unloading; D = −A.
+    let marks = [
+        cfg.normal_steps,
+        cfg.normal_steps + quarter,
+        cfg.normal_steps + 2 * quarter,
+        cfg.normal_steps + 3 * quarter,
+    ];
+    for (k, (w, d)) in path.iter().enumerate() {
+        let info = problem.increment(NormalLoad::Force(*w), [*d, 0.0])?;
+        history.push((*w, *d, info));
+        if let Some(bar) = &bar {
+            bar.inc(1);
+        }
+        if let Some(m) = marks.iter().position(|&s| s == k + 1) {
+            let s = problem.state();
+            let label = ["A", "B", "C", "D"][m].to_string();
+            let along_x: Vec<f64> = (0..n).map(|i| s.pressure[i * n + mid]).collect();
+            let shear_x: Vec<f64> = (0..n).map(|i| s.shear[0][i * n + mid]).collect();
+            let along_y: Vec<f64> = (0..n).map(|j| s.pressure[mid * n + j]).collect();
+            profiles.push((label, along_x, shear_x, along_y));
+        }
+    }
+    if let Some(bar) = &bar {
+        bar.finish_and_clear();
+    }
+    let mu_w = cfg.friction * cfg.force;
+    let cycle: Vec<(f64, f64)> = history[cfg.normal_steps + quarter - 1..]
+        .iter()
+        .map(|(_, d, i)| (*d, i.tangential_force[0]))
+        .collect();
+    let energy: f64 = cycle
+        .windows(2)
+        .map(|w| 0.5 * (w[0].1 + w[1].1) * (w[1].0 - w[0].0))
+        .sum::<f64>()
+        .abs();
+    let end_normal = &history[cfg.normal_steps - 1].2;
+    let p0 = 3.0 * cfg.force / (2.0 * std::f64::consts::PI * a * a);
+    let seconds = start.elapsed().as_secs_f64();
+    let rec = {
+        let mut r = Record::default()
+            .array("normal_force", history.iter().map(|h| h.0).collect())
+            .array("shift_x", history.iter().map(|h| h.1).collect())
+            .array(
+                "tangential_force",
+                history.iter().map(|h| h.2.tangential_force[0]).collect(),
+            )
+            .array(
+                "tangential_force_y",
+                history.iter().map(|h| h.2.tangential_force[1]).collect(),
+            )
+            .array(
+                "max_pressure",
+                history.iter().map(|h| h.2.max_pressure).collect(),
+            )
+            .array(
+                "contact_area",
+                history.iter().map(|h| h.2.contact_area).collect(),
+            )
+            .array(
+                "stick_area",
+                history.iter().map(|h| h.2.stick_area).collect(),
+            )
+            .array(
+                "alternations",
+                history.iter().map(|h| h.2.alternations as f64).collect(),
+            )
+            .array("x", (0..n).map(|i| grid.centre(i, mid).0).collect());
+        for (label, px, qx, py) in &profiles {
+            r = r
+                .array(&format!("pressure_x_{label}"), px.clone())
+                .array(&format!("shear_x_{label}"), qx.clone())
+                .array(&format!("pressure_y_{label}"), py.clone());
+        }
+        r.attr("radius", AttrValue::Float(cfg.radius))
+            .attr("E", AttrValue::Float(cfg.e))
+            .attr("nu", AttrValue::Float(cfg.nu))
+            .attr("friction", AttrValue::Float(cfg.friction))
+            .attr("force", AttrValue::Float(cfg.force))
+            .attr("grid", AttrValue::Int(cfg.grid as i64))
+            .attr("extent", AttrValue::Float(grid.half1 * 2.0 * n as f64))
+            .attr("dissipated_energy", AttrValue::Float(energy))
+            .attr(
+                "points",
+                AttrValue::Text(
+                    "A: end of normal loading; B: D = +A; C: D = 0 unloading; D: D = −A".into(),
+                ),
+            )
+    };
+    write_record(&args.out.join("results.h5"), &rec)?;
+    let loop_curve: Vec<(String, Vec<(f64, f64)>)> = vec![(
+        "Q / μW against δx (μm)".into(),
+        cycle.iter().map(|(d, q)| (d * 1e6, q / mu_w)).collect(),
+    )];
+    for ext in ["svg", "png"] {
+        let p = args.out.join(format!("fretting_loop.{ext}"));
+        plot::curves(
+            &p,
+            "Fretting loop (SAM, coupled): Q/μW against δx",
+            "δx (μm)",
+            ("Q / μW", &loop_curve),
+            ("", &[]),
+            false,
+        )
+        .map_err(|e| CliError::Plot(format!("{}: {e}", p.display())))?;
+    }
+    let x: Vec<f64> = (0..n).map(|i| grid.centre(i, mid).0 / a).collect();
+    let pressure: Vec<(String, Vec<(f64, f64)>)> = profiles
+        .iter()
+        .map(|(l, px, _, _)| {
+            (
+                format!("p along x, {l}"),
+                x.iter().copied().zip(px.iter().map(|v| v / p0)).collect(),
+            )
+        })
+        .collect();
+    let shear: Vec<(String, Vec<(f64, f64)>)> = profiles
+        .iter()
+        .map(|(l, _, qx, _)| {
+            (
+                format!("q_x along x, {l}"),
+                x.iter()
+                    .copied()
+                    .zip(qx.iter().map(|v| v / (cfg.friction * p0)))
+                    .collect(),
+            )
+        })
+        .collect();
+    let p = args.out.join("fretting_profiles.svg");
+    plot::curves(
+        &p,
+        "Pressure p/p0 and shear q_x/(μ p0) along x at A–D",
+        "x / a",
+        ("p / p0", &pressure),
+        ("q_x / (μ p0)", &shear),
+        false,
+    )
+    .map_err(|e| CliError::Plot(format!("{}: {e}", p.display())))?;
+    let summary = json!({
+        "max_pressure_over_p0_end_of_normal_loading": end_normal.max_pressure / p0,
+        "approach_over_hertz_end_of_normal_loading": history[cfg.normal_steps - 1].2.normal.approach / (a * a / cfg.radius),
+        "tangential_force_over_mu_w_at_amplitude": history[cfg.normal_steps + quarter - 1].2.tangential_force[0] / mu_w,
+        "dissipated_energy": energy,
+        "increments": history.len(),
+        "grid": cfg.grid,
+        "seconds": seconds,
+        "out": args.out.display().to_string(),
+    });
+    if args.json {
+        println!("{summary}");
+    } else {
+        println!("{summary:#}");
+    }
+    Ok(())
+}
