@@ -186,6 +186,10 @@ where
             .iter()
             .flat_map(|(_, p)| p.iter().map(|v| v.0))
             .fold(0.0, f64::max);
+        let xmin = lines
+            .iter()
+            .flat_map(|(_, p)| p.iter().map(|v| v.0))
+            .fold(0.0, f64::min);
         let ys = || {
             lines
                 .iter()
@@ -194,8 +198,8 @@ where
         };
         let (ylo, yhi) = (ys().fold(f64::INFINITY, f64::min), ys().fold(0.0, f64::max));
         let ymax = yhi * 1.05;
-        // Start at 0 unless the data sit far from it (then pad 5 % of the range).
-        let ymin = if ylo > 0.3 * yhi {
+        // Start at 0 unless the data sit far from it or below it (then pad 5 % of the range).
+        let ymin = if ylo < 0.0 || ylo > 0.3 * yhi {
             ylo - 0.05 * (yhi - ylo)
         } else {
             0.0
@@ -204,7 +208,7 @@ where
             .margin(12)
             .x_label_area_size(36)
             .y_label_area_size(64)
-            .build_cartesian_2d(0.0..xmax, ymin..ymax.max(ymin + 1e-300))?;
+            .build_cartesian_2d(xmin..xmax, ymin..ymax.max(ymin + 1e-300))?;
         chart
             .configure_mesh()
             .x_desc(xlabel)

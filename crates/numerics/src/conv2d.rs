@@ -22,6 +22,9 @@ pub trait GridOperator {
     fn apply(&mut self, x: &[&[f64]], y: &mut [&mut [f64]]) -> Result<(), NumericsError>;
 }
 
+/// Grids with at least this many cells are transformed with rayon.
+const PARALLEL_CELLS: usize = 128 * 128;
+
 /// Kernel of one block: `K(m, n)` for offsets `m ∈ (−N₁, N₁)`, `n ∈ (−N₂, N₂)`.
 pub type KernelFn<'a> = &'a dyn Fn(i64, i64) -> f64;
 
@@ -83,7 +86,12 @@ impl DcFft2d {
         let col_scratch_len = col_fwd
             .get_inplace_scratch_len()
             .max(col_inv.get_inplace_scratch_len());
-        let threads = rayon::current_num_threads().max(1);
+        // Threads pay only on large grids: below 128² the rayon hand-offs cost more than they save.
+        let threads = if n1 * n2 >= PARALLEL_CELLS {
+            rayon::current_num_threads().max(1)
+        } else {
+            1
+        };
         let mut op = Self {
             n1,
             n2,
@@ -157,10 +165,8 @@ impl DcFft2d {
         let rows = &self.rows;
         let col = &self.col_fwd;
         let chunk = h2.div_ceil(threads).max(1);
-        spec.par_chunks_mut(chunk * p1)
-            .zip(self.col_scratch.par_iter_mut())
-            .enumerate()
-            .for_each(|(t, (cols, scratch))| {
+        let body =
+            |(t, (cols, scratch)): (usize, (&mut [Complex<f64>], &mut Vec<Complex<f64>>))| {
                 for (k, column) in cols.chunks_mut(p1).enumerate() {
                     let b = t * chunk + k;
                     for (a, v) in column.iter_mut().enumerate() {
@@ -168,7 +174,15 @@ impl DcFft2d {
                     }
                     col.process_with_scratch(column, scratch);
                 }
-            });
+            };
+        if threads > 1 {
+            spec.par_chunks_mut(chunk * p1)
+                .zip(self.col_scratch.par_iter_mut())
+                .enumerate()
+                .for_each(body);
+        } else {
+            body((0, (spec, &mut self.col_scratch[0])));
+        }
     }
 
     /// Writes the first `N₁` rows of the inverse transform of `self.out_hat` (column-major) into
@@ -178,14 +192,19 @@ impl DcFft2d {
         let threads = self.col_scratch.len();
         let inv = &self.col_inv;
         let chunk = h2.div_ceil(threads).max(1);
-        self.out_hat
-            .par_chunks_mut(chunk * p1)
-            .zip(self.col_scratch.par_iter_mut())
-            .for_each(|(cols, scratch)| {
-                for column in cols.chunks_mut(p1) {
-                    inv.process_with_scratch(column, scratch);
-                }
-            });
+        let body = |(cols, scratch): (&mut [Complex<f64>], &mut Vec<Complex<f64>>)| {
+            for column in cols.chunks_mut(p1) {
+                inv.process_with_scratch(column, scratch);
+            }
+        };
+        if threads > 1 {
+            self.out_hat
+                .par_chunks_mut(chunk * p1)
+                .zip(self.col_scratch.par_iter_mut())
+                .for_each(body);
+        } else {
+            body((&mut self.out_hat, &mut self.col_scratch[0]));
+        }
         let out = &self.out_hat;
         let rinv = &self.row_inv;
         let chunk = n1.div_ceil(threads).max(1);
