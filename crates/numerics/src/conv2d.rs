@@ -22,6 +22,20 @@ pub trait GridOperator {
     fn apply(&mut self, x: &[&[f64]], y: &mut [&mut [f64]]) -> Result<(), NumericsError>;
 }
 
+/// A scratch buffer of complex values.
+type Scratch = Vec<Complex<f64>>;
+/// One thread's share of a row transform: (real rows, complex rows), scratch.
+type RowChunk<'a> = ((&'a mut [f64], &'a mut [Complex<f64>]), &'a mut Scratch);
+/// One thread's share of a column transform: (first column index / chunk, columns, scratch).
+type ColChunk<'a> = (usize, (&'a mut [Complex<f64>], &'a mut Scratch));
+
+/// One thread's share of the inverse row transforms: (first row / chunk, (complex rows, real rows),
+/// scratch).
+type InverseRowChunk<'a> = (
+    usize,
+    ((&'a mut [Complex<f64>], &'a mut [f64]), &'a mut Scratch),
+);
+
 /// Grids with at least this many cells are transformed with rayon.
 const PARALLEL_CELLS: usize = 128 * 128;
 
@@ -165,16 +179,15 @@ impl DcFft2d {
         let rows = &self.rows;
         let col = &self.col_fwd;
         let chunk = h2.div_ceil(threads).max(1);
-        let body =
-            |(t, (cols, scratch)): (usize, (&mut [Complex<f64>], &mut Vec<Complex<f64>>))| {
-                for (k, column) in cols.chunks_mut(p1).enumerate() {
-                    let b = t * chunk + k;
-                    for (a, v) in column.iter_mut().enumerate() {
-                        *v = rows[a * h2 + b];
-                    }
-                    col.process_with_scratch(column, scratch);
+        let body = |(t, (cols, scratch)): ColChunk<'_>| {
+            for (k, column) in cols.chunks_mut(p1).enumerate() {
+                let b = t * chunk + k;
+                for (a, v) in column.iter_mut().enumerate() {
+                    *v = rows[a * h2 + b];
                 }
-            };
+                col.process_with_scratch(column, scratch);
+            }
+        };
         if threads > 1 {
             spec.par_chunks_mut(chunk * p1)
                 .zip(self.col_scratch.par_iter_mut())
@@ -192,7 +205,7 @@ impl DcFft2d {
         let threads = self.col_scratch.len();
         let inv = &self.col_inv;
         let chunk = h2.div_ceil(threads).max(1);
-        let body = |(cols, scratch): (&mut [Complex<f64>], &mut Vec<Complex<f64>>)| {
+        let body = |(cols, scratch): (&mut [Complex<f64>], &mut Scratch)| {
             for column in cols.chunks_mut(p1) {
                 inv.process_with_scratch(column, scratch);
             }
