@@ -164,16 +164,24 @@ impl DcFft2d {
         let threads = self.row_scratch.len();
         let chunk = nonzero_rows.div_ceil(threads).max(1);
         let fwd = &self.row_fwd;
-        self.real[..nonzero_rows * p2]
-            .par_chunks_mut(chunk * p2)
-            .zip(self.rows[..nonzero_rows * h2].par_chunks_mut(chunk * h2))
-            .zip(self.row_scratch.par_iter_mut())
-            .for_each(|((real, rows), scratch)| {
-                for (r, c) in real.chunks_mut(p2).zip(rows.chunks_mut(h2)) {
-                    fwd.process_with_scratch(r, c, scratch)
-                        .expect("lengths from the plan");
-                }
-            });
+        let body = |((real, rows), scratch): RowChunk<'_>| {
+            for (r, c) in real.chunks_mut(p2).zip(rows.chunks_mut(h2)) {
+                fwd.process_with_scratch(r, c, scratch)
+                    .expect("lengths from the plan");
+            }
+        };
+        let (real, rows) = (
+            &mut self.real[..nonzero_rows * p2],
+            &mut self.rows[..nonzero_rows * h2],
+        );
+        if threads > 1 {
+            real.par_chunks_mut(chunk * p2)
+                .zip(rows.par_chunks_mut(chunk * h2))
+                .zip(self.row_scratch.par_iter_mut())
+                .for_each(body);
+        } else {
+            body(((real, rows), &mut self.row_scratch[0]));
+        }
         self.rows[nonzero_rows * h2..].fill(Complex::new(0.0, 0.0));
         // Transpose to columns and transform them.
         let rows = &self.rows;
@@ -221,23 +229,28 @@ impl DcFft2d {
         let out = &self.out_hat;
         let rinv = &self.row_inv;
         let chunk = n1.div_ceil(threads).max(1);
-        self.rows[..n1 * h2]
-            .par_chunks_mut(chunk * h2)
-            .zip(self.real[..n1 * p2].par_chunks_mut(chunk * p2))
-            .zip(self.row_scratch.par_iter_mut())
-            .enumerate()
-            .for_each(|(t, ((rows, real), scratch))| {
-                for (k, (row, r)) in rows.chunks_mut(h2).zip(real.chunks_mut(p2)).enumerate() {
-                    let a = t * chunk + k;
-                    for (b, v) in row.iter_mut().enumerate() {
-                        *v = out[b * p1 + a];
-                    }
-                    row[0].im = 0.0;
-                    row[h2 - 1].im = 0.0;
-                    rinv.process_with_scratch(row, r, scratch)
-                        .expect("lengths from the plan");
+        let body = |(t, ((rows, real), scratch)): InverseRowChunk<'_>| {
+            for (k, (row, r)) in rows.chunks_mut(h2).zip(real.chunks_mut(p2)).enumerate() {
+                let a = t * chunk + k;
+                for (b, v) in row.iter_mut().enumerate() {
+                    *v = out[b * p1 + a];
                 }
-            });
+                row[0].im = 0.0;
+                row[h2 - 1].im = 0.0;
+                rinv.process_with_scratch(row, r, scratch)
+                    .expect("lengths from the plan");
+            }
+        };
+        let (rows, real) = (&mut self.rows[..n1 * h2], &mut self.real[..n1 * p2]);
+        if threads > 1 {
+            rows.par_chunks_mut(chunk * h2)
+                .zip(real.par_chunks_mut(chunk * p2))
+                .zip(self.row_scratch.par_iter_mut())
+                .enumerate()
+                .for_each(body);
+        } else {
+            body((0, ((rows, real), &mut self.row_scratch[0])));
+        }
     }
 
     /// The block spectra (for bounds such as the largest eigenvalue of the operator).
