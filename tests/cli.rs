@@ -2,19 +2,16 @@
 //! composite paper, the output files, and exit code 2 with one line on stderr for bad input.
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
+
+mod common;
+
+use common::run;
 
 use halfspace::data::{read_record, AttrValue};
 use halfspace::mdr::analytic;
 use ndarray::Array2;
 use ndarray_npy::WriteNpyExt;
-
-fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_halfspace"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
 
 fn json(out: &Output) -> serde_json::Value {
     assert!(

@@ -1,33 +1,13 @@
 //! `halfspace fretting-wear` through the binary: the default (reference) run, outputs, resume after
 //! a simulated kill (bit for bit), configs and bad input.
 
+mod common;
+
+use common::{bad, ok_json, run};
+
 use std::path::Path;
-use std::process::{Command, Output};
 
 use halfspace::data::read_record;
-
-fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_halfspace"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn ok_json(out: &Output) -> serde_json::Value {
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("one JSON object")
-}
-
-fn bad(args: &[&str], needle: &str) {
-    let out = run(args);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
-    assert!(err.contains(needle), "{args:?}: {err:?} lacks {needle:?}");
-}
 
 #[test]
 fn default_run_is_the_reference_run_and_writes_everything() {

@@ -447,16 +447,7 @@ type Profiles = (String, Vec<f64>, Vec<f64>, Vec<f64>);
 
 pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
     let start = Instant::now();
-    let mut cfg: LoopConfig = match &args.config {
-        None => LoopConfig::default(),
-        Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .map_err(|e| CliError::Spec(format!("--config {}: {e}", path.display())))?;
-            toml::from_str(&text).map_err(|e| {
-                CliError::Spec(format!("--config {}: {}", path.display(), e.message()))
-            })?
-        }
-    };
+    let mut cfg: LoopConfig = super::read_config(args.config.as_deref())?;
     if let Some(g) = args.grid {
         cfg.grid = g;
     }

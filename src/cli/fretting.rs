@@ -71,16 +71,7 @@ struct Config {
 }
 
 fn params_of(args: &FrettingArgs) -> Result<FrettingParams, CliError> {
-    let config: Config = match &args.config {
-        None => Config::default(),
-        Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .map_err(|e| CliError::Spec(format!("--config {}: {e}", path.display())))?;
-            toml::from_str(&text).map_err(|e| {
-                CliError::Spec(format!("--config {}: {}", path.display(), e.message()))
-            })?
-        }
-    };
+    let config: Config = super::read_config(args.config.as_deref())?;
     let mut p = FrettingParams::default();
     let backend = |name: &str| match name {
         "fft" => Ok(Backend::Fft),

@@ -53,6 +53,19 @@ pub enum CliError {
     Plot(String),
 }
 
+/// A TOML config (unknown keys refused by the type), or the defaults without one.
+pub fn read_config<T: serde::de::DeserializeOwned + Default>(
+    path: Option<&std::path::Path>,
+) -> Result<T, CliError> {
+    let Some(path) = path else {
+        return Ok(T::default());
+    };
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| CliError::Spec(format!("--config {}: {e}", path.display())))?;
+    toml::from_str(&text)
+        .map_err(|e| CliError::Spec(format!("--config {}: {}", path.display(), e.message())))
+}
+
 pub fn run() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
