@@ -93,6 +93,8 @@ pub struct ContactProblem {
     p_prev: Vec<f64>,
     q_prev: [Vec<f64>; 2],
     tq: [Vec<f64>; 2],
+    w: [Vec<f64>; 2],
+    u3: Vec<f64>,
 }
 
 impl ContactProblem {
@@ -165,6 +167,8 @@ impl ContactProblem {
             p_prev: z(),
             q_prev: [z(), z()],
             tq: [z(), z()],
+            w: [z(), z()],
+            u3: z(),
         })
     }
 
@@ -208,16 +212,12 @@ impl ContactProblem {
         let n = self.grid.len();
         let mu = self.params.friction;
         // History: w = Δuⁿ − Dⁿ.
-        let w = [
-            self.state.tangential_displacement[0]
-                .iter()
-                .map(|v| v - self.state.shift[0])
-                .collect::<Vec<_>>(),
-            self.state.tangential_displacement[1]
-                .iter()
-                .map(|v| v - self.state.shift[1])
-                .collect::<Vec<_>>(),
-        ];
+        // History: w = Δuⁿ − Dⁿ (work arrays owned by the problem: no allocation per increment).
+        for a in 0..2 {
+            for k in 0..n {
+                self.w[a][k] = self.state.tangential_displacement[a][k] - self.state.shift[a];
+            }
+        }
         let mut alternations = 0;
         let (mut normal_info, mut tangential_info);
         loop {
@@ -228,12 +228,11 @@ impl ContactProblem {
             // Normal solve with q frozen: h = h₀ + κ⟦P_B⟧ * q.
             self.h.copy_from_slice(&self.geometry);
             if let Some(op) = &mut self.shear_to_normal {
-                let mut u3 = vec![0.0; n];
                 op.apply(
                     &[&self.state.shear[0], &self.state.shear[1]],
-                    &mut [&mut u3],
+                    &mut [&mut self.u3],
                 )?;
-                self.h.iter_mut().zip(&u3).for_each(|(h, u)| *h += u);
+                self.h.iter_mut().zip(&self.u3).for_each(|(h, u)| *h += u);
             }
             normal_info =
                 self.normal
@@ -246,7 +245,7 @@ impl ContactProblem {
             for k in 0..n {
                 self.bound[k] = mu * self.state.pressure[k];
                 for a in 0..2 {
-                    self.b[a][k] = w[a][k] + shift[a] - self.c[a][k];
+                    self.b[a][k] = self.w[a][k] + shift[a] - self.c[a][k];
                 }
             }
             let [q0, q1] = &mut self.state.shear;
