@@ -48,16 +48,14 @@ fn profile(name: &str, manifest: &Manifest) -> Profile {
     Profile::tabulated(r, h).unwrap()
 }
 
-/// Bounds of the comparison, from the measured errors at N = 2001 with a margin below 2×. Smooth
-/// profiles even in r: 1e-4 (the target). The table profile has an r³ term: g then has an
-/// x³ term, ĝ'' ~ ξ^{−1/2} at the origin, and the trapezoid rule of Eq. 29 meets an integrand
-/// ~ ξ^{(k−1)/2+1/2}... at ρ = 0: the pressure error at r → 0 converges only at order ≈ 1 + k/2 − 1/4
-/// (measured 0.70 at k = −0.5: 9.3e-4, 5.8e-4, 3.6e-4 at N = 1001/2001/4001; asserted > 0.6) and
-/// measures 1.0e-4 (k = −0.2) and 5.8e-4 (k = −0.5) at N = 2001 — above the 1e-4 target.
+/// Bounds of the comparison, from the measured errors at N = 2001 with a margin below 2×: 1e-4 (the
+/// issue's target) everywhere but the pressure at k = −0.5, where Eq. 29's trapezoid rule is
+/// O(h^{1.25}) (spec §7 P1; measured 1.6e-4 on the worn profile) and, for the 301-row table, the
+/// table's own interpolation error dominates (2.6e-4, flat in N; the same profile sampled at 3001
+/// rows gives 4.2e-5 at order 1.27, `odd_table_profile_converges_at_the_trapezoid_order`).
 fn bounds(profile: &str, k: f64) -> (f64, f64) {
     match (profile, k) {
-        ("table", k) if k < -0.3 => (1e-3, 1e-4),
-        ("table", k) if k < 0.0 => (2e-4, 1e-4),
+        ("table", k) if k < -0.3 => (5e-4, 1e-4),
         (_, k) if k < -0.3 => (3e-4, 1e-4),
         _ => (1e-4, 1e-4),
     }
@@ -168,19 +166,6 @@ fn mdr_matches_scipy_quadrature() {
                 if !(e_g < 1e-4 && e_a < 1e-4 && e_f < 1e-4 && e_p < bound_p && e_u < bound_u) {
                     failures.push(report.last().unwrap().clone());
                 }
-                if name == "table" && k < -0.3 && backend == Backend::Fft {
-                    // Convergence of the pressure error on the odd-term profile (see bounds()).
-                    let ns = [1001usize, 2001, 4001];
-                    let errs: Vec<f64> = ns
-                        .iter()
-                        .map(|&n| contact_errors(&prof, material, backend, &rec, n).0 .0)
-                        .collect();
-                    let order = halfspace::mdr::studies::observed_order(&ns, &errs);
-                    report.push(format!(
-                        "    pressure errors {errs:?} at N = 1001/2001/4001: order {order:.2}"
-                    ));
-                    assert!(order > 0.6, "{}", report.last().unwrap());
-                }
             }
         }
     }
@@ -232,4 +217,39 @@ fn fixture_readers_name_the_file_and_the_problem() {
     )
     .unwrap_err();
     assert!(e.to_string().contains("table.npy"), "{e}");
+}
+
+/// The table profile (c₁r² + c₂r³ + c₃r⁴, with an r³ term) sampled densely from its formula: with the
+/// cubic part split off in closed form, the pressure at k = −0.5 converges at the trapezoid order
+/// (3 + k)/2 = 1.25 (measured 9.9e-5, 4.2e-5, 1.7e-5 at N = 1001/2001/4001: order 1.27).
+#[test]
+fn odd_table_profile_converges_at_the_trapezoid_order() {
+    let manifest = Manifest::load(root()).unwrap();
+    let h5 = manifest.verified("datasets/quadrature.h5").unwrap();
+    let rec = read_h5_group(&h5, "quad_table/k-0.5").unwrap();
+    let Some(AttrValue::Text(description)) = rec.get_attr("description") else {
+        panic!("the table case describes its formula");
+    };
+    // "f = A r^2 + B r^3 + C r^4, given as …"
+    let words: Vec<&str> = description.split_whitespace().collect();
+    let c: Vec<f64> = [2, 5, 8]
+        .iter()
+        .map(|&i| words[i].parse().unwrap())
+        .collect();
+    let r: Vec<f64> = (0..3001).map(|i| 1.5 * i as f64 / 3000.0).collect();
+    let f: Vec<f64> = r
+        .iter()
+        .map(|&x| c[0] * x * x + c[1] * x.powi(3) + c[2] * x.powi(4))
+        .collect();
+    let prof = Profile::tabulated(r, f).unwrap();
+    let material = Material::power_law(1.0, 1.0, 0.3, -0.5).unwrap();
+    let ns = [1001usize, 2001, 4001];
+    let errs: Vec<f64> = ns
+        .iter()
+        .map(|&n| contact_errors(&prof, material, Backend::Fft, &rec, n).0 .0)
+        .collect();
+    let order = halfspace::mdr::studies::observed_order(&ns, &errs);
+    eprintln!("pressure errors {errs:?}, order {order:.2}");
+    assert!(errs[1] < 1e-4, "{errs:?}");
+    assert!((order - 1.25).abs() < 0.15, "order {order}, {errs:?}");
 }

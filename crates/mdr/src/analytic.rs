@@ -4,6 +4,7 @@
 
 use std::f64::consts::PI;
 
+use halfspace_numerics::quad::tanh_sinh;
 use halfspace_numerics::special::{gamma, hyp2f1, incomplete_beta};
 use halfspace_numerics::NumericsError;
 
@@ -34,9 +35,9 @@ pub fn displacement_kernel(y: f64, k: f64) -> Result<f64, NumericsError> {
     Ok(1.0 - 2.0 * (0.5 * k * PI).cos() / (PI * (1.0 + k)) * h)
 }
 
-/// `I_k(r, a) = ∫_r^a (x² − r²)^{(k−1)/2} dx = (r^k/2) B_{1−r²/a²}((1+k)/2, −k/2)`, the line
+/// `I_k(r, a) = ∫_r^a (x² − r²)^{(k−1)/2} dx` (`= (r^k/2) B_{1−r²/a²}((1+k)/2, −k/2)`), the line
 /// integral of Eq. 28 for a constant `g'` (the graded cone); `arccosh(a/r)` at `k = 0`, `a^k/k` at
-/// `r = 0` for `k > 0` and `+∞` there for `k ≤ 0`.
+/// `r = 0` for `k > 0` and `+∞` there for `k ≤ 0`; tanh–sinh quadrature otherwise.
 pub fn graded_cone_integral(r: f64, a: f64, k: f64) -> Result<f64, NumericsError> {
     if r >= a {
         return Ok(0.0);
@@ -51,8 +52,38 @@ pub fn graded_cone_integral(r: f64, a: f64, k: f64) -> Result<f64, NumericsError
     if k == 0.0 {
         return Ok((a / r).acosh());
     }
-    let tau = (r / a) * (r / a);
-    Ok(0.5 * r.powf(k) * incomplete_beta(0.5 * (1.0 + k), -0.5 * k, 1.0 - tau)?)
+    // Tanh–sinh in d = x − r (robust for every k; the incomplete-beta form cancels catastrophically
+    // as k → 0, where its 2F1 has c − a − b = −k/2 → 0).
+    let e = 0.5 * (k - 1.0);
+    Ok(tanh_sinh(
+        |_, d, _| (d * (2.0 * r + d)).powf(e),
+        0.0,
+        a - r,
+        1e-13,
+    ))
+}
+
+/// `J_k(r, a) = ∫_r^a x² (x² − r²)^{(k−1)/2} dx`, the line integral of Eq. 28 for the cubic part of
+/// g (`g' = 3x²`, over 3); at `k = 0` `½[a√(a² − r²) + r² arccosh(a/r)]`, `a^{k+2}/(k+2)` at `r = 0`;
+/// tanh–sinh quadrature otherwise.
+pub fn graded_cubic_integral(r: f64, a: f64, k: f64) -> Result<f64, NumericsError> {
+    if r >= a {
+        return Ok(0.0);
+    }
+    if r <= 0.0 {
+        return Ok(a.powf(k + 2.0) / (k + 2.0));
+    }
+    if k == 0.0 {
+        return Ok(0.5 * (a * (a * a - r * r).sqrt() + r * r * (a / r).acosh()));
+    }
+    // Tanh–sinh in d = x − r (see graded_cone_integral).
+    let e = 0.5 * (k - 1.0);
+    Ok(tanh_sinh(
+        |_, d, _| (r + d) * (r + d) * (d * (2.0 * r + d)).powf(e),
+        0.0,
+        a - r,
+        1e-13,
+    ))
 }
 
 /// Surface displacement of the 1D displacement `U(x) = x` for `|x| ≤ a`, 0 beyond (Eq. 24):

@@ -16,7 +16,7 @@ use std::f64::consts::PI;
 use halfspace_numerics::{diff::derivative_uniform, pow_or_sqrt, quad, Backend, SquaredGrid};
 
 use crate::{
-    analytic::{graded_cone_integral, graded_power_law_factor},
+    analytic::{graded_cone_integral, graded_cubic_integral, graded_power_law_factor},
     error::positive,
     DisplacementMethod, DisplacementTransform, Material, MdrError, Profile, ProfileTransform,
     StressTransform,
@@ -273,21 +273,33 @@ impl ContactSolver {
         };
         // Pressure: Eq. 17 on q = c_N(δ − g_smooth) cut at the edge, plus the cone part in closed
         // form; the edge terms of the two parts cancel because q(a) = 0.
+        // The cubic part (κ₃ c₃ x³) likewise: left in q it makes q̂'' ~ ξ^{−1/2} at the origin,
+        // where Eq. 17 then converges at order ≈ 0.7 only (tests/fixtures_quadrature.rs).
         let m = edge + 1;
         let s0 = profile.conical_slope();
+        let c3 = profile.cubic_coefficient();
+        let k = self.material.grading_exponent();
+        let kappa3 = graded_power_law_factor(3.0, k);
         let mut q = vec![0.0; m];
         for (i, qi) in q.iter_mut().enumerate() {
-            *qi = c_n * (depth - self.g_smooth[i]);
+            let x = grid.coordinate(i);
+            *qi = c_n * (depth - self.g_smooth[i] + kappa3 * c3 * x * x * x);
         }
-        if s0 == 0.0 {
+        if s0 == 0.0 && c3 == 0.0 {
             q[edge] = 0.0;
         }
         let mut pressure = vec![0.0; n];
         self.stress_tf
             .line_load_to_stress(&grid, &q, 0.0, &mut pressure[..m])?;
         pressure[edge] = 0.0;
-        let k = self.material.grading_exponent();
         let kappa1 = graded_power_law_factor(1.0, k);
+        if c3 != 0.0 {
+            // Eq. 28 for g = κ₃ c₃ x³: p = (3 c_N κ₃ c₃/π) ∫_r^a x² (x² − r²)^{(k−1)/2} dx.
+            for (j, pj) in pressure.iter_mut().enumerate().take(edge) {
+                let integral = graded_cubic_integral(grid.coordinate(j), a, k)?;
+                *pj += 3.0 * c_n * kappa3 * c3 / PI * integral;
+            }
+        }
         if s0 != 0.0 {
             // Eq. 28 for the cone part g = κ₁ s₀ x: p = (c_N κ₁ s₀/π) ∫_r^a (x²−r²)^{(k−1)/2} dx.
             for (j, pj) in pressure.iter_mut().enumerate().take(edge) {
@@ -398,7 +410,8 @@ impl ContactSolver {
 
     /// `g` (and its smooth part without the cone), `ĝ'`, and the cumulative force
     /// `F_i = 2c_N/(1+k) ∫_0^{ξ_i} ξ^{(1+k)/2} ĝ' dξ` (Eq. 2, §4.2), its cone part
-    /// `κ₁ s₀ ξ^{(2+k)/2}/(2+k)` and parabolic part `2κ₂ c₀ ξ^{(3+k)/2}/(3+k)` (inside the bracket)
+    /// `κ₁ s₀ ξ^{(2+k)/2}/(2+k)`, parabolic part `2κ₂ c₀ ξ^{(3+k)/2}/(3+k)` and cubic part
+    /// `3κ₃ c₃ ξ^{(4+k)/2}/(4+k)` (inside the bracket)
     /// in closed form, the rest by the trapezoid rule. At `k = 0`: `(π/2)E* s₀ ξ + (8/3)E* c₀ ξ^{3/2}`.
     fn equivalent_and_force(
         &mut self,
@@ -409,13 +422,16 @@ impl ContactSolver {
         let split = self
             .profile_tf
             .profile_to_equivalent(profile, grid, &mut self.g[..n])?;
-        let (s0, c0) = (split.conical, split.parabolic);
+        let (s0, c0, c3) = (split.conical, split.parabolic, split.cubic);
         let k = self.material.grading_exponent();
         let kappa1 = graded_power_law_factor(1.0, k);
         let kappa2 = 2.0 / (1.0 + k);
+        let kappa3 = graded_power_law_factor(3.0, k);
         for i in 0..n {
-            self.g_smooth[i] = self.g[i] - kappa1 * s0 * grid.coordinate(i);
-            self.work[i] = self.g_smooth[i] - kappa2 * c0 * grid.squared(i);
+            let x = grid.coordinate(i);
+            self.g_smooth[i] = self.g[i] - kappa1 * s0 * x;
+            self.work[i] =
+                self.g_smooth[i] - kappa2 * c0 * grid.squared(i) - kappa3 * c3 * x * x * x;
         }
         let h = grid.step();
         derivative_uniform(&self.work[..n], h, &mut self.dg[..n])?;
@@ -428,7 +444,8 @@ impl ContactSolver {
         for i in 0..n {
             let xi = grid.squared(i);
             let closed = 2.0 * kappa2 * c0 * xi.powf(0.5 * (3.0 + k)) / (3.0 + k)
-                + kappa1 * s0 * xi.powf(0.5 * (2.0 + k)) / (2.0 + k);
+                + kappa1 * s0 * xi.powf(0.5 * (2.0 + k)) / (2.0 + k)
+                + 3.0 * kappa3 * c3 * xi.powf(0.5 * (4.0 + k)) / (4.0 + k);
             self.force_curve[i] = 2.0 * c_n / (1.0 + k) * (self.force_curve[i] + closed);
         }
         derivative_uniform(&self.g[..n], h, &mut self.dg[..n])?;

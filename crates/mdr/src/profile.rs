@@ -128,9 +128,21 @@ impl Profile {
         }
     }
 
+    /// Cubic part `c₃` of `f = s₀ r + c₀ r² + c₃ r³ + …` at the apex, transformed in closed form
+    /// (`κ₃(k) c₃ |x|³`): an `r³` term left in Eq. 7 makes `ĝ'' ~ ξ^{−1/2}` at the origin, where the
+    /// pressure sums then converge slowly. `c` for `f = c r³`; for a table, the `r³` coefficient of
+    /// its interpolant on the first interval.
+    pub fn cubic_coefficient(&self) -> f64 {
+        match self {
+            Profile::Power { c, n } if *n == 3.0 => *c,
+            Profile::Tabulated(t) => t.cubic_at_origin(),
+            _ => 0.0,
+        }
+    }
+
     /// Writes `f̂'_rem(ξ_i)`, the derivative with respect to `ρ = r²` of the profile without its
-    /// conical part, at every grid node (the input of Eq. 7). Exact for spheres and power laws
-    /// with `n ≥ 2`; otherwise the second-order differences of spec §0.2 of the sampled
+    /// conical and cubic parts, at every grid node (the input of Eq. 7). Exact for spheres and
+    /// power laws with `n ≥ 2`; otherwise the second-order differences of spec §0.2 of the sampled
     /// remainder (`scratch` holds the samples).
     pub fn squared_slope(
         &self,
@@ -142,9 +154,10 @@ impl Profile {
         let out = &mut out[..n];
         match *self {
             Profile::Sphere { radius } => out.fill(0.5 / radius),
-            Profile::Cone { .. } | Profile::FlatPunch { .. } | Profile::Power { n: 1.0, .. } => {
-                out.fill(0.0)
-            }
+            Profile::Cone { .. }
+            | Profile::FlatPunch { .. }
+            | Profile::Power { n: 1.0, .. }
+            | Profile::Power { n: 3.0, .. } => out.fill(0.0),
             Profile::Power { c, n: p } if p >= 2.0 => {
                 for (i, o) in out.iter_mut().enumerate() {
                     let rho = grid.squared(i);
@@ -160,10 +173,11 @@ impl Profile {
             }
             _ => {
                 let s0 = self.conical_slope();
+                let c3 = self.cubic_coefficient();
                 let samples = &mut scratch[..n];
                 for (i, s) in samples.iter_mut().enumerate() {
                     let r = grid.coordinate(i);
-                    *s = self.height(r) - s0 * r;
+                    *s = self.height(r) - s0 * r - c3 * r * r * r;
                 }
                 derivative_uniform(samples, grid.step(), out)?;
             }
@@ -267,6 +281,30 @@ impl ProfileTable {
             0.0
         } else {
             self.slope[0]
+        }
+    }
+
+    /// The `r³` coefficient at the apex: `f − s₀ r = c₀ r² + c₃ r³ + c₄ r⁴` fitted through rows 1–3
+    /// (exact for such polynomials; the first interval's Hermite cubic cannot be used, its end
+    /// slopes are only second-order estimates). 0 for tables of fewer than 4 rows, or when below
+    /// `1e-4 f(r_max)/r_max³`.
+    pub fn cubic_at_origin(&self) -> f64 {
+        if self.r.len() < 4 {
+            return 0.0;
+        }
+        let s0 = self.slope_at_origin();
+        let z = |i: usize| (self.f[i] - s0 * self.r[i]) / (self.r[i] * self.r[i]);
+        let (r1, r2, r3) = (self.r[1], self.r[2], self.r[3]);
+        let d12 = (z(2) - z(1)) / (r2 - r1);
+        let d23 = (z(3) - z(2)) / (r3 - r2);
+        let c4 = (d23 - d12) / (r3 - r1);
+        let c3 = d12 - c4 * (r1 + r2);
+        let rmax = self.max_radius();
+        let scale = (self.f[self.f.len() - 1] / (rmax * rmax * rmax)).abs();
+        if c3.abs() <= Self::APEX_SLOPE_FLOOR * scale {
+            0.0
+        } else {
+            c3
         }
     }
 

@@ -102,12 +102,21 @@ impl ProfileTransform {
         self.slope = slope;
         let parabolic = result?;
         let conical = profile.conical_slope();
+        let cubic = profile.cubic_coefficient();
         let kappa1 = crate::analytic::graded_power_law_factor(1.0, self.k);
         let kappa2 = 2.0 / (1.0 + self.k);
+        let kappa3 = crate::analytic::graded_power_law_factor(3.0, self.k);
         for (i, gi) in g.iter_mut().enumerate() {
-            *gi += kappa1 * conical * grid.coordinate(i) + kappa2 * parabolic * grid.squared(i);
+            let x = grid.coordinate(i);
+            *gi += kappa1 * conical * x
+                + kappa2 * parabolic * grid.squared(i)
+                + kappa3 * cubic * x * x * x;
         }
-        Ok(EquivalentSplit { conical, parabolic })
+        Ok(EquivalentSplit {
+            conical,
+            parabolic,
+            cubic,
+        })
     }
 }
 
@@ -151,4 +160,6 @@ pub struct EquivalentSplit {
     pub conical: f64,
     /// `c₀`, transformed to `κ₂(k) c₀ x²`.
     pub parabolic: f64,
+    /// `c₃`, transformed to `κ₃(k) c₃ |x|³`.
+    pub cubic: f64,
 }
