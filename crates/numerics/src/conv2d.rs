@@ -277,11 +277,18 @@ fn check_io(
     x: &[&[f64]],
     y: &[&mut [f64]],
 ) -> Result<(), NumericsError> {
-    if x.len() != n_in || y.len() != n_out {
+    if x.len() != n_in {
         return Err(NumericsError::LengthMismatch {
-            what: "grid operator inputs/outputs",
-            expected: n_in * 1000 + n_out,
-            got: x.len() * 1000 + y.len(),
+            what: "grid operator inputs (fields)",
+            expected: n_in,
+            got: x.len(),
+        });
+    }
+    if y.len() != n_out {
+        return Err(NumericsError::LengthMismatch {
+            what: "grid operator outputs (fields)",
+            expected: n_out,
+            got: y.len(),
         });
     }
     for v in x.iter().map(|v| v.len()).chain(y.iter().map(|v| v.len())) {
