@@ -8,19 +8,7 @@ use common::*;
 use halfspace_mdr::{analytic, *};
 
 fn solver(n: usize, backend: Backend) -> ContactSolver {
-    ContactSolver::new(
-        Material::from_e_star(1.0).unwrap(),
-        ContactParams {
-            nodes: n,
-            backend,
-            ..Default::default()
-        },
-    )
-    .unwrap()
-}
-
-fn rel(a: f64, b: f64) -> f64 {
-    ((a - b) / b).abs()
+    solver_for(Material::from_e_star(1.0).unwrap(), n, backend)
 }
 
 #[test]

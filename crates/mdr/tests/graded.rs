@@ -13,19 +13,7 @@ fn graded(k: f64) -> Material {
 }
 
 fn solver(material: Material, nodes: usize, backend: Backend) -> ContactSolver {
-    ContactSolver::new(
-        material,
-        ContactParams {
-            nodes,
-            backend,
-            ..Default::default()
-        },
-    )
-    .unwrap()
-}
-
-fn rel(a: f64, b: f64) -> f64 {
-    ((a - b) / b).abs()
+    solver_for(material, nodes, backend)
 }
 
 #[test]

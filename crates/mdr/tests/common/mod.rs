@@ -4,6 +4,26 @@
 #[allow(unused_imports)]
 pub use halfspace_mdr::studies::observed_order;
 
+use halfspace_mdr::{Backend, ContactParams, ContactSolver, Material};
+
+/// A contact solver on `nodes` nodes with the default domain ratio and tolerances.
+pub fn solver_for(material: Material, nodes: usize, backend: Backend) -> ContactSolver {
+    ContactSolver::new(
+        material,
+        ContactParams {
+            nodes,
+            backend,
+            ..Default::default()
+        },
+    )
+    .unwrap()
+}
+
+/// `|a − b| / |b|`.
+pub fn rel(a: f64, b: f64) -> f64 {
+    ((a - b) / b).abs()
+}
+
 /// Mean of `|a_i − b_i| / |b_i|` over the given indices.
 pub fn mean_relative_error(a: &[f64], b: &[f64], range: std::ops::Range<usize>) -> f64 {
     let n = range.len() as f64;
