@@ -5,12 +5,8 @@
 //! zero-padded, transformed, multiplied and summed per output, transformed back and cropped.
 //! [`DenseConvolution2d`] evaluates the same sum directly (O(N⁴)), as the control in tests.
 
-use std::sync::Arc;
-
-use rayon::prelude::*;
-use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
-use rustfft::{num_complex::Complex, Fft, FftPlanner};
-
+pub use crate::fft2d::KernelFn;
+use crate::fft2d::{multiply_accumulate, Fft2d, C64};
 use crate::NumericsError;
 
 /// A linear operator on `n_in` grids of `N₁ × N₂` values (row-major, index `i N₂ + j`), giving
@@ -22,47 +18,15 @@ pub trait GridOperator {
     fn apply(&mut self, x: &[&[f64]], y: &mut [&mut [f64]]) -> Result<(), NumericsError>;
 }
 
-/// A scratch buffer of complex values.
-type Scratch = Vec<Complex<f64>>;
-/// One thread's share of a row transform: (real rows, complex rows), scratch.
-type RowChunk<'a> = ((&'a mut [f64], &'a mut [Complex<f64>]), &'a mut Scratch);
-/// One thread's share of a column transform: (first column index / chunk, columns, scratch).
-type ColChunk<'a> = (usize, (&'a mut [Complex<f64>], &'a mut Scratch));
-
-/// One thread's share of the inverse row transforms: (first row / chunk, (complex rows, real rows),
-/// scratch).
-type InverseRowChunk<'a> = (
-    usize,
-    ((&'a mut [Complex<f64>], &'a mut [f64]), &'a mut Scratch),
-);
-
-/// Grids with at least this many cells are transformed with rayon.
-const PARALLEL_CELLS: usize = 128 * 128;
-
-/// Kernel of one block: `K(m, n)` for offsets `m ∈ (−N₁, N₁)`, `n ∈ (−N₂, N₂)`.
-pub type KernelFn<'a> = &'a dyn Fn(i64, i64) -> f64;
-
-/// The DC-FFT block operator, planned once.
+/// The DC-FFT block operator: kernel spectra built once on one [`Fft2d`] plan.
 pub struct DcFft2d {
-    n1: usize,
-    n2: usize,
+    fft: Fft2d,
     n_in: usize,
     n_out: usize,
-    /// `spectra[o * n_in + i]`: FFT₂ of the padded kernel / (4 N₁ N₂), column-major, or `None` for a
-    /// zero block.
-    spectra: Vec<Option<Vec<Complex<f64>>>>,
-    row_fwd: Arc<dyn RealToComplex<f64>>,
-    row_inv: Arc<dyn ComplexToReal<f64>>,
-    col_fwd: Arc<dyn Fft<f64>>,
-    col_inv: Arc<dyn Fft<f64>>,
-    real: Vec<f64>,
-    /// Row transforms, `2N₁ × (N₂+1)` row-major.
-    rows: Vec<Complex<f64>>,
-    inputs_hat: Vec<Vec<Complex<f64>>>,
-    out_hat: Vec<Complex<f64>>,
-    /// One scratch buffer per worker thread (rows and columns are transformed in parallel).
-    row_scratch: Vec<Vec<Complex<f64>>>,
-    col_scratch: Vec<Vec<Complex<f64>>>,
+    /// `spectra[o * n_in + i]`: FFT₂ of the padded kernel / (4 N₁ N₂), or `None` for a zero block.
+    spectra: Vec<Option<Vec<C64>>>,
+    inputs_hat: Vec<Vec<C64>>,
+    out_hat: Vec<C64>,
 }
 
 impl DcFft2d {
@@ -74,13 +38,7 @@ impl DcFft2d {
         n_out: usize,
         kernels: &[Option<KernelFn<'_>>],
     ) -> Result<Self, NumericsError> {
-        if n1 < 2 || n2 < 2 {
-            return Err(NumericsError::TooFewNodes {
-                what: "a DC-FFT grid side",
-                min: 2,
-                n: n1.min(n2),
-            });
-        }
+        let mut fft = Fft2d::new(n1, n2)?;
         if kernels.len() != n_in * n_out {
             return Err(NumericsError::LengthMismatch {
                 what: "DC-FFT kernel blocks",
@@ -88,185 +46,30 @@ impl DcFft2d {
                 got: kernels.len(),
             });
         }
-        let (p1, p2) = (2 * n1, 2 * n2);
-        let mut rplanner = RealFftPlanner::<f64>::new();
-        let mut cplanner = FftPlanner::<f64>::new();
-        let row_fwd = rplanner.plan_fft_forward(p2);
-        let row_inv = rplanner.plan_fft_inverse(p2);
-        let col_fwd = cplanner.plan_fft_forward(p1);
-        let col_inv = cplanner.plan_fft_inverse(p1);
-        let spec_len = p1 * (n2 + 1);
-        let row_scratch_len = row_fwd.get_scratch_len().max(row_inv.get_scratch_len());
-        let col_scratch_len = col_fwd
-            .get_inplace_scratch_len()
-            .max(col_inv.get_inplace_scratch_len());
-        // Threads pay only on large grids: below 128² the rayon hand-offs cost more than they save.
-        let threads = if n1 * n2 >= PARALLEL_CELLS {
-            rayon::current_num_threads().max(1)
-        } else {
-            1
-        };
-        let mut op = Self {
-            n1,
-            n2,
-            n_in,
-            n_out,
-            spectra: Vec::new(),
-            row_fwd,
-            row_inv,
-            col_fwd,
-            col_inv,
-            real: vec![0.0; p1 * p2],
-            rows: vec![Complex::new(0.0, 0.0); spec_len],
-            inputs_hat: vec![vec![Complex::new(0.0, 0.0); spec_len]; n_in],
-            out_hat: vec![Complex::new(0.0, 0.0); spec_len],
-            row_scratch: vec![vec![Complex::new(0.0, 0.0); row_scratch_len]; threads],
-            col_scratch: vec![vec![Complex::new(0.0, 0.0); col_scratch_len.max(1)]; threads],
-        };
-        let scale = 1.0 / (p1 * p2) as f64;
+        let mut spectra = Vec::with_capacity(kernels.len());
         for kernel in kernels {
-            let spectrum = match kernel {
+            spectra.push(match kernel {
                 None => None,
                 Some(k) => {
-                    for a in 0..p1 {
-                        for b in 0..p2 {
-                            let m = wrap(a, n1);
-                            let n = wrap(b, n2);
-                            op.real[a * p2 + b] = match (m, n) {
-                                (Some(m), Some(n)) => k(m, n),
-                                _ => 0.0,
-                            };
-                        }
-                    }
-                    if let Some(bad) = op.real.iter().find(|v| !v.is_finite()) {
-                        return Err(NumericsError::InvalidParameter {
-                            name: "DC-FFT kernel value",
-                            value: *bad,
-                            allowed: "finite",
-                        });
-                    }
-                    let mut spec = vec![Complex::new(0.0, 0.0); spec_len];
-                    op.forward_real(&mut spec, p1);
-                    spec.iter_mut().for_each(|s| *s *= scale);
+                    let mut spec = fft.new_spectrum();
+                    fft.kernel_spectrum(*k, &mut spec)?;
                     Some(spec)
                 }
-            };
-            op.spectra.push(spectrum);
+            });
         }
-        Ok(op)
-    }
-
-    /// Spectrum of `self.real` (overwritten), stored column-major (`(N₂+1) × 2N₁`, column `b` at
-    /// `b · 2N₁`); only its first `nonzero_rows` rows may be nonzero (the zero padding is skipped).
-    /// Rows and then columns are transformed in parallel, one preallocated scratch per thread.
-    fn forward_real(&mut self, spec: &mut [Complex<f64>], nonzero_rows: usize) {
-        let (p1, p2, h2) = (2 * self.n1, 2 * self.n2, self.n2 + 1);
-        let threads = self.row_scratch.len();
-        let chunk = nonzero_rows.div_ceil(threads).max(1);
-        let fwd = &self.row_fwd;
-        let body = |((real, rows), scratch): RowChunk<'_>| {
-            for (r, c) in real.chunks_mut(p2).zip(rows.chunks_mut(h2)) {
-                fwd.process_with_scratch(r, c, scratch)
-                    .expect("lengths from the plan");
-            }
-        };
-        let (real, rows) = (
-            &mut self.real[..nonzero_rows * p2],
-            &mut self.rows[..nonzero_rows * h2],
-        );
-        if threads > 1 {
-            real.par_chunks_mut(chunk * p2)
-                .zip(rows.par_chunks_mut(chunk * h2))
-                .zip(self.row_scratch.par_iter_mut())
-                .for_each(body);
-        } else {
-            body(((real, rows), &mut self.row_scratch[0]));
-        }
-        self.rows[nonzero_rows * h2..].fill(Complex::new(0.0, 0.0));
-        // Transpose to columns and transform them.
-        let rows = &self.rows;
-        let col = &self.col_fwd;
-        let chunk = h2.div_ceil(threads).max(1);
-        let body = |(t, (cols, scratch)): ColChunk<'_>| {
-            for (k, column) in cols.chunks_mut(p1).enumerate() {
-                let b = t * chunk + k;
-                for (a, v) in column.iter_mut().enumerate() {
-                    *v = rows[a * h2 + b];
-                }
-                col.process_with_scratch(column, scratch);
-            }
-        };
-        if threads > 1 {
-            spec.par_chunks_mut(chunk * p1)
-                .zip(self.col_scratch.par_iter_mut())
-                .enumerate()
-                .for_each(body);
-        } else {
-            body((0, (spec, &mut self.col_scratch[0])));
-        }
-    }
-
-    /// Writes the first `N₁` rows of the inverse transform of `self.out_hat` (column-major) into
-    /// `self.real` (only those rows are kept by the crop).
-    fn inverse_to_real(&mut self) {
-        let (n1, p1, p2, h2) = (self.n1, 2 * self.n1, 2 * self.n2, self.n2 + 1);
-        let threads = self.col_scratch.len();
-        let inv = &self.col_inv;
-        let chunk = h2.div_ceil(threads).max(1);
-        let body = |(cols, scratch): (&mut [Complex<f64>], &mut Scratch)| {
-            for column in cols.chunks_mut(p1) {
-                inv.process_with_scratch(column, scratch);
-            }
-        };
-        if threads > 1 {
-            self.out_hat
-                .par_chunks_mut(chunk * p1)
-                .zip(self.col_scratch.par_iter_mut())
-                .for_each(body);
-        } else {
-            body((&mut self.out_hat, &mut self.col_scratch[0]));
-        }
-        let out = &self.out_hat;
-        let rinv = &self.row_inv;
-        let chunk = n1.div_ceil(threads).max(1);
-        let body = |(t, ((rows, real), scratch)): InverseRowChunk<'_>| {
-            for (k, (row, r)) in rows.chunks_mut(h2).zip(real.chunks_mut(p2)).enumerate() {
-                let a = t * chunk + k;
-                for (b, v) in row.iter_mut().enumerate() {
-                    *v = out[b * p1 + a];
-                }
-                row[0].im = 0.0;
-                row[h2 - 1].im = 0.0;
-                rinv.process_with_scratch(row, r, scratch)
-                    .expect("lengths from the plan");
-            }
-        };
-        let (rows, real) = (&mut self.rows[..n1 * h2], &mut self.real[..n1 * p2]);
-        if threads > 1 {
-            rows.par_chunks_mut(chunk * h2)
-                .zip(real.par_chunks_mut(chunk * p2))
-                .zip(self.row_scratch.par_iter_mut())
-                .enumerate()
-                .for_each(body);
-        } else {
-            body((0, ((rows, real), &mut self.row_scratch[0])));
-        }
+        Ok(Self {
+            inputs_hat: vec![fft.new_spectrum(); n_in],
+            out_hat: fft.new_spectrum(),
+            fft,
+            n_in,
+            n_out,
+            spectra,
+        })
     }
 
     /// The block spectra (for bounds such as the largest eigenvalue of the operator).
-    pub fn spectrum(&self, out: usize, input: usize) -> Option<&[Complex<f64>]> {
+    pub fn spectrum(&self, out: usize, input: usize) -> Option<&[C64]> {
         self.spectra[out * self.n_in + input].as_deref()
-    }
-}
-
-/// Padded index → offset: `a < N` ↦ `a`, `a > N` ↦ `a − 2N`, `a = N` ↦ none (zero row).
-fn wrap(a: usize, n: usize) -> Option<i64> {
-    if a < n {
-        Some(a as i64)
-    } else if a == n {
-        None
-    } else {
-        Some(a as i64 - 2 * n as i64)
     }
 }
 
@@ -305,41 +108,29 @@ fn check_io(
 
 impl GridOperator for DcFft2d {
     fn shape(&self) -> (usize, usize) {
-        (self.n1, self.n2)
+        self.fft.shape()
     }
 
     fn apply(&mut self, x: &[&[f64]], y: &mut [&mut [f64]]) -> Result<(), NumericsError> {
-        let (n1, n2) = (self.n1, self.n2);
+        let (n1, n2) = self.fft.shape();
         check_io(self.n_in, self.n_out, n1 * n2, x, y)?;
-        let p2 = 2 * n2;
-        for (i, xi) in x.iter().enumerate() {
-            for a in 0..n1 {
-                self.real[a * p2..a * p2 + n2].copy_from_slice(&xi[a * n2..(a + 1) * n2]);
-                self.real[a * p2 + n2..(a + 1) * p2].fill(0.0);
-            }
-            let mut spec = std::mem::take(&mut self.inputs_hat[i]);
-            self.forward_real(&mut spec, n1);
-            self.inputs_hat[i] = spec;
+        for (xi, hat) in x.iter().zip(self.inputs_hat.iter_mut()) {
+            self.fft.forward(xi, hat)?;
         }
         for (o, yo) in y.iter_mut().enumerate() {
-            self.out_hat.fill(Complex::new(0.0, 0.0));
+            self.out_hat.fill(C64::new(0.0, 0.0));
             let mut any = false;
             for i in 0..self.n_in {
                 if let Some(k) = &self.spectra[o * self.n_in + i] {
                     any = true;
-                    for ((s, a), b) in self.out_hat.iter_mut().zip(k).zip(&self.inputs_hat[i]) {
-                        *s += a * b;
-                    }
+                    multiply_accumulate(&mut self.out_hat, k, &self.inputs_hat[i]);
                 }
             }
             if !any {
                 yo.fill(0.0);
                 continue;
             }
-            self.inverse_to_real();
-            for a in 0..n1 {
-                yo[a * n2..(a + 1) * n2].copy_from_slice(&self.real[a * p2..a * p2 + n2]);
-            }
+            self.fft.inverse(&mut self.out_hat, yo)?;
         }
         Ok(())
     }

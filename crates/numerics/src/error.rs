@@ -33,4 +33,14 @@ pub enum NumericsError {
         /// Allowed range in words.
         allowed: &'static str,
     },
+    /// An iterative solver stopped before its tolerance (iteration limit, stagnation or divergence).
+    #[error("{solver} did not converge: {iterations} iterations, relative residual {residual:e}")]
+    NoConvergence {
+        /// Which solver.
+        solver: &'static str,
+        /// Iterations done.
+        iterations: usize,
+        /// Last relative residual.
+        residual: f64,
+    },
 }

@@ -7,6 +7,10 @@
 //! * [`grid`]: the grid uniform in the square of the coordinate (spec §0.1, paper Eq. 6).
 //! * [`diff`]: second-order finite differences, one-sided at both ends (spec §0.2).
 //! * [`quad`]: trapezoid rules on uniform grids.
+//! * [`fft2d`], [`conv2d`], [`layered`]: one padded 2D real-FFT plan; DC-FFT block operators and the
+//!   layered 3D DC-FFT (kernels by layer difference and layer sum), each with a dense twin.
+//! * [`linop`], [`krylov`]: a flat linear-operator trait; restarted GMRES and the preconditioned
+//!   Richardson (block-Jacobi) iteration on it.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
@@ -14,7 +18,11 @@ pub mod conv1d;
 pub mod conv2d;
 pub mod diff;
 mod error;
+pub mod fft2d;
 pub mod grid;
+pub mod krylov;
+pub mod layered;
+pub mod linop;
 pub mod power_sum;
 pub mod quad;
 pub mod special;

@@ -1,0 +1,325 @@
+//! One padded 2D real-FFT plan (spec `sam.md` §2): fields of `N₁ × N₂` values are zero-padded to
+//! `2N₁ × 2N₂`, transformed (real-to-complex rows, complex columns) and stored as **spectra** of
+//! `2N₁ (N₂ + 1)` complex values, column-major (column `b` at `b · 2N₁`, the layout the column
+//! transforms produce). A DC-FFT product is then `IFFT₂(K̂ · X̂)` cropped to `N₁ × N₂`; every
+//! operator of the workspace (surface compliances, layered eigenstrain kernels, Love stresses) builds
+//! its kernel spectra with [`Fft2d::kernel_spectrum`] and multiplies spectra produced by
+//! [`Fft2d::forward`], so one input transformed once serves several operators.
+//!
+//! Rows and columns are transformed in parallel (rayon) on grids of at least 128² cells, each thread
+//! with its own preallocated scratch; below that, sequentially. Transforms do not allocate.
+
+use std::sync::Arc;
+
+use rayon::prelude::*;
+use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
+use rustfft::{num_complex::Complex, Fft, FftPlanner};
+
+use crate::NumericsError;
+
+/// A complex spectrum value.
+pub type C64 = Complex<f64>;
+
+/// A scratch buffer of complex values.
+type Scratch = Vec<C64>;
+/// One thread's share of a row transform: (real rows, complex rows), scratch.
+type RowChunk<'a> = ((&'a mut [f64], &'a mut [C64]), &'a mut Scratch);
+/// One thread's share of a column transform: (chunk index, (columns, scratch)).
+type ColChunk<'a> = (usize, (&'a mut [C64], &'a mut Scratch));
+/// One thread's share of the inverse row transforms: (chunk index, ((complex rows, real rows),
+/// scratch)).
+type InverseRowChunk<'a> = (usize, ((&'a mut [C64], &'a mut [f64]), &'a mut Scratch));
+
+/// Grids with at least this many cells are transformed with rayon.
+pub const PARALLEL_CELLS: usize = 128 * 128;
+
+/// Kernel of one block: `K(m, n)` for offsets `m ∈ (−N₁, N₁)`, `n ∈ (−N₂, N₂)`.
+pub type KernelFn<'a> = &'a dyn Fn(i64, i64) -> f64;
+
+/// The padded 2D FFT of `N₁ × N₂` fields, planned once.
+pub struct Fft2d {
+    n1: usize,
+    n2: usize,
+    row_fwd: Arc<dyn RealToComplex<f64>>,
+    row_inv: Arc<dyn ComplexToReal<f64>>,
+    col_fwd: Arc<dyn Fft<f64>>,
+    col_inv: Arc<dyn Fft<f64>>,
+    /// Padded real field, `2N₁ × 2N₂` row-major.
+    real: Vec<f64>,
+    /// Row transforms, `2N₁ × (N₂+1)` row-major.
+    rows: Vec<C64>,
+    /// One scratch buffer per worker thread.
+    row_scratch: Vec<Scratch>,
+    col_scratch: Vec<Scratch>,
+}
+
+impl Fft2d {
+    /// Plans the transforms of `n1 × n2` fields (`n1, n2 ≥ 2`).
+    pub fn new(n1: usize, n2: usize) -> Result<Self, NumericsError> {
+        if n1 < 2 || n2 < 2 {
+            return Err(NumericsError::TooFewNodes {
+                what: "a DC-FFT grid side",
+                min: 2,
+                n: n1.min(n2),
+            });
+        }
+        let (p1, p2) = (2 * n1, 2 * n2);
+        let mut rplanner = RealFftPlanner::<f64>::new();
+        let mut cplanner = FftPlanner::<f64>::new();
+        let row_fwd = rplanner.plan_fft_forward(p2);
+        let row_inv = rplanner.plan_fft_inverse(p2);
+        let col_fwd = cplanner.plan_fft_forward(p1);
+        let col_inv = cplanner.plan_fft_inverse(p1);
+        let row_scratch_len = row_fwd.get_scratch_len().max(row_inv.get_scratch_len());
+        let col_scratch_len = col_fwd
+            .get_inplace_scratch_len()
+            .max(col_inv.get_inplace_scratch_len());
+        // Threads pay only on large grids: below 128² the rayon hand-offs cost more than they save.
+        let threads = if n1 * n2 >= PARALLEL_CELLS {
+            rayon::current_num_threads().max(1)
+        } else {
+            1
+        };
+        Ok(Self {
+            n1,
+            n2,
+            row_fwd,
+            row_inv,
+            col_fwd,
+            col_inv,
+            real: vec![0.0; p1 * p2],
+            rows: vec![C64::new(0.0, 0.0); p1 * (n2 + 1)],
+            row_scratch: vec![vec![C64::new(0.0, 0.0); row_scratch_len]; threads],
+            col_scratch: vec![vec![C64::new(0.0, 0.0); col_scratch_len.max(1)]; threads],
+        })
+    }
+
+    /// Grid shape `(N₁, N₂)`.
+    pub fn shape(&self) -> (usize, usize) {
+        (self.n1, self.n2)
+    }
+
+    /// Length of one spectrum, `2N₁ (N₂ + 1)`.
+    pub fn spectrum_len(&self) -> usize {
+        2 * self.n1 * (self.n2 + 1)
+    }
+
+    /// A zeroed spectrum buffer.
+    pub fn new_spectrum(&self) -> Vec<C64> {
+        vec![C64::new(0.0, 0.0); self.spectrum_len()]
+    }
+
+    /// The spectrum of the DC-FFT kernel layout of `k` (spec §2 step 1–2: offsets `−(N−1)..N−1`
+    /// wrapped, the `N`-th row and column zero), divided by `4N₁N₂` so that [`Fft2d::inverse`]
+    /// needs no normalisation. Non-finite kernel values are an error.
+    pub fn kernel_spectrum(
+        &mut self,
+        k: KernelFn<'_>,
+        out: &mut [C64],
+    ) -> Result<(), NumericsError> {
+        self.check_spectrum(out)?;
+        let (n1, n2) = (self.n1, self.n2);
+        let (p1, p2) = (2 * n1, 2 * n2);
+        for a in 0..p1 {
+            for b in 0..p2 {
+                self.real[a * p2 + b] = match (wrap(a, n1), wrap(b, n2)) {
+                    (Some(m), Some(n)) => k(m, n),
+                    _ => 0.0,
+                };
+            }
+        }
+        if let Some(bad) = self.real.iter().find(|v| !v.is_finite()) {
+            return Err(NumericsError::InvalidParameter {
+                name: "DC-FFT kernel value",
+                value: *bad,
+                allowed: "finite",
+            });
+        }
+        self.forward_real(out, p1);
+        let scale = 1.0 / (p1 * p2) as f64;
+        out.iter_mut().for_each(|s| *s *= scale);
+        Ok(())
+    }
+
+    /// Like [`Fft2d::kernel_spectrum`] from a tabulated kernel: `table[(m + N₁ − 1)(2N₂ − 1) + n +
+    /// N₂ − 1] = K(m, n)`.
+    pub fn table_spectrum(&mut self, table: &[f64], out: &mut [C64]) -> Result<(), NumericsError> {
+        let (n1, n2) = (self.n1, self.n2);
+        let w = 2 * n2 - 1;
+        if table.len() != (2 * n1 - 1) * w {
+            return Err(NumericsError::LengthMismatch {
+                what: "tabulated DC-FFT kernel",
+                expected: (2 * n1 - 1) * w,
+                got: table.len(),
+            });
+        }
+        let k =
+            |m: i64, n: i64| table[(m + n1 as i64 - 1) as usize * w + (n + n2 as i64 - 1) as usize];
+        self.kernel_spectrum(&k, out)
+    }
+
+    /// `out = FFT₂(x zero-padded)` for a field `x` of `N₁ × N₂` values (row-major).
+    pub fn forward(&mut self, x: &[f64], out: &mut [C64]) -> Result<(), NumericsError> {
+        let (n1, n2) = (self.n1, self.n2);
+        if x.len() != n1 * n2 {
+            return Err(NumericsError::LengthMismatch {
+                what: "grid field",
+                expected: n1 * n2,
+                got: x.len(),
+            });
+        }
+        self.check_spectrum(out)?;
+        let p2 = 2 * n2;
+        for a in 0..n1 {
+            self.real[a * p2..a * p2 + n2].copy_from_slice(&x[a * n2..(a + 1) * n2]);
+            self.real[a * p2 + n2..(a + 1) * p2].fill(0.0);
+        }
+        self.forward_real(out, n1);
+        Ok(())
+    }
+
+    /// `y = IFFT₂(spec)` cropped to `N₁ × N₂` (the spectrum is overwritten). With spectra of
+    /// [`Fft2d::kernel_spectrum`] times spectra of [`Fft2d::forward`] this is the DC-FFT product.
+    pub fn inverse(&mut self, spec: &mut [C64], y: &mut [f64]) -> Result<(), NumericsError> {
+        let (n1, n2) = (self.n1, self.n2);
+        if y.len() != n1 * n2 {
+            return Err(NumericsError::LengthMismatch {
+                what: "grid field",
+                expected: n1 * n2,
+                got: y.len(),
+            });
+        }
+        self.check_spectrum(spec)?;
+        self.inverse_to_real(spec);
+        let p2 = 2 * n2;
+        for a in 0..n1 {
+            y[a * n2..(a + 1) * n2].copy_from_slice(&self.real[a * p2..a * p2 + n2]);
+        }
+        Ok(())
+    }
+
+    fn check_spectrum(&self, s: &[C64]) -> Result<(), NumericsError> {
+        if s.len() != self.spectrum_len() {
+            return Err(NumericsError::LengthMismatch {
+                what: "spectrum",
+                expected: self.spectrum_len(),
+                got: s.len(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Spectrum of `self.real` (overwritten), column-major; only its first `nonzero_rows` rows may
+    /// be nonzero (the zero padding is skipped).
+    fn forward_real(&mut self, spec: &mut [C64], nonzero_rows: usize) {
+        let (p1, p2, h2) = (2 * self.n1, 2 * self.n2, self.n2 + 1);
+        let threads = self.row_scratch.len();
+        let chunk = nonzero_rows.div_ceil(threads).max(1);
+        let fwd = &self.row_fwd;
+        let body = |((real, rows), scratch): RowChunk<'_>| {
+            for (r, c) in real.chunks_mut(p2).zip(rows.chunks_mut(h2)) {
+                fwd.process_with_scratch(r, c, scratch)
+                    .expect("lengths from the plan");
+            }
+        };
+        let (real, rows) = (
+            &mut self.real[..nonzero_rows * p2],
+            &mut self.rows[..nonzero_rows * h2],
+        );
+        if threads > 1 {
+            real.par_chunks_mut(chunk * p2)
+                .zip(rows.par_chunks_mut(chunk * h2))
+                .zip(self.row_scratch.par_iter_mut())
+                .for_each(body);
+        } else {
+            body(((real, rows), &mut self.row_scratch[0]));
+        }
+        self.rows[nonzero_rows * h2..].fill(C64::new(0.0, 0.0));
+        // Transpose to columns and transform them.
+        let rows = &self.rows;
+        let col = &self.col_fwd;
+        let chunk = h2.div_ceil(threads).max(1);
+        let body = |(t, (cols, scratch)): ColChunk<'_>| {
+            for (k, column) in cols.chunks_mut(p1).enumerate() {
+                let b = t * chunk + k;
+                for (a, v) in column.iter_mut().enumerate() {
+                    *v = rows[a * h2 + b];
+                }
+                col.process_with_scratch(column, scratch);
+            }
+        };
+        if threads > 1 {
+            spec.par_chunks_mut(chunk * p1)
+                .zip(self.col_scratch.par_iter_mut())
+                .enumerate()
+                .for_each(body);
+        } else {
+            body((0, (spec, &mut self.col_scratch[0])));
+        }
+    }
+
+    /// Writes the first `N₁` rows of the inverse transform of `spec` (column-major, overwritten)
+    /// into `self.real` (only those rows are kept by the crop).
+    fn inverse_to_real(&mut self, spec: &mut [C64]) {
+        let (n1, p1, p2, h2) = (self.n1, 2 * self.n1, 2 * self.n2, self.n2 + 1);
+        let threads = self.col_scratch.len();
+        let inv = &self.col_inv;
+        let chunk = h2.div_ceil(threads).max(1);
+        let body = |(cols, scratch): (&mut [C64], &mut Scratch)| {
+            for column in cols.chunks_mut(p1) {
+                inv.process_with_scratch(column, scratch);
+            }
+        };
+        if threads > 1 {
+            spec.par_chunks_mut(chunk * p1)
+                .zip(self.col_scratch.par_iter_mut())
+                .for_each(body);
+        } else {
+            body((spec, &mut self.col_scratch[0]));
+        }
+        let out = &*spec;
+        let rinv = &self.row_inv;
+        let chunk = n1.div_ceil(threads).max(1);
+        let body = |(t, ((rows, real), scratch)): InverseRowChunk<'_>| {
+            for (k, (row, r)) in rows.chunks_mut(h2).zip(real.chunks_mut(p2)).enumerate() {
+                let a = t * chunk + k;
+                for (b, v) in row.iter_mut().enumerate() {
+                    *v = out[b * p1 + a];
+                }
+                row[0].im = 0.0;
+                row[h2 - 1].im = 0.0;
+                rinv.process_with_scratch(row, r, scratch)
+                    .expect("lengths from the plan");
+            }
+        };
+        let (rows, real) = (&mut self.rows[..n1 * h2], &mut self.real[..n1 * p2]);
+        if threads > 1 {
+            rows.par_chunks_mut(chunk * h2)
+                .zip(real.par_chunks_mut(chunk * p2))
+                .zip(self.row_scratch.par_iter_mut())
+                .enumerate()
+                .for_each(body);
+        } else {
+            body((0, ((rows, real), &mut self.row_scratch[0])));
+        }
+    }
+}
+
+/// `acc += a · b` elementwise over spectra.
+#[inline]
+pub fn multiply_accumulate(acc: &mut [C64], a: &[C64], b: &[C64]) {
+    for ((s, x), y) in acc.iter_mut().zip(a).zip(b) {
+        *s += x * y;
+    }
+}
+
+/// Padded index → offset: `a < N` ↦ `a`, `a > N` ↦ `a − 2N`, `a = N` ↦ none (zero row).
+fn wrap(a: usize, n: usize) -> Option<i64> {
+    if a < n {
+        Some(a as i64)
+    } else if a == n {
+        None
+    } else {
+        Some(a as i64 - 2 * n as i64)
+    }
+}
