@@ -66,6 +66,11 @@ fn tabulate(n1: usize, n2: usize, kernel: &dyn LayerKernel, key: i64) -> Vec<Vec
         .collect()
 }
 
+/// Per depth key, the spectra of the `n_out × n_in` blocks (`None` = identically zero block).
+type SpectraByKey = BTreeMap<i64, Vec<Option<Vec<C64>>>>;
+/// Per depth key, the kernel tables of the blocks.
+type TablesByKey = BTreeMap<i64, Vec<Vec<f64>>>;
+
 /// The stored kernel spectra of a layered operator.
 pub struct LayeredSpectra {
     n1: usize,
@@ -75,7 +80,7 @@ pub struct LayeredSpectra {
     targets: Vec<i64>,
     sources: Vec<i64>,
     /// Per family: key → blocks (`None` = identically zero block).
-    families: Vec<(Family, BTreeMap<i64, Vec<Option<Vec<C64>>>>)>,
+    families: Vec<(Family, SpectraByKey)>,
 }
 
 impl LayeredSpectra {
@@ -220,7 +225,7 @@ pub struct DenseLayered {
     n_out: usize,
     targets: Vec<i64>,
     sources: Vec<i64>,
-    families: Vec<(Family, BTreeMap<i64, Vec<Vec<f64>>>)>,
+    families: Vec<(Family, TablesByKey)>,
 }
 
 impl DenseLayered {
