@@ -16,6 +16,7 @@ pub mod coupled;
 mod error;
 pub mod grid;
 pub mod influence;
+pub mod kernels;
 pub mod normal;
 pub mod tangential;
 

@@ -1,0 +1,64 @@
+//! Closed-form kernels of the semi-analytical method (spec `sam.md` §5.2–5.4):
+//!
+//! * [`cuboid`]: a cuboid with uniform eigenstrain in an infinite space (Chiu 1977; Mura 1987 §11;
+//!   [LN11] App. A, Eqs. 9 and 16) — the strain kernel `D`, the displacement kernel `Dˢ`, and the
+//!   Eshelby tensor of a sphere for comparison.
+//! * [`subsurface`]: Love's (1929) stresses below a uniformly loaded surface rectangle, for a pressure
+//!   and for both shears (Liu & Wang 2002).
+//!
+//! The surface influence coefficients of the same rectangles (spec §1) are in [`crate::influence`].
+
+pub mod cuboid;
+pub mod subsurface;
+
+/// Voigt order of symmetric tensors (spec §0): `(11, 22, 33, 23, 13, 12)`, tensor shear components.
+pub const VOIGT: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)];
+
+/// Isotropic stiffness `C` as a 6 × 6 matrix on Voigt vectors with **tensor** shear components
+/// (`σ_ii = λ tr ε + 2G ε_ii`, `σ_ij = 2G ε_ij`), `λ = 2Gν/(1−2ν)`, `G = E/(2(1+ν))`.
+pub fn stiffness(e: f64, nu: f64) -> [[f64; 6]; 6] {
+    let g = e / (2.0 * (1.0 + nu));
+    let lambda = 2.0 * g * nu / (1.0 - 2.0 * nu);
+    let mut c = [[0.0; 6]; 6];
+    for i in 0..3 {
+        for j in 0..3 {
+            c[i][j] = lambda;
+        }
+        c[i][i] += 2.0 * g;
+        c[i + 3][i + 3] = 2.0 * g;
+    }
+    c
+}
+
+/// Compliance `C⁻¹` on Voigt vectors with tensor shear: `ε_ii = (σ_ii − ν(σ_jj + σ_kk))/E`,
+/// `ε_ij = (1+ν) σ_ij / E`.
+pub fn compliance(e: f64, nu: f64) -> [[f64; 6]; 6] {
+    let mut s = [[0.0; 6]; 6];
+    for i in 0..3 {
+        for j in 0..3 {
+            s[i][j] = if i == j { 1.0 / e } else { -nu / e };
+        }
+        s[i + 3][i + 3] = (1.0 + nu) / e;
+    }
+    s
+}
+
+/// `y = A x` for a 6 × 6 matrix.
+pub fn mul6(a: &[[f64; 6]; 6], x: &[f64]) -> [f64; 6] {
+    let mut y = [0.0; 6];
+    for (yi, row) in y.iter_mut().zip(a) {
+        *yi = row.iter().zip(x).map(|(p, q)| p * q).sum();
+    }
+    y
+}
+
+/// `A B` for 6 × 6 matrices.
+pub fn matmul6(a: &[[f64; 6]; 6], b: &[[f64; 6]; 6]) -> [[f64; 6]; 6] {
+    let mut c = [[0.0; 6]; 6];
+    for i in 0..6 {
+        for j in 0..6 {
+            c[i][j] = (0..6).map(|k| a[i][k] * b[k][j]).sum();
+        }
+    }
+    c
+}
