@@ -1,6 +1,6 @@
 //! The closed-form kernels of spec §5.2–5.4 against the values of spec §7.5, their identities and
-#![allow(clippy::needless_range_loop)]
 //! finite differences.
+#![allow(clippy::needless_range_loop)]
 
 use approx::{assert_abs_diff_eq, assert_relative_eq};
 use halfspace_sam::kernels::cuboid::{
