@@ -171,9 +171,10 @@ impl LayeredSpectra {
             * per
     }
 
-    /// `out_hat[a · n_out + o] = Σ_b Σ_i Σ_F K̂^F_{oi}(key_F(a, b)) · x̂[b · n_in + i]` for every target
+    /// `out_hat[a · n_out + o] += Σ_b Σ_i Σ_F K̂^F_{oi}(key_F(a, b)) · x̂[b · n_in + i]` for every target
     /// `a` and output `o` (in parallel over them). `inputs_hat` holds the spectra of the source fields
-    /// ([`Fft2d::forward`]); `skip[b · n_in + i]` marks inputs known to be zero.
+    /// ([`Fft2d::forward`]); `skip[b · n_in + i]` marks inputs known to be zero. The products are
+    /// **added** to `out_hat` (clear it first), so several operators can sum into one output.
     pub fn accumulate(
         &self,
         inputs_hat: &[Vec<C64>],
@@ -197,7 +198,6 @@ impl LayeredSpectra {
         }
         out_hat.par_iter_mut().enumerate().for_each(|(ao, acc)| {
             let (a, o) = (ao / self.n_out, ao % self.n_out);
-            acc.fill(C64::new(0.0, 0.0));
             for (family, map) in &self.families {
                 for (b, &zb) in self.sources.iter().enumerate() {
                     let blocks = &map[&family.key(self.targets[a], zb)];

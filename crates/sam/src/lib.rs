@@ -12,7 +12,9 @@
 // four or five zipped slices read worse than the index.
 #![allow(clippy::needless_range_loop)]
 
+pub mod analytic;
 pub mod coupled;
+pub mod eim;
 mod error;
 pub mod grid;
 pub mod influence;

@@ -1,0 +1,313 @@
+//! Inhomogeneities (spheres, cylinders along `x₁` or `x₂`, cuboids) and their cells on the volume
+//! lattice: cubes of the surface cell size `2Δ` under every surface cell, layer `k` centred at depth
+//! `(2k + 1)Δ` (spec §0, §5.5). A cell belongs to an inhomogeneity when its centre lies inside.
+
+use crate::{SamError, SurfaceGrid};
+
+/// The axis of a cylinder (it runs through the whole domain along that axis).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Axis {
+    /// Along `x₁`.
+    X,
+    /// Along `x₂`.
+    Y,
+}
+
+/// The shape of an inhomogeneity; `z` is the depth of the centre (m, positive into the body).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Shape {
+    /// Sphere of radius `r` centred at `(x, y, z)`.
+    Sphere {
+        /// Centre `x₁`.
+        x: f64,
+        /// Centre `x₂`.
+        y: f64,
+        /// Centre depth.
+        z: f64,
+        /// Radius.
+        r: f64,
+    },
+    /// Circular cylinder of radius `r` along `axis`, its axis at in-plane position `position`
+    /// (`x₁` for a cylinder along `x₂`, `x₂` for one along `x₁`) and depth `z`.
+    Cylinder {
+        /// Direction.
+        axis: Axis,
+        /// In-plane coordinate of the axis across its direction.
+        position: f64,
+        /// Depth of the axis.
+        z: f64,
+        /// Radius.
+        r: f64,
+    },
+    /// Cuboid centred at `(x, y, z)` with half sizes `(hx, hy, hz)`.
+    Cuboid {
+        /// Centre `x₁`.
+        x: f64,
+        /// Centre `x₂`.
+        y: f64,
+        /// Centre depth.
+        z: f64,
+        /// Half sizes.
+        half: [f64; 3],
+    },
+}
+
+/// One inhomogeneity: a shape and its isotropic material (`E = 0`: a void).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Inhomogeneity {
+    /// Shape and position.
+    pub shape: Shape,
+    /// Young's modulus in Pa (`≥ 0`).
+    pub e: f64,
+    /// Poisson ratio in `(−1, 0.5)`.
+    pub nu: f64,
+}
+
+fn invalid(name: &'static str, value: f64, allowed: &'static str) -> SamError {
+    SamError::InvalidParameter {
+        name,
+        value,
+        allowed,
+    }
+}
+
+impl Inhomogeneity {
+    /// Checks sizes, depth and material.
+    pub fn validate(&self) -> Result<(), SamError> {
+        if !(self.e.is_finite() && self.e >= 0.0) {
+            return Err(invalid(
+                "inhomogeneity Young's modulus E",
+                self.e,
+                "finite and ≥ 0 (0 = void)",
+            ));
+        }
+        if !(self.nu.is_finite() && self.nu > -1.0 && self.nu < 0.5) {
+            return Err(invalid(
+                "inhomogeneity Poisson ratio nu",
+                self.nu,
+                "in (−1, 0.5)",
+            ));
+        }
+        let (z, top, sizes): (f64, f64, Vec<f64>) = match self.shape {
+            Shape::Sphere { z, r, .. } | Shape::Cylinder { z, r, .. } => (z, z - r, vec![r]),
+            Shape::Cuboid { z, half, .. } => (z, z - half[2], half.to_vec()),
+        };
+        for s in sizes {
+            if !(s.is_finite() && s > 0.0) {
+                return Err(invalid(
+                    "inhomogeneity size (r or hx, hy, hz)",
+                    s,
+                    "finite and > 0",
+                ));
+            }
+        }
+        if !(z.is_finite() && z > 0.0) {
+            return Err(invalid(
+                "inhomogeneity centre depth z (the centre is above the surface)",
+                z,
+                "> 0 (depth, positive into the body)",
+            ));
+        }
+        if top < 0.0 {
+            return Err(invalid(
+                "inhomogeneity top depth (z − r or z − hz; it cuts the surface)",
+                top,
+                "≥ 0",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Whether the point `p = (x₁, x₂, depth)` lies inside.
+    pub fn contains(&self, p: [f64; 3]) -> bool {
+        match self.shape {
+            Shape::Sphere { x, y, z, r } => {
+                let d = [p[0] - x, p[1] - y, p[2] - z];
+                d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= r * r
+            }
+            Shape::Cylinder {
+                axis,
+                position,
+                z,
+                r,
+            } => {
+                let across = match axis {
+                    Axis::X => p[1],
+                    Axis::Y => p[0],
+                };
+                let (a, b) = (across - position, p[2] - z);
+                a * a + b * b <= r * r
+            }
+            Shape::Cuboid { x, y, z, half } => {
+                (p[0] - x).abs() <= half[0]
+                    && (p[1] - y).abs() <= half[1]
+                    && (p[2] - z).abs() <= half[2]
+            }
+        }
+    }
+
+    /// In-plane bounding box `[x_min, x_max, y_min, y_max]` (unbounded along a cylinder's axis) and
+    /// the deepest point.
+    fn bounds(&self) -> ([f64; 4], f64) {
+        match self.shape {
+            Shape::Sphere { x, y, z, r } => ([x - r, x + r, y - r, y + r], z + r),
+            Shape::Cylinder {
+                axis,
+                position,
+                z,
+                r,
+            } => match axis {
+                Axis::X => (
+                    [f64::NEG_INFINITY, f64::INFINITY, position - r, position + r],
+                    z + r,
+                ),
+                Axis::Y => (
+                    [position - r, position + r, f64::NEG_INFINITY, f64::INFINITY],
+                    z + r,
+                ),
+            },
+            Shape::Cuboid { x, y, z, half } => (
+                [x - half[0], x + half[0], y - half[1], y + half[1]],
+                z + half[2],
+            ),
+        }
+    }
+}
+
+/// One inclusion cell: its layer, its surface cell and its material.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Cell {
+    /// Position of the layer in [`InclusionSet::layers`].
+    pub layer: usize,
+    /// Surface cell index `i N₂ + j`.
+    pub flat: usize,
+    /// Index into [`InclusionSet::materials`].
+    pub material: usize,
+}
+
+/// The cells of all inhomogeneities on the volume lattice of a surface grid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InclusionSet {
+    /// Layer numbers `k` (centre depth `(2k+1)Δ`) that hold cells, ascending.
+    pub layers: Vec<usize>,
+    /// The cells, layer by layer, in surface order.
+    pub cells: Vec<Cell>,
+    /// Distinct materials `(E, ν)`.
+    pub materials: Vec<(f64, f64)>,
+    /// The cell half size `Δ`.
+    pub half: f64,
+}
+
+impl InclusionSet {
+    /// Assigns cells to inhomogeneities. Errors: invalid inhomogeneities, a square-cell grid is
+    /// required, an inhomogeneity outside the domain or without a cell, overlaps of different
+    /// materials, cells in the first layer (an inhomogeneity within `2Δ` of the surface).
+    pub fn new(grid: &SurfaceGrid, list: &[Inhomogeneity]) -> Result<Self, SamError> {
+        if (grid.half1 - grid.half2).abs() > 1e-12 * grid.half1 {
+            return Err(invalid(
+                "cell aspect ratio Δ₂/Δ₁ (inhomogeneities need cubic cells)",
+                grid.half2 / grid.half1,
+                "1",
+            ));
+        }
+        let d = grid.half1;
+        let (lx, ly) = (grid.n1 as f64 * grid.half1, grid.n2 as f64 * grid.half2);
+        let mut deepest: f64 = 0.0;
+        for inh in list {
+            inh.validate()?;
+            let (b, deep) = inh.bounds();
+            // A cylinder's bounds are infinite along its axis: it runs through the domain.
+            let outside = |v: f64, limit: f64| v.is_finite() && v > limit;
+            if outside(-b[0], lx) || outside(b[1], lx) || outside(-b[2], ly) || outside(b[3], ly) {
+                let worst = [-lx - b[0], b[1] - lx, -ly - b[2], b[3] - ly]
+                    .into_iter()
+                    .filter(|v| v.is_finite())
+                    .fold(0.0f64, f64::max);
+                return Err(invalid(
+                    "inhomogeneity extent beyond the domain edge (m; enlarge --extent)",
+                    worst,
+                    "≤ 0 (inside the domain)",
+                ));
+            }
+            deepest = deepest.max(deep);
+        }
+        let n_layers = (deepest / (2.0 * d)).ceil() as usize + 1;
+        let mut materials: Vec<(f64, f64)> = Vec::new();
+        let mut layers = Vec::new();
+        let mut cells = Vec::new();
+        let mut owned = vec![false; list.len()];
+        for k in 0..n_layers {
+            let depth = (2 * k + 1) as f64 * d;
+            let mut any = false;
+            for i in 0..grid.n1 {
+                for j in 0..grid.n2 {
+                    let (x, y) = grid.centre(i, j);
+                    let mut found: Option<(f64, f64)> = None;
+                    for (idx, inh) in list.iter().enumerate() {
+                        if !inh.contains([x, y, depth]) {
+                            continue;
+                        }
+                        owned[idx] = true;
+                        match found {
+                            Some(m) if m != (inh.e, inh.nu) => {
+                                return Err(invalid(
+                                    "overlapping inhomogeneities of different materials, at depth",
+                                    depth,
+                                    "disjoint (or the same E and nu)",
+                                ));
+                            }
+                            _ => found = Some((inh.e, inh.nu)),
+                        }
+                    }
+                    let Some(m) = found else { continue };
+                    if k == 0 {
+                        return Err(invalid(
+                            "inhomogeneity cell in the first layer below the surface (its top is within one cell, at depth)",
+                            depth,
+                            "deeper than 2Δ: refine the grid or move it down",
+                        ));
+                    }
+                    let material = match materials.iter().position(|q| *q == m) {
+                        Some(p) => p,
+                        None => {
+                            materials.push(m);
+                            materials.len() - 1
+                        }
+                    };
+                    if !any {
+                        layers.push(k);
+                        any = true;
+                    }
+                    cells.push(Cell {
+                        layer: layers.len() - 1,
+                        flat: i * grid.n2 + j,
+                        material,
+                    });
+                }
+            }
+        }
+        if let Some(idx) = owned.iter().position(|o| !o) {
+            return Err(invalid(
+                "inhomogeneity (number, from 1) smaller than a cell: no cell centre inside",
+                (idx + 1) as f64,
+                "at least one cell: refine the grid",
+            ));
+        }
+        Ok(Self {
+            layers,
+            cells,
+            materials,
+            half: d,
+        })
+    }
+
+    /// Number of cells.
+    pub fn len(&self) -> usize {
+        self.cells.len()
+    }
+
+    /// Whether there is no cell.
+    pub fn is_empty(&self) -> bool {
+        self.cells.is_empty()
+    }
+}

@@ -1,0 +1,13 @@
+//! Inhomogeneities below the surface by Eshelby's equivalent inclusion method (spec §5–§6;
+//! [LN11]; Liu & Wang 2005; Zhou et al. 2009): the inhomogeneities on the volume lattice
+//! ([`geometry`]), the layered field operators of a cuboid eigenstrain in the half-space with their
+//! dense twin ([`operator`]) and the equivalency equations solved by block Jacobi or GMRES
+//! ([`solve`]).
+
+pub mod geometry;
+pub mod operator;
+pub mod solve;
+
+pub use geometry::{Axis, Cell, InclusionSet, Inhomogeneity, Shape};
+pub use operator::{Backend, EimFields, Space};
+pub use solve::{EimInfo, EimMethod, EimParams, EimSystem};

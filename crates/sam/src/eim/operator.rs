@@ -1,0 +1,543 @@
+//! The discrete operators of the equivalent inclusion method on the layered lattice (spec §5.3,
+//! §5.5, §6.1; [LN11] Eqs. 11–16):
+//!
+//! * eigenstrain `ε*` (6 components per cell of the source layers) → **disturbance strain** at the
+//!   cell centres of the target layers, `ε^d = ε⁽¹⁾ + ε⁽²⁾ + ε⁽³⁾`: the cuboids in infinite space
+//!   (kernel `D(Δx, x₃ − x₃′)`, by layer difference), their mirror images (`D(Δx, x₃ + x₃′)` with the
+//!   13 and 23 columns negated, by layer sum) and the Boussinesq field of the correction pressure
+//!   `p_c = 2 σ⁽¹⁾₃₃(x, 0)` (Love's rectangle stresses at the target depth, converted to strain);
+//! * the **surface eigen-displacements** `u₃^eig = K^p₃ * p_c`, `u_α^eig = 2u_α⁽¹⁾ + K^p_α * p_c`;
+//! * surface tractions `(p, q₁, q₂)` → the **applied strain** `ε⁰` at every target layer.
+//!
+//! Each is a layered DC-FFT ([`halfspace_numerics::layered`]) on one shared [`Fft2d`] plan: the
+//! eigenstrain fields are transformed once per application and serve the volume and the surface
+//! operators. [`Backend::Dense`] evaluates the same sums directly (the control of the tests).
+
+use halfspace_numerics::fft2d::{Fft2d, C64};
+use halfspace_numerics::layered::{DenseLayered, Family, LayerKernel, LayeredSpectra};
+
+use crate::influence::{corner_sum, primitive_a, primitive_b};
+use crate::kernels::cuboid::{DisplacementPotentials, StrainPotentials};
+use crate::kernels::subsurface::{pressure_stress, shear_stress};
+use crate::kernels::{compliance, stiffness};
+use crate::{SamError, SurfaceGrid};
+
+/// Infinite space or the half-space `x₃ ≥ 0` with a traction-free surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Space {
+    /// Infinite space (field (1) only): for checks against Eshelby's solution.
+    Infinite,
+    /// Half-space: fields (1) + (2) + (3).
+    HalfSpace,
+}
+
+/// How the sums are evaluated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Backend {
+    /// Layered DC-FFT, O(N log N) per layer pair.
+    Fft,
+    /// Direct summation, O(N²) per layer pair (the control).
+    Dense,
+}
+
+/// `D(x)` of a cube of half size `Δ`, all 36 blocks (infinite part, layer difference).
+struct InfiniteStrain {
+    half: f64,
+    nu: f64,
+}
+
+impl LayerKernel for InfiniteStrain {
+    fn blocks(&self) -> (usize, usize) {
+        (6, 6)
+    }
+    fn eval(&self, key: i64, m: i64, n: i64, out: &mut [f64]) {
+        let d = self.half;
+        let x = [2.0 * d * m as f64, 2.0 * d * n as f64, d * key as f64];
+        let v = StrainPotentials::new(x, [d; 3]).voigt(self.nu);
+        for (o, row) in v.iter().enumerate() {
+            out[o * 6..o * 6 + 6].copy_from_slice(row);
+        }
+    }
+}
+
+/// The mirror image: `D(x₁, x₂, x₃ + x₃′)` acting on `ε*ˢ = (ε*₁₁, ε*₂₂, ε*₃₃, −ε*₂₃, −ε*₁₃, ε*₁₂)`.
+struct ImageStrain(InfiniteStrain);
+
+impl LayerKernel for ImageStrain {
+    fn blocks(&self) -> (usize, usize) {
+        (6, 6)
+    }
+    fn eval(&self, key: i64, m: i64, n: i64, out: &mut [f64]) {
+        self.0.eval(key, m, n, out);
+        for o in 0..6 {
+            out[o * 6 + 3] = -out[o * 6 + 3];
+            out[o * 6 + 4] = -out[o * 6 + 4];
+        }
+    }
+}
+
+/// Surface fields of the cuboid and its image at `x₃ = 0`: `p_c = 2 (C:D)₃₃`, `2 Dˢ₁`, `2 Dˢ₂`.
+struct SurfaceFields {
+    half: f64,
+    nu: f64,
+    c: [[f64; 6]; 6],
+}
+
+impl LayerKernel for SurfaceFields {
+    fn blocks(&self) -> (usize, usize) {
+        (3, 6)
+    }
+    fn eval(&self, key: i64, m: i64, n: i64, out: &mut [f64]) {
+        let d = self.half;
+        let x = [2.0 * d * m as f64, 2.0 * d * n as f64, d * key as f64];
+        let strain = StrainPotentials::new(x, [d; 3]).voigt(self.nu);
+        let disp = DisplacementPotentials::new(x, [d; 3]).voigt(self.nu);
+        for i in 0..6 {
+            let s33: f64 = (0..6).map(|r| self.c[2][r] * strain[r][i]).sum();
+            out[i] = 2.0 * s33;
+            out[6 + i] = 2.0 * disp[0][i];
+            out[12 + i] = 2.0 * disp[1][i];
+        }
+    }
+}
+
+/// Strain at depth `key Δ` per unit traction `(p, q₁, q₂)` on a surface cell (Love, spec §5.4,
+/// then `C⁻¹`).
+struct LoveStrain {
+    half: f64,
+    nu: f64,
+    s: [[f64; 6]; 6],
+}
+
+impl LayerKernel for LoveStrain {
+    fn blocks(&self) -> (usize, usize) {
+        (6, 3)
+    }
+    fn eval(&self, key: i64, m: i64, n: i64, out: &mut [f64]) {
+        let d = self.half;
+        let (x1, x2, z) = (2.0 * d * m as f64, 2.0 * d * n as f64, d * key as f64);
+        let stresses = [
+            pressure_stress(x1, x2, z, d, d, self.nu),
+            shear_stress(0, x1, x2, z, d, d, self.nu),
+            shear_stress(1, x1, x2, z, d, d, self.nu),
+        ];
+        for (i, sigma) in stresses.iter().enumerate() {
+            for o in 0..6 {
+                out[o * 3 + i] = (0..6).map(|r| self.s[o][r] * sigma[r]).sum();
+            }
+        }
+    }
+}
+
+/// One layered operator under either backend.
+enum Layered {
+    Fast(LayeredSpectra),
+    Dense(DenseLayered),
+}
+
+impl Layered {
+    fn new(
+        backend: Backend,
+        fft: &mut Fft2d,
+        targets: &[i64],
+        sources: &[i64],
+        families: &[(Family, &dyn LayerKernel)],
+    ) -> Result<Self, SamError> {
+        let (n1, n2) = fft.shape();
+        Ok(match backend {
+            Backend::Fft => Layered::Fast(LayeredSpectra::new(fft, targets, sources, families)?),
+            Backend::Dense => Layered::Dense(DenseLayered::new(n1, n2, targets, sources, families)),
+        })
+    }
+
+    fn bytes(&self) -> usize {
+        match self {
+            Layered::Fast(s) => s.bytes(),
+            Layered::Dense(_) => 0,
+        }
+    }
+}
+
+/// Spectra bytes a layered operator with these layer counts would store, per spec §5.5:
+/// `(key count) · blocks · 2N₁(N₂+1)` complex values.
+pub fn estimated_bytes(grid: &SurfaceGrid, keys: usize, blocks: usize) -> f64 {
+    keys as f64 * blocks as f64 * (2 * grid.n1 * (grid.n2 + 1)) as f64 * 16.0
+}
+
+/// Memory the machine may use for stored spectra before a request is refused up front.
+pub const SPECTRA_LIMIT_BYTES: f64 = 16.0 * (1u64 << 30) as f64;
+
+/// The EIM field operators between source layers (where the eigenstrain lives) and target layers
+/// (where strains are wanted), planned once.
+pub struct EimFields {
+    grid: SurfaceGrid,
+    space: Space,
+    backend: Backend,
+    fft: Fft2d,
+    sources: Vec<i64>,
+    targets: Vec<i64>,
+    volume: Layered,
+    surface: Option<Layered>,
+    love: Layered,
+    /// Surface compliance spectra of the half-space alone, per unit pressure: `u₁, u₂, u₃`.
+    boussinesq: Option<[Vec<C64>; 3]>,
+    // Work arrays.
+    in_hat: Vec<Vec<C64>>,
+    skip: Vec<bool>,
+    out_hat: Vec<Vec<C64>>,
+    surf_hat: Vec<Vec<C64>>,
+    love_hat: Vec<Vec<C64>>,
+    /// `p_c`, `2u₁⁽¹⁾`, `2u₂⁽¹⁾` of the last disturbance.
+    surface_fields: [Vec<f64>; 3],
+    zero: Vec<f64>,
+    tmp: Vec<Vec<f64>>,
+}
+
+impl EimFields {
+    /// Plans the operators for eigenstrains on `source_layers` and strains on `target_layers` (layer
+    /// numbers `k`, centre depth `(2k+1)Δ`, `Δ` = the grid's half cell size), in a matrix `(E, ν)`.
+    /// The applied-strain operator (tractions → strain) is planned on the target layers.
+    pub fn new(
+        grid: SurfaceGrid,
+        e: f64,
+        nu: f64,
+        source_layers: &[usize],
+        target_layers: &[usize],
+        space: Space,
+        backend: Backend,
+    ) -> Result<Self, SamError> {
+        crate::error::positive("matrix Young's modulus", e)?;
+        if !(nu > -1.0 && nu < 0.5) {
+            return Err(SamError::InvalidParameter {
+                name: "matrix Poisson ratio (with inhomogeneities)",
+                value: nu,
+                allowed: "in (−1, 0.5)",
+            });
+        }
+        let key = |k: &usize| (2 * k + 1) as i64;
+        let sources: Vec<i64> = source_layers.iter().map(key).collect();
+        let targets: Vec<i64> = target_layers.iter().map(key).collect();
+        let vol_keys = sources.len() + targets.len();
+        let families = if space == Space::HalfSpace { 2 } else { 1 };
+        let need = estimated_bytes(&grid, families * vol_keys.saturating_sub(1), 36)
+            + estimated_bytes(&grid, sources.len(), 18)
+            + estimated_bytes(&grid, targets.len(), 18);
+        if backend == Backend::Fft && need > SPECTRA_LIMIT_BYTES {
+            return Err(SamError::InvalidParameter {
+                name: "memory for the stored eigenstrain kernel spectra (bytes)",
+                value: need,
+                allowed: "≤ 16 GiB: use fewer cells or layers",
+            });
+        }
+        let mut fft = Fft2d::new(grid.n1, grid.n2)?;
+        let half = grid.half1;
+        let inf = InfiniteStrain { half, nu };
+        let img = ImageStrain(InfiniteStrain { half, nu });
+        let vol_families: Vec<(Family, &dyn LayerKernel)> = match space {
+            Space::Infinite => vec![(Family::Difference, &inf)],
+            Space::HalfSpace => vec![(Family::Difference, &inf), (Family::Sum, &img)],
+        };
+        let volume = Layered::new(backend, &mut fft, &targets, &sources, &vol_families)?;
+        let love_kernel = LoveStrain {
+            half,
+            nu,
+            s: compliance(e, nu),
+        };
+        let love = Layered::new(
+            backend,
+            &mut fft,
+            &targets,
+            &[0],
+            &[(Family::Difference, &love_kernel)],
+        )?;
+        let (surface, boussinesq) = if space == Space::HalfSpace {
+            let sk = SurfaceFields {
+                half,
+                nu,
+                c: stiffness(e, nu),
+            };
+            let surface = Layered::new(
+                backend,
+                &mut fft,
+                &[0],
+                &sources,
+                &[(Family::Difference, &sk)],
+            )?;
+            let body = crate::influence::Compliance::pair(
+                crate::Body::Rigid,
+                crate::Body::elastic(e, nu)?,
+            )?;
+            let (d1, d2) = (2.0 * grid.half1, 2.0 * grid.half2);
+            let mut b = [fft.new_spectrum(), fft.new_spectrum(), fft.new_spectrum()];
+            let k1 = |m: i64, n: i64| {
+                -body.coupling * corner_sum(primitive_b, m as f64 * d1, n as f64 * d2, half, half)
+            };
+            let k2 = |m: i64, n: i64| {
+                -body.coupling
+                    * corner_sum(
+                        |a, c| primitive_b(c, a),
+                        m as f64 * d1,
+                        n as f64 * d2,
+                        half,
+                        half,
+                    )
+            };
+            let k3 = |m: i64, n: i64| {
+                body.normal * corner_sum(primitive_a, m as f64 * d1, n as f64 * d2, half, half)
+            };
+            fft.kernel_spectrum(&k1, &mut b[0])?;
+            fft.kernel_spectrum(&k2, &mut b[1])?;
+            fft.kernel_spectrum(&k3, &mut b[2])?;
+            (Some(surface), Some(b))
+        } else {
+            (None, None)
+        };
+        let n = grid.len();
+        let (ns, nt) = (sources.len(), targets.len());
+        let fields = if backend == Backend::Fft { 1 } else { 0 };
+        Ok(Self {
+            grid,
+            space,
+            backend,
+            in_hat: (0..ns * 6 * fields).map(|_| fft.new_spectrum()).collect(),
+            skip: vec![false; ns * 6],
+            out_hat: (0..nt * 6 * fields).map(|_| fft.new_spectrum()).collect(),
+            surf_hat: (0..3 * fields).map(|_| fft.new_spectrum()).collect(),
+            love_hat: (0..3 * fields).map(|_| fft.new_spectrum()).collect(),
+            fft,
+            sources,
+            targets,
+            volume,
+            surface,
+            love,
+            boussinesq,
+            surface_fields: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+            zero: vec![0.0; n],
+            tmp: vec![vec![0.0; n]; nt * 6],
+        })
+    }
+
+    /// The surface grid.
+    pub fn grid(&self) -> &SurfaceGrid {
+        &self.grid
+    }
+
+    /// Number of source and target layers.
+    pub fn layer_counts(&self) -> (usize, usize) {
+        (self.sources.len(), self.targets.len())
+    }
+
+    /// Bytes of stored kernel spectra.
+    pub fn spectra_bytes(&self) -> usize {
+        self.volume.bytes()
+            + self.love.bytes()
+            + self.surface.as_ref().map_or(0, |s| s.bytes())
+            + self.boussinesq.as_ref().map_or(0, |b| 3 * b[0].len() * 16)
+    }
+
+    /// `strain[a · 6 + o] = ε^d_o` on target layer `a` from `eigen[b · 6 + i] = ε*_i` on source layer
+    /// `b` (each a surface field of `N₁N₂` values): fields (1) + (2) + (3) of spec §5.3 in the
+    /// half-space, (1) in infinite space. Keeps `p_c` and `2u_α⁽¹⁾` for
+    /// [`EimFields::eigen_displacements`].
+    pub fn disturbance(
+        &mut self,
+        eigen: &[Vec<f64>],
+        strain: &mut [Vec<f64>],
+    ) -> Result<(), SamError> {
+        let (ns, nt) = (self.sources.len(), self.targets.len());
+        if eigen.len() != ns * 6 || strain.len() != nt * 6 {
+            return Err(SamError::Numerics(
+                halfspace_numerics::NumericsError::LengthMismatch {
+                    what: "eigenstrain / strain fields (6 per layer)",
+                    expected: if eigen.len() != ns * 6 {
+                        ns * 6
+                    } else {
+                        nt * 6
+                    },
+                    got: if eigen.len() != ns * 6 {
+                        eigen.len()
+                    } else {
+                        strain.len()
+                    },
+                },
+            ));
+        }
+        match self.backend {
+            Backend::Fft => self.disturbance_fft(eigen, strain),
+            Backend::Dense => self.disturbance_dense(eigen, strain),
+        }
+    }
+
+    fn disturbance_fft(
+        &mut self,
+        eigen: &[Vec<f64>],
+        strain: &mut [Vec<f64>],
+    ) -> Result<(), SamError> {
+        for (idx, field) in eigen.iter().enumerate() {
+            self.skip[idx] = field.iter().all(|v| *v == 0.0);
+            if !self.skip[idx] {
+                self.fft.forward(field, &mut self.in_hat[idx])?;
+            }
+        }
+        let zero = C64::new(0.0, 0.0);
+        self.out_hat.iter_mut().for_each(|s| s.fill(zero));
+        let Layered::Fast(volume) = &self.volume else {
+            unreachable!("backend checked")
+        };
+        volume.accumulate(&self.in_hat, &self.skip, &mut self.out_hat)?;
+        if let Some(Layered::Fast(surface)) = &self.surface {
+            self.surf_hat.iter_mut().for_each(|s| s.fill(zero));
+            surface.accumulate(&self.in_hat, &self.skip, &mut self.surf_hat)?;
+            for (hat, field) in self.surf_hat.iter_mut().zip(self.surface_fields.iter_mut()) {
+                self.fft.inverse(hat, field)?;
+            }
+            // Field (3): Love strains of p_c (the cropped p_c transformed again).
+            self.fft
+                .forward(&self.surface_fields[0], &mut self.love_hat[0])?;
+            let Layered::Fast(love) = &self.love else {
+                unreachable!("backend checked")
+            };
+            love.accumulate(&self.love_hat, &[false, true, true], &mut self.out_hat)?;
+        }
+        for (hat, field) in self.out_hat.iter_mut().zip(strain.iter_mut()) {
+            self.fft.inverse(hat, field)?;
+        }
+        Ok(())
+    }
+
+    fn disturbance_dense(
+        &mut self,
+        eigen: &[Vec<f64>],
+        strain: &mut [Vec<f64>],
+    ) -> Result<(), SamError> {
+        let Layered::Dense(volume) = &self.volume else {
+            unreachable!("backend checked")
+        };
+        let x: Vec<&[f64]> = eigen.iter().map(|v| v.as_slice()).collect();
+        {
+            let mut y: Vec<&mut [f64]> = strain.iter_mut().map(|v| v.as_mut_slice()).collect();
+            volume.apply(&x, &mut y);
+        }
+        if let Some(Layered::Dense(surface)) = &self.surface {
+            {
+                let mut y: Vec<&mut [f64]> = self
+                    .surface_fields
+                    .iter_mut()
+                    .map(|v| v.as_mut_slice())
+                    .collect();
+                surface.apply(&x, &mut y);
+            }
+            let Layered::Dense(love) = &self.love else {
+                unreachable!("backend checked")
+            };
+            let xl: [&[f64]; 3] = [&self.surface_fields[0], &self.zero, &self.zero];
+            let mut y: Vec<&mut [f64]> = self.tmp.iter_mut().map(|v| v.as_mut_slice()).collect();
+            love.apply(&xl, &mut y);
+            for (s, t) in strain.iter_mut().zip(&self.tmp) {
+                s.iter_mut().zip(t).for_each(|(a, b)| *a += b);
+            }
+        }
+        Ok(())
+    }
+
+    /// The correction pressure `p_c` of the last [`EimFields::disturbance`] (zero in infinite
+    /// space).
+    pub fn correction_pressure(&self) -> &[f64] {
+        &self.surface_fields[0]
+    }
+
+    /// Surface eigen-displacements of the last disturbance (spec §6.1, [LN11] Eqs. 14–15):
+    /// `u₃^eig = K^p₃ * p_c`, `u_α^eig = 2u_α⁽¹⁾ + K^p_α * p_c` (half-space alone).
+    pub fn eigen_displacements(&mut self, u: [&mut [f64]; 3]) -> Result<(), SamError> {
+        let Some(b) = &self.boussinesq else {
+            return Err(SamError::InvalidParameter {
+                name: "eigen-displacements in infinite space",
+                value: 0.0,
+                allowed: "a half-space operator",
+            });
+        };
+        let n = self.grid.len();
+        let mut p_hat = self.fft.new_spectrum();
+        let mut work = self.fft.new_spectrum();
+        match self.backend {
+            Backend::Fft | Backend::Dense => {
+                // The p_c product is a plain 2D DC-FFT in both backends (its dense twin is tested in
+                // numerics::conv2d).
+                self.fft.forward(&self.surface_fields[0], &mut p_hat)?;
+                for (c, out) in u.into_iter().enumerate() {
+                    if out.len() != n {
+                        return Err(SamError::Numerics(
+                            halfspace_numerics::NumericsError::LengthMismatch {
+                                what: "eigen-displacement field",
+                                expected: n,
+                                got: out.len(),
+                            },
+                        ));
+                    }
+                    for ((w, k), p) in work.iter_mut().zip(&b[c]).zip(&p_hat) {
+                        *w = k * p;
+                    }
+                    self.fft.inverse(&mut work, out)?;
+                    if c < 2 {
+                        out.iter_mut()
+                            .zip(&self.surface_fields[c + 1])
+                            .for_each(|(o, s)| *o += s);
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The applied strain `ε⁰` on every target layer (`strain[a · 6 + o]`) of the surface tractions
+    /// `p`, `q₁`, `q₂` (`None` = zero), by Love's rectangle kernels.
+    pub fn traction_strain(
+        &mut self,
+        p: &[f64],
+        q: Option<[&[f64]; 2]>,
+        strain: &mut [Vec<f64>],
+    ) -> Result<(), SamError> {
+        let nt = self.targets.len();
+        if strain.len() != nt * 6 {
+            return Err(SamError::Numerics(
+                halfspace_numerics::NumericsError::LengthMismatch {
+                    what: "applied strain fields (6 per layer)",
+                    expected: nt * 6,
+                    got: strain.len(),
+                },
+            ));
+        }
+        let inputs: [&[f64]; 3] = match q {
+            Some([q1, q2]) => [p, q1, q2],
+            None => [p, &self.zero, &self.zero],
+        };
+        match &self.love {
+            Layered::Fast(love) => {
+                let mut hats: Vec<Vec<C64>> = (0..3).map(|_| self.fft.new_spectrum()).collect();
+                let mut skip = [true; 3];
+                for (i, x) in inputs.iter().enumerate() {
+                    skip[i] = x.iter().all(|v| *v == 0.0);
+                    if !skip[i] {
+                        self.fft.forward(x, &mut hats[i])?;
+                    }
+                }
+                let zero = C64::new(0.0, 0.0);
+                self.out_hat.iter_mut().for_each(|s| s.fill(zero));
+                love.accumulate(&hats, &skip, &mut self.out_hat)?;
+                for (hat, field) in self.out_hat.iter_mut().zip(strain.iter_mut()) {
+                    self.fft.inverse(hat, field)?;
+                }
+            }
+            Layered::Dense(love) => {
+                let mut y: Vec<&mut [f64]> = strain.iter_mut().map(|v| v.as_mut_slice()).collect();
+                love.apply(&inputs, &mut y);
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether this is the half-space operator.
+    pub fn space(&self) -> Space {
+        self.space
+    }
+}

@@ -1,0 +1,322 @@
+//! The discrete equivalency equations (spec §5.1, §5.6; [LN11] Eqs. 1–2): in every inclusion cell
+//! `I`, `r_I = C^m ε*_I − ΔC_I (ε⁰_I + (𝒟ε*)_I) = 0`, `ΔC = C^m − C^I`, solved for the eigenstrains
+//! `ε*` (6 per cell) by
+//!
+//! * **block Jacobi** ([LN11]): `ε* ← ε* + P⁻¹ r` with `P_I = C^m − ΔC_I S₀`, `S₀ = D(0)` the
+//!   cube's Eshelby tensor at its centre (the exact self term), i.e.
+//!   `ε*_new = (C^m − ΔC S₀)⁻¹ ΔC (ε⁰ + 𝒟ε* − S₀ε*)`;
+//! * **GMRES** (restart 50) on `A ε* = ΔC ε⁰`, `A = C^m − ΔC 𝒟`, right-preconditioned by the same
+//!   blocks — robust for stiffness ratios from voids to 100 (spec §5.6 table).
+//!
+//! The 6 × 6 blocks are inverted once per material with faer's LU. [`EimSystem`] is the flat
+//! [`LinearOperator`] `A`; it runs on the FFT operator or on its dense twin alike.
+
+use faer::linalg::solvers::DenseSolveCore;
+use faer::Mat;
+use halfspace_numerics::krylov::{richardson, Gmres, KrylovInfo, KrylovParams};
+use halfspace_numerics::linop::{check_lengths, LinearOperator};
+use halfspace_numerics::NumericsError;
+
+use super::geometry::InclusionSet;
+use super::operator::EimFields;
+use crate::kernels::cuboid::StrainPotentials;
+use crate::kernels::{matmul6, mul6, stiffness};
+use crate::SamError;
+
+/// The iteration used for the equivalency equations.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EimMethod {
+    /// Block Jacobi with the exact self term ([LN11]); diverges for stiffness ratios ≳ 10 and voids.
+    BlockJacobi,
+    /// GMRES with the block-Jacobi preconditioner.
+    Gmres,
+    /// GMRES when any material is outside the block-Jacobi range (`E_I/E_m` ≤ 0.2 or ≥ 5), else
+    /// block Jacobi.
+    Auto,
+}
+
+/// Parameters of the EIM solve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EimParams {
+    /// The iteration.
+    pub method: EimMethod,
+    /// Tolerance: relative residual (GMRES) or `max|Δε*|/max|ε*|` (block Jacobi).
+    pub tolerance: f64,
+    /// Limit on operator applications.
+    pub max_iterations: usize,
+    /// GMRES restart length.
+    pub restart: usize,
+}
+
+impl Default for EimParams {
+    fn default() -> Self {
+        Self {
+            method: EimMethod::Auto,
+            tolerance: 1e-10,
+            max_iterations: 1000,
+            restart: 50,
+        }
+    }
+}
+
+/// What an EIM solve did.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EimInfo {
+    /// Operator applications.
+    pub iterations: usize,
+    /// Final residual measure.
+    pub residual: f64,
+    /// The method actually used.
+    pub method: EimMethod,
+}
+
+/// 6 × 6 matrix inverse by faer's partial-pivoting LU; an error if singular.
+fn invert6(m: &[[f64; 6]; 6]) -> Result<[[f64; 6]; 6], SamError> {
+    let a = Mat::<f64>::from_fn(6, 6, |i, j| m[i][j]);
+    let inv = a.partial_piv_lu().inverse();
+    let mut out = [[0.0; 6]; 6];
+    for (i, row) in out.iter_mut().enumerate() {
+        for (j, v) in row.iter_mut().enumerate() {
+            *v = inv[(i, j)];
+        }
+    }
+    if out.iter().flatten().any(|v: &f64| !v.is_finite()) {
+        return Err(SamError::InvalidParameter {
+            name: "determinant of the EIM self-term block",
+            value: 0.0,
+            allowed: "non-zero",
+        });
+    }
+    Ok(out)
+}
+
+/// The operator `A ε* = C^m ε* − ΔC (𝒟 ε*)` on the inclusion cells, with its block
+/// preconditioner; the source and target layers of `fields` must be the set's layers.
+pub struct EimSystem<'a> {
+    fields: &'a mut EimFields,
+    set: &'a InclusionSet,
+    cm: [[f64; 6]; 6],
+    /// `ΔC` per material.
+    dc: Vec<[[f64; 6]; 6]>,
+    /// `(C^m − ΔC S₀)⁻¹` per material.
+    precond: Vec<[[f64; 6]; 6]>,
+    eigen: Vec<Vec<f64>>,
+    strain: Vec<Vec<f64>>,
+}
+
+impl<'a> EimSystem<'a> {
+    /// Builds the blocks for the matrix `(E, ν)`.
+    pub fn new(
+        fields: &'a mut EimFields,
+        set: &'a InclusionSet,
+        e: f64,
+        nu: f64,
+    ) -> Result<Self, SamError> {
+        let (ns, nt) = fields.layer_counts();
+        if ns != set.layers.len() || nt != set.layers.len() {
+            return Err(SamError::InvalidParameter {
+                name: "EIM operator layers (must be the inclusion layers)",
+                value: ns as f64,
+                allowed: "the inclusion set's layer count",
+            });
+        }
+        let cm = stiffness(e, nu);
+        let s0 = StrainPotentials::new([0.0; 3], [set.half; 3]).voigt(nu);
+        let mut dc = Vec::new();
+        let mut precond = Vec::new();
+        for &(ei, nui) in &set.materials {
+            let ci = stiffness(ei, nui);
+            let mut d = [[0.0; 6]; 6];
+            for i in 0..6 {
+                for j in 0..6 {
+                    d[i][j] = cm[i][j] - ci[i][j];
+                }
+            }
+            let ds0 = matmul6(&d, &s0);
+            let mut p = cm;
+            for i in 0..6 {
+                for j in 0..6 {
+                    p[i][j] -= ds0[i][j];
+                }
+            }
+            precond.push(invert6(&p)?);
+            dc.push(d);
+        }
+        let n = fields.grid().len();
+        let layers = set.layers.len();
+        Ok(Self {
+            fields,
+            set,
+            cm,
+            dc,
+            precond,
+            eigen: vec![vec![0.0; n]; layers * 6],
+            strain: vec![vec![0.0; n]; layers * 6],
+        })
+    }
+
+    /// `b = ΔC ε⁰` from the applied strain fields on the inclusion layers.
+    pub fn rhs(&self, applied: &[Vec<f64>], b: &mut [f64]) {
+        for (c, cell) in self.set.cells.iter().enumerate() {
+            let mut e0 = [0.0; 6];
+            for (o, v) in e0.iter_mut().enumerate() {
+                *v = applied[cell.layer * 6 + o][cell.flat];
+            }
+            b[c * 6..c * 6 + 6].copy_from_slice(&mul6(&self.dc[cell.material], &e0));
+        }
+    }
+
+    /// Scatters the cell eigenstrains into the layer fields.
+    pub fn scatter(&self, x: &[f64], fields: &mut [Vec<f64>]) {
+        fields.iter_mut().for_each(|f| f.fill(0.0));
+        for (c, cell) in self.set.cells.iter().enumerate() {
+            for o in 0..6 {
+                fields[cell.layer * 6 + o][cell.flat] = x[c * 6 + o];
+            }
+        }
+    }
+
+    /// The block preconditioner `P⁻¹` as an operator.
+    pub fn preconditioner(&self) -> BlockPreconditioner {
+        BlockPreconditioner {
+            blocks: self.set.cells.iter().map(|c| c.material).collect(),
+            inverse: self.precond.clone(),
+        }
+    }
+
+    /// Solves for `ε*` (warm start and result, 6 per cell) given the applied strain on the
+    /// inclusion layers.
+    pub fn solve(
+        &mut self,
+        applied: &[Vec<f64>],
+        eps_star: &mut [f64],
+        params: &EimParams,
+    ) -> Result<EimInfo, SamError> {
+        let n = self.dim();
+        check_lengths(n, eps_star, eps_star)?;
+        let mut b = vec![0.0; n];
+        self.rhs(applied, &mut b);
+        let method = match params.method {
+            EimMethod::Auto => {
+                // Shear-modulus ratio G_I/G_m (the matrix's 2G sits on the shear diagonal).
+                let gm = 0.5 * self.cm[5][5];
+                let wide = self.set.materials.iter().any(|&(ei, nui)| {
+                    let ratio = ei / (2.0 * (1.0 + nui)) / gm;
+                    !(0.2..=5.0).contains(&ratio)
+                });
+                if wide {
+                    EimMethod::Gmres
+                } else {
+                    EimMethod::BlockJacobi
+                }
+            }
+            m => m,
+        };
+        let kp = KrylovParams {
+            tolerance: params.tolerance,
+            max_iterations: params.max_iterations,
+            restart: params.restart,
+        };
+        let mut pre = self.preconditioner();
+        let info: KrylovInfo = match method {
+            EimMethod::Gmres => {
+                Gmres::new(n, params.restart).solve(self, &mut pre, &b, eps_star, &kp)
+            }
+            EimMethod::BlockJacobi | EimMethod::Auto => {
+                richardson(self, &mut pre, &b, eps_star, &kp)
+            }
+        }
+        .map_err(|e| match e {
+            NumericsError::NoConvergence {
+                solver,
+                iterations,
+                residual,
+            } => SamError::NoConvergence {
+                solver: if solver.starts_with("GMRES") {
+                    "EIM (GMRES)"
+                } else {
+                    "EIM (block Jacobi)"
+                },
+                iterations,
+                residual,
+            },
+            other => SamError::Numerics(other),
+        })?;
+        Ok(EimInfo {
+            iterations: info.iterations,
+            residual: info.residual,
+            method,
+        })
+    }
+
+    /// The disturbance strain of `eps_star` at the inclusion layers (the fields are kept for
+    /// eigen-displacements).
+    pub fn disturbance(&mut self, eps_star: &[f64]) -> Result<&[Vec<f64>], SamError> {
+        let mut eigen = std::mem::take(&mut self.eigen);
+        self.scatter(eps_star, &mut eigen);
+        let r = self.fields.disturbance(&eigen, &mut self.strain);
+        self.eigen = eigen;
+        r?;
+        Ok(&self.strain)
+    }
+
+    /// The field operators (for eigen-displacements after a solve).
+    pub fn fields(&mut self) -> &mut EimFields {
+        self.fields
+    }
+}
+
+impl LinearOperator for EimSystem<'_> {
+    fn dim(&self) -> usize {
+        6 * self.set.len()
+    }
+
+    fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), NumericsError> {
+        check_lengths(self.dim(), x, y)?;
+        let mut eigen = std::mem::take(&mut self.eigen);
+        self.scatter(x, &mut eigen);
+        let r = self.fields.disturbance(&eigen, &mut self.strain);
+        self.eigen = eigen;
+        r.map_err(|e| match e {
+            SamError::Numerics(n) => n,
+            _ => NumericsError::InvalidParameter {
+                name: "EIM operator application",
+                value: f64::NAN,
+                allowed: "consistent field shapes",
+            },
+        })?;
+        for (c, cell) in self.set.cells.iter().enumerate() {
+            let xs = &x[c * 6..c * 6 + 6];
+            let mut eps = [0.0; 6];
+            for (o, v) in eps.iter_mut().enumerate() {
+                *v = self.strain[cell.layer * 6 + o][cell.flat];
+            }
+            let a = mul6(&self.cm, xs);
+            let d = mul6(&self.dc[cell.material], &eps);
+            for o in 0..6 {
+                y[c * 6 + o] = a[o] - d[o];
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `P⁻¹` applied cell by cell.
+pub struct BlockPreconditioner {
+    blocks: Vec<usize>,
+    inverse: Vec<[[f64; 6]; 6]>,
+}
+
+impl LinearOperator for BlockPreconditioner {
+    fn dim(&self) -> usize {
+        6 * self.blocks.len()
+    }
+    fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), NumericsError> {
+        check_lengths(self.dim(), x, y)?;
+        for (c, &m) in self.blocks.iter().enumerate() {
+            let v = mul6(&self.inverse[m], &x[c * 6..c * 6 + 6]);
+            y[c * 6..c * 6 + 6].copy_from_slice(&v);
+        }
+        Ok(())
+    }
+}
