@@ -95,6 +95,11 @@ pub struct ContactProblem {
     tq: [Vec<f64>; 2],
     w: [Vec<f64>; 2],
     u3: Vec<f64>,
+    /// Known eigen-displacements `(u₁, u₂, u₃)^eig` of the half-space (spec §6.1), if any.
+    eigen: Option<[Vec<f64>; 3]>,
+    /// `Δuⁿ⁺¹` of the last [`ContactProblem::solve`], committed by [`ContactProblem::commit`].
+    trial_displacement: [Vec<f64>; 2],
+    trial_shift: [f64; 2],
 }
 
 impl ContactProblem {
@@ -169,7 +174,48 @@ impl ContactProblem {
             tq: [z(), z()],
             w: [z(), z()],
             u3: z(),
+            eigen: None,
+            trial_displacement: [z(), z()],
+            trial_shift: [0.0; 2],
         })
+    }
+
+    /// Sets the known surface eigen-displacements `u^eig = (u₁, u₂, u₃)` of the half-space (spec
+    /// §6.1, [LN11] Eqs. 14–15): `u₃^eig` enters the initial separation `h = h₀ + u₃^eig`, `u_α^eig`
+    /// the relative tangential displacement (and so the slip and the friction history). They apply
+    /// to the next [`ContactProblem::solve`]; `None` removes them.
+    pub fn set_eigen_displacements(&mut self, u: Option<[&[f64]; 3]>) -> Result<(), SamError> {
+        let n = self.grid.len();
+        match u {
+            None => self.eigen = None,
+            Some(fields) => {
+                for f in fields {
+                    if f.len() != n {
+                        return Err(SamError::Numerics(
+                            halfspace_numerics::NumericsError::LengthMismatch {
+                                what: "eigen-displacement field",
+                                expected: n,
+                                got: f.len(),
+                            },
+                        ));
+                    }
+                    if let Some(v) = f.iter().find(|v| !v.is_finite()) {
+                        return Err(SamError::InvalidParameter {
+                            name: "eigen-displacement",
+                            value: *v,
+                            allowed: "finite",
+                        });
+                    }
+                }
+                let store = self
+                    .eigen
+                    .get_or_insert_with(|| [vec![0.0; n], vec![0.0; n], vec![0.0; n]]);
+                for (s, f) in store.iter_mut().zip(fields) {
+                    s.copy_from_slice(f);
+                }
+            }
+        }
+        Ok(())
     }
 
     /// The grid.
@@ -192,14 +238,47 @@ impl ContactProblem {
         &self.state
     }
 
-    /// One increment to normal load `load` and rigid shift `shift` (spec §4.4): Panagiotopoulos
-    /// alternation of the normal solve (shear frozen) and the tangential solve (pressure frozen)
-    /// until both stop changing (§4.5); one pass when uncoupled.
+    /// One increment to normal load `load` and rigid shift `shift` (spec §4.4):
+    /// [`ContactProblem::begin`], [`ContactProblem::solve`], [`ContactProblem::commit`].
     pub fn increment(
         &mut self,
         load: NormalLoad,
         shift: [f64; 2],
     ) -> Result<IncrementInfo, SamError> {
+        self.begin();
+        let info = self.solve(load, shift)?;
+        self.commit();
+        Ok(info)
+    }
+
+    /// Starts an increment: the friction history `w = Δuⁿ − Dⁿ` from the committed state (spec
+    /// §4.1). Any number of [`ContactProblem::solve`] calls may follow (an outer loop re-solving the
+    /// increment with new eigen-displacements, a force control searching the shift); only
+    /// [`ContactProblem::commit`] changes the history.
+    pub fn begin(&mut self) {
+        let n = self.grid.len();
+        for a in 0..2 {
+            for k in 0..n {
+                self.w[a][k] = self.state.tangential_displacement[a][k] - self.state.shift[a];
+            }
+        }
+    }
+
+    /// Makes the last [`ContactProblem::solve`] the converged state of the increment: `Δuⁿ⁺¹` and
+    /// `Dⁿ⁺¹` become the history of the next one (spec §8.11).
+    pub fn commit(&mut self) {
+        for a in 0..2 {
+            self.state.tangential_displacement[a].copy_from_slice(&self.trial_displacement[a]);
+        }
+        self.state.shift = self.trial_shift;
+    }
+
+    /// Solves the current increment (after [`ContactProblem::begin`]) to normal load `load` and
+    /// rigid shift `shift`: Panagiotopoulos alternation of the normal solve (shear frozen) and the
+    /// tangential solve (pressure frozen) until both stop changing (spec §4.5); one pass when
+    /// uncoupled. The eigen-displacements enter `h` and `Δu`. Pressure and shear are updated (and
+    /// serve as warm starts); the history is not.
+    pub fn solve(&mut self, load: NormalLoad, shift: [f64; 2]) -> Result<IncrementInfo, SamError> {
         for s in shift {
             if !s.is_finite() {
                 return Err(SamError::InvalidParameter {
@@ -211,13 +290,6 @@ impl ContactProblem {
         }
         let n = self.grid.len();
         let mu = self.params.friction;
-        // History: w = Δuⁿ − Dⁿ.
-        // History: w = Δuⁿ − Dⁿ (work arrays owned by the problem: no allocation per increment).
-        for a in 0..2 {
-            for k in 0..n {
-                self.w[a][k] = self.state.tangential_displacement[a][k] - self.state.shift[a];
-            }
-        }
         let mut alternations = 0;
         let (mut normal_info, mut tangential_info);
         loop {
@@ -225,8 +297,11 @@ impl ContactProblem {
             self.p_prev.copy_from_slice(&self.state.pressure);
             self.q_prev[0].copy_from_slice(&self.state.shear[0]);
             self.q_prev[1].copy_from_slice(&self.state.shear[1]);
-            // Normal solve with q frozen: h = h₀ + κ⟦P_B⟧ * q.
+            // Normal solve with q frozen: h = h₀ + u₃^eig + κ⟦P_B⟧ * q.
             self.h.copy_from_slice(&self.geometry);
+            if let Some(eig) = &self.eigen {
+                self.h.iter_mut().zip(&eig[2]).for_each(|(h, u)| *h += u);
+            }
             if let Some(op) = &mut self.shear_to_normal {
                 op.apply(
                     &[&self.state.shear[0], &self.state.shear[1]],
@@ -237,10 +312,22 @@ impl ContactProblem {
             normal_info =
                 self.normal
                     .solve(&self.h, load, &mut self.state.pressure, &self.params.normal)?;
-            // Tangential solve with p frozen: c = −κ⟦P_B⟧ * p, b = w + D − c.
+            // Tangential solve with p frozen: c = −κ⟦P_B⟧ * p + u_α^eig, b = w + D − c.
             if let Some(op) = &mut self.pressure_to_tangential {
                 let [c0, c1] = &mut self.c;
                 op.apply(&[&self.state.pressure], &mut [c0, c1])?;
+            }
+            if let Some(eig) = &self.eigen {
+                for a in 0..2 {
+                    if self.pressure_to_tangential.is_none() {
+                        self.c[a].copy_from_slice(&eig[a]);
+                    } else {
+                        self.c[a].iter_mut().zip(&eig[a]).for_each(|(c, u)| *c += u);
+                    }
+                }
+            } else if self.pressure_to_tangential.is_none() {
+                self.c[0].fill(0.0);
+                self.c[1].fill(0.0);
             }
             for k in 0..n {
                 self.bound[k] = mu * self.state.pressure[k];
@@ -288,7 +375,7 @@ impl ContactProblem {
                 });
             }
         }
-        // Δuⁿ⁺¹ = T q + c.
+        // Δuⁿ⁺¹ = T q + c (the trial history, committed by `commit`).
         {
             let [t0, t1] = &mut self.tq;
             self.tangential
@@ -296,10 +383,10 @@ impl ContactProblem {
         }
         for a in 0..2 {
             for k in 0..n {
-                self.state.tangential_displacement[a][k] = self.tq[a][k] + self.c[a][k];
+                self.trial_displacement[a][k] = self.tq[a][k] + self.c[a][k];
             }
         }
-        self.state.shift = shift;
+        self.trial_shift = shift;
         self.state.approach = normal_info.approach;
         self.state.force = normal_info.force;
         let area = self.grid.cell_area();
@@ -337,12 +424,16 @@ impl ContactProblem {
         bracket: f64,
     ) -> Result<(IncrementInfo, f64), SamError> {
         let mu = self.params.friction;
-        let saved = self.state.clone();
+        // Every evaluation solves the same increment from the same history and warm start.
+        self.begin();
+        let start_shift = self.state.shift;
+        let warm_p = self.state.pressure.clone();
+        let warm_q = self.state.shear.clone();
         let w_force = match load {
             NormalLoad::Force(w) => w,
             NormalLoad::Approach(_) => {
-                let info = self.increment(load, saved.shift)?;
-                self.state = saved.clone();
+                let info = self.solve(load, start_shift)?;
+                self.state.pressure.copy_from_slice(&warm_p);
                 info.normal.force
             }
         };
@@ -353,16 +444,20 @@ impl ContactProblem {
             });
         }
         let eval = |this: &mut Self, d: f64| -> Result<(f64, IncrementInfo), SamError> {
-            this.state = saved.clone();
-            let info = this.increment(load, [d, saved.shift[1]])?;
+            this.state.pressure.copy_from_slice(&warm_p);
+            this.state.shear[0].copy_from_slice(&warm_q[0]);
+            this.state.shear[1].copy_from_slice(&warm_q[1]);
+            let info = this.solve(load, [d, start_shift[1]])?;
             Ok((info.tangential_force[0] - force, info))
         };
         // Bracket: from the previous shift, step by `bracket` toward the target until the sign flips.
-        let start = saved.shift[0];
+        let start = start_shift[0];
         let (mut a, (mut fa, _)) = (start, eval(self, start)?);
+        let mut last;
         let dir = if fa < 0.0 { 1.0 } else { -1.0 };
         let mut step = bracket.abs().max(f64::MIN_POSITIVE);
         let (mut b, (mut fb, mut info_b)) = (start + dir * step, eval(self, start + dir * step)?);
+        last = b;
         let mut expansions = 0;
         while fa * fb > 0.0 {
             expansions += 1;
@@ -378,6 +473,7 @@ impl ContactProblem {
             step *= 2.0;
             b = a + dir * step;
             let r = eval(self, b)?;
+            last = b;
             fb = r.0;
             info_b = r.1;
         }
@@ -388,7 +484,7 @@ impl ContactProblem {
         let tol_q = 1e-6 * mu * w_force;
         for _ in 0..100 {
             if fb.abs() <= tol_q {
-                return Ok((info_b, b));
+                break;
             }
             if (fc > 0.0) == (fb > 0.0) {
                 c = a;
@@ -441,9 +537,15 @@ impl ContactProblem {
             fa = fb;
             b += if d.abs() > tol { d } else { tol * m.signum() };
             let r = eval(self, b)?;
+            last = b;
             fb = r.0;
             info_b = r.1;
         }
+        // The state must be the solution at the returned shift (Brent swaps b and c).
+        if last != b {
+            info_b = eval(self, b)?.1;
+        }
+        self.commit();
         Ok((info_b, b))
     }
 }
