@@ -109,6 +109,11 @@ impl Gmres {
         }
     }
 
+    /// `(n, m)`: dimension and restart length of the work arrays.
+    pub fn shape(&self) -> (usize, usize) {
+        (self.n, self.m)
+    }
+
     /// Solves `A x = b` with the preconditioner `M⁻¹` (`precond` applies `M⁻¹`); `x` is the warm
     /// start and the result.
     pub fn solve(

@@ -44,23 +44,70 @@ pub trait LayerKernel: Sync {
     fn blocks(&self) -> (usize, usize);
     /// `out[o · n_in + i] = K_oi(m, n, key)` for the in-plane offset `(m, n)` in cells.
     fn eval(&self, key: i64, m: i64, n: i64, out: &mut [f64]);
+    /// Per block, whether it is odd (`true`) or even in `m` and in `n`, when every block has a
+    /// parity; then only the quadrant `m, n ≥ 0` is evaluated for the stored spectra. The dense
+    /// control always evaluates every offset, so a wrong parity fails the twin tests.
+    fn parity(&self) -> Option<Vec<(bool, bool)>> {
+        None
+    }
 }
 
-/// Kernel tables `(2N₁ − 1)(2N₂ − 1)` per block, for one key, tabulated in parallel over rows.
-fn tabulate(n1: usize, n2: usize, kernel: &dyn LayerKernel, key: i64) -> Vec<Vec<f64>> {
+/// Kernel tables `(2N₁ − 1)(2N₂ − 1)` per block, for one key, tabulated in parallel over rows; with
+/// `use_parity` and a kernel that declares its parities, only the quadrant `m, n ≥ 0` is evaluated
+/// and the rest is filled by symmetry.
+fn tabulate(
+    n1: usize,
+    n2: usize,
+    kernel: &dyn LayerKernel,
+    key: i64,
+    use_parity: bool,
+) -> Vec<Vec<f64>> {
     let (n_out, n_in) = kernel.blocks();
     let nb = n_out * n_in;
     let w = 2 * n2 - 1;
+    let parity = if use_parity { kernel.parity() } else { None };
     let mut flat = vec![0.0; (2 * n1 - 1) * w * nb];
+    let (c1, c2) = (n1 - 1, n2 - 1);
+    let quadrant = parity.is_some();
     flat.par_chunks_mut(w * nb)
         .enumerate()
         .for_each(|(r, row)| {
-            let m = r as i64 - (n1 as i64 - 1);
+            if quadrant && r < c1 {
+                return;
+            }
+            let m = r as i64 - c1 as i64;
             for (c, vals) in row.chunks_mut(nb).enumerate() {
-                let n = c as i64 - (n2 as i64 - 1);
+                if quadrant && c < c2 {
+                    continue;
+                }
+                let n = c as i64 - c2 as i64;
                 kernel.eval(key, m, n, vals);
             }
         });
+    if let Some(par) = parity {
+        // Mirror the quadrant: K(m, −n) = ±K(m, n), then K(−m, n) = ±K(m, n).
+        for r in c1..2 * n1 - 1 {
+            for c in 0..c2 {
+                let src = (r * w + (2 * c2 - c)) * nb;
+                let dst = (r * w + c) * nb;
+                for b in 0..nb {
+                    let v = flat[src + b];
+                    flat[dst + b] = if par[b].1 { -v } else { v };
+                }
+            }
+        }
+        for r in 0..c1 {
+            let src_row = 2 * c1 - r;
+            for c in 0..w {
+                let src = (src_row * w + c) * nb;
+                let dst = (r * w + c) * nb;
+                for b in 0..nb {
+                    let v = flat[src + b];
+                    flat[dst + b] = if par[b].0 { -v } else { v };
+                }
+            }
+        }
+    }
     (0..nb)
         .map(|blk| flat.iter().skip(blk).step_by(nb).copied().collect())
         .collect()
@@ -118,7 +165,7 @@ impl LayeredSpectra {
             keys.dedup();
             let mut map = BTreeMap::new();
             for key in keys {
-                let tables = tabulate(n1, n2, kernel, key);
+                let tables = tabulate(n1, n2, kernel, key, true);
                 let mut blocks = Vec::with_capacity(tables.len());
                 for t in tables {
                     if t.iter().all(|v| *v == 0.0) {
@@ -246,7 +293,7 @@ impl DenseLayered {
                     for &b in sources {
                         let key = family.key(a, b);
                         map.entry(key)
-                            .or_insert_with(|| tabulate(n1, n2, kernel, key));
+                            .or_insert_with(|| tabulate(n1, n2, kernel, key, false));
                     }
                 }
                 (family, map)

@@ -98,7 +98,7 @@ fn eshelby_sphere(
         nu: NU,
     };
     let set = InclusionSet::new(&grid, &[inh]).unwrap();
-    let mut fields = EimFields::new(
+    let fields = EimFields::new(
         grid,
         E,
         NU,
@@ -112,7 +112,7 @@ fn eshelby_sphere(
     let applied: Vec<Vec<f64>> = (0..set.layers.len() * 6)
         .map(|k| vec![remote[k % 6]; grid.len()])
         .collect();
-    let mut sys = EimSystem::new(&mut fields, &set, E, NU).unwrap();
+    let mut sys = EimSystem::new(fields, set.clone(), E, NU).unwrap();
     let mut x = vec![0.0; 6 * set.len()];
     let info = sys.solve(
         &applied,
@@ -215,7 +215,7 @@ fn solvers_agree_on_the_fft_operator_its_dense_twin_and_a_direct_lu() {
         .collect();
     let mut solutions = Vec::new();
     for backend in [Backend::Fft, Backend::Dense] {
-        let mut fields = EimFields::new(
+        let fields = EimFields::new(
             grid,
             E,
             NU,
@@ -225,7 +225,7 @@ fn solvers_agree_on_the_fft_operator_its_dense_twin_and_a_direct_lu() {
             backend,
         )
         .unwrap();
-        let mut sys = EimSystem::new(&mut fields, &set, E, NU).unwrap();
+        let mut sys = EimSystem::new(fields, set.clone(), E, NU).unwrap();
         for method in [EimMethod::BlockJacobi, EimMethod::Gmres] {
             let mut x = vec![0.0; sys.dim()];
             sys.solve(

@@ -40,6 +40,20 @@ pub enum Backend {
     Dense,
 }
 
+/// How often the index 1 (`x₁`) and the index 2 (`x₂`) occur in each Voigt component: a tensor
+/// component changes sign under `x_α → −x_α` when its index `α` occurs an odd number of times.
+const VOIGT_COUNTS: [(usize, usize); 6] = [(2, 0), (0, 2), (0, 0), (0, 1), (1, 0), (1, 1)];
+
+/// Parities of the blocks `out × in` from the index counts of each output and input.
+fn parities(outs: &[(usize, usize)], ins: &[(usize, usize)]) -> Vec<(bool, bool)> {
+    outs.iter()
+        .flat_map(|o| {
+            ins.iter()
+                .map(move |i| ((o.0 + i.0) % 2 == 1, (o.1 + i.1) % 2 == 1))
+        })
+        .collect()
+}
+
 /// `D(x)` of a cube of half size `Δ`, all 36 blocks (infinite part, layer difference).
 struct InfiniteStrain {
     half: f64,
@@ -58,6 +72,9 @@ impl LayerKernel for InfiniteStrain {
             out[o * 6..o * 6 + 6].copy_from_slice(row);
         }
     }
+    fn parity(&self) -> Option<Vec<(bool, bool)>> {
+        Some(parities(&VOIGT_COUNTS, &VOIGT_COUNTS))
+    }
 }
 
 /// The mirror image: `D(x₁, x₂, x₃ + x₃′)` acting on `ε*ˢ = (ε*₁₁, ε*₂₂, ε*₃₃, −ε*₂₃, −ε*₁₃, ε*₁₂)`.
@@ -73,6 +90,9 @@ impl LayerKernel for ImageStrain {
             out[o * 6 + 3] = -out[o * 6 + 3];
             out[o * 6 + 4] = -out[o * 6 + 4];
         }
+    }
+    fn parity(&self) -> Option<Vec<(bool, bool)>> {
+        self.0.parity()
     }
 }
 
@@ -98,6 +118,10 @@ impl LayerKernel for SurfaceFields {
             out[6 + i] = 2.0 * disp[0][i];
             out[12 + i] = 2.0 * disp[1][i];
         }
+    }
+    fn parity(&self) -> Option<Vec<(bool, bool)>> {
+        // Rows: σ₃₃, u₁, u₂.
+        Some(parities(&[(0, 0), (1, 0), (0, 1)], &VOIGT_COUNTS))
     }
 }
 
@@ -126,6 +150,10 @@ impl LayerKernel for LoveStrain {
                 out[o * 3 + i] = (0..6).map(|r| self.s[o][r] * sigma[r]).sum();
             }
         }
+    }
+    fn parity(&self) -> Option<Vec<(bool, bool)>> {
+        // Inputs: p, q₁, q₂.
+        Some(parities(&VOIGT_COUNTS, &[(0, 0), (1, 0), (0, 1)]))
     }
 }
 

@@ -91,10 +91,11 @@ fn invert6(m: &[[f64; 6]; 6]) -> Result<[[f64; 6]; 6], SamError> {
 }
 
 /// The operator `A ε* = C^m ε* − ΔC (𝒟 ε*)` on the inclusion cells, with its block
-/// preconditioner; the source and target layers of `fields` must be the set's layers.
-pub struct EimSystem<'a> {
-    fields: &'a mut EimFields,
-    set: &'a InclusionSet,
+/// preconditioner; the source and target layers of `fields` must be the set's layers. Owns its
+/// operators and work arrays: applying does not allocate.
+pub struct EimSystem {
+    fields: EimFields,
+    set: InclusionSet,
     cm: [[f64; 6]; 6],
     /// `ΔC` per material.
     dc: Vec<[[f64; 6]; 6]>,
@@ -102,16 +103,13 @@ pub struct EimSystem<'a> {
     precond: Vec<[[f64; 6]; 6]>,
     eigen: Vec<Vec<f64>>,
     strain: Vec<Vec<f64>>,
+    /// GMRES work arrays, kept between solves (warm outer loops do not reallocate).
+    gmres: Option<Gmres>,
 }
 
-impl<'a> EimSystem<'a> {
+impl EimSystem {
     /// Builds the blocks for the matrix `(E, ν)`.
-    pub fn new(
-        fields: &'a mut EimFields,
-        set: &'a InclusionSet,
-        e: f64,
-        nu: f64,
-    ) -> Result<Self, SamError> {
+    pub fn new(fields: EimFields, set: InclusionSet, e: f64, nu: f64) -> Result<Self, SamError> {
         let (ns, nt) = fields.layer_counts();
         if ns != set.layers.len() || nt != set.layers.len() {
             return Err(SamError::InvalidParameter {
@@ -152,6 +150,7 @@ impl<'a> EimSystem<'a> {
             precond,
             eigen: vec![vec![0.0; n]; layers * 6],
             strain: vec![vec![0.0; n]; layers * 6],
+            gmres: None,
         })
     }
 
@@ -220,7 +219,13 @@ impl<'a> EimSystem<'a> {
         let mut pre = self.preconditioner();
         let info: KrylovInfo = match method {
             EimMethod::Gmres => {
-                Gmres::new(n, params.restart).solve(self, &mut pre, &b, eps_star, &kp)
+                let mut gmres = match self.gmres.take() {
+                    Some(g) if g.shape() == (n, params.restart.max(1)) => g,
+                    _ => Gmres::new(n, params.restart),
+                };
+                let r = gmres.solve(self, &mut pre, &b, eps_star, &kp);
+                self.gmres = Some(gmres);
+                r
             }
             EimMethod::BlockJacobi | EimMethod::Auto => {
                 richardson(self, &mut pre, &b, eps_star, &kp)
@@ -262,11 +267,16 @@ impl<'a> EimSystem<'a> {
 
     /// The field operators (for eigen-displacements after a solve).
     pub fn fields(&mut self) -> &mut EimFields {
-        self.fields
+        &mut self.fields
+    }
+
+    /// The inclusion cells.
+    pub fn set(&self) -> &InclusionSet {
+        &self.set
     }
 }
 
-impl LinearOperator for EimSystem<'_> {
+impl LinearOperator for EimSystem {
     fn dim(&self) -> usize {
         6 * self.set.len()
     }

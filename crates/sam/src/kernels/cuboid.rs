@@ -109,13 +109,15 @@ impl Corner {
             let k = 3 - i - j;
             return self.l[k] + c[i] * c[i] / (r * self.r_plus[k]);
         }
-        let pairs: Vec<usize> = (0..3).filter(|&i| n[i] == 2).collect();
-        if pairs.len() == 2 {
-            let (i, j) = (pairs[0], pairs[1]);
-            return c[i] * c[j] / (r * self.r_plus[3 - i - j]);
+        let single = (0..3).find(|&i| n[i] == 0);
+        if let Some(k) = single {
+            // n = (2, 2, 0) in some order: 𝓗,iijj = c_i c_j / (R (R + c_k)).
+            let (i, j) = others(k);
+            return c[i] * c[j] / (r * self.r_plus[k]);
         }
         // n = (2, 1, 1) in some order: 𝓗,iijk = c_i / R.
-        c[pairs[0]] / r
+        let i = (0..3).find(|&i| n[i] == 2).expect("a doubled index");
+        c[i] / r
     }
 }
 
@@ -146,14 +148,76 @@ fn slot(n: [usize; 3], order: usize) -> usize {
 }
 
 /// All distinct multiplicity vectors of an order, in [`slot`] order.
-fn multiplicities(order: usize) -> Vec<[usize; 3]> {
-    let mut v = Vec::new();
-    for a in (0..=order).rev() {
-        for b in (0..=order - a).rev() {
-            v.push([a, b, order - a - b]);
+const fn multiplicities<const M: usize>(order: usize) -> [[usize; 3]; M] {
+    let mut v = [[0; 3]; M];
+    let mut s = 0;
+    let mut a = order as isize;
+    while a >= 0 {
+        let mut b = order as isize - a;
+        while b >= 0 {
+            v[s] = [a as usize, b as usize, order - a as usize - b as usize];
+            s += 1;
+            b -= 1;
         }
+        a -= 1;
     }
     v
+}
+
+const M2: [[usize; 3]; 6] = multiplicities::<6>(2);
+const M3: [[usize; 3]; 10] = multiplicities::<10>(3);
+const M4: [[usize; 3]; 15] = multiplicities::<15>(4);
+
+/// `SLOT2[i][j]`, `SLOT4[i][j][k][l]`: positions of the derivatives in the tables.
+const SLOT2: [[usize; 3]; 3] = {
+    let mut t = [[0; 3]; 3];
+    let mut i = 0;
+    while i < 3 {
+        let mut j = 0;
+        while j < 3 {
+            let mut n = [0; 3];
+            n[i] += 1;
+            n[j] += 1;
+            t[i][j] = slot_const(n, 2);
+            j += 1;
+        }
+        i += 1;
+    }
+    t
+};
+
+const SLOT4: [[[[usize; 3]; 3]; 3]; 3] = {
+    let mut t = [[[[0; 3]; 3]; 3]; 3];
+    let mut q = 0;
+    while q < 81 {
+        let (i, j, k, l) = (q / 27, (q / 9) % 3, (q / 3) % 3, q % 3);
+        let mut n = [0; 3];
+        n[i] += 1;
+        n[j] += 1;
+        n[k] += 1;
+        n[l] += 1;
+        t[i][j][k][l] = slot_const(n, 4);
+        q += 1;
+    }
+    t
+};
+
+/// [`slot`] as a `const fn`.
+const fn slot_const(n: [usize; 3], order: usize) -> usize {
+    let mut s = 0;
+    let mut a = order as isize;
+    while a >= 0 {
+        let mut b = order as isize - a;
+        while b >= 0 {
+            if a as usize == n[0] && b as usize == n[1] {
+                return s;
+            }
+            s += 1;
+            b -= 1;
+        }
+        a -= 1;
+    }
+    usize::MAX
 }
 
 /// Second derivatives of `φ` and fourth of `ψ` at `x` for the box of half-sizes `a` (corner sums of
@@ -189,16 +253,14 @@ fn for_corners(x: [f64; 3], a: [f64; 3], mut f: impl FnMut(f64, &Corner)) {
 impl StrainPotentials {
     /// `φ,ij` and `ψ,ijkl` at `x` for the box of half-sizes `a`.
     pub fn new(x: [f64; 3], a: [f64; 3]) -> Self {
-        let m2 = multiplicities(2);
-        let m4 = multiplicities(4);
         let mut phi2 = [0.0; 6];
         let mut psi4 = [0.0; 15];
         for_corners(x, a, |s, corner| {
-            for (v, n) in phi2.iter_mut().zip(&m2) {
+            for (v, n) in phi2.iter_mut().zip(&M2) {
                 let (i, j) = pair_of(*n);
                 *v += s * corner.e2(i, j);
             }
-            for (v, n) in psi4.iter_mut().zip(&m4) {
+            for (v, n) in psi4.iter_mut().zip(&M4) {
                 *v += s * corner.h4(*n);
             }
         });
@@ -206,13 +268,15 @@ impl StrainPotentials {
     }
 
     /// `φ,ij`.
+    #[inline]
     pub fn phi2(&self, i: usize, j: usize) -> f64 {
-        self.phi2[slot(counts(&[i, j]), 2)]
+        self.phi2[SLOT2[i][j]]
     }
 
     /// `ψ,ijkl`.
+    #[inline]
     pub fn psi4(&self, i: usize, j: usize, k: usize, l: usize) -> f64 {
-        self.psi4[slot(counts(&[i, j, k, l]), 4)]
+        self.psi4[SLOT4[i][j][k][l]]
     }
 
     /// `D_ijkl` (the strain at `x` per unit `ε*_kl`, `ε*_lk` not included).
@@ -246,26 +310,25 @@ impl StrainPotentials {
 
 /// The two indices of a multiplicity vector of order 2.
 fn pair_of(n: [usize; 3]) -> (usize, usize) {
-    let mut idx = Vec::with_capacity(2);
-    for (i, &c) in n.iter().enumerate() {
-        for _ in 0..c {
-            idx.push(i);
+    match (0..3).find(|&i| n[i] == 2) {
+        Some(i) => (i, i),
+        None => {
+            let k = (0..3).find(|&i| n[i] == 0).expect("order 2");
+            others(k)
         }
     }
-    (idx[0], idx[1])
 }
 
 impl DisplacementPotentials {
     /// `φ,i` and `ψ,ijk` at `x` for the box of half-sizes `a`.
     pub fn new(x: [f64; 3], a: [f64; 3]) -> Self {
-        let m3 = multiplicities(3);
         let mut phi1 = [0.0; 3];
         let mut psi3 = [0.0; 10];
         for_corners(x, a, |s, corner| {
             for (i, v) in phi1.iter_mut().enumerate() {
                 *v += s * corner.e1(i);
             }
-            for (v, n) in psi3.iter_mut().zip(&m3) {
+            for (v, n) in psi3.iter_mut().zip(&M3) {
                 *v += s * corner.h3(*n);
             }
         });

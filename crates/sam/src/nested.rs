@@ -1,0 +1,243 @@
+//! Contact with inhomogeneities below the surface: the outer loop of [LN11] Fig. 2 (spec §6.2).
+//! Per increment, until the surface eigen-displacements stop changing:
+//!
+//! 1. contact solve with `h = h₀ + u₃^eig` and `Δu ∋ u_α^eig` ([`ContactProblem::solve`]);
+//! 2. applied strain `ε⁰` at the inclusion cells from `p, q` (Love, spec §5.4);
+//! 3. EIM: `ε*` from the equivalency equations (spec §5.6), warm-started;
+//! 4. correction pressure and eigen-displacements `u^eig` (spec §6.1);
+//! 5. `u^eig ← u^eig_old + ω (u^eig − u^eig_old)`; stop when
+//!    `max|u₃^eig − u₃^eig,old| / max|u₃^eig| < tol` (and the same for `u_α^eig` with friction).
+//!
+//! The friction history is committed only when the increment has converged (spec §8.11).
+
+use crate::coupled::{ContactProblem, IncrementInfo};
+use crate::eim::{
+    Backend, EimFields, EimInfo, EimParams, EimSystem, InclusionSet, Inhomogeneity, Space,
+};
+use crate::normal::NormalLoad;
+use crate::SamError;
+
+/// Parameters of the outer loop.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NestedParams {
+    /// Relative change of the eigen-displacements below which the increment has converged
+    /// (spec §6.2: 1e-6).
+    pub tolerance: f64,
+    /// Outer iteration limit.
+    pub max_outer: usize,
+    /// Under-relaxation `ω ∈ (0, 1]`.
+    pub relaxation: f64,
+    /// EIM solver parameters.
+    pub eim: EimParams,
+}
+
+impl Default for NestedParams {
+    fn default() -> Self {
+        Self {
+            tolerance: 1e-6,
+            max_outer: 60,
+            relaxation: 1.0,
+            eim: EimParams::default(),
+        }
+    }
+}
+
+impl NestedParams {
+    /// Checks the parameters.
+    pub fn validate(&self) -> Result<(), SamError> {
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
+            return Err(SamError::InvalidParameter {
+                name: "outer-loop tolerance",
+                value: self.tolerance,
+                allowed: "finite and > 0",
+            });
+        }
+        if !(self.relaxation > 0.0 && self.relaxation <= 1.0) {
+            return Err(SamError::InvalidParameter {
+                name: "under-relaxation ω",
+                value: self.relaxation,
+                allowed: "in (0, 1]",
+            });
+        }
+        if self.max_outer == 0 {
+            return Err(SamError::InvalidParameter {
+                name: "outer iteration limit",
+                value: 0.0,
+                allowed: "≥ 1",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// What an increment with inhomogeneities did.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NestedInfo {
+    /// The contact solve of the last outer iteration.
+    pub contact: IncrementInfo,
+    /// Outer iterations.
+    pub outer_iterations: usize,
+    /// EIM iterations summed over the outer iterations.
+    pub eim_iterations: usize,
+    /// The last EIM solve.
+    pub last_eim: EimInfo,
+    /// Final relative change of the eigen-displacements.
+    pub change: f64,
+    /// `min u₃^eig` (m; negative: the surface rises above a stiff inhomogeneity under load).
+    pub min_eigen_displacement: f64,
+}
+
+/// A contact problem on a half-space with inhomogeneities.
+pub struct InhomogeneousContact {
+    problem: ContactProblem,
+    system: EimSystem,
+    params: NestedParams,
+    friction: bool,
+    eps_star: Vec<f64>,
+    applied: Vec<Vec<f64>>,
+    u_eig: [Vec<f64>; 3],
+    u_new: [Vec<f64>; 3],
+}
+
+impl InhomogeneousContact {
+    /// Plans the EIM operators for `inhomogeneities` in the half-space `(e, nu)` under `problem`'s
+    /// grid (cubic cells of the surface cell size).
+    pub fn new(
+        problem: ContactProblem,
+        e: f64,
+        nu: f64,
+        inhomogeneities: &[Inhomogeneity],
+        params: NestedParams,
+    ) -> Result<Self, SamError> {
+        params.validate()?;
+        let grid = *problem.grid();
+        let set = InclusionSet::new(&grid, inhomogeneities)?;
+        if set.is_empty() {
+            return Err(SamError::InvalidParameter {
+                name: "inhomogeneity count",
+                value: 0.0,
+                allowed: "≥ 1 (use ContactProblem without inhomogeneities)",
+            });
+        }
+        let fields = EimFields::new(
+            grid,
+            e,
+            nu,
+            &set.layers,
+            &set.layers,
+            Space::HalfSpace,
+            Backend::Fft,
+        )?;
+        let n = grid.len();
+        let layers = set.layers.len();
+        let cells = set.len();
+        let friction = problem.friction() > 0.0;
+        Ok(Self {
+            system: EimSystem::new(fields, set, e, nu)?,
+            problem,
+            params,
+            friction,
+            eps_star: vec![0.0; 6 * cells],
+            applied: vec![vec![0.0; n]; layers * 6],
+            u_eig: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+            u_new: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+        })
+    }
+
+    /// One increment to normal load `load` and shift `shift` (spec §6.2), the friction history
+    /// committed at convergence.
+    pub fn increment(&mut self, load: NormalLoad, shift: [f64; 2]) -> Result<NestedInfo, SamError> {
+        self.problem.begin();
+        let mut eim_iterations = 0;
+        let omega = self.params.relaxation;
+        for outer in 1..=self.params.max_outer {
+            self.problem.set_eigen_displacements(Some([
+                &self.u_eig[0],
+                &self.u_eig[1],
+                &self.u_eig[2],
+            ]))?;
+            let contact = self.problem.solve(load, shift)?;
+            let state = self.problem.state();
+            let q = if self.friction {
+                Some([state.shear[0].as_slice(), state.shear[1].as_slice()])
+            } else {
+                None
+            };
+            self.system
+                .fields()
+                .traction_strain(&state.pressure, q, &mut self.applied)?;
+            let last_eim =
+                self.system
+                    .solve(&self.applied, &mut self.eps_star, &self.params.eim)?;
+            eim_iterations += last_eim.iterations;
+            self.system.disturbance(&self.eps_star)?;
+            {
+                let [a, b, c] = &mut self.u_new;
+                self.system.fields().eigen_displacements([a, b, c])?;
+            }
+            let components = if self.friction { 0..3 } else { 2..3 };
+            let mut change: f64 = 0.0;
+            for c in components {
+                let scale = self.u_new[c].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                let diff = self.u_new[c]
+                    .iter()
+                    .zip(&self.u_eig[c])
+                    .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+                if scale > 0.0 {
+                    change = change.max(diff / scale);
+                }
+            }
+            for c in 0..3 {
+                for (u, v) in self.u_eig[c].iter_mut().zip(&self.u_new[c]) {
+                    *u += omega * (v - *u);
+                }
+            }
+            if change < self.params.tolerance {
+                // The state is the contact solve with the previous u_eig, which agrees with the
+                // new one to `tol`.
+                self.problem.commit();
+                return Ok(NestedInfo {
+                    contact,
+                    outer_iterations: outer,
+                    eim_iterations,
+                    last_eim,
+                    change,
+                    min_eigen_displacement: self.u_eig[2].iter().cloned().fold(0.0, f64::min),
+                });
+            }
+            if outer == self.params.max_outer {
+                return Err(SamError::NoConvergence {
+                    solver: "contact ↔ EIM outer loop (try under-relaxation)",
+                    iterations: outer,
+                    residual: change,
+                });
+            }
+        }
+        unreachable!("the loop returns")
+    }
+
+    /// The contact problem (state, grid).
+    pub fn problem(&self) -> &ContactProblem {
+        &self.problem
+    }
+
+    /// The inclusion cells.
+    pub fn inclusions(&self) -> &InclusionSet {
+        self.system.set()
+    }
+
+    /// The eigenstrains, 6 per inclusion cell (Voigt, tensor shear).
+    pub fn eigenstrain(&self) -> &[f64] {
+        &self.eps_star
+    }
+
+    /// The surface eigen-displacements `(u₁, u₂, u₃)^eig`.
+    pub fn eigen_displacements(&self) -> &[Vec<f64>; 3] {
+        &self.u_eig
+    }
+
+    /// Bytes of the stored EIM kernel spectra.
+    pub fn spectra_bytes(&mut self) -> usize {
+        self.system.fields().spectra_bytes()
+    }
+}
