@@ -8,7 +8,7 @@ use halfspace_numerics::linop::{DenseMatrix, LinearOperator};
 use halfspace_sam::analytic::{eshelby_sphere_interior_stress, mindlin_cheng_surface};
 use halfspace_sam::eim::{
     Axis, Backend, EimFields, EimMethod, EimParams, EimSystem, InclusionSet, Inhomogeneity, Shape,
-    Space,
+    Space, Window,
 };
 use halfspace_sam::kernels::{mul6, stiffness};
 use halfspace_sam::{SamError, SurfaceGrid};
@@ -40,21 +40,45 @@ fn max_diff(a: &[Vec<f64>], b: &[Vec<f64>]) -> (f64, f64) {
 }
 
 #[test]
-fn layered_operators_equal_their_dense_twin() {
+fn layered_operators_equal_their_dense_twin_and_the_window_equals_the_full_grid() {
     let grid = SurfaceGrid::square(8, 8.0).unwrap();
     let (sources, targets) = ([1usize, 2, 4], [0usize, 1, 2, 3, 4, 6]);
     let n = grid.len();
-    let eigen: Vec<Vec<f64>> = (0..sources.len() * 6)
-        .map(|k| lcg(k as u64 + 1, n))
+    let sub = Window {
+        i0: 2,
+        n1: 4,
+        j0: 1,
+        n2: 5,
+    };
+    let full = Window::full(&grid);
+    let eigen_sub: Vec<Vec<f64>> = (0..sources.len() * 6)
+        .map(|k| lcg(k as u64 + 1, sub.len()))
+        .collect();
+    let eigen_full: Vec<Vec<f64>> = eigen_sub
+        .iter()
+        .map(|f| {
+            let mut g = vec![0.0; n];
+            sub.scatter(&grid, f, &mut g);
+            g
+        })
         .collect();
     let p = lcg(99, n).iter().map(|v| v + 0.5).collect::<Vec<_>>();
     let (q1, q2) = (lcg(5, n), lcg(6, n));
-    let mut results = Vec::new();
-    for backend in [Backend::Fft, Backend::Dense] {
-        let mut f =
-            EimFields::new(grid, E, NU, &sources, &targets, Space::HalfSpace, backend).unwrap();
-        let mut strain = vec![vec![0.0; n]; targets.len() * 6];
-        f.disturbance(&eigen, &mut strain).unwrap();
+    type Fields = (Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<Vec<f64>>);
+    let run = |window: Window, eigen: &[Vec<f64>], backend: Backend| -> Fields {
+        let mut f = EimFields::new(
+            grid,
+            E,
+            NU,
+            &sources,
+            &targets,
+            window,
+            Space::HalfSpace,
+            backend,
+        )
+        .unwrap();
+        let mut strain = vec![vec![0.0; window.len()]; targets.len() * 6];
+        f.disturbance(eigen, &mut strain).unwrap();
         let mut u = vec![vec![0.0; n]; 3];
         {
             let [a, b, c] = &mut u[..] else {
@@ -62,17 +86,40 @@ fn layered_operators_equal_their_dense_twin() {
             };
             f.eigen_displacements([a, b, c]).unwrap();
         }
-        let mut applied = vec![vec![0.0; n]; targets.len() * 6];
+        let mut applied = vec![vec![0.0; window.len()]; targets.len() * 6];
         f.traction_strain(&p, Some([&q1, &q2]), &mut applied)
             .unwrap();
-        results.push((strain, vec![f.correction_pressure().to_vec()], u, applied));
-    }
-    let (fast, dense) = (&results[0], &results[1]);
+        (strain, vec![f.correction_pressure().to_vec()], u, applied)
+    };
+    let fast = run(sub, &eigen_sub, Backend::Fft);
+    let dense = run(sub, &eigen_sub, Backend::Dense);
     for (name, (err, scale)) in [
         ("disturbance strain", max_diff(&fast.0, &dense.0)),
         ("correction pressure", max_diff(&fast.1, &dense.1)),
         ("eigen-displacements", max_diff(&fast.2, &dense.2)),
         ("applied strain", max_diff(&fast.3, &dense.3)),
+    ] {
+        assert!(err <= 1e-12 * scale, "{name}: {err:e} of {scale:e}");
+    }
+    // The whole grid, cropped to the window, gives the same fields.
+    let whole = run(full, &eigen_full, Backend::Fft);
+    let crop = |fields: &[Vec<f64>]| -> Vec<Vec<f64>> {
+        fields
+            .iter()
+            .map(|f| {
+                let mut l = vec![0.0; sub.len()];
+                sub.gather_add(&grid, f, &mut l);
+                l
+            })
+            .collect()
+    };
+    for (name, (err, scale)) in [
+        ("windowed strain", max_diff(&fast.0, &crop(&whole.0))),
+        ("windowed p_c", max_diff(&fast.1, &whole.1)),
+        (
+            "windowed applied strain",
+            max_diff(&fast.3, &crop(&whole.3)),
+        ),
     ] {
         assert!(err <= 1e-12 * scale, "{name}: {err:e} of {scale:e}");
     }
@@ -104,13 +151,14 @@ fn eshelby_sphere(
         NU,
         &set.layers,
         &set.layers,
+        set.window,
         Space::Infinite,
         Backend::Fft,
     )
     .unwrap();
     let remote = [-NU / E, -NU / E, 1.0 / E, 0.0, 0.0, 0.0];
     let applied: Vec<Vec<f64>> = (0..set.layers.len() * 6)
-        .map(|k| vec![remote[k % 6]; grid.len()])
+        .map(|k| vec![remote[k % 6]; set.window.len()])
         .collect();
     let mut sys = EimSystem::new(fields, set.clone(), E, NU).unwrap();
     let mut x = vec![0.0; 6 * set.len()];
@@ -129,13 +177,13 @@ fn eshelby_sphere(
     let mut centre = [0.0; 6];
     let depth = radius as f64 + 2.0;
     for cell in &set.cells {
-        let (i, j) = (cell.flat / n, cell.flat % n);
+        let (i, j) = (cell.flat / grid.n2, cell.flat % grid.n2);
         let (cx, cy) = grid.centre(i, j);
         let cz = (2 * set.layers[cell.layer] + 1) as f64 * 0.5 - depth;
         let near = cx.abs() < 1.0 && cy.abs() < 1.0 && cz.abs() < 1.0;
         let mut eps = [0.0; 6];
         for o in 0..6 {
-            eps[o] = remote[o] + strain[cell.layer * 6 + o][cell.flat];
+            eps[o] = remote[o] + strain[cell.layer * 6 + o][cell.local];
         }
         let s = mul6(&ci, &eps);
         for o in 0..6 {
@@ -209,9 +257,13 @@ fn solvers_agree_on_the_fft_operator_its_dense_twin_and_a_direct_lu() {
         nu: 0.25,
     };
     let set = InclusionSet::new(&grid, &[inh]).unwrap();
-    let n = grid.len();
     let applied: Vec<Vec<f64>> = (0..set.layers.len() * 6)
-        .map(|k| lcg(k as u64 + 40, n).iter().map(|v| 1e-3 * v).collect())
+        .map(|k| {
+            lcg(k as u64 + 40, set.window.len())
+                .iter()
+                .map(|v| 1e-3 * v)
+                .collect()
+        })
         .collect();
     let mut solutions = Vec::new();
     for backend in [Backend::Fft, Backend::Dense] {
@@ -221,6 +273,7 @@ fn solvers_agree_on_the_fft_operator_its_dense_twin_and_a_direct_lu() {
             NU,
             &set.layers,
             &set.layers,
+            set.window,
             Space::HalfSpace,
             backend,
         )
@@ -270,16 +323,31 @@ fn nucleus_of_strain_reproduces_mindlin_cheng_near_the_axis() {
     let grid = SurfaceGrid::square(128, 128.0).unwrap();
     let (e, layer) = (1e-3, 8usize);
     let depth = (2 * layer + 1) as f64 * 0.5;
-    let mut fields =
-        EimFields::new(grid, E, NU, &[layer], &[], Space::HalfSpace, Backend::Fft).unwrap();
+    // The cube under the cell (64, 64), centred at (0.5, 0.5); a 2 × 2 window around it.
+    let window = Window {
+        i0: 63,
+        n1: 2,
+        j0: 63,
+        n2: 2,
+    };
+    let mut fields = EimFields::new(
+        grid,
+        E,
+        NU,
+        &[layer],
+        &[],
+        window,
+        Space::HalfSpace,
+        Backend::Fft,
+    )
+    .unwrap();
     let n = grid.len();
-    // The cube under the cell (64, 64), centred at (0.5, 0.5).
     let centre = 64 * 128 + 64;
     let eigen: Vec<Vec<f64>> = (0..6)
         .map(|c| {
-            let mut f = vec![0.0; n];
+            let mut f = vec![0.0; window.len()];
             if c < 3 {
-                f[centre] = e;
+                f[3] = e;
             }
             f
         })
@@ -314,14 +382,28 @@ fn nucleus_of_strain_reproduces_mindlin_cheng_near_the_axis() {
 fn correction_pressure_integral(n: usize) -> f64 {
     let grid = SurfaceGrid::square(n, n as f64).unwrap();
     let (e, layer) = (1e-3, 8usize);
-    let mut fields =
-        EimFields::new(grid, E, NU, &[layer], &[], Space::HalfSpace, Backend::Fft).unwrap();
-    let centre = (n / 2) * n + n / 2;
+    let window = Window {
+        i0: n / 2 - 1,
+        n1: 2,
+        j0: n / 2 - 1,
+        n2: 2,
+    };
+    let mut fields = EimFields::new(
+        grid,
+        E,
+        NU,
+        &[layer],
+        &[],
+        window,
+        Space::HalfSpace,
+        Backend::Fft,
+    )
+    .unwrap();
     let eigen: Vec<Vec<f64>> = (0..6)
         .map(|c| {
-            let mut f = vec![0.0; grid.len()];
+            let mut f = vec![0.0; window.len()];
             if c < 3 {
-                f[centre] = e;
+                f[3] = e;
             }
             f
         })

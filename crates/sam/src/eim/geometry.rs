@@ -181,8 +181,74 @@ pub struct Cell {
     pub layer: usize,
     /// Surface cell index `i N₂ + j`.
     pub flat: usize,
+    /// Index `(i − i₀) n₂ + (j − j₀)` in the set's [`Window`].
+    pub local: usize,
     /// Index into [`InclusionSet::materials`].
     pub material: usize,
+}
+
+/// A rectangle of surface cells `[i₀, i₀ + n₁) × [j₀, j₀ + n₂)`: the in-plane extent of the volume
+/// lattice (the bounding box of the inclusion cells). Eigenstrains live on it, so the volume
+/// operators cost `O(n₁n₂)` per layer pair, not `O(N₁N₂)`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Window {
+    /// First row.
+    pub i0: usize,
+    /// Rows.
+    pub n1: usize,
+    /// First column.
+    pub j0: usize,
+    /// Columns.
+    pub n2: usize,
+}
+
+impl Window {
+    /// The whole grid.
+    pub fn full(grid: &SurfaceGrid) -> Self {
+        Self {
+            i0: 0,
+            n1: grid.n1,
+            j0: 0,
+            n2: grid.n2,
+        }
+    }
+
+    /// Cells in the window.
+    pub fn len(&self) -> usize {
+        self.n1 * self.n2
+    }
+
+    /// Whether the window is empty.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Whether it covers the whole grid.
+    pub fn is_full(&self, grid: &SurfaceGrid) -> bool {
+        *self == Self::full(grid)
+    }
+
+    /// Copies a window field into a zeroed full-grid field.
+    pub fn scatter(&self, grid: &SurfaceGrid, local: &[f64], full: &mut [f64]) {
+        full.fill(0.0);
+        for a in 0..self.n1 {
+            let row = (self.i0 + a) * grid.n2 + self.j0;
+            full[row..row + self.n2].copy_from_slice(&local[a * self.n2..(a + 1) * self.n2]);
+        }
+    }
+
+    /// `local += full` restricted to the window.
+    pub fn gather_add(&self, grid: &SurfaceGrid, full: &[f64], local: &mut [f64]) {
+        for a in 0..self.n1 {
+            let row = (self.i0 + a) * grid.n2 + self.j0;
+            for (l, f) in local[a * self.n2..(a + 1) * self.n2]
+                .iter_mut()
+                .zip(&full[row..row + self.n2])
+            {
+                *l += f;
+            }
+        }
+    }
 }
 
 /// The cells of all inhomogeneities on the volume lattice of a surface grid.
@@ -196,6 +262,8 @@ pub struct InclusionSet {
     pub materials: Vec<(f64, f64)>,
     /// The cell half size `Δ`.
     pub half: f64,
+    /// The bounding box of the cells (at least 2 × 2 cells).
+    pub window: Window,
 }
 
 impl InclusionSet {
@@ -281,10 +349,43 @@ impl InclusionSet {
                     cells.push(Cell {
                         layer: layers.len() - 1,
                         flat: i * grid.n2 + j,
+                        local: 0,
                         material,
                     });
                 }
             }
+        }
+        // The bounding box, at least 2 × 2 (an FFT plan needs two cells a side).
+        let (mut i_lo, mut i_hi, mut j_lo, mut j_hi) = (usize::MAX, 0, usize::MAX, 0);
+        for c in &cells {
+            let (i, j) = (c.flat / grid.n2, c.flat % grid.n2);
+            i_lo = i_lo.min(i);
+            i_hi = i_hi.max(i);
+            j_lo = j_lo.min(j);
+            j_hi = j_hi.max(j);
+        }
+        let widen = |lo: usize, hi: usize, n: usize| -> (usize, usize) {
+            if cells.is_empty() {
+                (0, n)
+            } else if hi > lo {
+                (lo, hi - lo + 1)
+            } else if hi + 1 < n {
+                (lo, 2)
+            } else {
+                (lo - 1, 2)
+            }
+        };
+        let (i0, w1) = widen(i_lo, i_hi, grid.n1);
+        let (j0, w2) = widen(j_lo, j_hi, grid.n2);
+        let window = Window {
+            i0,
+            n1: w1,
+            j0,
+            n2: w2,
+        };
+        for c in cells.iter_mut() {
+            let (i, j) = (c.flat / grid.n2, c.flat % grid.n2);
+            c.local = (i - i0) * w2 + (j - j0);
         }
         if let Some(idx) = owned.iter().position(|o| !o) {
             return Err(invalid(
@@ -298,6 +399,7 @@ impl InclusionSet {
             cells,
             materials,
             half: d,
+            window,
         })
     }
 

@@ -9,13 +9,17 @@
 //! * the **surface eigen-displacements** `u₃^eig = K^p₃ * p_c`, `u_α^eig = 2u_α⁽¹⁾ + K^p_α * p_c`;
 //! * surface tractions `(p, q₁, q₂)` → the **applied strain** `ε⁰` at every target layer.
 //!
-//! Each is a layered DC-FFT ([`halfspace_numerics::layered`]) on one shared [`Fft2d`] plan: the
-//! eigenstrain fields are transformed once per application and serve the volume and the surface
-//! operators. [`Backend::Dense`] evaluates the same sums directly (the control of the tests).
+//! Each is a layered DC-FFT ([`halfspace_numerics::layered`]). The eigenstrains and the volume
+//! strains live on a [`Window`] of the surface grid (the bounding box of the inclusion cells): the
+//! volume part (fields (1) + (2)) runs on the window's own plan, so its cost does not grow with the
+//! contact grid; the surface parts (`p_c`, eigen-displacements, Love strains) run on the whole
+//! surface grid's plan, where the window's fields are scattered. [`Backend::Dense`] evaluates the
+//! same sums directly (the control of the tests).
 
 use halfspace_numerics::fft2d::{Fft2d, C64};
 use halfspace_numerics::layered::{DenseLayered, Family, LayerKernel, LayeredSpectra};
 
+use super::geometry::Window;
 use crate::influence::{corner_sum, primitive_a, primitive_b};
 use crate::kernels::cuboid::{DisplacementPotentials, StrainPotentials};
 use crate::kernels::subsurface::{pressure_stress, shear_stress};
@@ -184,24 +188,76 @@ impl Layered {
             Layered::Dense(_) => 0,
         }
     }
+
+    /// `y = K x` for fields of the plan's shape (FFT: `x` transformed into `x_hat`, products in
+    /// `y_hat`; dense: direct sums).
+    fn apply(
+        &self,
+        fft: &mut Fft2d,
+        x: &[&[f64]],
+        x_hat: &mut [Vec<C64>],
+        skip: &mut [bool],
+        y_hat: &mut [Vec<C64>],
+        y: &mut [&mut [f64]],
+    ) -> Result<(), SamError> {
+        match self {
+            Layered::Fast(spectra) => {
+                for ((xi, hat), sk) in x.iter().zip(x_hat.iter_mut()).zip(skip.iter_mut()) {
+                    *sk = xi.iter().all(|v| *v == 0.0);
+                    if !*sk {
+                        fft.forward(xi, hat)?;
+                    }
+                }
+                let zero = C64::new(0.0, 0.0);
+                y_hat.iter_mut().for_each(|s| s.fill(zero));
+                spectra.accumulate(x_hat, skip, y_hat)?;
+                for (hat, yo) in y_hat.iter_mut().zip(y.iter_mut()) {
+                    fft.inverse(hat, yo)?;
+                }
+            }
+            Layered::Dense(dense) => dense.apply(x, y),
+        }
+        Ok(())
+    }
 }
 
-/// Spectra bytes a layered operator with these layer counts would store, per spec §5.5:
-/// `(key count) · blocks · 2N₁(N₂+1)` complex values.
-pub fn estimated_bytes(grid: &SurfaceGrid, keys: usize, blocks: usize) -> f64 {
-    keys as f64 * blocks as f64 * (2 * grid.n1 * (grid.n2 + 1)) as f64 * 16.0
+/// Spectra bytes a layered operator with these counts would store, per spec §5.5:
+/// `keys · blocks · 2n₁(n₂+1)` complex values.
+pub fn estimated_bytes(n1: usize, n2: usize, keys: usize, blocks: usize) -> f64 {
+    keys as f64 * blocks as f64 * (2 * n1 * (n2 + 1)) as f64 * 16.0
 }
 
 /// Memory the machine may use for stored spectra before a request is refused up front.
 pub const SPECTRA_LIMIT_BYTES: f64 = 16.0 * (1u64 << 30) as f64;
 
+/// Work arrays of one plan: input spectra, skip flags, output spectra.
+struct Work {
+    x_hat: Vec<Vec<C64>>,
+    skip: Vec<bool>,
+    y_hat: Vec<Vec<C64>>,
+}
+
+impl Work {
+    fn new(fft: &Fft2d, backend: Backend, inputs: usize, outputs: usize) -> Self {
+        let on = usize::from(backend == Backend::Fft);
+        Self {
+            x_hat: (0..inputs * on).map(|_| fft.new_spectrum()).collect(),
+            skip: vec![false; inputs],
+            y_hat: (0..outputs * on).map(|_| fft.new_spectrum()).collect(),
+        }
+    }
+}
+
 /// The EIM field operators between source layers (where the eigenstrain lives) and target layers
 /// (where strains are wanted), planned once.
 pub struct EimFields {
     grid: SurfaceGrid,
+    window: Window,
     space: Space,
-    backend: Backend,
+    /// Plan of the whole surface grid (surface fields, Love strains).
     fft: Fft2d,
+    /// Plan of the window (volume fields).
+    wfft: Fft2d,
     sources: Vec<i64>,
     targets: Vec<i64>,
     volume: Layered,
@@ -209,28 +265,32 @@ pub struct EimFields {
     love: Layered,
     /// Surface compliance spectra of the half-space alone, per unit pressure: `u₁, u₂, u₃`.
     boussinesq: Option<[Vec<C64>; 3]>,
-    // Work arrays.
-    in_hat: Vec<Vec<C64>>,
-    skip: Vec<bool>,
-    out_hat: Vec<Vec<C64>>,
-    surf_hat: Vec<Vec<C64>>,
-    love_hat: Vec<Vec<C64>>,
-    /// `p_c`, `2u₁⁽¹⁾`, `2u₂⁽¹⁾` of the last disturbance.
+    volume_work: Work,
+    surface_work: Work,
+    love_work: Work,
+    /// `p_c`, `2u₁⁽¹⁾`, `2u₂⁽¹⁾` of the last disturbance (whole grid).
     surface_fields: [Vec<f64>; 3],
+    /// Window eigenstrains scattered on the whole grid.
+    scattered: Vec<Vec<f64>>,
+    /// Love strains on the whole grid at the target layers.
+    love_full: Vec<Vec<f64>>,
+    /// Spectra of `p_c` and of one eigen-displacement component.
+    eig_hat: [Vec<C64>; 2],
     zero: Vec<f64>,
-    tmp: Vec<Vec<f64>>,
 }
 
 impl EimFields {
     /// Plans the operators for eigenstrains on `source_layers` and strains on `target_layers` (layer
-    /// numbers `k`, centre depth `(2k+1)Δ`, `Δ` = the grid's half cell size), in a matrix `(E, ν)`.
-    /// The applied-strain operator (tractions → strain) is planned on the target layers.
+    /// numbers `k`, centre depth `(2k+1)Δ`, `Δ` = the grid's half cell size), both on `window`, in a
+    /// matrix `(E, ν)`. Refuses up front a request whose stored spectra would not fit in memory.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         grid: SurfaceGrid,
         e: f64,
         nu: f64,
         source_layers: &[usize],
         target_layers: &[usize],
+        window: Window,
         space: Space,
         backend: Backend,
     ) -> Result<Self, SamError> {
@@ -242,14 +302,24 @@ impl EimFields {
                 allowed: "in (−1, 0.5)",
             });
         }
+        if window.i0 + window.n1 > grid.n1 || window.j0 + window.n2 > grid.n2 {
+            return Err(SamError::InvalidParameter {
+                name: "volume window rows/columns beyond the grid",
+                value: (window.i0 + window.n1).max(window.j0 + window.n2) as f64,
+                allowed: "inside the surface grid",
+            });
+        }
         let key = |k: &usize| (2 * k + 1) as i64;
         let sources: Vec<i64> = source_layers.iter().map(key).collect();
         let targets: Vec<i64> = target_layers.iter().map(key).collect();
-        let vol_keys = sources.len() + targets.len();
+        let (ns, nt) = (sources.len(), targets.len());
         let families = if space == Space::HalfSpace { 2 } else { 1 };
-        let need = estimated_bytes(&grid, families * vol_keys.saturating_sub(1), 36)
-            + estimated_bytes(&grid, sources.len(), 18)
-            + estimated_bytes(&grid, targets.len(), 18);
+        let need = estimated_bytes(
+            window.n1,
+            window.n2,
+            families * (ns + nt).saturating_sub(1),
+            36,
+        ) + estimated_bytes(grid.n1, grid.n2, ns + nt, 18);
         if backend == Backend::Fft && need > SPECTRA_LIMIT_BYTES {
             return Err(SamError::InvalidParameter {
                 name: "memory for the stored eigenstrain kernel spectra (bytes)",
@@ -258,6 +328,7 @@ impl EimFields {
             });
         }
         let mut fft = Fft2d::new(grid.n1, grid.n2)?;
+        let mut wfft = Fft2d::new(window.n1, window.n2)?;
         let half = grid.half1;
         let inf = InfiniteStrain { half, nu };
         let img = ImageStrain(InfiniteStrain { half, nu });
@@ -265,7 +336,7 @@ impl EimFields {
             Space::Infinite => vec![(Family::Difference, &inf)],
             Space::HalfSpace => vec![(Family::Difference, &inf), (Family::Sum, &img)],
         };
-        let volume = Layered::new(backend, &mut fft, &targets, &sources, &vol_families)?;
+        let volume = Layered::new(backend, &mut wfft, &targets, &sources, &vol_families)?;
         let love_kernel = LoveStrain {
             half,
             nu,
@@ -321,18 +392,17 @@ impl EimFields {
             (None, None)
         };
         let n = grid.len();
-        let (ns, nt) = (sources.len(), targets.len());
-        let fields = if backend == Backend::Fft { 1 } else { 0 };
+        let half_space = usize::from(space == Space::HalfSpace);
         Ok(Self {
+            eig_hat: [fft.new_spectrum(), fft.new_spectrum()],
+            volume_work: Work::new(&wfft, backend, ns * 6, nt * 6),
+            surface_work: Work::new(&fft, backend, ns * 6 * half_space, 3 * half_space),
+            love_work: Work::new(&fft, backend, 3, nt * 6),
             grid,
+            window,
             space,
-            backend,
-            in_hat: (0..ns * 6 * fields).map(|_| fft.new_spectrum()).collect(),
-            skip: vec![false; ns * 6],
-            out_hat: (0..nt * 6 * fields).map(|_| fft.new_spectrum()).collect(),
-            surf_hat: (0..3 * fields).map(|_| fft.new_spectrum()).collect(),
-            love_hat: (0..3 * fields).map(|_| fft.new_spectrum()).collect(),
             fft,
+            wfft,
             sources,
             targets,
             volume,
@@ -340,14 +410,20 @@ impl EimFields {
             love,
             boussinesq,
             surface_fields: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+            scattered: vec![vec![0.0; n]; ns * 6 * half_space],
+            love_full: vec![vec![0.0; n]; nt * 6],
             zero: vec![0.0; n],
-            tmp: vec![vec![0.0; n]; nt * 6],
         })
     }
 
     /// The surface grid.
     pub fn grid(&self) -> &SurfaceGrid {
         &self.grid
+    }
+
+    /// The window the eigenstrains and volume strains live on.
+    pub fn window(&self) -> &Window {
+        &self.window
     }
 
     /// Number of source and target layers.
@@ -364,19 +440,22 @@ impl EimFields {
     }
 
     /// `strain[a · 6 + o] = ε^d_o` on target layer `a` from `eigen[b · 6 + i] = ε*_i` on source layer
-    /// `b` (each a surface field of `N₁N₂` values): fields (1) + (2) + (3) of spec §5.3 in the
-    /// half-space, (1) in infinite space. Keeps `p_c` and `2u_α⁽¹⁾` for
-    /// [`EimFields::eigen_displacements`].
+    /// `b` (each a window field): fields (1) + (2) + (3) of spec §5.3 in the half-space, (1) in
+    /// infinite space. Keeps `p_c` and `2u_α⁽¹⁾` for [`EimFields::eigen_displacements`].
     pub fn disturbance(
         &mut self,
         eigen: &[Vec<f64>],
         strain: &mut [Vec<f64>],
     ) -> Result<(), SamError> {
         let (ns, nt) = (self.sources.len(), self.targets.len());
-        if eigen.len() != ns * 6 || strain.len() != nt * 6 {
+        let wl = self.window.len();
+        if eigen.len() != ns * 6
+            || strain.len() != nt * 6
+            || eigen.iter().chain(strain.iter()).any(|f| f.len() != wl)
+        {
             return Err(SamError::Numerics(
                 halfspace_numerics::NumericsError::LengthMismatch {
-                    what: "eigenstrain / strain fields (6 per layer)",
+                    what: "eigenstrain / strain fields (6 per layer, window-sized)",
                     expected: if eigen.len() != ns * 6 {
                         ns * 6
                     } else {
@@ -390,80 +469,64 @@ impl EimFields {
                 },
             ));
         }
-        match self.backend {
-            Backend::Fft => self.disturbance_fft(eigen, strain),
-            Backend::Dense => self.disturbance_dense(eigen, strain),
-        }
-    }
-
-    fn disturbance_fft(
-        &mut self,
-        eigen: &[Vec<f64>],
-        strain: &mut [Vec<f64>],
-    ) -> Result<(), SamError> {
-        for (idx, field) in eigen.iter().enumerate() {
-            self.skip[idx] = field.iter().all(|v| *v == 0.0);
-            if !self.skip[idx] {
-                self.fft.forward(field, &mut self.in_hat[idx])?;
-            }
-        }
-        let zero = C64::new(0.0, 0.0);
-        self.out_hat.iter_mut().for_each(|s| s.fill(zero));
-        let Layered::Fast(volume) = &self.volume else {
-            unreachable!("backend checked")
-        };
-        volume.accumulate(&self.in_hat, &self.skip, &mut self.out_hat)?;
-        if let Some(Layered::Fast(surface)) = &self.surface {
-            self.surf_hat.iter_mut().for_each(|s| s.fill(zero));
-            surface.accumulate(&self.in_hat, &self.skip, &mut self.surf_hat)?;
-            for (hat, field) in self.surf_hat.iter_mut().zip(self.surface_fields.iter_mut()) {
-                self.fft.inverse(hat, field)?;
-            }
-            // Field (3): Love strains of p_c (the cropped p_c transformed again).
-            self.fft
-                .forward(&self.surface_fields[0], &mut self.love_hat[0])?;
-            let Layered::Fast(love) = &self.love else {
-                unreachable!("backend checked")
-            };
-            love.accumulate(&self.love_hat, &[false, true, true], &mut self.out_hat)?;
-        }
-        for (hat, field) in self.out_hat.iter_mut().zip(strain.iter_mut()) {
-            self.fft.inverse(hat, field)?;
-        }
-        Ok(())
-    }
-
-    fn disturbance_dense(
-        &mut self,
-        eigen: &[Vec<f64>],
-        strain: &mut [Vec<f64>],
-    ) -> Result<(), SamError> {
-        let Layered::Dense(volume) = &self.volume else {
-            unreachable!("backend checked")
-        };
-        let x: Vec<&[f64]> = eigen.iter().map(|v| v.as_slice()).collect();
+        // Fields (1) + (2) on the window.
         {
+            let x: Vec<&[f64]> = eigen.iter().map(|v| v.as_slice()).collect();
             let mut y: Vec<&mut [f64]> = strain.iter_mut().map(|v| v.as_mut_slice()).collect();
-            volume.apply(&x, &mut y);
+            let w = &mut self.volume_work;
+            self.volume.apply(
+                &mut self.wfft,
+                &x,
+                &mut w.x_hat,
+                &mut w.skip,
+                &mut w.y_hat,
+                &mut y,
+            )?;
         }
-        if let Some(Layered::Dense(surface)) = &self.surface {
-            {
-                let mut y: Vec<&mut [f64]> = self
-                    .surface_fields
-                    .iter_mut()
-                    .map(|v| v.as_mut_slice())
-                    .collect();
-                surface.apply(&x, &mut y);
-            }
-            let Layered::Dense(love) = &self.love else {
-                unreachable!("backend checked")
-            };
-            let xl: [&[f64]; 3] = [&self.surface_fields[0], &self.zero, &self.zero];
-            let mut y: Vec<&mut [f64]> = self.tmp.iter_mut().map(|v| v.as_mut_slice()).collect();
-            love.apply(&xl, &mut y);
-            for (s, t) in strain.iter_mut().zip(&self.tmp) {
-                s.iter_mut().zip(t).for_each(|(a, b)| *a += b);
-            }
+        let Some(surface) = &self.surface else {
+            return Ok(());
+        };
+        // p_c and 2u_α⁽¹⁾ on the whole surface, from the scattered eigenstrains.
+        for (local, full) in eigen.iter().zip(self.scattered.iter_mut()) {
+            self.window.scatter(&self.grid, local, full);
+        }
+        {
+            let x: Vec<&[f64]> = self.scattered.iter().map(|v| v.as_slice()).collect();
+            let mut y: Vec<&mut [f64]> = self
+                .surface_fields
+                .iter_mut()
+                .map(|v| v.as_mut_slice())
+                .collect();
+            let w = &mut self.surface_work;
+            surface.apply(
+                &mut self.fft,
+                &x,
+                &mut w.x_hat,
+                &mut w.skip,
+                &mut w.y_hat,
+                &mut y,
+            )?;
+        }
+        // Field (3): Love strains of p_c, cropped to the window.
+        {
+            let x: [&[f64]; 3] = [&self.surface_fields[0], &self.zero, &self.zero];
+            let mut y: Vec<&mut [f64]> = self
+                .love_full
+                .iter_mut()
+                .map(|v| v.as_mut_slice())
+                .collect();
+            let w = &mut self.love_work;
+            self.love.apply(
+                &mut self.fft,
+                &x,
+                &mut w.x_hat,
+                &mut w.skip,
+                &mut w.y_hat,
+                &mut y,
+            )?;
+        }
+        for (full, local) in self.love_full.iter().zip(strain.iter_mut()) {
+            self.window.gather_add(&self.grid, full, local);
         }
         Ok(())
     }
@@ -475,7 +538,9 @@ impl EimFields {
     }
 
     /// Surface eigen-displacements of the last disturbance (spec §6.1, [LN11] Eqs. 14–15):
-    /// `u₃^eig = K^p₃ * p_c`, `u_α^eig = 2u_α⁽¹⁾ + K^p_α * p_c` (half-space alone).
+    /// `u₃^eig = K^p₃ * p_c`, `u_α^eig = 2u_α⁽¹⁾ + K^p_α * p_c` (half-space alone), on the whole
+    /// grid. The `p_c` product is a plain 2D DC-FFT in both backends (its dense twin is tested in
+    /// `numerics::conv2d`).
     pub fn eigen_displacements(&mut self, u: [&mut [f64]; 3]) -> Result<(), SamError> {
         let Some(b) = &self.boussinesq else {
             return Err(SamError::InvalidParameter {
@@ -485,40 +550,34 @@ impl EimFields {
             });
         };
         let n = self.grid.len();
-        let mut p_hat = self.fft.new_spectrum();
-        let mut work = self.fft.new_spectrum();
-        match self.backend {
-            Backend::Fft | Backend::Dense => {
-                // The p_c product is a plain 2D DC-FFT in both backends (its dense twin is tested in
-                // numerics::conv2d).
-                self.fft.forward(&self.surface_fields[0], &mut p_hat)?;
-                for (c, out) in u.into_iter().enumerate() {
-                    if out.len() != n {
-                        return Err(SamError::Numerics(
-                            halfspace_numerics::NumericsError::LengthMismatch {
-                                what: "eigen-displacement field",
-                                expected: n,
-                                got: out.len(),
-                            },
-                        ));
-                    }
-                    for ((w, k), p) in work.iter_mut().zip(&b[c]).zip(&p_hat) {
-                        *w = k * p;
-                    }
-                    self.fft.inverse(&mut work, out)?;
-                    if c < 2 {
-                        out.iter_mut()
-                            .zip(&self.surface_fields[c + 1])
-                            .for_each(|(o, s)| *o += s);
-                    }
-                }
+        let [p_hat, work] = &mut self.eig_hat;
+        self.fft.forward(&self.surface_fields[0], p_hat)?;
+        for (c, out) in u.into_iter().enumerate() {
+            if out.len() != n {
+                return Err(SamError::Numerics(
+                    halfspace_numerics::NumericsError::LengthMismatch {
+                        what: "eigen-displacement field",
+                        expected: n,
+                        got: out.len(),
+                    },
+                ));
+            }
+            for ((w, k), p) in work.iter_mut().zip(&b[c]).zip(p_hat.iter()) {
+                *w = k * p;
+            }
+            self.fft.inverse(work, out)?;
+            if c < 2 {
+                out.iter_mut()
+                    .zip(&self.surface_fields[c + 1])
+                    .for_each(|(o, s)| *o += s);
             }
         }
         Ok(())
     }
 
-    /// The applied strain `ε⁰` on every target layer (`strain[a · 6 + o]`) of the surface tractions
-    /// `p`, `q₁`, `q₂` (`None` = zero), by Love's rectangle kernels.
+    /// The applied strain `ε⁰` on every target layer (`strain[a · 6 + o]`, window fields) of the
+    /// surface tractions `p`, `q₁`, `q₂` (whole grid; `None` = zero shear), by Love's rectangle
+    /// kernels.
     pub fn traction_strain(
         &mut self,
         p: &[f64],
@@ -526,40 +585,38 @@ impl EimFields {
         strain: &mut [Vec<f64>],
     ) -> Result<(), SamError> {
         let nt = self.targets.len();
-        if strain.len() != nt * 6 {
+        if strain.len() != nt * 6 || strain.iter().any(|f| f.len() != self.window.len()) {
             return Err(SamError::Numerics(
                 halfspace_numerics::NumericsError::LengthMismatch {
-                    what: "applied strain fields (6 per layer)",
+                    what: "applied strain fields (6 per layer, window-sized)",
                     expected: nt * 6,
                     got: strain.len(),
                 },
             ));
         }
-        let inputs: [&[f64]; 3] = match q {
+        let x: [&[f64]; 3] = match q {
             Some([q1, q2]) => [p, q1, q2],
             None => [p, &self.zero, &self.zero],
         };
-        match &self.love {
-            Layered::Fast(love) => {
-                let mut hats: Vec<Vec<C64>> = (0..3).map(|_| self.fft.new_spectrum()).collect();
-                let mut skip = [true; 3];
-                for (i, x) in inputs.iter().enumerate() {
-                    skip[i] = x.iter().all(|v| *v == 0.0);
-                    if !skip[i] {
-                        self.fft.forward(x, &mut hats[i])?;
-                    }
-                }
-                let zero = C64::new(0.0, 0.0);
-                self.out_hat.iter_mut().for_each(|s| s.fill(zero));
-                love.accumulate(&hats, &skip, &mut self.out_hat)?;
-                for (hat, field) in self.out_hat.iter_mut().zip(strain.iter_mut()) {
-                    self.fft.inverse(hat, field)?;
-                }
-            }
-            Layered::Dense(love) => {
-                let mut y: Vec<&mut [f64]> = strain.iter_mut().map(|v| v.as_mut_slice()).collect();
-                love.apply(&inputs, &mut y);
-            }
+        {
+            let mut y: Vec<&mut [f64]> = self
+                .love_full
+                .iter_mut()
+                .map(|v| v.as_mut_slice())
+                .collect();
+            let w = &mut self.love_work;
+            self.love.apply(
+                &mut self.fft,
+                &x,
+                &mut w.x_hat,
+                &mut w.skip,
+                &mut w.y_hat,
+                &mut y,
+            )?;
+        }
+        for (full, local) in self.love_full.iter().zip(strain.iter_mut()) {
+            local.fill(0.0);
+            self.window.gather_add(&self.grid, full, local);
         }
         Ok(())
     }

@@ -140,7 +140,14 @@ impl EimSystem {
             precond.push(invert6(&p)?);
             dc.push(d);
         }
-        let n = fields.grid().len();
+        let n = fields.window().len();
+        if *fields.window() != set.window {
+            return Err(SamError::InvalidParameter {
+                name: "EIM operator window (must be the inclusion set's)",
+                value: fields.window().len() as f64,
+                allowed: "the set's bounding box",
+            });
+        }
         let layers = set.layers.len();
         Ok(Self {
             fields,
@@ -159,7 +166,7 @@ impl EimSystem {
         for (c, cell) in self.set.cells.iter().enumerate() {
             let mut e0 = [0.0; 6];
             for (o, v) in e0.iter_mut().enumerate() {
-                *v = applied[cell.layer * 6 + o][cell.flat];
+                *v = applied[cell.layer * 6 + o][cell.local];
             }
             b[c * 6..c * 6 + 6].copy_from_slice(&mul6(&self.dc[cell.material], &e0));
         }
@@ -170,7 +177,7 @@ impl EimSystem {
         fields.iter_mut().for_each(|f| f.fill(0.0));
         for (c, cell) in self.set.cells.iter().enumerate() {
             for o in 0..6 {
-                fields[cell.layer * 6 + o][cell.flat] = x[c * 6 + o];
+                fields[cell.layer * 6 + o][cell.local] = x[c * 6 + o];
             }
         }
     }
@@ -299,7 +306,7 @@ impl LinearOperator for EimSystem {
             let xs = &x[c * 6..c * 6 + 6];
             let mut eps = [0.0; 6];
             for (o, v) in eps.iter_mut().enumerate() {
-                *v = self.strain[cell.layer * 6 + o][cell.flat];
+                *v = self.strain[cell.layer * 6 + o][cell.local];
             }
             let a = mul6(&self.cm, xs);
             let d = mul6(&self.dc[cell.material], &eps);
