@@ -165,18 +165,7 @@ impl LayeredSpectra {
             keys.dedup();
             let mut map = BTreeMap::new();
             for key in keys {
-                let tables = tabulate(n1, n2, kernel, key, true);
-                let mut blocks = Vec::with_capacity(tables.len());
-                for t in tables {
-                    if t.iter().all(|v| *v == 0.0) {
-                        blocks.push(None);
-                    } else {
-                        let mut s = fft.new_spectrum();
-                        fft.table_spectrum(&t, &mut s)?;
-                        blocks.push(Some(s));
-                    }
-                }
-                map.insert(key, blocks);
+                map.insert(key, key_spectra(fft, kernel, key)?);
             }
             stored.push((family, map));
         }
@@ -261,6 +250,82 @@ impl LayeredSpectra {
         });
         Ok(())
     }
+}
+
+/// The spectra of one key: the blocks' tables transformed (`None` = identically zero block).
+fn key_spectra(
+    fft: &mut Fft2d,
+    kernel: &dyn LayerKernel,
+    key: i64,
+) -> Result<Vec<Option<Vec<C64>>>, NumericsError> {
+    let (n1, n2) = fft.shape();
+    let tables = tabulate(n1, n2, kernel, key, true);
+    let mut blocks = Vec::with_capacity(tables.len());
+    for t in tables {
+        if t.iter().all(|v| *v == 0.0) {
+            blocks.push(None);
+        } else {
+            let mut s = fft.new_spectrum();
+            fft.table_spectrum(&t, &mut s)?;
+            blocks.push(Some(s));
+        }
+    }
+    Ok(blocks)
+}
+
+/// The same products as [`LayeredSpectra::accumulate`] without storing the kernels: each key's
+/// spectra are built, used for every (target, source) pair with that key, and dropped. Memory is
+/// one key's blocks instead of all keys' (for one-off evaluations such as the subsurface stress
+/// field on many layers); the cost of building the spectra is paid at every call.
+pub fn accumulate_streamed(
+    fft: &mut Fft2d,
+    targets: &[i64],
+    sources: &[i64],
+    families: &[(Family, &dyn LayerKernel)],
+    inputs_hat: &[Vec<C64>],
+    skip: &[bool],
+    out_hat: &mut [Vec<C64>],
+) -> Result<(), NumericsError> {
+    let Some((_, first)) = families.first() else {
+        return Ok(());
+    };
+    let (n_out, n_in) = first.blocks();
+    let (nt, ns) = (targets.len(), sources.len());
+    if inputs_hat.len() != ns * n_in || skip.len() != ns * n_in || out_hat.len() != nt * n_out {
+        return Err(NumericsError::LengthMismatch {
+            what: "streamed layered operator spectra",
+            expected: ns * n_in,
+            got: inputs_hat.len(),
+        });
+    }
+    for &(family, kernel) in families {
+        let mut keys: Vec<i64> = targets
+            .iter()
+            .flat_map(|&a| sources.iter().map(move |&b| family.key(a, b)))
+            .collect();
+        keys.sort_unstable();
+        keys.dedup();
+        for key in keys {
+            let blocks = key_spectra(fft, kernel, key)?;
+            out_hat.par_iter_mut().enumerate().for_each(|(ao, acc)| {
+                let (a, o) = (ao / n_out, ao % n_out);
+                for (b, &zb) in sources.iter().enumerate() {
+                    if family.key(targets[a], zb) != key {
+                        continue;
+                    }
+                    for i in 0..n_in {
+                        if skip[b * n_in + i] {
+                            continue;
+                        }
+                        if let Some(k) = &blocks[o * n_in + i] {
+                            multiply_accumulate(acc, k, &inputs_hat[b * n_in + i]);
+                        }
+                    }
+                }
+            });
+        }
+    }
+    Ok(())
 }
 
 /// The direct sum of the same layered operator (O((N₁N₂)² N_t N_s)), the control of
@@ -407,7 +472,30 @@ mod tests {
             .map(|(a, b)| (a - b).abs())
             .fold(0.0, f64::max);
         assert!(err < 1e-13 * scale, "{err:e} of {scale:e}");
-        // Keys: 4 targets × 3 sources → differences {−7..6} ∩ used, sums; fewer sets than pairs.
         assert!(spectra.bytes() > 0);
+        // The streamed products equal the stored ones.
+        let mut streamed: Vec<Vec<C64>> =
+            (0..targets.len() * 2).map(|_| fft.new_spectrum()).collect();
+        accumulate_streamed(
+            &mut fft,
+            &targets,
+            &sources,
+            &families,
+            &hats,
+            &vec![false; xs.len()],
+            &mut streamed,
+        )
+        .unwrap();
+        let mut again = vec![vec![0.0; n1 * n2]; targets.len() * 2];
+        for (o, f) in streamed.iter_mut().zip(again.iter_mut()) {
+            fft.inverse(o, f).unwrap();
+        }
+        let err = again
+            .iter()
+            .flatten()
+            .zip(slow.iter().flatten())
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(err < 1e-13 * scale, "streamed: {err:e} of {scale:e}");
     }
 }

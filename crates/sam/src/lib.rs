@@ -21,6 +21,7 @@ pub mod influence;
 pub mod kernels;
 pub mod nested;
 pub mod normal;
+pub mod subsurface;
 pub mod tangential;
 
 pub use error::SamError;

@@ -59,9 +59,9 @@ fn parities(outs: &[(usize, usize)], ins: &[(usize, usize)]) -> Vec<(bool, bool)
 }
 
 /// `D(x)` of a cube of half size `Δ`, all 36 blocks (infinite part, layer difference).
-struct InfiniteStrain {
-    half: f64,
-    nu: f64,
+pub(crate) struct InfiniteStrain {
+    pub(crate) half: f64,
+    pub(crate) nu: f64,
 }
 
 impl LayerKernel for InfiniteStrain {
@@ -82,7 +82,7 @@ impl LayerKernel for InfiniteStrain {
 }
 
 /// The mirror image: `D(x₁, x₂, x₃ + x₃′)` acting on `ε*ˢ = (ε*₁₁, ε*₂₂, ε*₃₃, −ε*₂₃, −ε*₁₃, ε*₁₂)`.
-struct ImageStrain(InfiniteStrain);
+pub(crate) struct ImageStrain(pub(crate) InfiniteStrain);
 
 impl LayerKernel for ImageStrain {
     fn blocks(&self) -> (usize, usize) {
@@ -101,10 +101,10 @@ impl LayerKernel for ImageStrain {
 }
 
 /// Surface fields of the cuboid and its image at `x₃ = 0`: `p_c = 2 (C:D)₃₃`, `2 Dˢ₁`, `2 Dˢ₂`.
-struct SurfaceFields {
-    half: f64,
-    nu: f64,
-    c: [[f64; 6]; 6],
+pub(crate) struct SurfaceFields {
+    pub(crate) half: f64,
+    pub(crate) nu: f64,
+    pub(crate) c: [[f64; 6]; 6],
 }
 
 impl LayerKernel for SurfaceFields {
@@ -131,10 +131,10 @@ impl LayerKernel for SurfaceFields {
 
 /// Strain at depth `key Δ` per unit traction `(p, q₁, q₂)` on a surface cell (Love, spec §5.4,
 /// then `C⁻¹`).
-struct LoveStrain {
-    half: f64,
-    nu: f64,
-    s: [[f64; 6]; 6],
+pub(crate) struct LoveStrain {
+    pub(crate) half: f64,
+    pub(crate) nu: f64,
+    pub(crate) s: [[f64; 6]; 6],
 }
 
 impl LayerKernel for LoveStrain {

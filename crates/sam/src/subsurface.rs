@@ -1,0 +1,321 @@
+//! The stress field below the surface (spec §5.3–5.5): at the centres of the cubic cells under
+//! every surface cell, from the surface down to a given depth,
+//!
+//! `ε = ε⁰[p + p_c, q] + ε⁽¹⁾[ε*] + ε⁽²⁾[ε*]`, `σ = C_m : ε` in the matrix, `σ = C_I : ε` in an
+//! inhomogeneity cell,
+//!
+//! where `ε⁰` are Love's rectangle strains of the surface tractions (spec §5.4) — with the
+//! correction pressure `p_c` of the eigenstrains added to `p` (field (3)) — and `ε⁽¹⁾ + ε⁽²⁾` the
+//! cuboid eigenstrains in infinite space and their mirror images. The layered products are streamed
+//! key by key ([`halfspace_numerics::layered::accumulate_streamed`]): a deep field needs no stored
+//! kernels. Von Mises `√(3J₂)`, Tresca `σ₁ − σ₃` and the principal stresses (eigenvalues of the 3 × 3
+//! tensor, trigonometric form) are computed per cell.
+
+use halfspace_numerics::fft2d::{Fft2d, C64};
+use halfspace_numerics::layered::{accumulate_streamed, Family, LayerKernel};
+
+use crate::eim::operator::{ImageStrain, InfiniteStrain, LoveStrain, SurfaceFields};
+use crate::eim::InclusionSet;
+use crate::kernels::{compliance, mul6, stiffness};
+use crate::{SamError, SurfaceGrid};
+
+/// The stress field on `layers` layers of `N₁ × N₂` cells (index `k N₁N₂ + i N₂ + j`, layer `k`
+/// centred at depth `(2k + 1)Δ`), with its invariants.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StressField {
+    /// The surface grid.
+    pub grid: SurfaceGrid,
+    /// Number of layers.
+    pub layers: usize,
+    /// `σ` in Voigt order `(11, 22, 33, 23, 13, 12)`, tension positive, per cell.
+    pub stress: [Vec<f64>; 6],
+    /// Von Mises stress `√(½[(σ₁₁−σ₂₂)² + (σ₂₂−σ₃₃)² + (σ₃₃−σ₁₁)²] + 3(σ₂₃² + σ₁₃² + σ₁₂²))`.
+    pub von_mises: Vec<f64>,
+    /// Tresca stress `σ₁ − σ₃` (twice the maximum shear).
+    pub tresca: Vec<f64>,
+    /// Principal stresses `σ₁ ≥ σ₂ ≥ σ₃`.
+    pub principal: [Vec<f64>; 3],
+    /// Inhomogeneity material index + 1 per cell (0 = matrix).
+    pub material: Vec<u16>,
+}
+
+impl StressField {
+    /// The position `(x₁, x₂, depth)` of cell `index`.
+    pub fn position(&self, index: usize) -> [f64; 3] {
+        let per = self.grid.len();
+        let (k, flat) = (index / per, index % per);
+        let (x, y) = self.grid.centre(flat / self.grid.n2, flat % self.grid.n2);
+        [x, y, (2 * k + 1) as f64 * self.grid.half1]
+    }
+
+    /// Depth of layer `k`.
+    pub fn depth(&self, k: usize) -> f64 {
+        (2 * k + 1) as f64 * self.grid.half1
+    }
+
+    /// The largest value of `field` and where it is.
+    pub fn maximum(&self, field: &[f64]) -> (f64, [f64; 3]) {
+        let (idx, v) =
+            field
+                .iter()
+                .enumerate()
+                .fold((0, f64::NEG_INFINITY), |(bi, bv), (i, &v)| {
+                    if v > bv {
+                        (i, v)
+                    } else {
+                        (bi, bv)
+                    }
+                });
+        (v, self.position(idx))
+    }
+}
+
+/// Principal stresses of a symmetric tensor (Voigt), descending, by the trigonometric solution of
+/// the characteristic cubic (Smith 1961).
+pub fn principal_stresses(s: &[f64; 6]) -> [f64; 3] {
+    let (a, b, c, d, e, f) = (s[0], s[1], s[2], s[3], s[4], s[5]);
+    let p1 = d * d + e * e + f * f;
+    let q = (a + b + c) / 3.0;
+    if p1 == 0.0 {
+        let mut v = [a, b, c];
+        v.sort_by(|x, y| y.total_cmp(x));
+        return v;
+    }
+    let p2 = (a - q).powi(2) + (b - q).powi(2) + (c - q).powi(2) + 2.0 * p1;
+    let p = (p2 / 6.0).sqrt();
+    // B = (A − qI)/p; r = det(B)/2.
+    let (ba, bb, bc) = ((a - q) / p, (b - q) / p, (c - q) / p);
+    let (bd, be, bf) = (d / p, e / p, f / p);
+    let det = ba * (bb * bc - bd * bd) - bf * (bf * bc - bd * be) + be * (bf * bd - bb * be);
+    let r = (0.5 * det).clamp(-1.0, 1.0);
+    let phi = r.acos() / 3.0;
+    let s1 = q + 2.0 * p * phi.cos();
+    let s3 = q + 2.0 * p * (phi + 2.0 * std::f64::consts::PI / 3.0).cos();
+    [s1, 3.0 * q - s1 - s3, s3]
+}
+
+/// Von Mises stress of a Voigt tensor.
+pub fn von_mises(s: &[f64; 6]) -> f64 {
+    (0.5 * ((s[0] - s[1]).powi(2) + (s[1] - s[2]).powi(2) + (s[2] - s[0]).powi(2))
+        + 3.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]))
+        .sqrt()
+}
+
+/// Memory above which a stress-field request is refused up front.
+pub const FIELD_LIMIT_BYTES: f64 = 8.0 * (1u64 << 30) as f64;
+
+/// The stress field of the surface tractions `p` (and `q`) and, with `inclusions`, of the
+/// eigenstrains `eps_star` (6 per inclusion cell) in the half-space `(e, nu)`, on the layers from
+/// the surface to `depth` (at least one layer).
+pub fn subsurface_stress(
+    grid: &SurfaceGrid,
+    e: f64,
+    nu: f64,
+    p: &[f64],
+    q: Option<[&[f64]; 2]>,
+    depth: f64,
+    inclusions: Option<(&InclusionSet, &[f64])>,
+) -> Result<StressField, SamError> {
+    crate::error::positive("subsurface depth", depth)?;
+    crate::error::positive("Young's modulus", e)?;
+    if !(nu > -1.0 && nu < 0.5) {
+        return Err(SamError::InvalidParameter {
+            name: "Poisson ratio (subsurface stresses)",
+            value: nu,
+            allowed: "in (−1, 0.5)",
+        });
+    }
+    let n = grid.len();
+    if p.len() != n || q.is_some_and(|q| q[0].len() != n || q[1].len() != n) {
+        return Err(SamError::Numerics(
+            halfspace_numerics::NumericsError::LengthMismatch {
+                what: "surface traction field",
+                expected: n,
+                got: p.len(),
+            },
+        ));
+    }
+    if (grid.half1 - grid.half2).abs() > 1e-12 * grid.half1 {
+        return Err(SamError::InvalidParameter {
+            name: "cell aspect ratio Δ₂/Δ₁ (subsurface stresses need cubic cells)",
+            value: grid.half2 / grid.half1,
+            allowed: "1",
+        });
+    }
+    let half = grid.half1;
+    let layers = ((depth / (2.0 * half)).ceil() as usize).max(1);
+    let spectrum = 2.0 * grid.n1 as f64 * (grid.n2 + 1) as f64 * 16.0;
+    let need = (layers * 6) as f64 * spectrum + (layers * 15 * n) as f64 * 8.0;
+    if need > FIELD_LIMIT_BYTES {
+        return Err(SamError::InvalidParameter {
+            name: "memory for the subsurface stress field (bytes)",
+            value: need,
+            allowed: "≤ 8 GiB: a shallower --subsurface depth or a coarser grid",
+        });
+    }
+    let targets: Vec<i64> = (0..layers).map(|k| (2 * k + 1) as i64).collect();
+    let mut fft = Fft2d::new(grid.n1, grid.n2)?;
+    let mut out: Vec<Vec<C64>> = (0..layers * 6).map(|_| fft.new_spectrum()).collect();
+    let mut pressure = p.to_vec();
+    let mut material = vec![0u16; layers * n];
+    if let Some((set, eps_star)) = inclusions {
+        if eps_star.len() != 6 * set.len() {
+            return Err(SamError::Numerics(
+                halfspace_numerics::NumericsError::LengthMismatch {
+                    what: "eigenstrains (6 per inclusion cell)",
+                    expected: 6 * set.len(),
+                    got: eps_star.len(),
+                },
+            ));
+        }
+        let sources: Vec<i64> = set.layers.iter().map(|k| (2 * k + 1) as i64).collect();
+        let mut fields = vec![vec![0.0; n]; sources.len() * 6];
+        for (c, cell) in set.cells.iter().enumerate() {
+            for o in 0..6 {
+                fields[cell.layer * 6 + o][cell.flat] = eps_star[c * 6 + o];
+            }
+            let k = set.layers[cell.layer];
+            if k < layers {
+                material[k * n + cell.flat] = cell.material as u16 + 1;
+            }
+        }
+        let mut hats: Vec<Vec<C64>> = fields.iter().map(|_| fft.new_spectrum()).collect();
+        let mut skip = vec![false; fields.len()];
+        for ((f, h), s) in fields.iter().zip(hats.iter_mut()).zip(skip.iter_mut()) {
+            *s = f.iter().all(|v| *v == 0.0);
+            if !*s {
+                fft.forward(f, h)?;
+            }
+        }
+        // Fields (1) + (2).
+        let inf = InfiniteStrain { half, nu };
+        let img = ImageStrain(InfiniteStrain { half, nu });
+        let fam: [(Family, &dyn LayerKernel); 2] =
+            [(Family::Difference, &inf), (Family::Sum, &img)];
+        accumulate_streamed(&mut fft, &targets, &sources, &fam, &hats, &skip, &mut out)?;
+        // p_c, added to the pressure (field (3) is Love's field of p_c).
+        let sk = SurfaceFields {
+            half,
+            nu,
+            c: stiffness(e, nu),
+        };
+        let mut surf: Vec<Vec<C64>> = (0..3).map(|_| fft.new_spectrum()).collect();
+        accumulate_streamed(
+            &mut fft,
+            &[0],
+            &sources,
+            &[(Family::Difference, &sk)],
+            &hats,
+            &skip,
+            &mut surf,
+        )?;
+        let mut pc = vec![0.0; n];
+        fft.inverse(&mut surf[0], &mut pc)?;
+        pressure.iter_mut().zip(&pc).for_each(|(a, b)| *a += b);
+    }
+    // Love's strains of (p + p_c, q₁, q₂).
+    let zero = vec![0.0; n];
+    let inputs: [&[f64]; 3] = match q {
+        Some([q1, q2]) => [&pressure, q1, q2],
+        None => [&pressure, &zero, &zero],
+    };
+    let mut hats: Vec<Vec<C64>> = (0..3).map(|_| fft.new_spectrum()).collect();
+    let mut skip = [false; 3];
+    for i in 0..3 {
+        skip[i] = inputs[i].iter().all(|v| *v == 0.0);
+        if !skip[i] {
+            fft.forward(inputs[i], &mut hats[i])?;
+        }
+    }
+    let love = LoveStrain {
+        half,
+        nu,
+        s: compliance(e, nu),
+    };
+    accumulate_streamed(
+        &mut fft,
+        &targets,
+        &[0],
+        &[(Family::Difference, &love)],
+        &hats,
+        &skip,
+        &mut out,
+    )?;
+    // Strains → stresses and invariants.
+    let mut strain = vec![vec![0.0; n]; layers * 6];
+    for (h, f) in out.iter_mut().zip(strain.iter_mut()) {
+        fft.inverse(h, f)?;
+    }
+    drop(out);
+    let cm = stiffness(e, nu);
+    let ci: Vec<[[f64; 6]; 6]> = inclusions
+        .map(|(set, _)| {
+            set.materials
+                .iter()
+                .map(|&(a, b)| stiffness(a, b))
+                .collect()
+        })
+        .unwrap_or_default();
+    let total = layers * n;
+    let mut stress: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; total]);
+    let mut vm = vec![0.0; total];
+    let mut tresca = vec![0.0; total];
+    let mut principal: [Vec<f64>; 3] = std::array::from_fn(|_| vec![0.0; total]);
+    for k in 0..layers {
+        for c in 0..n {
+            let idx = k * n + c;
+            let mut eps = [0.0; 6];
+            for o in 0..6 {
+                eps[o] = strain[k * 6 + o][c];
+            }
+            let m = material[idx];
+            let sig = if m == 0 {
+                mul6(&cm, &eps)
+            } else {
+                mul6(&ci[m as usize - 1], &eps)
+            };
+            for o in 0..6 {
+                stress[o][idx] = sig[o];
+            }
+            let pr = principal_stresses(&sig);
+            for o in 0..3 {
+                principal[o][idx] = pr[o];
+            }
+            vm[idx] = von_mises(&sig);
+            tresca[idx] = pr[0] - pr[2];
+        }
+    }
+    Ok(StressField {
+        grid: *grid,
+        layers,
+        stress,
+        von_mises: vm,
+        tresca,
+        principal,
+        material,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn principal_stresses_of_known_tensors() {
+        let p = principal_stresses(&[3.0, 1.0, 2.0, 0.0, 0.0, 0.0]);
+        assert_eq!(p, [3.0, 2.0, 1.0]);
+        // Pure shear σ₁₂ = τ: ±τ and 0.
+        let p = principal_stresses(&[0.0, 0.0, 0.0, 0.0, 0.0, 2.0]);
+        assert!((p[0] - 2.0).abs() < 1e-14 && p[1].abs() < 1e-14 && (p[2] + 2.0).abs() < 1e-14);
+        // A general tensor: invariants preserved.
+        let s = [1.0, -2.0, 0.5, 0.3, -0.7, 1.1];
+        let p = principal_stresses(&s);
+        assert!((p.iter().sum::<f64>() - (s[0] + s[1] + s[2])).abs() < 1e-13);
+        let det = s[0] * (s[1] * s[2] - s[3] * s[3]) - s[5] * (s[5] * s[2] - s[3] * s[4])
+            + s[4] * (s[5] * s[3] - s[1] * s[4]);
+        assert!((p[0] * p[1] * p[2] - det).abs() < 1e-12);
+        let vm_p =
+            (0.5 * ((p[0] - p[1]).powi(2) + (p[1] - p[2]).powi(2) + (p[2] - p[0]).powi(2))).sqrt();
+        assert!((von_mises(&s) - vm_p).abs() < 1e-12);
+    }
+}
