@@ -15,8 +15,14 @@ pub(crate) fn write(path: &Path, record: &Record) -> Result<(), DataError> {
     let e = h5err(path);
     let file = hdf5::File::create(path).map_err(&e)?;
     for (name, values) in &record.arrays {
+        let shape = record.shape_of(name).unwrap_or_else(|| vec![values.len()]);
+        let view = ndarray::ArrayViewD::from_shape(ndarray::IxDyn(&shape), values.as_slice())
+            .map_err(|err| DataError::InvalidContent {
+                path: path.to_path_buf(),
+                message: format!("array '{name}': {err}"),
+            })?;
         file.new_dataset_builder()
-            .with_data(values.as_slice())
+            .with_data(view)
             .create(name.as_str())
             .map_err(&e)?;
     }
@@ -66,13 +72,16 @@ pub(crate) fn read(path: &Path, group: &str) -> Result<Record, DataError> {
     let mut record = Record::default();
     for ds in file.datasets().map_err(&e)? {
         let name = ds.name().rsplit('/').next().unwrap_or_default().to_string();
-        if ds.ndim() != 1 {
+        if ds.ndim() == 0 {
             return Err(DataError::WrongShape {
                 path: path.to_path_buf(),
                 name,
-                expected: "1 dimension".into(),
+                expected: "at least 1 dimension".into(),
                 got: ds.shape(),
             });
+        }
+        if ds.ndim() > 1 {
+            record.shapes.push((name.clone(), ds.shape()));
         }
         let values: Vec<f64> = ds.read_raw::<f64>().map_err(|err| DataError::Format {
             path: path.to_path_buf(),

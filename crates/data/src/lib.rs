@@ -12,12 +12,14 @@ mod h5;
 mod manifest;
 mod npy;
 mod record;
+mod xdmf;
 
 pub use atomic::write_atomic;
 pub use error::DataError;
 pub use manifest::Manifest;
 pub use npy::{read_npy_1d, read_npy_2d, read_profile_table};
 pub use record::{AttrValue, Record};
+pub use xdmf::{write_xdmf, UniformVolume};
 
 use std::path::Path;
 

@@ -76,8 +76,10 @@ pub(crate) fn write_npz(path: &Path, record: &Record) -> Result<(), DataError> {
     let mut npz = NpzWriter::new(BufWriter::new(file));
     let err = |e: ndarray_npy::WriteNpzError| format_error(path, e);
     for (name, values) in &record.arrays {
-        npz.add_array(name.as_str(), &Array1::from(values.clone()))
-            .map_err(err)?;
+        let shape = record.shape_of(name).unwrap_or_else(|| vec![values.len()]);
+        let array = ndarray::ArrayD::from_shape_vec(ndarray::IxDyn(&shape), values.clone())
+            .map_err(|e| format_error(path, format!("array '{name}': {e}")))?;
+        npz.add_array(name.as_str(), &array).map_err(err)?;
     }
     let meta = serde_json::to_vec(&record.metadata_json()).expect("JSON of plain values");
     npz.add_array("metadata", &Array1::from(meta))
@@ -118,8 +120,11 @@ pub(crate) fn read_npz(path: &Path) -> Result<Record, DataError> {
                 }
             }
         } else {
-            let values: Array1<f64> = npz.by_name(&name).map_err(err)?;
-            record.arrays.push((short, values.to_vec()));
+            let values: ndarray::ArrayD<f64> = npz.by_name(&name).map_err(err)?;
+            if values.ndim() > 1 {
+                record.shapes.push((short.clone(), values.shape().to_vec()));
+            }
+            record.arrays.push((short, values.iter().copied().collect()));
         }
     }
     Ok(record)

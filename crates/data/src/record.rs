@@ -24,13 +24,16 @@ impl AttrValue {
     }
 }
 
-/// Named 1D `f64` arrays with named metadata: what the CLI writes and the fixtures hold.
+/// Named `f64` arrays (1D, or C-order with a shape) with named metadata: what the CLI writes and
+/// the fixtures hold.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Record {
     /// `(name, values)`, in order.
     pub arrays: Vec<(String, Vec<f64>)>,
     /// `(name, value)`, in order.
     pub attributes: Vec<(String, AttrValue)>,
+    /// `(name, shape)` of the arrays that are not 1D (C order, slowest index first).
+    pub shapes: Vec<(String, Vec<usize>)>,
 }
 
 impl Record {
@@ -38,6 +41,25 @@ impl Record {
     pub fn array(mut self, name: &str, values: Vec<f64>) -> Self {
         self.arrays.push((name.to_string(), values));
         self
+    }
+
+    /// Adds an array of the given shape (C order); the product of `shape` must be its length.
+    pub fn shaped(mut self, name: &str, values: Vec<f64>, shape: &[usize]) -> Self {
+        self.shapes.push((name.to_string(), shape.to_vec()));
+        self.arrays.push((name.to_string(), values));
+        self
+    }
+
+    /// The shape of array `name` (`[len]` when 1D).
+    pub fn shape_of(&self, name: &str) -> Option<Vec<usize>> {
+        let len = self.get(name)?.len();
+        Some(
+            self.shapes
+                .iter()
+                .find(|(n, _)| n == name)
+                .map(|(_, s)| s.clone())
+                .unwrap_or_else(|| vec![len]),
+        )
     }
 
     /// Adds a metadata entry.
@@ -83,6 +105,14 @@ impl Record {
             }
             if self.arrays[..i].iter().any(|(n, _)| n == name) {
                 return Err(bad(format!("array '{name}' appears twice")));
+            }
+        }
+        for (name, shape) in &self.shapes {
+            let len = self.get(name).map(|v| v.len());
+            if len != Some(shape.iter().product()) {
+                return Err(bad(format!(
+                    "array '{name}': shape {shape:?} does not match its length {len:?}"
+                )));
             }
         }
         Ok(())

@@ -116,3 +116,40 @@ fn float_attributes_round_trip_bit_for_bit() {
         }
     }
 }
+
+#[test]
+fn shaped_arrays_keep_their_shape_in_both_formats_and_bad_shapes_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let values: Vec<f64> = (0..24).map(f64::from).collect();
+    let rec = Record::default().shaped("volume", values.clone(), &[2, 3, 4]);
+    let mut exts = vec!["npz"];
+    if cfg!(feature = "hdf5") {
+        exts.push("h5");
+    }
+    for ext in exts {
+        let path = dir.path().join(format!("v.{ext}"));
+        write_record(&path, &rec).unwrap();
+        let back = read_record(&path).unwrap();
+        assert_eq!(back.get("volume").unwrap(), values.as_slice(), "{ext}");
+        assert_eq!(back.shape_of("volume").unwrap(), vec![2, 3, 4], "{ext}");
+    }
+    let bad = Record::default().shaped("volume", values, &[5, 5]);
+    let err = write_record(&dir.path().join("bad.npz"), &bad).unwrap_err();
+    assert!(err.to_string().contains("shape"), "{err}");
+}
+
+#[test]
+fn xdmf_describes_the_volume_datasets() {
+    let dir = tempfile::tempdir().unwrap();
+    let xdmf = dir.path().join("v.xdmf");
+    let volume = halfspace_data::UniformVolume {
+        dims: [2, 3, 4],
+        origin: [0.5, -1.0, -1.5],
+        spacing: [1.0, 1.0, 1.0],
+    };
+    halfspace_data::write_xdmf(&xdmf, &dir.path().join("v.h5"), &volume, &["von_mises"], "test")
+        .unwrap();
+    let text = std::fs::read_to_string(&xdmf).unwrap();
+    assert!(text.contains(r#"TopologyType="3DCoRectMesh" Dimensions="2 3 4""#));
+    assert!(text.contains("v.h5:/von_mises"));
+}
