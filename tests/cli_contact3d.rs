@@ -43,7 +43,16 @@ fn hertz_frictionless_and_with_a_tangential_force() {
     assert!((v["force"].as_f64().unwrap() / 0.08 - 1.0).abs() < 2e-3);
     // Shift and force control with friction, coupling on (rigid sphere).
     let mut args = BASE.to_vec();
-    args.extend(["--force", "0.08", "--grid", "48", "--shift-x", "0.01e-6"]);
+    args.extend([
+        "--force",
+        "0.08",
+        "--grid",
+        "48",
+        "--shift-x",
+        "0.01e-6",
+        "--friction",
+        "0.3",
+    ]);
     let v = ok_json(&run(&args));
     assert!(v["tangential_force"].as_f64().unwrap() > 0.0);
     assert!(v["stick_radius"].as_f64().unwrap() < v["contact_radius"].as_f64().unwrap());
@@ -187,8 +196,25 @@ fn bad_input_exits_2() {
             "32",
             "--tangential-force",
             "0.05",
+            "--friction",
+            "0.3",
         ],
         "gross slip",
+    );
+    // A tangential load needs a friction coefficient (the default is frictionless).
+    bad(
+        &[
+            "contact3d",
+            "--indenter",
+            "sphere:R=105e-6",
+            "--material",
+            m,
+            "--force",
+            "0.08",
+            "--shift-x",
+            "1e-8",
+        ],
+        "--friction",
     );
     bad(
         &[
@@ -265,4 +291,110 @@ fn fretting_loop_runs_on_a_small_grid() {
         ],
         "bogus",
     );
+}
+
+/// `contact3d` on the Hertz case of the composite paper, 64² over 4a, with extra arguments.
+fn hertz_with(extra: &[&str]) -> std::process::Output {
+    let mut args = BASE.to_vec();
+    args.extend(["--force", "0.08", "--grid", "64"]);
+    args.extend(extra);
+    run(&args)
+}
+
+#[test]
+fn a_stiff_sphere_below_the_contact_with_subsurface_stresses_and_volume_output() {
+    // Spec §7.6 (Leroux-2010-type case): r = 0.3a, centre depth 0.5a, E_I = 2E, a = 3.0111 μm:
+    // p_max/p₀ = 1.277 at 2Δ = a/16 (the library test reproduces it to 4 digits).
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("inh.h5");
+    let v = ok_json(&hertz_with(&[
+        "--inhomogeneity",
+        "sphere:x=0,y=0,z=1.50554e-6,r=0.90332e-6,E=420e9,nu=0.3",
+        "--subsurface",
+        "3e-6",
+        "--out",
+        out.to_str().unwrap(),
+    ]));
+    let p0 = 4212.98e6;
+    assert!(
+        (v["max_pressure"].as_f64().unwrap() / p0 - 1.2773).abs() < 5e-4,
+        "{v}"
+    );
+    for key in [
+        "inclusion_cells",
+        "layers",
+        "eim_iterations",
+        "outer_iterations",
+        "min_eigen_displacement",
+        "max_von_mises",
+        "max_von_mises_at",
+        "max_tresca",
+        "max_tresca_at",
+    ] {
+        assert!(v.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(v["inclusion_cells"], 480);
+    assert!(v["min_eigen_displacement"].as_f64().unwrap() < 0.0);
+    let rec = halfspace::data::read_record(&out).unwrap();
+    let layers = v["subsurface_layers"].as_u64().unwrap() as usize;
+    assert_eq!(rec.shape_of("von_mises").unwrap(), vec![layers, 64, 64]);
+    let eig = rec.get("eigenstrain_zz").unwrap();
+    assert_eq!(eig.iter().filter(|e| **e != 0.0).count(), 480);
+    assert!(out.with_extension("xdmf").is_file());
+}
+
+#[test]
+fn hertz_subsurface_maximum_shear_is_johnsons() {
+    // τ₁max = σ_Tresca/2 = 0.31 p₀ at z = 0.48a (Johnson 1985, Eq. 3.45; ν = 0.3).
+    let v = ok_json(&hertz_with(&["--subsurface", "2.5e-6"]));
+    let p0 = 4212.98e6;
+    let a = 3.0111e-6;
+    let tau = 0.5 * v["max_tresca"].as_f64().unwrap() / p0;
+    let z = v["max_tresca_at"][2].as_f64().unwrap() / a;
+    assert!((tau - 0.310).abs() < 3e-3, "τ1max/p0 = {tau}");
+    assert!((z - 0.48).abs() < 0.05, "at z/a = {z}");
+    assert!(v.get("inclusion_cells").is_none());
+}
+
+#[test]
+fn bad_inhomogeneities_exit_2_with_the_reason() {
+    for (spec, needle) in [
+        ("blob:x=0", "unknown inhomogeneity"),
+        ("sphere:x=0,y=0,z=1e-6,E=4e11,nu=0.3", "missing key 'r'"),
+        (
+            "sphere:x=0,y=0,z=-1e-6,r=1e-7,E=4e11,nu=0.3",
+            "above the surface",
+        ),
+        ("sphere:x=0,y=0,z=1e-6,r=-1e-7,E=4e11,nu=0.3", "size"),
+        ("sphere:x=0,y=0,z=1e-6,r=1e-7,E=4e11,nu=0.6", "Poisson"),
+        ("sphere:x=5.9e-6,y=0,z=1e-6,r=5e-7,E=4e11,nu=0.3", "domain"),
+        ("cylinder:axis=z,x=0,z=1e-6,r=1e-7,E=4e11,nu=0.3", "axis"),
+        (
+            "cuboid:x=0,y=0,z=1e-6,hx=1e-7,hy=1e-7,E=4e11,nu=0.3",
+            "missing key 'hz'",
+        ),
+        (
+            "sphere:x=0,y=0,z=1e-6,r=3e-7,E=4e11,nu=0.3,w=1",
+            "unknown key 'w'",
+        ),
+    ] {
+        let mut args = BASE.to_vec();
+        args.extend(["--force", "0.08", "--grid", "64", "--inhomogeneity", spec]);
+        bad(&args, needle);
+    }
+    let mut args = BASE.to_vec();
+    args.extend([
+        "--force",
+        "0.08",
+        "--grid",
+        "64",
+        "--inhomogeneity",
+        "sphere:x=0,y=0,z=1.5e-6,r=8e-7,E=4e11,nu=0.3",
+        "--inhomogeneity",
+        "sphere:x=5e-7,y=0,z=1.5e-6,r=8e-7,E=1e11,nu=0.3",
+    ]);
+    bad(&args, "overlapping");
+    let mut args = BASE.to_vec();
+    args.extend(["--force", "0.08", "--grid", "64", "--subsurface", "-1"]);
+    bad(&args, "--subsurface");
 }

@@ -7,7 +7,9 @@ use std::time::Instant;
 use clap::Args;
 use halfspace::data::{read_npy_2d, write_record, AttrValue, Record};
 use halfspace::sam::coupled::{ContactParams, ContactProblem, IncrementInfo};
+use halfspace::sam::nested::{InhomogeneousContact, NestedInfo, NestedParams};
 use halfspace::sam::normal::{NormalLoad, NormalParams};
+use halfspace::sam::subsurface::{subsurface_stress, StressField};
 use halfspace::sam::tangential::TangentialParams;
 use halfspace::sam::{Body, Compliance, SurfaceGrid};
 use serde::Deserialize;
@@ -43,9 +45,18 @@ pub struct Contact3dArgs {
     /// Tangential force along x in N (after the normal load).
     #[arg(long, allow_negative_numbers = true)]
     tangential_force: Option<f64>,
-    /// Coulomb friction coefficient μ.
-    #[arg(long, default_value_t = 0.3, allow_negative_numbers = true)]
-    friction: f64,
+    /// Coulomb friction coefficient μ (default 0: frictionless, as in other contact codes; a
+    /// tangential load needs it).
+    #[arg(long, allow_negative_numbers = true)]
+    friction: Option<f64>,
+    /// Inhomogeneity below the surface (repeatable): sphere:x=..,y=..,z=..,r=..,E=..,nu=.. |
+    /// cylinder:axis=y,x=..,z=..,r=..,E=..,nu=.. (or axis=x,y=..) |
+    /// cuboid:x=..,y=..,z=..,hx=..,hy=..,hz=..,E=..,nu=..; z = depth of the centre (m).
+    #[arg(long = "inhomogeneity")]
+    inhomogeneities: Vec<String>,
+    /// Compute the stress field below the surface down to DEPTH (m).
+    #[arg(long, allow_negative_numbers = true)]
+    subsurface: Option<f64>,
     /// Cells per side.
     #[arg(long, default_value_t = 128)]
     grid: usize,
@@ -250,11 +261,42 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
             }
         }
     }
-    if !(args.friction.is_finite() && args.friction >= 0.0) {
-        return Err(CliError::Spec(format!(
-            "--friction must be finite and ≥ 0, got {}",
-            args.friction
-        )));
+    let tangential_load = args.shift_x.is_some() || args.tangential_force.is_some();
+    let friction =
+        match args.friction {
+            Some(mu) if !(mu.is_finite() && mu >= 0.0) => {
+                return Err(CliError::Spec(format!(
+                    "--friction must be finite and ≥ 0, got {mu}"
+                )))
+            }
+            Some(mu) => mu,
+            None if tangential_load => return Err(CliError::Spec(
+                "--shift-x / --tangential-force need a friction coefficient: give --friction MU"
+                    .into(),
+            )),
+            None => 0.0,
+        };
+    if tangential_load && friction == 0.0 {
+        return Err(CliError::Spec(
+            "--shift-x / --tangential-force with --friction 0: a frictionless contact carries no tangential load".into(),
+        ));
+    }
+    if let Some(d) = args.subsurface {
+        if !(d.is_finite() && d > 0.0) {
+            return Err(CliError::Spec(format!(
+                "--subsurface must be a depth > 0 in m, got {d}"
+            )));
+        }
+    }
+    let inhomogeneities = args
+        .inhomogeneities
+        .iter()
+        .map(|s| super::spec::parse_inhomogeneity(s))
+        .collect::<Result<Vec<_>, _>>()?;
+    if !inhomogeneities.is_empty() && args.tangential_force.is_some() {
+        return Err(CliError::Spec(
+            "--tangential-force with --inhomogeneity is not available yet (use --shift-x)".into(),
+        ));
     }
     if !(args.tol.is_finite() && args.tol > 0.0 && args.tol < 1e-2) {
         return Err(CliError::Spec(format!(
@@ -280,7 +322,7 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
     let geometry = geometry(&indenter, &grid)?;
     let compliance = Compliance::pair(tool, half)?;
     let params = ContactParams {
-        friction: args.friction,
+        friction,
         normal: NormalParams {
             tolerance: args.tol,
             ..NormalParams::default()
@@ -291,27 +333,69 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
         },
         ..ContactParams::default()
     };
-    let mut problem = ContactProblem::new(grid, compliance, geometry, params)?;
+    let problem = ContactProblem::new(grid, compliance, geometry, params)?;
+    let (e_half, nu_half) = match half {
+        Body::Elastic { e, nu } => (e, nu),
+        Body::Rigid => unreachable!("checked above"),
+    };
+    let mut solver = if inhomogeneities.is_empty() {
+        Solver::Plain(Box::new(problem))
+    } else {
+        Solver::Nested(Box::new(InhomogeneousContact::new(
+            problem,
+            e_half,
+            nu_half,
+            &inhomogeneities,
+            NestedParams::default(),
+        )?))
+    };
     let setup_seconds = start.elapsed().as_secs_f64();
     let solve_start = Instant::now();
-    let mut info = problem.increment(load, [0.0, 0.0])?;
+    let mut nested_info = None;
+    let mut info = solver.increment(load, [0.0, 0.0], &mut nested_info)?;
     let mut iterations = info.normal.iterations + info.tangential.iterations;
     let mut shift = 0.0;
     if let Some(dx) = args.shift_x {
-        info = problem.increment(load, [dx, 0.0])?;
+        info = solver.increment(load, [dx, 0.0], &mut nested_info)?;
         iterations += info.normal.iterations + info.tangential.iterations;
         shift = dx;
     } else if let Some(qx) = args.tangential_force {
+        let Solver::Plain(problem) = &mut solver else {
+            unreachable!("refused above")
+        };
         let bracket = 0.05 * extent * 1e-3;
         let (i, d) = problem.increment_with_force(load, qx, bracket)?;
         info = i;
         iterations += info.normal.iterations + info.tangential.iterations;
         shift = d;
     }
+    let solve_seconds = solve_start.elapsed().as_secs_f64();
+    let problem = solver.problem();
+    let subsurface_start = Instant::now();
+    let field = match args.subsurface {
+        None => None,
+        Some(depth) => {
+            let st = problem.state();
+            let q = (friction > 0.0).then(|| [st.shear[0].as_slice(), st.shear[1].as_slice()]);
+            let inclusions = match &solver {
+                Solver::Nested(n) => Some((n.inclusions(), n.eigenstrain())),
+                Solver::Plain(_) => None,
+            };
+            Some(subsurface_stress(
+                problem.grid(),
+                e_half,
+                nu_half,
+                &st.pressure,
+                q,
+                depth,
+                inclusions,
+            )?)
+        }
+    };
+    let subsurface_seconds = subsurface_start.elapsed().as_secs_f64();
     let state = problem.state();
     let seconds = start.elapsed().as_secs_f64();
-    let solve_seconds = solve_start.elapsed().as_secs_f64();
-    let summary = json!({
+    let mut summary = json!({
         "contact_radius": (info.contact_area / std::f64::consts::PI).sqrt(),
         "contact_area": info.contact_area,
         "max_pressure": info.max_pressure,
@@ -331,9 +415,49 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
         "seconds": seconds,
         "setup_seconds": setup_seconds,
         "solve_seconds": solve_seconds,
+        "friction": friction,
     });
+    let extra = summary.as_object_mut().expect("object");
+    if let (Solver::Nested(n), Some(ni)) = (&solver, &nested_info) {
+        extra.insert("inclusion_cells".into(), json!(n.inclusions().len()));
+        extra.insert("layers".into(), json!(n.inclusions().layers.len()));
+        extra.insert("eim_iterations".into(), json!(ni.eim_iterations));
+        extra.insert("outer_iterations".into(), json!(ni.outer_iterations));
+        extra.insert("outer_change".into(), json!(ni.change));
+        extra.insert(
+            "min_eigen_displacement".into(),
+            json!(ni.min_eigen_displacement),
+        );
+        extra.insert(
+            "eim_method".into(),
+            json!(format!("{:?}", ni.last_eim.method)),
+        );
+    }
+    if let Solver::Nested(n) = &solver {
+        extra.insert("eim_spectra_bytes".into(), json!(n.spectra_bytes()));
+    }
+    if let Some(f) = &field {
+        let (vm, vm_at) = f.maximum(&f.von_mises);
+        let (tr, tr_at) = f.maximum(&f.tresca);
+        extra.insert("max_von_mises".into(), json!(vm));
+        extra.insert("max_von_mises_at".into(), json!(vm_at));
+        extra.insert("max_tresca".into(), json!(tr));
+        extra.insert("max_tresca_at".into(), json!(tr_at));
+        extra.insert("subsurface_layers".into(), json!(f.layers));
+        extra.insert("subsurface_seconds".into(), json!(subsurface_seconds));
+    }
+    let problem = solver.problem();
     if let Some(path) = &args.out {
-        write_record(path, &fields_record(&problem, &summary))?;
+        let mut rec = fields_record(problem, &summary);
+        if let Some(f) = &field {
+            rec = volume_record(rec, f, &solver);
+        }
+        write_record(path, &rec)?;
+        if let (Some(f), Ok(halfspace::data::Format::Hdf5)) =
+            (&field, halfspace::data::Format::of(path))
+        {
+            write_volume_xdmf(path, f)?;
+        }
     }
     if args.json {
         println!("{summary}");
@@ -348,6 +472,137 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
             summary["stick_radius"].as_f64().unwrap_or(0.0)
         );
     }
+    Ok(())
+}
+
+/// The contact solver: plain, or nested with the EIM when there are inhomogeneities.
+enum Solver {
+    Plain(Box<ContactProblem>),
+    Nested(Box<InhomogeneousContact>),
+}
+
+impl Solver {
+    fn increment(
+        &mut self,
+        load: NormalLoad,
+        shift: [f64; 2],
+        nested_info: &mut Option<NestedInfo>,
+    ) -> Result<IncrementInfo, CliError> {
+        Ok(match self {
+            Solver::Plain(p) => p.increment(load, shift)?,
+            Solver::Nested(n) => {
+                let info = n.increment(load, shift)?;
+                *nested_info = Some(info);
+                info.contact
+            }
+        })
+    }
+
+    fn problem(&self) -> &ContactProblem {
+        match self {
+            Solver::Plain(p) => p,
+            Solver::Nested(n) => n.problem(),
+        }
+    }
+}
+
+/// Names of the volume datasets (shape `(layers, N₁, N₂)`).
+const VOLUME_FIELDS: [&str; 14] = [
+    "stress_xx",
+    "stress_yy",
+    "stress_zz",
+    "stress_yz",
+    "stress_xz",
+    "stress_xy",
+    "von_mises",
+    "tresca",
+    "principal_1",
+    "principal_2",
+    "principal_3",
+    "material",
+    "eigenstrain_xx",
+    "eigenstrain_zz",
+];
+
+/// Adds the subsurface fields (and the eigenstrains on the same lattice) with their shape.
+fn volume_record(mut rec: Record, f: &StressField, solver: &Solver) -> Record {
+    let shape = [f.layers, f.grid.n1, f.grid.n2];
+    for (o, name) in VOLUME_FIELDS[..6].iter().enumerate() {
+        rec = rec.shaped(name, f.stress[o].clone(), &shape);
+    }
+    rec = rec.shaped("von_mises", f.von_mises.clone(), &shape).shaped(
+        "tresca",
+        f.tresca.clone(),
+        &shape,
+    );
+    for (o, name) in VOLUME_FIELDS[8..11].iter().enumerate() {
+        rec = rec.shaped(name, f.principal[o].clone(), &shape);
+    }
+    rec = rec.shaped(
+        "material",
+        f.material.iter().map(|&m| f64::from(m)).collect(),
+        &shape,
+    );
+    let n = f.grid.len();
+    let mut eig: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; f.layers * n]);
+    if let Solver::Nested(nested) = solver {
+        let set = nested.inclusions();
+        for (c, cell) in set.cells.iter().enumerate() {
+            let k = set.layers[cell.layer];
+            if k < f.layers {
+                for (o, field) in eig.iter_mut().enumerate() {
+                    field[k * n + cell.flat] = nested.eigenstrain()[c * 6 + o];
+                }
+            }
+        }
+    }
+    for (o, name) in [
+        "eigenstrain_xx",
+        "eigenstrain_yy",
+        "eigenstrain_zz",
+        "eigenstrain_yz",
+        "eigenstrain_xz",
+        "eigenstrain_xy",
+    ]
+    .iter()
+    .enumerate()
+    {
+        rec = rec.shaped(name, std::mem::take(&mut eig[o]), &shape);
+    }
+    rec.attr(
+        "volume_layout",
+        AttrValue::Text(format!(
+            "volume fields of shape (layers, N1, N2) = ({}, {}, {}): layer k at depth (2k+1)Δ = {:e}·(2k+1) m, cell (i, j) at the surface cell centres (x index i slow)",
+            f.layers, f.grid.n1, f.grid.n2, f.grid.half1
+        )),
+    )
+}
+
+/// `FILE.xdmf` beside `FILE.h5`: the volume fields on their lattice, for ParaView.
+fn write_volume_xdmf(h5: &std::path::Path, f: &StressField) -> Result<(), CliError> {
+    let (x0, y0) = f.grid.centre(0, 0);
+    let d = 2.0 * f.grid.half1;
+    let volume = halfspace::data::UniformVolume {
+        dims: [f.layers, f.grid.n1, f.grid.n2],
+        origin: [f.grid.half1, x0, y0],
+        spacing: [d, d, d],
+    };
+    let mut names: Vec<&str> = VOLUME_FIELDS[..12].to_vec();
+    names.extend([
+        "eigenstrain_xx",
+        "eigenstrain_yy",
+        "eigenstrain_zz",
+        "eigenstrain_yz",
+        "eigenstrain_xz",
+        "eigenstrain_xy",
+    ]);
+    halfspace::data::write_xdmf(
+        &h5.with_extension("xdmf"),
+        h5,
+        &volume,
+        &names,
+        "halfspace contact3d volume fields; XDMF axes Z Y X = depth (into the body), x, y (m)",
+    )?;
     Ok(())
 }
 

@@ -3,6 +3,7 @@
 use std::path::Path;
 
 use halfspace::mdr::{Material, Profile};
+use halfspace::sam::eim::{Axis, Inhomogeneity, Shape};
 
 use super::CliError;
 
@@ -146,6 +147,70 @@ pub fn parse_material(spec: &str) -> Result<Material, CliError> {
             "{what} '{spec}': unknown material '{other}' (homogeneous, graded)"
         ))),
     }
+}
+
+/// `sphere:x=..,y=..,z=..,r=..,E=..,nu=..`, `cylinder:axis=y,x=..,z=..,r=..,E=..,nu=..` (or
+/// `axis=x,y=..`), `cuboid:x=..,y=..,z=..,hx=..,hy=..,hz=..,E=..,nu=..`; `z` is the depth of the
+/// centre (m, positive into the body), `hx..` half sizes. Values are checked by the library.
+pub fn parse_inhomogeneity(spec: &str) -> Result<Inhomogeneity, CliError> {
+    let what = "--inhomogeneity";
+    let (kind, pairs) = split(spec, what)?;
+    let mut keys = Keys { spec, what, pairs };
+    let shape = match kind.as_str() {
+        "sphere" => {
+            let s = Shape::Sphere {
+                x: keys.number("x")?,
+                y: keys.number("y")?,
+                z: keys.number("z")?,
+                r: keys.number("r")?,
+            };
+            (s, "x, y, z, r, E, nu")
+        }
+        "cylinder" => {
+            let axis = keys.take("axis").ok_or_else(|| {
+                CliError::Spec(format!("{what} '{spec}': missing key 'axis' (x or y)"))
+            })?;
+            let (axis, position) = match axis.as_str() {
+                "y" => (Axis::Y, keys.number("x")?),
+                "x" => (Axis::X, keys.number("y")?),
+                other => {
+                    return Err(CliError::Spec(format!(
+                        "{what} '{spec}': axis='{other}' must be x or y (the cylinder lies parallel to the surface)"
+                    )))
+                }
+            };
+            let s = Shape::Cylinder {
+                axis,
+                position,
+                z: keys.number("z")?,
+                r: keys.number("r")?,
+            };
+            (s, "axis, x (axis=y) or y (axis=x), z, r, E, nu")
+        }
+        "cuboid" => {
+            let s = Shape::Cuboid {
+                x: keys.number("x")?,
+                y: keys.number("y")?,
+                z: keys.number("z")?,
+                half: [keys.number("hx")?, keys.number("hy")?, keys.number("hz")?],
+            };
+            (s, "x, y, z, hx, hy, hz, E, nu")
+        }
+        other => {
+            return Err(CliError::Spec(format!(
+                "{what} '{spec}': unknown inhomogeneity '{other}' (sphere, cylinder, cuboid)"
+            )))
+        }
+    };
+    let inh = Inhomogeneity {
+        shape: shape.0,
+        e: keys.number("E")?,
+        nu: keys.number("nu")?,
+    };
+    keys.finish(shape.1)?;
+    inh.validate()
+        .map_err(|e| CliError::Spec(format!("{what} '{spec}': {e}")))?;
+    Ok(inh)
 }
 
 #[cfg(test)]

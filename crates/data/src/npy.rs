@@ -124,7 +124,9 @@ pub(crate) fn read_npz(path: &Path) -> Result<Record, DataError> {
             if values.ndim() > 1 {
                 record.shapes.push((short.clone(), values.shape().to_vec()));
             }
-            record.arrays.push((short, values.iter().copied().collect()));
+            record
+                .arrays
+                .push((short, values.iter().copied().collect()));
         }
     }
     Ok(record)

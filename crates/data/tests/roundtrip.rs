@@ -147,8 +147,14 @@ fn xdmf_describes_the_volume_datasets() {
         origin: [0.5, -1.0, -1.5],
         spacing: [1.0, 1.0, 1.0],
     };
-    halfspace_data::write_xdmf(&xdmf, &dir.path().join("v.h5"), &volume, &["von_mises"], "test")
-        .unwrap();
+    halfspace_data::write_xdmf(
+        &xdmf,
+        &dir.path().join("v.h5"),
+        &volume,
+        &["von_mises"],
+        "test",
+    )
+    .unwrap();
     let text = std::fs::read_to_string(&xdmf).unwrap();
     assert!(text.contains(r#"TopologyType="3DCoRectMesh" Dimensions="2 3 4""#));
     assert!(text.contains("v.h5:/von_mises"));

@@ -246,7 +246,7 @@ impl InhomogeneousContact {
     }
 
     /// Bytes of the stored EIM kernel spectra.
-    pub fn spectra_bytes(&mut self) -> usize {
-        self.system.fields().spectra_bytes()
+    pub fn spectra_bytes(&self) -> usize {
+        self.system.spectra_bytes()
     }
 }

@@ -277,6 +277,11 @@ impl EimSystem {
         &mut self.fields
     }
 
+    /// Bytes of the stored kernel spectra.
+    pub fn spectra_bytes(&self) -> usize {
+        self.fields.spectra_bytes()
+    }
+
     /// The inclusion cells.
     pub fn set(&self) -> &InclusionSet {
         &self.set
