@@ -3,7 +3,7 @@
 //! W = 80 mN; inhomogeneity radius 0.3a, centre depth 0.5a, same ν.
 
 use halfspace_sam::coupled::{ContactParams, ContactProblem};
-use halfspace_sam::eim::{EimMethod, Inhomogeneity, Shape};
+use halfspace_sam::eim::{fibres, EimMethod, FibreLayout, Inhomogeneity, Shape};
 use halfspace_sam::nested::{InhomogeneousContact, NestedParams};
 use halfspace_sam::normal::{NormalLoad, NormalParams, NormalSolver};
 use halfspace_sam::{Body, Compliance, SurfaceGrid};
@@ -43,12 +43,6 @@ fn run(cells_per_a: usize, ratio: f64) -> Outcome {
     let (a, _, _) = hertz();
     let n = 4 * cells_per_a;
     let grid = SurfaceGrid::square(n, 4.0 * a).unwrap();
-    let c = Compliance::pair(Body::Rigid, Body::elastic(E, NU).unwrap()).unwrap();
-    let params = ContactParams {
-        friction: 0.0,
-        ..Default::default()
-    };
-    let problem = ContactProblem::new(grid, c, geometry(&grid), params).unwrap();
     let inh = Inhomogeneity {
         shape: Shape::Sphere {
             x: 0.0,
@@ -59,11 +53,22 @@ fn run(cells_per_a: usize, ratio: f64) -> Outcome {
         e: ratio * E,
         nu: NU,
     };
+    solve_with(grid, &[inh])
+}
+
+fn solve_with(grid: SurfaceGrid, inhomogeneities: &[Inhomogeneity]) -> Outcome {
+    let n = grid.n1;
+    let c = Compliance::pair(Body::Rigid, Body::elastic(E, NU).unwrap()).unwrap();
+    let params = ContactParams {
+        friction: 0.0,
+        ..Default::default()
+    };
+    let problem = ContactProblem::new(grid, c, geometry(&grid), params).unwrap();
     let mut nested = InhomogeneousContact::new(
         problem,
         E,
         NU,
-        &[inh],
+        inhomogeneities,
         NestedParams {
             eim: halfspace_sam::eim::EimParams {
                 method: EimMethod::Auto,
@@ -89,8 +94,10 @@ fn run(cells_per_a: usize, ratio: f64) -> Outcome {
 
 fn homogeneous(cells_per_a: usize) -> (f64, f64) {
     let (a, _, _) = hertz();
-    let n = 4 * cells_per_a;
-    let grid = SurfaceGrid::square(n, 4.0 * a).unwrap();
+    homogeneous_on(SurfaceGrid::square(4 * cells_per_a, 4.0 * a).unwrap())
+}
+
+fn homogeneous_on(grid: SurfaceGrid) -> (f64, f64) {
     let c = Compliance::pair(Body::Rigid, Body::elastic(E, NU).unwrap()).unwrap();
     let mut solver = NormalSolver::new(grid, &c).unwrap();
     let mut p = vec![0.0; grid.len()];
@@ -138,4 +145,35 @@ fn stiff_and_soft_spheres_under_hertz_contact_match_the_spec_reference() {
     assert!(soft.p_max > 1.05 * soft.p_centre, "a ring: {report}");
     assert!((soft.approach / delta_h - 1.006).abs() < 5e-4, "{report}");
     assert!(stiff.outer < 20 && soft.outer < 20, "{report}");
+}
+
+#[test]
+fn composite_fibres_under_frictionless_hertz_contact_match_the_spec_reproduction() {
+    // [LN11]'s fibres (spec §7.6): along y, r = 0.13a, 4 cells per radius, spacing 3r, axes at
+    // depth 1.5r, E_I = 2E; 128² cells. Spec: fibre-centred p_max = 1.175 p₀, area × 0.928,
+    // δ = 0.0841 μm, min u₃^eig = −5.4 nm; gap-centred +16.1 %, area × 0.932.
+    let (a, p0, _) = hertz();
+    let r = 0.13 * a;
+    let grid = SurfaceGrid::square(128, 32.0 * r).unwrap();
+    let (area_h, _) = homogeneous_on(grid);
+    for (layout, pmax, area) in [
+        (FibreLayout::FibreCentred, 1.175, 0.928),
+        (FibreLayout::GapCentred, 1.161, 0.932),
+    ] {
+        let list = fibres(r, 1.5 * r, 3.0 * r, 16.0 * r, layout, 2.0 * E, NU).unwrap();
+        let out = solve_with(grid, &list);
+        let report = format!(
+            "{layout:?}: p_max/p0 {:.4}, area × {:.4}, δ {:.4e}, {} outer",
+            out.p_max / p0,
+            out.area / area_h,
+            out.approach,
+            out.outer
+        );
+        eprintln!("{report}");
+        assert!((out.p_max / p0 - pmax).abs() < 1e-3, "{report}");
+        assert!((out.area / area_h - area).abs() < 1e-3, "{report}");
+        if layout == FibreLayout::FibreCentred {
+            assert!((out.approach - 0.0841e-6).abs() < 0.0001e-6, "{report}");
+        }
+    }
 }

@@ -174,6 +174,66 @@ impl Inhomogeneity {
     }
 }
 
+/// Where the fibres of a unidirectional composite sit relative to the contact centre `x = 0`
+/// ([LN11] does not give the positions: spec §7.6 runs both).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FibreLayout {
+    /// A fibre axis at `x = 0`.
+    FibreCentred,
+    /// The middle of a gap between two fibres at `x = 0`.
+    GapCentred,
+}
+
+/// Parallel cylindrical fibres along `x₂` (perpendicular to a sliding motion along `x₁`) of radius
+/// `r`, axes at depth `depth` and centre spacing `spacing`, every fibre whose section lies within
+/// `|x₁| ≤ half_width` ([LN11]: `r = 0.13a`, spacing `3r`, depth `1.5r`).
+pub fn fibres(
+    r: f64,
+    depth: f64,
+    spacing: f64,
+    half_width: f64,
+    layout: FibreLayout,
+    e: f64,
+    nu: f64,
+) -> Result<Vec<Inhomogeneity>, SamError> {
+    for (name, v) in [
+        ("fibre radius", r),
+        ("fibre spacing", spacing),
+        ("domain half width", half_width),
+    ] {
+        crate::error::positive(name, v)?;
+    }
+    if spacing < 2.0 * r {
+        return Err(invalid(
+            "fibre spacing (centre to centre) over the diameter",
+            spacing / (2.0 * r),
+            "≥ 1 (fibres must not overlap)",
+        ));
+    }
+    let offset = match layout {
+        FibreLayout::FibreCentred => 0.0,
+        FibreLayout::GapCentred => 0.5 * spacing,
+    };
+    let reach = ((half_width - r) / spacing).floor() as i64 + 1;
+    let mut list = Vec::new();
+    for k in -reach..=reach {
+        let x = offset + k as f64 * spacing;
+        if x.abs() + r <= half_width * (1.0 + 1e-12) {
+            list.push(Inhomogeneity {
+                shape: Shape::Cylinder {
+                    axis: Axis::Y,
+                    position: x,
+                    z: depth,
+                    r,
+                },
+                e,
+                nu,
+            });
+        }
+    }
+    Ok(list)
+}
+
 /// One inclusion cell: its layer, its surface cell and its material.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Cell {
@@ -285,7 +345,8 @@ impl InclusionSet {
             inh.validate()?;
             let (b, deep) = inh.bounds();
             // A cylinder's bounds are infinite along its axis: it runs through the domain.
-            let outside = |v: f64, limit: f64| v.is_finite() && v > limit;
+            // Touching the edge is inside (to the rounding of typed values: a thousandth of a cell).
+            let outside = |v: f64, limit: f64| v.is_finite() && v > limit + 1e-3 * d;
             if outside(-b[0], lx) || outside(b[1], lx) || outside(-b[2], ly) || outside(b[3], ly) {
                 let worst = [-lx - b[0], b[1] - lx, -ly - b[2], b[3] - ly]
                     .into_iter()

@@ -8,6 +8,6 @@ pub mod geometry;
 pub mod operator;
 pub mod solve;
 
-pub use geometry::{Axis, Cell, InclusionSet, Inhomogeneity, Shape, Window};
+pub use geometry::{fibres, Axis, Cell, FibreLayout, InclusionSet, Inhomogeneity, Shape, Window};
 pub use operator::{Backend, EimFields, Space};
 pub use solve::{EimInfo, EimMethod, EimParams, EimSystem};
