@@ -72,6 +72,10 @@ pub struct Contact3dArgs {
     /// Write the fields to FILE.h5 or FILE.npz.
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Draw the pressure (and eigen-displacement) along x through the centre to FILE.svg|.png;
+    /// with --subsurface also the von Mises map in the x–z plane to FILE-von-mises.svg|.png.
+    #[arg(long)]
+    plot: Option<PathBuf>,
 }
 
 enum Indenter {
@@ -447,6 +451,13 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
         extra.insert("subsurface_seconds".into(), json!(subsurface_seconds));
     }
     let problem = solver.problem();
+    if let Some(path) = &args.plot {
+        let hertz = match indenter {
+            Indenter::Ellipsoid(rx, ry) if rx == ry => Some((rx, state.force, e_star)),
+            _ => None,
+        };
+        draw_figures(path, &solver, field.as_ref(), hertz)?;
+    }
     if let Some(path) = &args.out {
         let mut rec = fields_record(problem, &summary);
         if let Some(f) = &field {
@@ -504,6 +515,101 @@ impl Solver {
             Solver::Nested(n) => n.problem(),
         }
     }
+}
+
+/// The pressure (and `u₃^eig`) along x through the centre, with Hertz's pressure for a sphere
+/// (`hertz = (R, W, E*)`), and the von Mises map in the x–z plane through the centre.
+fn draw_figures(
+    path: &std::path::Path,
+    solver: &Solver,
+    field: Option<&StressField>,
+    hertz: Option<(f64, f64, f64)>,
+) -> Result<(), CliError> {
+    let problem = solver.problem();
+    let g = problem.grid();
+    // The row of cells nearest y = 0 along x: index i (x) varies, j fixed.
+    let col = g.n2 / 2;
+    let xs: Vec<f64> = (0..g.n1).map(|i| g.centre(i, col).0).collect();
+    let st = problem.state();
+    let mut left = vec![(
+        "pressure (MPa)".to_string(),
+        xs.iter()
+            .enumerate()
+            .map(|(i, x)| (x * 1e6, st.pressure[i * g.n2 + col] * 1e-6))
+            .collect::<Vec<_>>(),
+    )];
+    if let Some((r, w, e_star)) = hertz {
+        let a = (3.0 * w * r / (4.0 * e_star)).cbrt();
+        let p0 = 3.0 * w / (2.0 * std::f64::consts::PI * a * a);
+        let y = g.centre(0, col).1;
+        left.push((
+            "Hertz (homogeneous)".to_string(),
+            xs.iter()
+                .map(|x| {
+                    let r2 = (x * x + y * y) / (a * a);
+                    (
+                        x * 1e6,
+                        if r2 < 1.0 {
+                            p0 * (1.0 - r2).sqrt() * 1e-6
+                        } else {
+                            0.0
+                        },
+                    )
+                })
+                .collect(),
+        ));
+    }
+    let right: Vec<(String, Vec<(f64, f64)>)> = match solver {
+        Solver::Nested(n) => vec![(
+            "eigen-displacement u3 (nm)".to_string(),
+            xs.iter()
+                .enumerate()
+                .map(|(i, x)| (x * 1e6, n.eigen_displacements()[2][i * g.n2 + col] * 1e9))
+                .collect(),
+        )],
+        Solver::Plain(_) => vec![],
+    };
+    let err = |e: Box<dyn std::error::Error>| CliError::Plot(e.to_string());
+    plot::curves(
+        path,
+        "contact3d: along x through the centre (y ≈ 0)",
+        "x (μm)",
+        ("pressure (MPa)", &left),
+        ("u3 eig (nm)", &right),
+        false,
+    )
+    .map_err(err)?;
+    if let Some(f) = field {
+        let n = g.len();
+        let zs: Vec<f64> = (0..f.layers).map(|k| f.depth(k) * 1e6).collect();
+        let values: Vec<Vec<f64>> = (0..f.layers)
+            .map(|k| {
+                (0..g.n1)
+                    .map(|i| f.von_mises[k * n + i * g.n2 + col] * 1e-6)
+                    .collect()
+            })
+            .collect();
+        let xs_um: Vec<f64> = xs.iter().map(|x| x * 1e6).collect();
+        let stem = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let ext = path
+            .extension()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "svg".into());
+        let map = path.with_file_name(format!("{stem}-von-mises.{ext}"));
+        plot::heatmap(
+            &map,
+            "von Mises stress in the x–z plane through the centre",
+            ("x (μm)", "depth z (μm)", "MPa"),
+            &xs_um,
+            &zs,
+            &values,
+        )
+        .map_err(err)?;
+    }
+    Ok(())
 }
 
 /// Names of the volume datasets (shape `(layers, N₁, N₂)`).

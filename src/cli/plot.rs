@@ -340,3 +340,106 @@ where
     root.present()?;
     Ok(())
 }
+
+/// A colour map from 0 to 1 (dark blue → teal → yellow, viridis-like).
+fn colormap(t: f64) -> RGBColor {
+    let stops = [
+        (0.0, (68.0, 1.0, 84.0)),
+        (0.25, (59.0, 82.0, 139.0)),
+        (0.5, (33.0, 145.0, 140.0)),
+        (0.75, (94.0, 201.0, 98.0)),
+        (1.0, (253.0, 231.0, 37.0)),
+    ];
+    let t = t.clamp(0.0, 1.0);
+    let k = stops.iter().rposition(|s| s.0 <= t).unwrap_or(0).min(3);
+    let (t0, c0) = stops[k];
+    let (t1, c1) = stops[k + 1];
+    let w = (t - t0) / (t1 - t0);
+    let mix = |a: f64, b: f64| (a + w * (b - a)).round() as u8;
+    RGBColor(mix(c0.0, c1.0), mix(c0.1, c1.1), mix(c0.2, c1.2))
+}
+
+/// A map of `values[row][col]` over cells centred at `(xs[col], zs[row])` (z downward), with a
+/// colour bar; SVG or PNG by the extension.
+pub fn heatmap(
+    path: &Path,
+    title: &str,
+    (xlabel, zlabel, unit): (&str, &str, &str),
+    xs: &[f64],
+    zs: &[f64],
+    values: &[Vec<f64>],
+) -> PlotResult {
+    register_font()?;
+    if path.extension().and_then(|e| e.to_str()) == Some("png") {
+        let root = BitMapBackend::new(path, (960, 480)).into_drawing_area();
+        draw_heatmap(root, title, (xlabel, zlabel, unit), xs, zs, values)
+    } else {
+        let root = SVGBackend::new(path, (960, 480)).into_drawing_area();
+        draw_heatmap(root, title, (xlabel, zlabel, unit), xs, zs, values)
+    }
+}
+
+fn draw_heatmap<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    (xlabel, zlabel, unit): (&str, &str, &str),
+    xs: &[f64],
+    zs: &[f64],
+    values: &[Vec<f64>],
+) -> PlotResult
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let root = root.titled(title, ("sans-serif", 15))?;
+    let (main, bar) = root.split_horizontally(830);
+    let dx = if xs.len() > 1 { xs[1] - xs[0] } else { 1.0 };
+    let dz = if zs.len() > 1 { zs[1] - zs[0] } else { 1.0 };
+    let (x0, x1) = (xs[0] - 0.5 * dx, xs[xs.len() - 1] + 0.5 * dx);
+    let (z0, z1) = (zs[0] - 0.5 * dz, zs[zs.len() - 1] + 0.5 * dz);
+    let vmax = values.iter().flatten().cloned().fold(f64::MIN, f64::max);
+    let vmin = values.iter().flatten().cloned().fold(f64::MAX, f64::min);
+    let span = (vmax - vmin).max(1e-300);
+    let mut chart = ChartBuilder::on(&main)
+        .margin(12)
+        .x_label_area_size(36)
+        .y_label_area_size(64)
+        .build_cartesian_2d(x0..x1, z1..z0)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc(xlabel)
+        .y_desc(zlabel)
+        .draw()?;
+    chart.draw_series(values.iter().enumerate().flat_map(|(r, row)| {
+        row.iter().enumerate().map(move |(c, v)| {
+            let (x, z) = (xs[c], zs[r]);
+            Rectangle::new(
+                [(x - 0.5 * dx, z - 0.5 * dz), (x + 0.5 * dx, z + 0.5 * dz)],
+                colormap((v - vmin) / span).filled(),
+            )
+        })
+    }))?;
+    let mut cb = ChartBuilder::on(&bar)
+        .margin(12)
+        .margin_top(20)
+        .margin_bottom(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(0.0..1.0, vmin..vmax)?;
+    cb.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_desc(unit)
+        .y_label_style(("sans-serif", 12))
+        .axis_desc_style(("sans-serif", 13))
+        .draw()?;
+    cb.draw_series((0..100).map(|k| {
+        let (a, b) = (
+            vmin + span * k as f64 / 100.0,
+            vmin + span * (k + 1) as f64 / 100.0,
+        );
+        Rectangle::new([(0.0, a), (1.0, b)], colormap(k as f64 / 99.0).filled())
+    }))?;
+    root.present()?;
+    Ok(())
+}
