@@ -25,6 +25,9 @@ pub enum Study {
     FeComparison,
     /// Fretting wear: a/a0 against τ for χ = 0.3, 0.5, 0.9 and their limits r*/a0 (spec §5).
     FrettingLimit,
+    /// Timing of one application of the EIM volume operator (eigenstrain on every layer → strain on
+    /// every layer, half-space) on --grid² cells × --layers layers: build and apply seconds.
+    EimOperator,
 }
 
 #[derive(Debug, Args)]
@@ -41,6 +44,12 @@ pub struct StudyArgs {
     /// Directory of the reference fixtures (fe-comparison).
     #[arg(long, default_value = "datasets")]
     datasets: PathBuf,
+    /// Cells per side (eim-operator).
+    #[arg(long, default_value_t = 128)]
+    grid: usize,
+    /// Layers (eim-operator).
+    #[arg(long, default_value_t = 8)]
+    layers: usize,
 }
 
 pub fn run(args: StudyArgs) -> Result<(), CliError> {
@@ -52,6 +61,9 @@ pub fn run(args: StudyArgs) -> Result<(), CliError> {
     }
     if let Study::FrettingLimit = args.study {
         return fretting_limit(&args);
+    }
+    if let Study::EimOperator = args.study {
+        return eim_operator(&args);
     }
     let (title, ns, series): (&str, Vec<usize>, Series) = match args.study {
         Study::Eq17 => {
@@ -117,7 +129,7 @@ pub fn run(args: StudyArgs) -> Result<(), CliError> {
             }
             ("Eq. 27, U = x⁴ (L = 1): mean relative error", ns, series)
         }
-        Study::GradedHertz | Study::FeComparison | Study::FrettingLimit => {
+        Study::GradedHertz | Study::FeComparison | Study::FrettingLimit | Study::EimOperator => {
             unreachable!("handled above")
         }
     };
@@ -339,4 +351,71 @@ fn fretting_limit(args: &StudyArgs) -> Result<(), CliError> {
     }
     println!("{}", json!({"study": "fretting limit", "cases": rows}));
     Ok(())
+}
+
+/// Build and apply times of the EIM volume operator on `grid² × layers` cells (unit cells, ν = 0.3,
+/// the whole grid as the window, every layer a source and a target): the operator that Tamaas calls
+/// `mindlin_gradient` (`verify/eim_vs_tamaas.py` runs both in one run).
+fn eim_operator(args: &StudyArgs) -> Result<(), CliError> {
+    use halfspace::sam::eim::{Backend, EimFields, Space, Window};
+    use halfspace::sam::SurfaceGrid;
+    use std::time::Instant;
+    let (n, nl) = (args.grid, args.layers);
+    if nl == 0 {
+        return Err(CliError::Spec("--layers must be ≥ 1".into()));
+    }
+    let grid = SurfaceGrid::square(n, n as f64)?;
+    let layers: Vec<usize> = (0..nl).collect();
+    let t = Instant::now();
+    let mut f = EimFields::new(
+        grid,
+        1.0,
+        0.3,
+        &layers,
+        &layers,
+        Window::full(&grid),
+        Space::HalfSpace,
+        Backend::Fft,
+    )?;
+    let build = t.elapsed().as_secs_f64();
+    let eigen: Vec<Vec<f64>> = (0..nl * 6)
+        .map(|k| {
+            (0..n * n)
+                .map(|i| ((i * 7 + k * 3) % 13) as f64 - 6.0)
+                .collect()
+        })
+        .collect();
+    let mut strain = vec![vec![0.0; n * n]; nl * 6];
+    f.disturbance(&eigen, &mut strain)?;
+    let repeats = 5;
+    let mut times = Vec::with_capacity(repeats);
+    for _ in 0..repeats {
+        let t = Instant::now();
+        f.disturbance(&eigen, &mut strain)?;
+        times.push(t.elapsed().as_secs_f64());
+    }
+    times.sort_by(f64::total_cmp);
+    let summary = json!({
+        "grid": n,
+        "layers": nl,
+        "build_seconds": build,
+        "apply_seconds_median": times[repeats / 2],
+        "apply_seconds_min": times[0],
+        "spectra_bytes": f.spectra_bytes(),
+        "threads": rayon_threads(),
+    });
+    if args.json {
+        println!("{summary}");
+    } else {
+        println!(
+            "EIM operator {n}² × {nl}: build {build:.3} s, apply {:.4} s (median of {repeats}), spectra {:.1} MB",
+            times[repeats / 2],
+            f.spectra_bytes() as f64 / 1e6
+        );
+    }
+    Ok(())
+}
+
+fn rayon_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
 }

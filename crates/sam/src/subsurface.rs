@@ -16,6 +16,7 @@ use halfspace_numerics::layered::{accumulate_streamed, Family, LayerKernel};
 
 use crate::eim::operator::{ImageStrain, InfiniteStrain, LoveStrain, SurfaceFields};
 use crate::eim::InclusionSet;
+use crate::kernels::subsurface::{pressure_stress, shear_stress};
 use crate::kernels::{compliance, mul6, stiffness};
 use crate::{SamError, SurfaceGrid};
 
@@ -294,6 +295,65 @@ pub fn subsurface_stress(
         principal,
         material,
     })
+}
+
+/// The stress at arbitrary points `(x₁, x₂, depth > 0)` of the piecewise-constant tractions `p`
+/// (and `q`) on the grid cells, by direct summation of Love's rectangle stresses (spec §5.4):
+/// `σ(x) = Σ_cells p_c Σ^p(x − x_c) + q₁,c Σ^{q₁}(x − x_c) + q₂,c Σ^{q₂}(x − x_c)`. O(cells) per point:
+/// the twin of the layered FFT field at the cell centres, and the evaluation at points off the
+/// lattice (reference fixtures).
+pub fn stress_at_points(
+    grid: &SurfaceGrid,
+    nu: f64,
+    p: &[f64],
+    q: Option<[&[f64]; 2]>,
+    points: &[[f64; 3]],
+) -> Result<Vec<[f64; 6]>, SamError> {
+    let n = grid.len();
+    if p.len() != n || q.is_some_and(|q| q[0].len() != n || q[1].len() != n) {
+        return Err(SamError::Numerics(
+            halfspace_numerics::NumericsError::LengthMismatch {
+                what: "surface traction field",
+                expected: n,
+                got: p.len(),
+            },
+        ));
+    }
+    let (d1, d2) = (grid.half1, grid.half2);
+    points
+        .iter()
+        .map(|pt| {
+            if !(pt[2].is_finite() && pt[2] > 0.0) {
+                return Err(SamError::InvalidParameter {
+                    name: "depth of a stress point",
+                    value: pt[2],
+                    allowed: "> 0",
+                });
+            }
+            let mut s = [0.0; 6];
+            for c in 0..n {
+                let (xc, yc) = grid.centre(c / grid.n2, c % grid.n2);
+                let (dx, dy) = (pt[0] - xc, pt[1] - yc);
+                let mut add = |w: f64, sig: [f64; 6]| {
+                    for o in 0..6 {
+                        s[o] += w * sig[o];
+                    }
+                };
+                if p[c] != 0.0 {
+                    add(p[c], pressure_stress(dx, dy, pt[2], d1, d2, nu));
+                }
+                if let Some([q1, q2]) = q {
+                    if q1[c] != 0.0 {
+                        add(q1[c], shear_stress(0, dx, dy, pt[2], d1, d2, nu));
+                    }
+                    if q2[c] != 0.0 {
+                        add(q2[c], shear_stress(1, dx, dy, pt[2], d1, d2, nu));
+                    }
+                }
+            }
+            Ok(s)
+        })
+        .collect()
 }
 
 #[cfg(test)]

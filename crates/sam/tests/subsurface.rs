@@ -51,3 +51,30 @@ fn hertz_axis_stresses_converge_to_johnson() {
     let (tau, _) = hertz_axis_max_shear(1.0, 1.0, NU);
     assert!((runs[2].2 - tau).abs() < 5e-4, "{} vs {tau}", runs[2].2);
 }
+
+#[test]
+fn the_fft_field_equals_the_direct_sum_at_the_cell_centres() {
+    // Twin check of the layered Love product, with both shears.
+    let n = 12;
+    let grid = SurfaceGrid::square(n, 3.0).unwrap();
+    let f = |k: usize, s: f64| ((k * 7 + 3) % 11) as f64 / 11.0 * s;
+    let p: Vec<f64> = (0..n * n).map(|k| f(k, 1.0)).collect();
+    let q1: Vec<f64> = (0..n * n).map(|k| f(k + 5, 0.3)).collect();
+    let q2: Vec<f64> = (0..n * n).map(|k| f(k + 2, -0.2)).collect();
+    let field = subsurface_stress(&grid, 1.0, NU, &p, Some([&q1, &q2]), 0.75, None).unwrap();
+    let points: Vec<[f64; 3]> = (0..field.layers * n * n)
+        .map(|i| field.position(i))
+        .collect();
+    let direct =
+        halfspace_sam::subsurface::stress_at_points(&grid, NU, &p, Some([&q1, &q2]), &points)
+            .unwrap();
+    let scale = direct.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+    for (i, d) in direct.iter().enumerate() {
+        for o in 0..6 {
+            assert!(
+                (field.stress[o][i] - d[o]).abs() < 1e-12 * scale,
+                "cell {i}, component {o}"
+            );
+        }
+    }
+}

@@ -469,6 +469,11 @@ impl EimFields {
                 },
             ));
         }
+        if self.window.is_full(&self.grid) && self.surface.is_some() {
+            if let (Layered::Fast(_), Layered::Fast(_)) = (&self.volume, &self.love) {
+                return self.disturbance_shared(eigen, strain);
+            }
+        }
         // Fields (1) + (2) on the window.
         {
             let x: Vec<&[f64]> = eigen.iter().map(|v| v.as_slice()).collect();
@@ -527,6 +532,49 @@ impl EimFields {
         }
         for (full, local) in self.love_full.iter().zip(strain.iter_mut()) {
             self.window.gather_add(&self.grid, full, local);
+        }
+        Ok(())
+    }
+
+    /// [`EimFields::disturbance`] when the window is the whole grid (FFT backend, half-space): the
+    /// eigenstrain spectra serve the volume and the surface operators, and field (3) is added to the
+    /// volume's output spectra before the one inverse transform per output (2 × 6 N_s fewer FFTs).
+    fn disturbance_shared(
+        &mut self,
+        eigen: &[Vec<f64>],
+        strain: &mut [Vec<f64>],
+    ) -> Result<(), SamError> {
+        let (Layered::Fast(volume), Some(Layered::Fast(surface)), Layered::Fast(love)) =
+            (&self.volume, &self.surface, &self.love)
+        else {
+            unreachable!("checked by the caller")
+        };
+        let vw = &mut self.volume_work;
+        for ((f, hat), sk) in eigen
+            .iter()
+            .zip(vw.x_hat.iter_mut())
+            .zip(vw.skip.iter_mut())
+        {
+            *sk = f.iter().all(|v| *v == 0.0);
+            if !*sk {
+                self.fft.forward(f, hat)?;
+            }
+        }
+        let zero = C64::new(0.0, 0.0);
+        vw.y_hat.iter_mut().for_each(|s| s.fill(zero));
+        volume.accumulate(&vw.x_hat, &vw.skip, &mut vw.y_hat)?;
+        let sw = &mut self.surface_work;
+        sw.y_hat.iter_mut().for_each(|s| s.fill(zero));
+        surface.accumulate(&vw.x_hat, &vw.skip, &mut sw.y_hat)?;
+        for (hat, field) in sw.y_hat.iter_mut().zip(self.surface_fields.iter_mut()) {
+            self.fft.inverse(hat, field)?;
+        }
+        let lw = &mut self.love_work;
+        self.fft
+            .forward(&self.surface_fields[0], &mut lw.x_hat[0])?;
+        love.accumulate(&lw.x_hat, &[false, true, true], &mut vw.y_hat)?;
+        for (hat, field) in vw.y_hat.iter_mut().zip(strain.iter_mut()) {
+            self.fft.inverse(hat, field)?;
         }
         Ok(())
     }
