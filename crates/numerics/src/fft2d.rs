@@ -135,7 +135,7 @@ impl Fft2d {
                 allowed: "finite",
             });
         }
-        self.forward_real(out, p1);
+        self.forward_real(out, 0..p1);
         let scale = 1.0 / (p1 * p2) as f64;
         out.iter_mut().for_each(|s| *s *= scale);
         Ok(())
@@ -169,12 +169,32 @@ impl Fft2d {
             });
         }
         self.check_spectrum(out)?;
+        self.forward_rows(x, 0..n1, out)
+    }
+
+    /// [`Fft2d::forward`] of a field that is zero outside the rows `rows` (only those rows of `x` are
+    /// read): the row transforms of the zero rows are skipped.
+    pub fn forward_rows(
+        &mut self,
+        x: &[f64],
+        rows: std::ops::Range<usize>,
+        out: &mut [C64],
+    ) -> Result<(), NumericsError> {
+        let (n1, n2) = (self.n1, self.n2);
+        if x.len() != n1 * n2 || rows.end > n1 || rows.start > rows.end {
+            return Err(NumericsError::LengthMismatch {
+                what: "grid field (or its row range)",
+                expected: n1 * n2,
+                got: x.len(),
+            });
+        }
+        self.check_spectrum(out)?;
         let p2 = 2 * n2;
-        for a in 0..n1 {
+        for a in rows.clone() {
             self.real[a * p2..a * p2 + n2].copy_from_slice(&x[a * n2..(a + 1) * n2]);
             self.real[a * p2 + n2..(a + 1) * p2].fill(0.0);
         }
-        self.forward_real(out, n1);
+        self.forward_real(out, rows);
         Ok(())
     }
 
@@ -189,10 +209,29 @@ impl Fft2d {
                 got: y.len(),
             });
         }
+        self.inverse_rows(spec, 0..n1, y)
+    }
+
+    /// [`Fft2d::inverse`] written only on the rows `rows` of `y` (the other rows are left as they
+    /// are): the row transforms of the other rows are skipped.
+    pub fn inverse_rows(
+        &mut self,
+        spec: &mut [C64],
+        rows: std::ops::Range<usize>,
+        y: &mut [f64],
+    ) -> Result<(), NumericsError> {
+        let (n1, n2) = (self.n1, self.n2);
+        if y.len() != n1 * n2 || rows.end > n1 || rows.start > rows.end {
+            return Err(NumericsError::LengthMismatch {
+                what: "grid field (or its row range)",
+                expected: n1 * n2,
+                got: y.len(),
+            });
+        }
         self.check_spectrum(spec)?;
-        self.inverse_to_real(spec);
+        self.inverse_to_real(spec, rows.clone());
         let p2 = 2 * n2;
-        for a in 0..n1 {
+        for a in rows {
             y[a * n2..(a + 1) * n2].copy_from_slice(&self.real[a * p2..a * p2 + n2]);
         }
         Ok(())
@@ -209,12 +248,12 @@ impl Fft2d {
         Ok(())
     }
 
-    /// Spectrum of `self.real` (overwritten), column-major; only its first `nonzero_rows` rows may
-    /// be nonzero (the zero padding is skipped).
-    fn forward_real(&mut self, spec: &mut [C64], nonzero_rows: usize) {
+    /// Spectrum of `self.real` (overwritten), column-major; only the rows `nonzero` may be nonzero
+    /// (the row transforms of the others, and of the zero padding, are skipped).
+    fn forward_real(&mut self, spec: &mut [C64], nonzero: std::ops::Range<usize>) {
         let (p1, p2, h2) = (2 * self.n1, 2 * self.n2, self.n2 + 1);
         let threads = self.row_scratch.len();
-        let chunk = nonzero_rows.div_ceil(threads).max(1);
+        let chunk = nonzero.len().div_ceil(threads).max(1);
         let fwd = &self.row_fwd;
         let body = |((real, rows), scratch): RowChunk<'_>| {
             for (r, c) in real.chunks_mut(p2).zip(rows.chunks_mut(h2)) {
@@ -223,8 +262,8 @@ impl Fft2d {
             }
         };
         let (real, rows) = (
-            &mut self.real[..nonzero_rows * p2],
-            &mut self.rows[..nonzero_rows * h2],
+            &mut self.real[nonzero.start * p2..nonzero.end * p2],
+            &mut self.rows[nonzero.start * h2..nonzero.end * h2],
         );
         if threads > 1 {
             real.par_chunks_mut(chunk * p2)
@@ -234,7 +273,8 @@ impl Fft2d {
         } else {
             body(((real, rows), &mut self.row_scratch[0]));
         }
-        self.rows[nonzero_rows * h2..].fill(C64::new(0.0, 0.0));
+        self.rows[..nonzero.start * h2].fill(C64::new(0.0, 0.0));
+        self.rows[nonzero.end * h2..].fill(C64::new(0.0, 0.0));
         // Transpose to columns and transform them.
         let rows = &self.rows;
         let col = &self.col_fwd;
@@ -258,10 +298,10 @@ impl Fft2d {
         }
     }
 
-    /// Writes the first `N₁` rows of the inverse transform of `spec` (column-major, overwritten)
-    /// into `self.real` (only those rows are kept by the crop).
-    fn inverse_to_real(&mut self, spec: &mut [C64]) {
-        let (n1, p1, p2, h2) = (self.n1, 2 * self.n1, 2 * self.n2, self.n2 + 1);
+    /// Writes the rows `keep` (within the first `N₁`) of the inverse transform of `spec`
+    /// (column-major, overwritten) into `self.real` (only those rows are kept by the crop).
+    fn inverse_to_real(&mut self, spec: &mut [C64], keep: std::ops::Range<usize>) {
+        let (p1, p2, h2) = (2 * self.n1, 2 * self.n2, self.n2 + 1);
         let threads = self.col_scratch.len();
         let inv = &self.col_inv;
         let chunk = h2.div_ceil(threads).max(1);
@@ -279,10 +319,11 @@ impl Fft2d {
         }
         let out = &*spec;
         let rinv = &self.row_inv;
-        let chunk = n1.div_ceil(threads).max(1);
+        let chunk = keep.len().div_ceil(threads).max(1);
+        let first = keep.start;
         let body = |(t, ((rows, real), scratch)): InverseRowChunk<'_>| {
             for (k, (row, r)) in rows.chunks_mut(h2).zip(real.chunks_mut(p2)).enumerate() {
-                let a = t * chunk + k;
+                let a = first + t * chunk + k;
                 for (b, v) in row.iter_mut().enumerate() {
                     *v = out[b * p1 + a];
                 }
@@ -292,7 +333,10 @@ impl Fft2d {
                     .expect("lengths from the plan");
             }
         };
-        let (rows, real) = (&mut self.rows[..n1 * h2], &mut self.real[..n1 * p2]);
+        let (rows, real) = (
+            &mut self.rows[keep.start * h2..keep.end * h2],
+            &mut self.real[keep.start * p2..keep.end * p2],
+        );
         if threads > 1 {
             rows.par_chunks_mut(chunk * h2)
                 .zip(real.par_chunks_mut(chunk * p2))

@@ -113,6 +113,12 @@ fn tabulate(
         .collect()
 }
 
+/// Frequencies per cache block in [`LayeredSpectra::accumulate`].
+const FREQUENCY_CHUNK: usize = 64;
+
+/// Spectra up to this length (a 64² plan: 8 320 values) are accumulated without frequency blocks.
+const SMALL_SPECTRUM: usize = 8320;
+
 /// Per depth key, the spectra of the `n_out × n_in` blocks (`None` = identically zero block).
 type SpectraByKey = BTreeMap<i64, Vec<Option<Vec<C64>>>>;
 /// Per depth key, the kernel tables of the blocks.
@@ -232,23 +238,69 @@ impl LayeredSpectra {
                 got: out_hat.len(),
             });
         }
-        out_hat.par_iter_mut().enumerate().for_each(|(ao, acc)| {
-            let (a, o) = (ao / self.n_out, ao % self.n_out);
-            for (family, map) in &self.families {
-                for (b, &zb) in self.sources.iter().enumerate() {
-                    let blocks = &map[&family.key(self.targets[a], zb)];
-                    for i in 0..self.n_in {
-                        if skip[b * self.n_in + i] {
-                            continue;
-                        }
-                        if let Some(k) = &blocks[o * self.n_in + i] {
-                            multiply_accumulate(acc, k, &inputs_hat[b * self.n_in + i]);
-                        }
+        // Block over frequencies: every (target, output) of a chunk of frequencies is accumulated
+        // while that chunk of every kernel spectrum is in cache, so each stored spectrum is read
+        // from memory once per application (instead of once per target).
+        let len = out_hat.first().map_or(0, |v| v.len());
+        if len <= SMALL_SPECTRUM {
+            // Small plans (an inhomogeneity's window) stay in cache: parallel over outputs.
+            out_hat.par_iter_mut().enumerate().for_each(|(ao, acc)| {
+                self.accumulate_one(ao, 0, inputs_hat, skip, acc);
+            });
+            return Ok(());
+        }
+        let chunks = len.div_ceil(FREQUENCY_CHUNK).max(1);
+        let mut per_chunk: Vec<Vec<&mut [C64]>> = (0..chunks)
+            .map(|_| Vec::with_capacity(out_hat.len()))
+            .collect();
+        for out in out_hat.iter_mut() {
+            for (c, piece) in out.chunks_mut(FREQUENCY_CHUNK).enumerate() {
+                per_chunk[c].push(piece);
+            }
+        }
+        per_chunk
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(c, mut outs)| {
+                let start = c * FREQUENCY_CHUNK;
+                for (ao, acc) in outs.iter_mut().enumerate() {
+                    self.accumulate_one(ao, start, inputs_hat, skip, acc);
+                }
+            });
+        Ok(())
+    }
+}
+
+impl LayeredSpectra {
+    /// `acc += Σ_b Σ_i Σ_F K̂^F_{oi} · x̂_{b,i}` over the frequencies `start .. start + acc.len()` of
+    /// output `ao = a · n_out + o`.
+    fn accumulate_one(
+        &self,
+        ao: usize,
+        start: usize,
+        inputs_hat: &[Vec<C64>],
+        skip: &[bool],
+        acc: &mut [C64],
+    ) {
+        let (a, o) = (ao / self.n_out, ao % self.n_out);
+        let end = start + acc.len();
+        for (family, map) in &self.families {
+            for (b, &zb) in self.sources.iter().enumerate() {
+                let blocks = &map[&family.key(self.targets[a], zb)];
+                for i in 0..self.n_in {
+                    if skip[b * self.n_in + i] {
+                        continue;
+                    }
+                    if let Some(k) = &blocks[o * self.n_in + i] {
+                        multiply_accumulate(
+                            acc,
+                            &k[start..end],
+                            &inputs_hat[b * self.n_in + i][start..end],
+                        );
                     }
                 }
             }
-        });
-        Ok(())
+        }
     }
 }
 

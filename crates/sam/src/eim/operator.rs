@@ -19,6 +19,8 @@
 use halfspace_numerics::fft2d::{Fft2d, C64};
 use halfspace_numerics::layered::{DenseLayered, Family, LayerKernel, LayeredSpectra};
 
+use std::ops::Range;
+
 use super::geometry::Window;
 use crate::influence::{corner_sum, primitive_a, primitive_b};
 use crate::kernels::cuboid::{DisplacementPotentials, StrainPotentials};
@@ -190,7 +192,10 @@ impl Layered {
     }
 
     /// `y = K x` for fields of the plan's shape (FFT: `x` transformed into `x_hat`, products in
-    /// `y_hat`; dense: direct sums).
+    /// `y_hat`; dense: direct sums). The inputs are zero outside the rows `rows.0` and only the
+    /// rows `rows.1` of the outputs are wanted (FFT: the other row transforms are skipped; the other
+    /// output rows are left stale).
+    #[allow(clippy::too_many_arguments)]
     fn apply(
         &self,
         fft: &mut Fft2d,
@@ -199,20 +204,24 @@ impl Layered {
         skip: &mut [bool],
         y_hat: &mut [Vec<C64>],
         y: &mut [&mut [f64]],
+        rows: (Range<usize>, Range<usize>),
     ) -> Result<(), SamError> {
         match self {
             Layered::Fast(spectra) => {
+                let n1 = fft.shape().0;
+                let rows_in = rows.0.start.min(n1)..rows.0.end.min(n1);
+                let rows_out = rows.1.start.min(n1)..rows.1.end.min(n1);
                 for ((xi, hat), sk) in x.iter().zip(x_hat.iter_mut()).zip(skip.iter_mut()) {
                     *sk = xi.iter().all(|v| *v == 0.0);
                     if !*sk {
-                        fft.forward(xi, hat)?;
+                        fft.forward_rows(xi, rows_in.clone(), hat)?;
                     }
                 }
                 let zero = C64::new(0.0, 0.0);
                 y_hat.iter_mut().for_each(|s| s.fill(zero));
                 spectra.accumulate(x_hat, skip, y_hat)?;
                 for (hat, yo) in y_hat.iter_mut().zip(y.iter_mut()) {
-                    fft.inverse(hat, yo)?;
+                    fft.inverse_rows(hat, rows_out.clone(), yo)?;
                 }
             }
             Layered::Dense(dense) => dense.apply(x, y),
@@ -486,6 +495,7 @@ impl EimFields {
                 &mut w.skip,
                 &mut w.y_hat,
                 &mut y,
+                (0..usize::MAX, 0..usize::MAX),
             )?;
         }
         let Some(surface) = &self.surface else {
@@ -503,6 +513,7 @@ impl EimFields {
                 .map(|v| v.as_mut_slice())
                 .collect();
             let w = &mut self.surface_work;
+            let rows = self.window.i0..self.window.i0 + self.window.n1;
             surface.apply(
                 &mut self.fft,
                 &x,
@@ -510,6 +521,7 @@ impl EimFields {
                 &mut w.skip,
                 &mut w.y_hat,
                 &mut y,
+                (rows, 0..usize::MAX),
             )?;
         }
         // Field (3): Love strains of p_c, cropped to the window.
@@ -521,6 +533,7 @@ impl EimFields {
                 .map(|v| v.as_mut_slice())
                 .collect();
             let w = &mut self.love_work;
+            let rows = self.window.i0..self.window.i0 + self.window.n1;
             self.love.apply(
                 &mut self.fft,
                 &x,
@@ -528,6 +541,7 @@ impl EimFields {
                 &mut w.skip,
                 &mut w.y_hat,
                 &mut y,
+                (0..usize::MAX, rows),
             )?;
         }
         for (full, local) in self.love_full.iter().zip(strain.iter_mut()) {
@@ -653,6 +667,7 @@ impl EimFields {
                 .map(|v| v.as_mut_slice())
                 .collect();
             let w = &mut self.love_work;
+            let rows = self.window.i0..self.window.i0 + self.window.n1;
             self.love.apply(
                 &mut self.fft,
                 &x,
@@ -660,6 +675,7 @@ impl EimFields {
                 &mut w.skip,
                 &mut w.y_hat,
                 &mut y,
+                (0..usize::MAX, rows),
             )?;
         }
         for (full, local) in self.love_full.iter().zip(strain.iter_mut()) {
