@@ -31,7 +31,7 @@ fn max_error(n: usize, friction: f64, points: &[[f64; 3]], reference: &[f64]) ->
     let q1: Vec<f64> = p.iter().map(|v| friction * v).collect();
     let zero = vec![0.0; grid.len()];
     let q = (friction > 0.0).then_some([q1.as_slice(), zero.as_slice()]);
-    let got = stress_at_points(&grid, 0.3, &p, q, points).unwrap();
+    let got = stress_at_points(&grid, 1.0, 0.3, &p, q, None, points).unwrap();
     got.iter()
         .flatten()
         .zip(reference)

@@ -1,9 +1,11 @@
-"""python -m verify {quad,fe,hyp2f1,subsurface,all,check}
+"""python -m verify {quad,fe,fe-inclusion,hyp2f1,subsurface,all,check}
 
 quad    scipy-quadrature references  -> datasets/quadrature.h5 + datasets/npy/quad_*
 subsurface  Hertz subsurface stresses by cubature of Boussinesq/Cerruti
                                      -> datasets/subsurface.h5 + datasets/npy/hertz_subsurface_*
 fe      scikit-fem axisymmetric FE   -> datasets/fe.h5 + datasets/npy/fe_*   (minutes)
+fe-inclusion  scikit-fem FE, spherical inhomogeneity under a Hertz pressure
+                                     -> datasets/fe_inclusion.h5 + datasets/npy/fe_inclusion_*  (minutes)
 hyp2f1  mpmath 2F1 values            -> datasets/hyp2f1_mpmath.npy
 all     all of the above
 check   regenerate quad, hyp2f1 and subsurface in a temporary directory and compare with the committed files
@@ -65,6 +67,15 @@ def run_subsurface(root):
     print(f"subsurface: {len(cases)} cases in {time.time() - t:.1f} s")
 
 
+def run_fe_inclusion(root):
+    from . import fe_inclusion, store
+    t = time.time()
+    cases = fe_inclusion.generate()
+    entries = store.write_cases("fe_inclusion", "scikit-fem-inclusion", cases, versions(), root)
+    store.update_manifest("scikit-fem-inclusion", entries, root)
+    print(f"fe-inclusion: {len(cases)} cases in {time.time() - t:.1f} s")
+
+
 def run_fe(root):
     from . import fe, store
     t = time.time()
@@ -117,9 +128,11 @@ def main(argv):
         run_subsurface(root)
     if what in ("fe", "all"):
         run_fe(root)
+    if what in ("fe-inclusion", "all"):
+        run_fe_inclusion(root)
     if what == "check":
         return 0 if check() else 1
-    if what not in ("quad", "fe", "hyp2f1", "subsurface", "all", "check"):
+    if what not in ("quad", "fe", "fe-inclusion", "hyp2f1", "subsurface", "all", "check"):
         print(__doc__)
         return 2
     return 0

@@ -16,6 +16,7 @@ use halfspace_numerics::layered::{accumulate_streamed, Family, LayerKernel};
 
 use crate::eim::operator::{ImageStrain, InfiniteStrain, LoveStrain, SurfaceFields};
 use crate::eim::InclusionSet;
+use crate::kernels::cuboid::strain_kernel;
 use crate::kernels::subsurface::{pressure_stress, shear_stress};
 use crate::kernels::{compliance, mul6, stiffness};
 use crate::{SamError, SurfaceGrid};
@@ -297,29 +298,48 @@ pub fn subsurface_stress(
     })
 }
 
-/// The stress at arbitrary points `(x₁, x₂, depth > 0)` of the piecewise-constant tractions `p`
-/// (and `q`) on the grid cells, by direct summation of Love's rectangle stresses (spec §5.4):
-/// `σ(x) = Σ_cells p_c Σ^p(x − x_c) + q₁,c Σ^{q₁}(x − x_c) + q₂,c Σ^{q₂}(x − x_c)`. O(cells) per point:
-/// the twin of the layered FFT field at the cell centres, and the evaluation at points off the
-/// lattice (reference fixtures).
+/// Eigenstrains for [`stress_at_points`]: the inclusion cells, their eigenstrains (6 per cell) and
+/// the correction pressure `p_c` on the grid ([`crate::eim::EimFields::correction_pressure`]).
+pub type EigenSources<'a> = (&'a InclusionSet, &'a [f64], &'a [f64]);
+
+/// The stress at arbitrary points `(x₁, x₂, depth > 0)` by direct summation (the twin of
+/// [`subsurface_stress`] at the cell centres, and the evaluation off the lattice for reference
+/// fixtures): Love's rectangle stresses of the piecewise-constant tractions `p + p_c` (and `q`) on
+/// the grid cells (spec §5.4), `σ⁰(x) = Σ_c p_c Σ^p(x − x_c) + q₁,c Σ^{q₁} + q₂,c Σ^{q₂}`, plus, with
+/// `eigen`, the strain of every inclusion cuboid and its mirror image (spec §5.2–5.3),
+/// `ε^d(x) = Σ_b D(x − x_b) ε*_b + D(x − x̄_b) ε*ˢ_b`; `σ = C : (C_m⁻¹ σ⁰ + ε^d)` with `C` the
+/// stiffness of the cell the point lies in. O(cells) per point.
 pub fn stress_at_points(
     grid: &SurfaceGrid,
+    e: f64,
     nu: f64,
     p: &[f64],
     q: Option<[&[f64]; 2]>,
+    eigen: Option<EigenSources<'_>>,
     points: &[[f64; 3]],
 ) -> Result<Vec<[f64; 6]>, SamError> {
     let n = grid.len();
-    if p.len() != n || q.is_some_and(|q| q[0].len() != n || q[1].len() != n) {
+    let bad_len = |v: &[f64]| v.len() != n;
+    if bad_len(p)
+        || q.is_some_and(|q| bad_len(q[0]) || bad_len(q[1]))
+        || eigen.is_some_and(|(set, eps, pc)| bad_len(pc) || eps.len() != 6 * set.len())
+    {
         return Err(SamError::Numerics(
             halfspace_numerics::NumericsError::LengthMismatch {
-                what: "surface traction field",
+                what: "surface traction, correction pressure or eigenstrain field",
                 expected: n,
                 got: p.len(),
             },
         ));
     }
+    crate::error::positive("Young's modulus", e)?;
     let (d1, d2) = (grid.half1, grid.half2);
+    let pressure: Vec<f64> = match eigen {
+        Some((_, _, pc)) => p.iter().zip(pc).map(|(a, b)| a + b).collect(),
+        None => p.to_vec(),
+    };
+    let cm = stiffness(e, nu);
+    let sm = compliance(e, nu);
     points
         .iter()
         .map(|pt| {
@@ -339,8 +359,8 @@ pub fn stress_at_points(
                         s[o] += w * sig[o];
                     }
                 };
-                if p[c] != 0.0 {
-                    add(p[c], pressure_stress(dx, dy, pt[2], d1, d2, nu));
+                if pressure[c] != 0.0 {
+                    add(pressure[c], pressure_stress(dx, dy, pt[2], d1, d2, nu));
                 }
                 if let Some([q1, q2]) = q {
                     if q1[c] != 0.0 {
@@ -351,7 +371,35 @@ pub fn stress_at_points(
                     }
                 }
             }
-            Ok(s)
+            let Some((set, eps, _)) = eigen else {
+                return Ok(s);
+            };
+            let mut strain = mul6(&sm, &s);
+            let half = set.half;
+            let mut material = None;
+            for (b, cell) in set.cells.iter().enumerate() {
+                let (xb, yb) = grid.centre(cell.flat / grid.n2, cell.flat % grid.n2);
+                let zb = (2 * set.layers[cell.layer] + 1) as f64 * half;
+                let rel = [pt[0] - xb, pt[1] - yb, pt[2] - zb];
+                if rel.iter().all(|v| v.abs() < half) {
+                    material = Some(cell.material);
+                }
+                let e_b = &eps[6 * b..6 * b + 6];
+                let mirrored = [e_b[0], e_b[1], e_b[2], -e_b[3], -e_b[4], e_b[5]];
+                let d_inf = strain_kernel(rel, [half; 3], nu);
+                let d_img = strain_kernel([rel[0], rel[1], pt[2] + zb], [half; 3], nu);
+                let (a, b2) = (mul6(&d_inf, e_b), mul6(&d_img, &mirrored));
+                for o in 0..6 {
+                    strain[o] += a[o] + b2[o];
+                }
+            }
+            Ok(match material {
+                None => mul6(&cm, &strain),
+                Some(m) => {
+                    let (ei, nui) = set.materials[m];
+                    mul6(&stiffness(ei, nui), &strain)
+                }
+            })
         })
         .collect()
 }

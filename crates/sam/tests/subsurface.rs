@@ -65,9 +65,16 @@ fn the_fft_field_equals_the_direct_sum_at_the_cell_centres() {
     let points: Vec<[f64; 3]> = (0..field.layers * n * n)
         .map(|i| field.position(i))
         .collect();
-    let direct =
-        halfspace_sam::subsurface::stress_at_points(&grid, NU, &p, Some([&q1, &q2]), &points)
-            .unwrap();
+    let direct = halfspace_sam::subsurface::stress_at_points(
+        &grid,
+        1.0,
+        NU,
+        &p,
+        Some([&q1, &q2]),
+        None,
+        &points,
+    )
+    .unwrap();
     let scale = direct.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
     for (i, d) in direct.iter().enumerate() {
         for (o, v) in d.iter().enumerate() {
@@ -77,4 +84,78 @@ fn the_fft_field_equals_the_direct_sum_at_the_cell_centres() {
             );
         }
     }
+}
+
+#[test]
+fn with_eigenstrains_the_fft_field_equals_the_direct_sum_at_the_cell_centres() {
+    use halfspace_sam::eim::{
+        Backend, EimFields, EimParams, EimSystem, InclusionSet, Inhomogeneity, Shape, Space,
+    };
+    let n = 12;
+    let grid = SurfaceGrid::square(n, 3.0).unwrap();
+    let p: Vec<f64> = (0..n * n)
+        .map(|k| {
+            let (x, y) = grid.centre(k / n, k % n);
+            (1.0 - x * x - y * y).max(0.0).sqrt()
+        })
+        .collect();
+    let inh = Inhomogeneity {
+        shape: Shape::Sphere {
+            x: 0.1,
+            y: -0.1,
+            z: 0.6,
+            r: 0.35,
+        },
+        e: 3.0,
+        nu: 0.25,
+    };
+    let set = InclusionSet::new(&grid, &[inh]).unwrap();
+    let fields = EimFields::new(
+        grid,
+        1.0,
+        NU,
+        &set.layers,
+        &set.layers,
+        set.window,
+        Space::HalfSpace,
+        Backend::Fft,
+    )
+    .unwrap();
+    let mut sys = EimSystem::new(fields, set.clone(), 1.0, NU).unwrap();
+    let mut applied = vec![vec![0.0; set.window.len()]; set.layers.len() * 6];
+    sys.fields()
+        .traction_strain(&p, None, &mut applied)
+        .unwrap();
+    let mut eps = vec![0.0; 6 * set.len()];
+    sys.solve(&applied, &mut eps, &EimParams::default())
+        .unwrap();
+    sys.disturbance(&eps).unwrap();
+    let pc = sys.fields().correction_pressure().to_vec();
+    let field = subsurface_stress(&grid, 1.0, NU, &p, None, 1.2, Some((&set, &eps))).unwrap();
+    let points: Vec<[f64; 3]> = (0..field.layers * n * n)
+        .map(|i| field.position(i))
+        .collect();
+    let direct = halfspace_sam::subsurface::stress_at_points(
+        &grid,
+        1.0,
+        NU,
+        &p,
+        None,
+        Some((&set, &eps, &pc)),
+        &points,
+    )
+    .unwrap();
+    let scale = direct.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+    for (i, d) in direct.iter().enumerate() {
+        for (o, v) in d.iter().enumerate() {
+            assert!(
+                (field.stress[o][i] - v).abs() < 1e-11 * scale,
+                "cell {i} ({:?}), component {o}: {} vs {v}",
+                field.position(i),
+                field.stress[o][i]
+            );
+        }
+    }
+    // Every inclusion cell lies within the depth and is marked with its material.
+    assert!(field.material.iter().filter(|m| **m > 0).count() == set.len());
 }
