@@ -131,4 +131,102 @@ def generate():
             attrs[f"discretization_error_{key}"] = float(np.max(np.abs(fine[key] - coarse[key])))
             attrs[f"truncation_error_{key}"] = float(np.max(np.abs(wide[key] - coarse[key])))
         cases.append({"case": f"fe_inclusion_ratio{ratio:g}", "arrays": arrays, "attrs": attrs})
+    return cases + generate_contact()
+
+
+# ---------------------------------------------------------------------------------------------
+# Frictionless contact of a rigid sphere with the half-space containing the same inhomogeneity.
+
+CONTACT_LEVELS = (1 / 40, 1 / 60)
+DEPTH = A * A / R_SPHERE  # the homogeneous Hertz approach for a = 1
+
+
+def contact_solve(h, ratio, extent=50.0):
+    """Rigid sphere R = 10 pressed to the depth delta = a^2/R (the homogeneous contact radius is a):
+    the active set of surface DOFs with prescribed u_z = -(delta - r^2/2R) is adjusted until every
+    contact DOF carries a compressive reaction and no free DOF penetrates (a Signorini active-set
+    iteration, one contact DOF at a time at the edge). The far faces carry the Boussinesq field of
+    the current force (iterated with the active set)."""
+    m = mesh(h, extent)
+    e = ElementVector(ElementTriP2())
+    basis = Basis(m, e, intorder=6)
+
+    @BilinearForm
+    def stiffness(u, v, w):
+        r = w.x[0]
+        lam, mu = lame(modulus(r, w.x[1], ratio))
+        eu = (u.grad[0][0], u.grad[1][1], u.value[0] / r, u.grad[0][1] + u.grad[1][0])
+        ev = (v.grad[0][0], v.grad[1][1], v.value[0] / r, v.grad[0][1] + v.grad[1][0])
+        tu, tv = eu[0] + eu[1] + eu[2], ev[0] + ev[1] + ev[2]
+        return (lam * tu * tv + 2 * mu * (eu[0] * ev[0] + eu[1] * ev[1] + eu[2] * ev[2])
+                + mu * eu[3] * ev[3]) * 2 * np.pi * r
+
+    K = asm(stiffness, basis).tocsr()
+    loc = basis.doflocs
+    top = basis.get_dofs(lambda p: np.isclose(p[1], 0.0))
+    axis = basis.get_dofs(lambda p: np.isclose(p[0], 0.0))
+    outer = basis.get_dofs(lambda p: np.isclose(p[0], extent) | np.isclose(p[1], -extent))
+    uz_top = np.concatenate([top.nodal["u^2"], top.facet["u^2"]])
+    uz_top = uz_top[np.argsort(loc[0, uz_top])]
+    r_top = loc[0, uz_top]
+    outer_r = np.concatenate([outer.nodal["u^1"], outer.facet["u^1"]])
+    outer_z = np.concatenate([outer.nodal["u^2"], outer.facet["u^2"]])
+    axis_r = np.concatenate([axis.nodal["u^1"], axis.facet["u^1"]])
+    n_contact = int(np.searchsorted(r_top, A * (1 + 1e-9), side="right"))
+    force = 2 * np.pi * (2 / (1 - NU * NU) / (np.pi * R_SPHERE)) * A * A / 3
+    f = basis.zeros()
+    seen = set()
+    for _ in range(200):
+        x = basis.zeros()
+        contact = uz_top[:n_contact]
+        x[contact] = -(DEPTH - loc[0, contact] ** 2 / (2 * R_SPHERE))
+        x[outer_r], _ = boussinesq(loc[0, outer_r], loc[1, outer_r], force)
+        _, x[outer_z] = boussinesq(loc[0, outer_z], loc[1, outer_z], force)
+        D = np.unique(np.concatenate([axis_r, outer_r, outer_z, contact]))
+        x = solve(*condense(K, f, x=x, D=D), solver=lambda A_, b_: spla.spsolve(A_.tocsc(), b_))
+        reaction = -(K @ x - f)
+        new_force = float(np.sum(reaction[contact]))
+        u3 = -x[uz_top]
+        gap = r_top ** 2 / (2 * R_SPHERE) - DEPTH + u3
+        # Reactions of the edge DOFs: a tensile one leaves the contact; a penetrating free DOF enters.
+        r_contact = reaction[contact]
+        state = (n_contact, round(new_force, 12))
+        if r_contact[-1] < 0 and n_contact > 1:
+            n_contact -= 1
+        elif n_contact < len(uz_top) and gap[n_contact] < 0:
+            n_contact += 1
+        elif abs(new_force - force) > 1e-10 * abs(new_force):
+            pass
+        else:
+            break
+        force = new_force
+        if state in seen and abs(new_force - force) <= 1e-10 * abs(new_force):
+            break
+        seen.add(state)
+    contact = uz_top[:n_contact]
+    from .fe import pressure_from_reactions
+    pr, p = pressure_from_reactions(m, e, reaction, contact, loc)
+    edge = 0.5 * (r_top[n_contact - 1] + r_top[min(n_contact, len(r_top) - 1)])
+    return {"force": new_force, "contact_radius": edge, "contact_radius_resolution": 0.5 * (
+        r_top[min(n_contact, len(r_top) - 1)] - r_top[n_contact - 1]),
+        "p_centre": float(p[0]), "p_max": float(np.max(p[pr < 0.95 * edge])),
+        "u3_centre": float(u3[0])}
+
+
+def generate_contact():
+    cases = []
+    for ratio in (2.0, 0.5):
+        sols = [contact_solve(h, ratio) for h in CONTACT_LEVELS]
+        fine, coarse = sols[1], sols[0]
+        arrays = {"values": np.array([fine["force"], fine["contact_radius"], fine["p_centre"], fine["p_max"]])}
+        attrs = {"ratio": ratio, "nu": NU, "E_matrix": 1.0, "sphere_radius": R_SPHERE, "depth": DEPTH,
+                 "inclusion_radius": INC_RADIUS, "inclusion_depth": INC_DEPTH, "mesh_h": CONTACT_LEVELS[1],
+                 "contact_radius_resolution": fine["contact_radius_resolution"],
+                 "layout": "values: force, contact radius, p(0), p_max (over r < 0.95 c)",
+                 "description": "frictionless rigid sphere (R = 10) pressed to delta = 0.1 on a half-space "
+                                "with a spherical inhomogeneity on the axis; P2 axisymmetric FE with a "
+                                "Signorini active set on the surface DOFs"}
+        for k in ("force", "contact_radius", "p_centre", "p_max"):
+            attrs[f"discretization_error_{k}"] = float(abs(fine[k] - coarse[k]))
+        cases.append({"case": f"fe_inclusion_contact_ratio{ratio:g}", "arrays": arrays, "attrs": attrs})
     return cases
