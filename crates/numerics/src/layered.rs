@@ -258,7 +258,8 @@ impl DepthSpectra {
 
     /// `outs[a · n_out + o][f − start] += Σ_b Σ_i K_{oi}(a, b) x̂[b · n_in + i][f]` for the
     /// frequencies of one chunk.
-    #[allow(clippy::too_many_arguments)]
+    // Several arrays share the frequency and layer indices.
+    #[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
     fn apply_chunk(
         &self,
         n_out: usize,
