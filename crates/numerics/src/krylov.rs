@@ -153,7 +153,7 @@ impl Gmres {
             }
             let beta = norm(&self.r);
             residual = beta / b_norm;
-            if !residual.is_finite() {
+            if !residual.is_finite() || x.iter().any(|v| !v.is_finite()) {
                 return Err(no_convergence("GMRES", iterations, residual));
             }
             if residual < params.tolerance {
@@ -245,8 +245,9 @@ impl Gmres {
 }
 
 /// Preconditioned Richardson iteration `x ← x + M⁻¹(b − A x)` (block Jacobi when `M` is the
-/// block diagonal), warm-started from `x`. Stops when `max|Δx| / max|x| < tol`; a change that grows
-/// a hundredfold over its smallest value is reported as divergence ([`NumericsError::NoConvergence`]).
+/// block diagonal), warm-started from `x`. Stops when `max|Δx| / max|x| < tol`; a step `max|Δx|` that
+/// grows a thousandfold over its smallest value, or a non-finite iterate, is reported as divergence
+/// ([`NumericsError::NoConvergence`]).
 pub fn richardson(
     a: &mut dyn LinearOperator,
     precond: &mut dyn LinearOperator,
@@ -268,12 +269,21 @@ pub fn richardson(
         precond.apply(&r, &mut dx)?;
         let mut change: f64 = 0.0;
         let mut size: f64 = 0.0;
+        let mut finite = true;
         for (xi, d) in x.iter_mut().zip(&dx) {
             *xi += d;
+            finite &= xi.is_finite();
             change = change.max(d.abs());
             size = size.max(xi.abs());
         }
-        let rel = if size > 0.0 { change / size } else { 0.0 };
+        // f64::max skips NaN: check finiteness of the iterate itself.
+        let rel = if !finite {
+            f64::NAN
+        } else if size > 0.0 {
+            change / size
+        } else {
+            0.0
+        };
         if !rel.is_finite() {
             return Err(no_convergence("block Jacobi", it, rel));
         }
@@ -283,8 +293,9 @@ pub fn richardson(
                 residual: rel,
             });
         }
-        best = best.min(rel);
-        if rel > 100.0 * best && it > 3 {
+        // Divergence: the step itself grows (a spectral radius > 1 keeps max|Δx|/max|x| level).
+        best = best.min(change);
+        if change > 1e3 * best && it > 3 {
             return Err(no_convergence("block Jacobi (diverging)", it, rel));
         }
         if it == params.max_iterations {

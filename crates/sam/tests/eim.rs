@@ -490,7 +490,11 @@ fn voids_solve_by_gmres_and_block_jacobi_reports_divergence() {
     // E_I = 0: spec §5.6 — block Jacobi's spectral radius is 1.54 (diverges), GMRES is slow but
     // converges; neither hangs.
     let err = eshelby_sphere(3, 0.0, EimMethod::BlockJacobi).unwrap_err();
-    assert!(matches!(err, SamError::NoConvergence { .. }), "{err}");
+    // Reported as soon as the steps have grown a thousandfold, not at the iteration limit.
+    assert!(
+        matches!(err, SamError::NoConvergence { iterations, .. } if iterations < 200),
+        "{err}"
+    );
     let (void, _, it, _) = eshelby_sphere(3, 0.0, EimMethod::Gmres).unwrap();
     assert!(
         void.iter().all(|s| s.abs() < 1e-12),

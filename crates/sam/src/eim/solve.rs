@@ -44,7 +44,8 @@ pub struct EimParams {
     pub tolerance: f64,
     /// Limit on operator applications.
     pub max_iterations: usize,
-    /// GMRES restart length.
+    /// GMRES restart length (100: with 50, soft inhomogeneities (E_I/E_m = 0.1) of a few hundred
+    /// cells stagnate; reduced automatically when the Krylov basis would exceed 2 GiB).
     pub restart: usize,
 }
 
@@ -53,8 +54,8 @@ impl Default for EimParams {
         Self {
             method: EimMethod::Auto,
             tolerance: 1e-10,
-            max_iterations: 1000,
-            restart: 50,
+            max_iterations: 3000,
+            restart: 100,
         }
     }
 }
@@ -218,17 +219,20 @@ impl EimSystem {
             }
             m => m,
         };
+        // The Krylov basis holds restart + 1 vectors of the system's size: cap it at 2 GiB.
+        let cap = ((2usize << 30) / (8 * n.max(1))).saturating_sub(1).max(1);
+        let restart = params.restart.min(cap);
         let kp = KrylovParams {
             tolerance: params.tolerance,
             max_iterations: params.max_iterations,
-            restart: params.restart,
+            restart,
         };
         let mut pre = self.preconditioner();
         let info: KrylovInfo = match method {
             EimMethod::Gmres => {
                 let mut gmres = match self.gmres.take() {
-                    Some(g) if g.shape() == (n, params.restart.max(1)) => g,
-                    _ => Gmres::new(n, params.restart),
+                    Some(g) if g.shape() == (n, restart.max(1)) => g,
+                    _ => Gmres::new(n, restart),
                 };
                 let r = gmres.solve(self, &mut pre, &b, eps_star, &kp);
                 self.gmres = Some(gmres);
