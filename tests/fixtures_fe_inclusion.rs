@@ -9,9 +9,7 @@
 use std::path::Path;
 
 use halfspace::data::{read_h5_group, AttrValue, Manifest, Record};
-use halfspace::sam::eim::{
-    Backend, EimFields, EimParams, EimSystem, InclusionSet, Inhomogeneity, Shape, Space,
-};
+use halfspace::sam::eim::{solve_under_tractions, EimParams, Inhomogeneity, Shape};
 use halfspace::sam::normal::NormalSolver;
 use halfspace::sam::subsurface::stress_at_points;
 use halfspace::sam::{Body, Compliance, SurfaceGrid};
@@ -55,35 +53,14 @@ fn eim(
         e: ratio,
         nu: NU,
     };
-    let set = InclusionSet::new(&grid, &[inh]).unwrap();
-    let fields = EimFields::new(
-        grid,
-        1.0,
-        NU,
-        &set.layers,
-        &set.layers,
-        set.window,
-        Space::HalfSpace,
-        Backend::Fft,
-    )
-    .unwrap();
-    let mut sys = EimSystem::new(fields, set.clone(), 1.0, NU).unwrap();
-    let mut applied = vec![vec![0.0; set.window.len()]; set.layers.len() * 6];
-    sys.fields()
-        .traction_strain(&p, None, &mut applied)
-        .unwrap();
-    let mut eps = vec![0.0; 6 * set.len()];
-    sys.solve(&applied, &mut eps, &EimParams::default())
-        .unwrap();
-    sys.disturbance(&eps).unwrap();
-    let mut u_eig = vec![vec![0.0; grid.len()]; 3];
-    {
-        let [a, b, c3] = &mut u_eig[..] else {
-            unreachable!()
-        };
-        sys.fields().eigen_displacements([a, b, c3]).unwrap();
-    }
-    let pc = sys.fields().correction_pressure().to_vec();
+    let sol =
+        solve_under_tractions(grid, 1.0, NU, &[inh], &p, None, &EimParams::default()).unwrap();
+    let (set, eps, pc, u_eig) = (
+        &sol.set,
+        &sol.eigenstrain,
+        &sol.correction_pressure,
+        &sol.eigen_displacements,
+    );
     let body = Compliance::pair(Body::Rigid, Body::elastic(1.0, NU).unwrap()).unwrap();
     let mut u_el = vec![0.0; grid.len()];
     NormalSolver::new(grid, &body)
@@ -100,7 +77,7 @@ fn eim(
         .collect();
     // Points (r, depth) in the x–z plane: σ_rr = σ₁₁, σ_θθ = σ₂₂, σ_zz = σ₃₃, σ_rz = σ₁₃.
     let pts: Vec<[f64; 3]> = points.iter().map(|q| [q[0], 0.0, q[1]]).collect();
-    let s = stress_at_points(&grid, 1.0, NU, &p, None, Some((&set, &eps, &pc)), &pts).unwrap();
+    let s = stress_at_points(&grid, 1.0, NU, &p, None, Some((set, eps, pc)), &pts).unwrap();
     (u3, s.iter().map(|v| [v[0], v[1], v[2], v[4]]).collect())
 }
 

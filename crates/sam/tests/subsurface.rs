@@ -88,9 +88,7 @@ fn the_fft_field_equals_the_direct_sum_at_the_cell_centres() {
 
 #[test]
 fn with_eigenstrains_the_fft_field_equals_the_direct_sum_at_the_cell_centres() {
-    use halfspace_sam::eim::{
-        Backend, EimFields, EimParams, EimSystem, InclusionSet, Inhomogeneity, Shape, Space,
-    };
+    use halfspace_sam::eim::{solve_under_tractions, EimParams, Inhomogeneity, Shape};
     let n = 12;
     let grid = SurfaceGrid::square(n, 3.0).unwrap();
     let p: Vec<f64> = (0..n * n)
@@ -109,29 +107,10 @@ fn with_eigenstrains_the_fft_field_equals_the_direct_sum_at_the_cell_centres() {
         e: 3.0,
         nu: 0.25,
     };
-    let set = InclusionSet::new(&grid, &[inh]).unwrap();
-    let fields = EimFields::new(
-        grid,
-        1.0,
-        NU,
-        &set.layers,
-        &set.layers,
-        set.window,
-        Space::HalfSpace,
-        Backend::Fft,
-    )
-    .unwrap();
-    let mut sys = EimSystem::new(fields, set.clone(), 1.0, NU).unwrap();
-    let mut applied = vec![vec![0.0; set.window.len()]; set.layers.len() * 6];
-    sys.fields()
-        .traction_strain(&p, None, &mut applied)
-        .unwrap();
-    let mut eps = vec![0.0; 6 * set.len()];
-    sys.solve(&applied, &mut eps, &EimParams::default())
-        .unwrap();
-    sys.disturbance(&eps).unwrap();
-    let pc = sys.fields().correction_pressure().to_vec();
-    let field = subsurface_stress(&grid, 1.0, NU, &p, None, 1.2, Some((&set, &eps))).unwrap();
+    let sol =
+        solve_under_tractions(grid, 1.0, NU, &[inh], &p, None, &EimParams::default()).unwrap();
+    let (set, eps, pc) = (&sol.set, &sol.eigenstrain, &sol.correction_pressure);
+    let field = subsurface_stress(&grid, 1.0, NU, &p, None, 1.2, Some((set, eps))).unwrap();
     let points: Vec<[f64; 3]> = (0..field.layers * n * n)
         .map(|i| field.position(i))
         .collect();
@@ -141,7 +120,7 @@ fn with_eigenstrains_the_fft_field_equals_the_direct_sum_at_the_cell_centres() {
         NU,
         &p,
         None,
-        Some((&set, &eps, &pc)),
+        Some((set, eps, pc)),
         &points,
     )
     .unwrap();

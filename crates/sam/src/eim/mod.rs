@@ -7,7 +7,9 @@
 pub mod geometry;
 pub mod operator;
 pub mod solve;
+pub mod tractions;
 
 pub use geometry::{fibres, Axis, Cell, FibreLayout, InclusionSet, Inhomogeneity, Shape, Window};
 pub use operator::{Backend, EimFields, Space};
 pub use solve::{EimInfo, EimMethod, EimParams, EimSystem};
+pub use tractions::{solve_under_tractions, TractionSolution};

@@ -230,6 +230,36 @@ impl Layered {
     }
 }
 
+/// `strain += crop(Love(x))`: Love's strains of the surface tractions `x = (p, q₁, q₂)` (whole grid)
+/// at the target layers, only the window's rows transformed back, added to the window fields.
+fn love_into_window(
+    love: &Layered,
+    fft: &mut Fft2d,
+    work: &mut Work,
+    love_full: &mut [Vec<f64>],
+    (window, grid): (&Window, &SurfaceGrid),
+    x: &[&[f64]; 3],
+    strain: &mut [Vec<f64>],
+) -> Result<(), SamError> {
+    {
+        let mut y: Vec<&mut [f64]> = love_full.iter_mut().map(|v| v.as_mut_slice()).collect();
+        let rows = window.i0..window.i0 + window.n1;
+        love.apply(
+            fft,
+            x,
+            &mut work.x_hat,
+            &mut work.skip,
+            &mut work.y_hat,
+            &mut y,
+            (0..usize::MAX, rows),
+        )?;
+    }
+    for (full, local) in love_full.iter().zip(strain.iter_mut()) {
+        window.gather_add(grid, full, local);
+    }
+    Ok(())
+}
+
 /// Spectra bytes a layered operator with these counts would store, per spec §5.5:
 /// `keys · blocks · 2n₁(n₂+1)` complex values.
 pub fn estimated_bytes(n1: usize, n2: usize, keys: usize, blocks: usize) -> f64 {
@@ -524,30 +554,17 @@ impl EimFields {
                 (rows, 0..usize::MAX),
             )?;
         }
-        // Field (3): Love strains of p_c, cropped to the window.
-        {
-            let x: [&[f64]; 3] = [&self.surface_fields[0], &self.zero, &self.zero];
-            let mut y: Vec<&mut [f64]> = self
-                .love_full
-                .iter_mut()
-                .map(|v| v.as_mut_slice())
-                .collect();
-            let w = &mut self.love_work;
-            let rows = self.window.i0..self.window.i0 + self.window.n1;
-            self.love.apply(
-                &mut self.fft,
-                &x,
-                &mut w.x_hat,
-                &mut w.skip,
-                &mut w.y_hat,
-                &mut y,
-                (0..usize::MAX, rows),
-            )?;
-        }
-        for (full, local) in self.love_full.iter().zip(strain.iter_mut()) {
-            self.window.gather_add(&self.grid, full, local);
-        }
-        Ok(())
+        // Field (3): Love strains of p_c, cropped to the window and added.
+        let x: [&[f64]; 3] = [&self.surface_fields[0], &self.zero, &self.zero];
+        love_into_window(
+            &self.love,
+            &mut self.fft,
+            &mut self.love_work,
+            &mut self.love_full,
+            (&self.window, &self.grid),
+            &x,
+            strain,
+        )
     }
 
     /// [`EimFields::disturbance`] when the window is the whole grid (FFT backend, half-space): the
@@ -660,29 +677,16 @@ impl EimFields {
             Some([q1, q2]) => [p, q1, q2],
             None => [p, &self.zero, &self.zero],
         };
-        {
-            let mut y: Vec<&mut [f64]> = self
-                .love_full
-                .iter_mut()
-                .map(|v| v.as_mut_slice())
-                .collect();
-            let w = &mut self.love_work;
-            let rows = self.window.i0..self.window.i0 + self.window.n1;
-            self.love.apply(
-                &mut self.fft,
-                &x,
-                &mut w.x_hat,
-                &mut w.skip,
-                &mut w.y_hat,
-                &mut y,
-                (0..usize::MAX, rows),
-            )?;
-        }
-        for (full, local) in self.love_full.iter().zip(strain.iter_mut()) {
-            local.fill(0.0);
-            self.window.gather_add(&self.grid, full, local);
-        }
-        Ok(())
+        strain.iter_mut().for_each(|f| f.fill(0.0));
+        love_into_window(
+            &self.love,
+            &mut self.fft,
+            &mut self.love_work,
+            &mut self.love_full,
+            (&self.window, &self.grid),
+            &x,
+            strain,
+        )
     }
 
     /// Whether this is the half-space operator.
