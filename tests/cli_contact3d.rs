@@ -334,6 +334,14 @@ fn a_stiff_sphere_below_the_contact_with_subsurface_stresses_and_volume_output()
         assert!(v.get(key).is_some(), "missing {key}");
     }
     assert_eq!(v["inclusion_cells"], 480);
+    // A Σ p_c / W: −0.5 % on this ±2a domain (the truncation monitor of spec §8.5b).
+    assert!(
+        v["correction_pressure_integral_over_force"]
+            .as_f64()
+            .unwrap()
+            .abs()
+            < 0.02
+    );
     assert!(v["min_eigen_displacement"].as_f64().unwrap() < 0.0);
     let rec = halfspace::data::read_record(&out).unwrap();
     let layers = v["subsurface_layers"].as_u64().unwrap() as usize;

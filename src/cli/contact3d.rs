@@ -432,6 +432,13 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
             "min_eigen_displacement".into(),
             json!(ni.min_eigen_displacement),
         );
+        // Spec §8.5b: A Σ p_c should vanish; its size relative to W measures the truncation of p_c
+        // by the domain (enlarge --extent when it is not small).
+        let pc: f64 = n.correction_pressure().iter().sum::<f64>() * problem.grid().cell_area();
+        extra.insert(
+            "correction_pressure_integral_over_force".into(),
+            json!(pc / state.force),
+        );
         extra.insert(
             "eim_method".into(),
             json!(format!("{:?}", ni.last_eim.method)),

@@ -245,6 +245,12 @@ impl InhomogeneousContact {
         &self.u_eig
     }
 
+    /// The correction pressure `p_c` on the grid (its integral should vanish: spec §8.5b; a large
+    /// `A Σ p_c` relative to the load means the domain truncates it — enlarge the extent).
+    pub fn correction_pressure(&self) -> &[f64] {
+        self.system.correction_pressure()
+    }
+
     /// Bytes of the stored EIM kernel spectra.
     pub fn spectra_bytes(&self) -> usize {
         self.system.spectra_bytes()

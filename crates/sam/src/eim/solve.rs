@@ -286,6 +286,11 @@ impl EimSystem {
         self.fields.spectra_bytes()
     }
 
+    /// The correction pressure `p_c` of the last disturbance (spec §5.3).
+    pub fn correction_pressure(&self) -> &[f64] {
+        self.fields.correction_pressure()
+    }
+
     /// The inclusion cells.
     pub fn set(&self) -> &InclusionSet {
         &self.set
