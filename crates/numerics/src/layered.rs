@@ -152,7 +152,20 @@ struct DepthSpectra {
     p: usize,
     /// Whether each stored part (family) is the sum family.
     part_is_sum: Vec<bool>,
-    /// `data[((f · parts + part) · P + k) · blocks + o · n_in + i]`: the kernel's depth spectrum / P.
+    /// In-plane plan: `2N₁` rows per column; stored rows (`N₁ + 1` with the row symmetry).
+    p1: usize,
+    stored_rows: usize,
+    /// Depth frequencies stored (`P/2 + 1` when the depth spectra are Hermitian).
+    stored_k: usize,
+    /// Per block: sign of the spectrum under ξ₁ → −ξ₁ (−1 when odd in m), with the row symmetry.
+    row_sign: Option<Vec<f64>>,
+    /// Per block: `T̂[P−k] = σ conj(T̂[k])` (σ = +1 for a real in-plane spectrum, −1 for an imaginary
+    /// one), with the Hermitian depth symmetry.
+    herm_sign: Option<Vec<f64>>,
+    /// `w^{(L−1)k}`: the phase of the reversed stack's spectrum (sum family).
+    phase: Vec<C64>,
+    /// `data[((g · parts + part) · stored_k + k) · blocks + o · n_in + i]`: the kernel's depth
+    /// spectrum / P at the stored in-plane frequency `g`.
     data: Vec<C64>,
     fwd: std::sync::Arc<dyn rustfft::Fft<f64>>,
     inv: std::sync::Arc<dyn rustfft::Fft<f64>>,
@@ -174,12 +187,17 @@ impl DepthSpectra {
             && sums <= 1
     }
 
+    /// Builds the depth spectra. With `parity` (every block even or odd in m and in n, the same for
+    /// all families), a block's 2D spectrum is (anti)symmetric under ξ₁ → −ξ₁ and purely real
+    /// (same parity in m and n) or purely imaginary: only the rows ξ₁ ≥ 0 and the depth
+    /// frequencies k ≤ P/2 are stored (a quarter of the memory and of the memory traffic).
     fn build(
         families: &[(Family, SpectraByKey)],
         z0: i64,
         layers: usize,
+        (n1, n2): (usize, usize),
         blocks: usize,
-        frequencies: usize,
+        parity: Option<&[(bool, bool)]>,
     ) -> Self {
         let p = 2 * layers;
         let mut planner = rustfft::FftPlanner::<f64>::new();
@@ -187,6 +205,23 @@ impl DepthSpectra {
         let inv = planner.plan_fft_inverse(p);
         let parts = families.len();
         let l = layers as i64;
+        let p1 = 2 * n1;
+        let cols = n2 + 1;
+        let (stored_rows, stored_k) = if parity.is_some() {
+            (n1 + 1, p / 2 + 1)
+        } else {
+            (p1, p)
+        };
+        let row_sign = parity.map(|par| {
+            par.iter()
+                .map(|&(odd_m, _)| if odd_m { -1.0 } else { 1.0 })
+                .collect()
+        });
+        let herm_sign = parity.map(|par| {
+            par.iter()
+                .map(|&(odd_m, odd_n)| if odd_m == odd_n { 1.0 } else { -1.0 })
+                .collect()
+        });
         // Per part, per depth slot m ∈ 0..P, per block: the key spectrum (if any) that goes there.
         let slots: Vec<Vec<Vec<Option<&[C64]>>>> = families
             .iter()
@@ -212,10 +247,16 @@ impl DepthSpectra {
             })
             .collect();
         let part_is_sum: Vec<bool> = families.iter().map(|f| f.0 == Family::Sum).collect();
-        let mut data = vec![C64::new(0.0, 0.0); frequencies * parts * p * blocks];
+        let phase: Vec<C64> = (0..p)
+            .map(|k| {
+                let a = -2.0 * std::f64::consts::PI * (k * (layers - 1)) as f64 / p as f64;
+                C64::new(a.cos(), a.sin())
+            })
+            .collect();
+        let mut data = vec![C64::new(0.0, 0.0); cols * stored_rows * parts * stored_k * blocks];
         let scratch_len = fwd.get_inplace_scratch_len();
         let fwd_ref = &fwd;
-        data.par_chunks_mut(parts * p * blocks)
+        data.par_chunks_mut(parts * stored_k * blocks)
             .enumerate()
             .for_each_init(
                 || {
@@ -224,23 +265,16 @@ impl DepthSpectra {
                         vec![C64::new(0.0, 0.0); scratch_len],
                     )
                 },
-                |(t, scratch), (f, chunk)| {
+                |(t, scratch), (g, chunk)| {
+                    let f = (g / stored_rows) * p1 + g % stored_rows;
                     for (part, per_slot) in slots.iter().enumerate() {
                         for b in 0..blocks {
                             for (m, v) in t.iter_mut().enumerate() {
                                 *v = per_slot[m][b].map_or(C64::new(0.0, 0.0), |s| s[f]);
                             }
                             fwd_ref.process_with_scratch(t, scratch);
-                            for (k, v) in t.iter().enumerate() {
-                                let mut w = *v / p as f64;
-                                if part_is_sum[part] {
-                                    // The reversed input's spectrum: X'(k) = e^{−2πi k (L−1)/P} X(−k).
-                                    let phase =
-                                        -2.0 * std::f64::consts::PI * (k * (layers - 1)) as f64
-                                            / p as f64;
-                                    w *= C64::new(phase.cos(), phase.sin());
-                                }
-                                chunk[(part * p + k) * blocks + b] = w;
+                            for k in 0..stored_k {
+                                chunk[(part * stored_k + k) * blocks + b] = t[k] / p as f64;
                             }
                         }
                     }
@@ -250,6 +284,12 @@ impl DepthSpectra {
             layers,
             p,
             part_is_sum,
+            p1,
+            stored_rows,
+            stored_k,
+            row_sign,
+            herm_sign,
+            phase,
             data,
             fwd,
             inv,
@@ -268,15 +308,30 @@ impl DepthSpectra {
         inputs_hat: &[Vec<C64>],
         skip: &[bool],
         outs: &mut [&mut [C64]],
-        buffers: &mut (Vec<C64>, Vec<C64>, Vec<C64>),
+        buffers: &mut DepthBuffers,
     ) {
         let (p, l) = (self.p, self.layers);
         let parts = self.part_is_sum.len();
         let blocks = n_out * n_in;
-        let (x, y, scratch) = buffers;
+        let sk = self.stored_k;
+        let DepthBuffers {
+            x,
+            xr,
+            y,
+            expanded,
+            scratch,
+        } = buffers;
         let len = outs.first().map_or(0, |o| o.len());
         for df in 0..len {
             let f = start + df;
+            let (col, row) = (f / self.p1, f % self.p1);
+            let (stored_row, mirrored) = if self.row_sign.is_some() && row > self.p1 / 2 {
+                (self.p1 - row, true)
+            } else {
+                (row, false)
+            };
+            let g = col * self.stored_rows + stored_row;
+            let stored = &self.data[g * parts * sk * blocks..(g + 1) * parts * sk * blocks];
             for i in 0..n_in {
                 for b in 0..p {
                     x[i * p + b] = if b < l && !skip[b * n_in + i] {
@@ -287,15 +342,46 @@ impl DepthSpectra {
                 }
             }
             self.fwd.process_with_scratch(x, scratch);
-            let kernel = &self.data[f * parts * p * blocks..(f + 1) * parts * p * blocks];
+            // The reversed stack's spectrum: X'(k) = w^{(L−1)k} X(−k).
+            for i in 0..n_in {
+                for k in 0..p {
+                    xr[i * p + k] = self.phase[k] * x[i * p + (p - k) % p];
+                }
+            }
+            // The full kernel of this frequency (from its stored quarter when symmetric).
+            let kernel: &[C64] = if self.herm_sign.is_none() && !mirrored {
+                stored
+            } else {
+                for part in 0..parts {
+                    for k in 0..p {
+                        let dst = &mut expanded[(part * p + k) * blocks..][..blocks];
+                        if k < sk {
+                            dst.copy_from_slice(&stored[(part * sk + k) * blocks..][..blocks]);
+                        } else {
+                            let src = &stored[(part * sk + p - k) * blocks..][..blocks];
+                            let hs = self.herm_sign.as_deref().expect("k ≥ stored_k: Hermitian");
+                            for b in 0..blocks {
+                                dst[b] = src[b].conj() * hs[b];
+                            }
+                        }
+                        if mirrored {
+                            let rs = self.row_sign.as_deref().expect("mirrored rows have signs");
+                            for b in 0..blocks {
+                                dst[b] *= rs[b];
+                            }
+                        }
+                    }
+                }
+                expanded
+            };
             for o in 0..n_out {
                 for k in 0..p {
                     let mut acc = C64::new(0.0, 0.0);
                     for (part, &is_sum) in self.part_is_sum.iter().enumerate() {
-                        let kk = if is_sum { (p - k) % p } else { k };
+                        let input: &[C64] = if is_sum { xr } else { x };
                         let row = &kernel[(part * p + k) * blocks + o * n_in..][..n_in];
                         for (i, kv) in row.iter().enumerate() {
-                            acc += kv * x[i * p + kk];
+                            acc += kv * input[i * p + k];
                         }
                     }
                     y[o * p + k] = acc;
@@ -309,6 +395,16 @@ impl DepthSpectra {
             }
         }
     }
+}
+
+/// Per-thread work arrays of [`DepthSpectra::apply_chunk`].
+struct DepthBuffers {
+    x: Vec<C64>,
+    xr: Vec<C64>,
+    y: Vec<C64>,
+    /// The kernel of one frequency expanded from its stored quarter.
+    expanded: Vec<C64>,
+    scratch: Vec<C64>,
 }
 
 impl LayeredSpectra {
@@ -350,13 +446,23 @@ impl LayeredSpectra {
             }
             stored.push((family, map));
         }
+        // One parity for every family (then the depth spectra are stored by quarter).
+        let parities: Vec<Option<Vec<(bool, bool)>>> =
+            families.iter().map(|(_, k)| k.parity()).collect();
+        let parity = match parities.first() {
+            Some(Some(first)) if parities.iter().all(|q| q.as_ref() == Some(first)) => {
+                Some(first.clone())
+            }
+            _ => None,
+        };
         let depth = if DepthSpectra::eligible(targets, sources, &stored) {
             let d = DepthSpectra::build(
                 &stored,
                 targets[0],
                 targets.len(),
+                (n1, n2),
                 n_out * n_in,
-                fft.spectrum_len(),
+                parity.as_deref(),
             );
             stored.clear();
             Some(d)
@@ -450,13 +556,14 @@ impl LayeredSpectra {
                 .get_inplace_scratch_len()
                 .max(depth.inv.get_inplace_scratch_len());
             let (n_in, n_out) = (self.n_in, self.n_out);
+            let parts = depth.part_is_sum.len();
             per_chunk.into_par_iter().enumerate().for_each_init(
-                || {
-                    (
-                        vec![C64::new(0.0, 0.0); n_in * p],
-                        vec![C64::new(0.0, 0.0); n_out * p],
-                        vec![C64::new(0.0, 0.0); scratch],
-                    )
+                || DepthBuffers {
+                    x: vec![C64::new(0.0, 0.0); n_in * p],
+                    xr: vec![C64::new(0.0, 0.0); n_in * p],
+                    y: vec![C64::new(0.0, 0.0); n_out * p],
+                    expanded: vec![C64::new(0.0, 0.0); parts * p * n_out * n_in],
+                    scratch: vec![C64::new(0.0, 0.0); scratch],
                 },
                 |buffers, (c, mut outs)| {
                     depth.apply_chunk(
@@ -703,6 +810,31 @@ mod tests {
                 let r2 = (m * m + 2 * n * n + key * key) as f64 + 1.0 + k as f64;
                 *v = self.0 * (1.0 + 0.1 * m as f64 + 0.05 * key as f64) / r2.sqrt();
             }
+        }
+    }
+
+    /// Blocks with every combination of parities: `m^{odd_m} n^{odd_n}` times an even function.
+    struct Parity;
+    impl LayerKernel for Parity {
+        fn blocks(&self) -> (usize, usize) {
+            (2, 3)
+        }
+        fn eval(&self, key: i64, m: i64, n: i64, out: &mut [f64]) {
+            for (b, v) in out.iter_mut().enumerate() {
+                let (om, on) = (b % 2 == 1, (b / 2) % 2 == 1);
+                let r2 = (m * m + 2 * n * n + key * key) as f64 + 1.0 + b as f64;
+                let mut w = (1.0 + 0.05 * key as f64) / r2.sqrt();
+                if om {
+                    w *= m as f64;
+                }
+                if on {
+                    w *= n as f64;
+                }
+                *v = w;
+            }
+        }
+        fn parity(&self) -> Option<Vec<(bool, bool)>> {
+            Some((0..6).map(|b| (b % 2 == 1, (b / 2) % 2 == 1)).collect())
         }
     }
 
