@@ -851,6 +851,12 @@ mod tests {
             ],
             vec![(Family::Difference, &k1 as &dyn LayerKernel)],
             vec![(Family::Sum, &k2 as &dyn LayerKernel)],
+            // With parities: a quarter stored, the rest by symmetry.
+            vec![
+                (Family::Difference, &Parity as &dyn LayerKernel),
+                (Family::Sum, &Parity),
+            ],
+            vec![(Family::Sum, &Parity as &dyn LayerKernel)],
         ] {
             let mut fft = Fft2d::new(n1, n2).unwrap();
             let spectra = LayeredSpectra::new(&mut fft, &layers, &layers, &families).unwrap();
