@@ -48,11 +48,8 @@ def modulus(r, z, ratio):
     return np.where(inside, ratio, 1.0)
 
 
-def solve_ratio(h, ratio, extent=50.0):
-    m = mesh(h, extent)
-    e = ElementVector(ElementTriP2())
-    basis = Basis(m, e, intorder=6)
-
+def stiffness_form(ratio):
+    """The r-weighted axisymmetric stiffness with the inhomogeneity's modulus at the quadrature points."""
     @BilinearForm
     def stiffness(u, v, w):
         r = w.x[0]
@@ -62,7 +59,15 @@ def solve_ratio(h, ratio, extent=50.0):
         tu, tv = eu[0] + eu[1] + eu[2], ev[0] + ev[1] + ev[2]
         return (lam * tu * tv + 2 * mu * (eu[0] * ev[0] + eu[1] * ev[1] + eu[2] * ev[2])
                 + mu * eu[3] * ev[3]) * 2 * np.pi * r
+    return stiffness
 
+
+def solve_ratio(h, ratio, extent=50.0):
+    m = mesh(h, extent)
+    e = ElementVector(ElementTriP2())
+    basis = Basis(m, e, intorder=6)
+
+    stiffness = stiffness_form(ratio)
     K = asm(stiffness, basis)
     e_star = 1.0 / (1 - NU * NU)
     p0 = 2 * e_star * A / (np.pi * R_SPHERE)
@@ -151,16 +156,7 @@ def contact_solve(h, ratio, extent=50.0):
     e = ElementVector(ElementTriP2())
     basis = Basis(m, e, intorder=6)
 
-    @BilinearForm
-    def stiffness(u, v, w):
-        r = w.x[0]
-        lam, mu = lame(modulus(r, w.x[1], ratio))
-        eu = (u.grad[0][0], u.grad[1][1], u.value[0] / r, u.grad[0][1] + u.grad[1][0])
-        ev = (v.grad[0][0], v.grad[1][1], v.value[0] / r, v.grad[0][1] + v.grad[1][0])
-        tu, tv = eu[0] + eu[1] + eu[2], ev[0] + ev[1] + ev[2]
-        return (lam * tu * tv + 2 * mu * (eu[0] * ev[0] + eu[1] * ev[1] + eu[2] * ev[2])
-                + mu * eu[3] * ev[3]) * 2 * np.pi * r
-
+    stiffness = stiffness_form(ratio)
     K = asm(stiffness, basis).tocsr()
     loc = basis.doflocs
     top = basis.get_dofs(lambda p: np.isclose(p[1], 0.0))

@@ -813,6 +813,49 @@ mod tests {
         }
     }
 
+    /// `y = K x` through the stored spectra: forward transforms, products, inverse transforms.
+    fn via_spectra(
+        fft: &mut Fft2d,
+        spectra: &LayeredSpectra,
+        xs: &[Vec<f64>],
+        skip: &[bool],
+        outputs: usize,
+    ) -> Vec<Vec<f64>> {
+        let (n1, n2) = fft.shape();
+        let mut hats: Vec<Vec<C64>> = xs.iter().map(|_| fft.new_spectrum()).collect();
+        for (x, h) in xs.iter().zip(hats.iter_mut()) {
+            fft.forward(x, h).unwrap();
+        }
+        let mut out: Vec<Vec<C64>> = (0..outputs).map(|_| fft.new_spectrum()).collect();
+        spectra.accumulate(&hats, skip, &mut out).unwrap();
+        let mut fields = vec![vec![0.0; n1 * n2]; outputs];
+        for (o, f) in out.iter_mut().zip(fields.iter_mut()) {
+            fft.inverse(o, f).unwrap();
+        }
+        fields
+    }
+
+    /// `y = K x` by direct summation.
+    fn direct(dense: &DenseLayered, xs: &[Vec<f64>], outputs: usize) -> Vec<Vec<f64>> {
+        let mut slow = vec![vec![0.0; dense.n1 * dense.n2]; outputs];
+        let xr: Vec<&[f64]> = xs.iter().map(|v| v.as_slice()).collect();
+        let mut yr: Vec<&mut [f64]> = slow.iter_mut().map(|v| v.as_mut_slice()).collect();
+        dense.apply(&xr, &mut yr);
+        slow
+    }
+
+    /// (max |a − b|, max |b|).
+    fn max_error(a: &[Vec<f64>], b: &[Vec<f64>]) -> (f64, f64) {
+        let scale = b.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        let err = a
+            .iter()
+            .flatten()
+            .zip(b.iter().flatten())
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max);
+        (err, scale)
+    }
+
     /// Blocks with every combination of parities: `m^{odd_m} n^{odd_n}` times an even function.
     struct Parity;
     impl LayerKernel for Parity {
@@ -876,28 +919,9 @@ mod tests {
                 .enumerate()
                 .map(|(k, v)| if skip[k] { vec![0.0; v.len()] } else { v })
                 .collect();
-            let mut hats: Vec<Vec<C64>> = xs.iter().map(|_| fft.new_spectrum()).collect();
-            for (x, h) in xs.iter().zip(hats.iter_mut()) {
-                fft.forward(x, h).unwrap();
-            }
-            let mut out: Vec<Vec<C64>> =
-                (0..layers.len() * 2).map(|_| fft.new_spectrum()).collect();
-            spectra.accumulate(&hats, &skip, &mut out).unwrap();
-            let mut fast = vec![vec![0.0; n1 * n2]; layers.len() * 2];
-            for (o, f) in out.iter_mut().zip(fast.iter_mut()) {
-                fft.inverse(o, f).unwrap();
-            }
-            let mut slow = vec![vec![0.0; n1 * n2]; layers.len() * 2];
-            let xr: Vec<&[f64]> = xs.iter().map(|v| v.as_slice()).collect();
-            let mut yr: Vec<&mut [f64]> = slow.iter_mut().map(|v| v.as_mut_slice()).collect();
-            dense.apply(&xr, &mut yr);
-            let scale = slow.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
-            let err = fast
-                .iter()
-                .flatten()
-                .zip(slow.iter().flatten())
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max);
+            let fast = via_spectra(&mut fft, &spectra, &xs, &skip, layers.len() * 2);
+            let slow = direct(&dense, &xs, layers.len() * 2);
+            let (err, scale) = max_error(&fast, &slow);
             assert!(err < 1e-12 * scale, "{err:e} of {scale:e}");
         }
     }
@@ -926,29 +950,14 @@ mod tests {
                     .collect()
             })
             .collect();
+        let skip = vec![false; xs.len()];
+        let fast = via_spectra(&mut fft, &spectra, &xs, &skip, targets.len() * 2);
+        let slow = direct(&dense, &xs, targets.len() * 2);
+        let (err, scale) = max_error(&fast, &slow);
         let mut hats: Vec<Vec<C64>> = xs.iter().map(|_| fft.new_spectrum()).collect();
         for (x, h) in xs.iter().zip(hats.iter_mut()) {
             fft.forward(x, h).unwrap();
         }
-        let mut out: Vec<Vec<C64>> = (0..targets.len() * 2).map(|_| fft.new_spectrum()).collect();
-        spectra
-            .accumulate(&hats, &vec![false; xs.len()], &mut out)
-            .unwrap();
-        let mut fast = vec![vec![0.0; n1 * n2]; targets.len() * 2];
-        for (o, f) in out.iter_mut().zip(fast.iter_mut()) {
-            fft.inverse(o, f).unwrap();
-        }
-        let mut slow = vec![vec![0.0; n1 * n2]; targets.len() * 2];
-        let xr: Vec<&[f64]> = xs.iter().map(|v| v.as_slice()).collect();
-        let mut yr: Vec<&mut [f64]> = slow.iter_mut().map(|v| v.as_mut_slice()).collect();
-        dense.apply(&xr, &mut yr);
-        let scale = slow.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
-        let err = fast
-            .iter()
-            .flatten()
-            .zip(slow.iter().flatten())
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
         assert!(err < 1e-13 * scale, "{err:e} of {scale:e}");
         assert!(spectra.bytes() > 0);
         // The streamed products equal the stored ones.
@@ -960,7 +969,7 @@ mod tests {
             &sources,
             &families,
             &hats,
-            &vec![false; xs.len()],
+            &skip,
             &mut streamed,
         )
         .unwrap();
@@ -968,12 +977,7 @@ mod tests {
         for (o, f) in streamed.iter_mut().zip(again.iter_mut()) {
             fft.inverse(o, f).unwrap();
         }
-        let err = again
-            .iter()
-            .flatten()
-            .zip(slow.iter().flatten())
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
+        let (err, scale) = max_error(&again, &slow);
         assert!(err < 1e-13 * scale, "streamed: {err:e} of {scale:e}");
     }
 }
