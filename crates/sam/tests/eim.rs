@@ -317,71 +317,14 @@ fn solvers_agree_on_the_fft_operator_its_dense_twin_and_a_direct_lu() {
     }
 }
 
-#[test]
-fn nucleus_of_strain_reproduces_mindlin_cheng_near_the_axis() {
-    // A unit cube with ε* = e·1 at depth 8.5 under a 128² surface of unit cells (±64).
-    let grid = SurfaceGrid::square(128, 128.0).unwrap();
-    let (e, layer) = (1e-3, 8usize);
-    let depth = (2 * layer + 1) as f64 * 0.5;
-    // The cube under the cell (64, 64), centred at (0.5, 0.5); a 2 × 2 window around it.
-    let window = Window {
-        i0: 63,
-        n1: 2,
-        j0: 63,
-        n2: 2,
-    };
-    let mut fields = EimFields::new(
-        grid,
-        E,
-        NU,
-        &[layer],
-        &[],
-        window,
-        Space::HalfSpace,
-        Backend::Fft,
-    )
-    .unwrap();
-    let n = grid.len();
-    let centre = 64 * 128 + 64;
-    let eigen: Vec<Vec<f64>> = (0..6)
-        .map(|c| {
-            let mut f = vec![0.0; window.len()];
-            if c < 3 {
-                f[3] = e;
-            }
-            f
-        })
-        .collect();
-    fields.disturbance(&eigen, &mut []).unwrap();
-    let mut u = vec![vec![0.0; n]; 3];
-    {
-        let [a, b, c] = &mut u[..] else {
-            unreachable!()
-        };
-        fields.eigen_displacements([a, b, c]).unwrap();
-    }
-    // On the axis and at r = 4 along x₁.
-    let (_, u3_exact) = mindlin_cheng_surface(0.0, depth, e, NU);
-    let rel3 = (u[2][centre] - u3_exact).abs() / u3_exact.abs();
-    assert!(
-        rel3 < 5e-3,
-        "u3(0) = {:e} vs {u3_exact:e} ({rel3:e})",
-        u[2][centre]
-    );
-    let (ur_exact, _) = mindlin_cheng_surface(4.0, depth, e, NU);
-    let at4 = (64 + 4) * 128 + 64;
-    let rel1 = (u[0][at4] - ur_exact).abs() / ur_exact;
-    assert!(
-        rel1 < 5e-3,
-        "u1(4) = {:e} vs {ur_exact:e} ({rel1:e})",
-        u[0][at4]
-    );
-}
+/// Strength `e` of the unit nucleus and its layer (centre depth 8.5).
+const NUCLEUS: (f64, usize) = (1e-3, 8);
 
-/// `∫p_c dA / (E e V)` for the unit nucleus at depth 8.5 under an `n × n` surface of unit cells.
-fn correction_pressure_integral(n: usize) -> f64 {
+/// The field operators after the disturbance of a unit cube with ε* = e·1 at depth 8.5 under the
+/// cell (n/2, n/2) of an `n × n` surface of unit cells (a 2 × 2 window around it).
+fn nucleus_fields(n: usize) -> EimFields {
     let grid = SurfaceGrid::square(n, n as f64).unwrap();
-    let (e, layer) = (1e-3, 8usize);
+    let (e, layer) = NUCLEUS;
     let window = Window {
         i0: n / 2 - 1,
         n1: 2,
@@ -409,7 +352,46 @@ fn correction_pressure_integral(n: usize) -> f64 {
         })
         .collect();
     fields.disturbance(&eigen, &mut []).unwrap();
-    fields.correction_pressure().iter().sum::<f64>() * grid.cell_area() / (E * e)
+    fields
+}
+
+#[test]
+fn nucleus_of_strain_reproduces_mindlin_cheng_near_the_axis() {
+    // 128² unit cells (±64); the cube under the cell (64, 64), centred at (0.5, 0.5).
+    let mut fields = nucleus_fields(128);
+    let (e, layer) = NUCLEUS;
+    let depth = (2 * layer + 1) as f64 * 0.5;
+    let n = 128 * 128;
+    let centre = 64 * 128 + 64;
+    let mut u = vec![vec![0.0; n]; 3];
+    {
+        let [a, b, c] = &mut u[..] else {
+            unreachable!()
+        };
+        fields.eigen_displacements([a, b, c]).unwrap();
+    }
+    // On the axis and at r = 4 along x₁.
+    let (_, u3_exact) = mindlin_cheng_surface(0.0, depth, e, NU);
+    let rel3 = (u[2][centre] - u3_exact).abs() / u3_exact.abs();
+    assert!(
+        rel3 < 5e-3,
+        "u3(0) = {:e} vs {u3_exact:e} ({rel3:e})",
+        u[2][centre]
+    );
+    let (ur_exact, _) = mindlin_cheng_surface(4.0, depth, e, NU);
+    let at4 = (64 + 4) * 128 + 64;
+    let rel1 = (u[0][at4] - ur_exact).abs() / ur_exact;
+    assert!(
+        rel1 < 5e-3,
+        "u1(4) = {:e} vs {ur_exact:e} ({rel1:e})",
+        u[0][at4]
+    );
+}
+
+/// `∫p_c dA / (E e V)` for the unit nucleus at depth 8.5 under an `n × n` surface of unit cells.
+fn correction_pressure_integral(n: usize) -> f64 {
+    let fields = nucleus_fields(n);
+    fields.correction_pressure().iter().sum::<f64>() * fields.grid().cell_area() / (E * NUCLEUS.0)
 }
 
 #[test]
