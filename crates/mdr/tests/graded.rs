@@ -366,7 +366,7 @@ fn smooth_table(c: [f64; 3]) -> Profile {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 24, rng_seed: proptest::test_runner::RngSeed::Fixed(12), ..ProptestConfig::default() })]
 
     /// MVM == FFT for the graded profile and stress transforms and Eq. 26's twin, over k.
     #[test]

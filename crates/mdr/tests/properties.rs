@@ -37,7 +37,7 @@ fn lcg_vec(seed: u64, n: usize) -> Vec<f64> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 48, rng_seed: proptest::test_runner::RngSeed::Fixed(11), ..ProptestConfig::default() })]
 
     /// Spec §7 P7: MVM and FFT evaluate the same sums and agree to ~1e-12 relative (max norm).
     #[test]
@@ -124,11 +124,20 @@ proptest! {
     fn force_and_radius_increase_with_depth(
         s0 in prop_oneof![Just(0.0), 0.0..0.3f64],
         c1 in 0.05..2.0f64, c2 in 0.0..1.0f64,
-        d1 in 0.01..0.3f64, ratio in 1.01..2.0f64,
+        a1 in 0.1..1.2f64, ratio in 1.01..2.0f64,
         nodes in 64usize..1200,
     ) {
         let profile = table_profile(s0, [c1, c2, 0.0], 401);
-        let params = |backend| ContactParams { nodes, backend, ..Default::default() };
+        // The depth is drawn through the contact radius a₁ of the quadratic term alone
+        // (δ = g(a₁) = 2c₁a₁² for f = c₁r², spec §1): the other terms only shrink the contact, so
+        // a(δ·ratio) ≤ a₁√2 < 1.7 stays inside the table on [0, 2]. Drawing δ directly let
+        // c₁ = 0.05, δ = 0.45 put the edge at 2.1, outside the table (a CI failure, not a bug).
+        let d1 = 2.0 * c1 * a1 * a1;
+        // Radius tolerance 1e-13, not the default 1e-12: the iteration's stopping error in a (up to
+        // 1e-12 relative) reaches the pressure amplified ~100× (measured 1.06e-10 between the backends
+        // at 766 nodes with the default); 1e-14 is below what the iteration reaches (it stalls at
+        // 2.4e-14 on some profiles). Checked over nine seeds.
+        let params = |backend| ContactParams { nodes, backend, tolerance: 1e-13, ..Default::default() };
         let mut fft = ContactSolver::new(unit(), params(Backend::Fft)).unwrap();
         let mut mvm = ContactSolver::new(unit(), params(Backend::Mvm)).unwrap();
         let lo = fft.solve(&profile, Load::Depth(d1)).unwrap();
@@ -137,7 +146,7 @@ proptest! {
         prop_assert!(hi.contact_radius > lo.contact_radius);
         let twin = mvm.solve(&profile, Load::Depth(d1)).unwrap();
         // Whole solves: the contact-radius iteration carries the backends' ~1e-13 differences in g
-        // into the grid step, and the pressure's square-root edge amplifies them (measured ≤ 2e-11).
+        // into the grid step, and the pressure's square-root edge amplifies them (measured ≤ 2e-11 over seeds).
         prop_assert!(((twin.force - lo.force) / lo.force).abs() < 1e-11);
         prop_assert!(relative_max_norm(&twin.pressure, &lo.pressure) < 1e-10, "{}", relative_max_norm(&twin.pressure, &lo.pressure));
     }

@@ -6,7 +6,7 @@ use halfspace_sam::{Body, Compliance, SurfaceGrid};
 use proptest::prelude::*;
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 64, rng_seed: proptest::test_runner::RngSeed::Fixed(13), ..ProptestConfig::default() })]
 
     /// K^p_3 is even and symmetric under exchanging the axes on square cells; T is symmetric
     /// (T₁₂ = T₂₁) and even; the coupling blocks make the full (p, q₁, q₂) matrix symmetric:
