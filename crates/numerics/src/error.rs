@@ -43,4 +43,17 @@ pub enum NumericsError {
         /// Last relative residual.
         residual: f64,
     },
+    /// A request that would not fit in the machine's memory, refused before allocating.
+    #[error(
+        "{what} needs about {needed_gib:.2} GiB, more than the {available_gib:.2} GiB available: \
+         use a smaller grid (or fewer nodes)"
+    )]
+    OutOfMemory {
+        /// What was asked for.
+        what: &'static str,
+        /// Estimated bytes, in GiB.
+        needed_gib: f64,
+        /// Available bytes (`MemAvailable`, or `HALFSPACE_MEMORY_LIMIT`), in GiB.
+        available_gib: f64,
+    },
 }

@@ -22,13 +22,20 @@ pub type C64 = Complex<f64>;
 
 /// A scratch buffer of complex values.
 type Scratch = Vec<C64>;
-/// One thread's share of a row transform: (real rows, complex rows), scratch.
-type RowChunk<'a> = ((&'a mut [f64], &'a mut [C64]), &'a mut Scratch);
+/// One thread's share of a row transform: (chunk index, ((row spectra, padded real row),
+/// scratch)).
+type RowChunk<'a> = (usize, ((&'a mut [C64], &'a mut Vec<f64>), &'a mut Scratch));
 /// One thread's share of a column transform: (chunk index, (columns, scratch)).
 type ColChunk<'a> = (usize, (&'a mut [C64], &'a mut Scratch));
-/// One thread's share of the inverse row transforms: (chunk index, ((complex rows, real rows),
-/// scratch)).
-type InverseRowChunk<'a> = (usize, ((&'a mut [C64], &'a mut [f64]), &'a mut Scratch));
+/// One thread's share of the inverse row transforms: (chunk index, (((complex rows, output rows),
+/// padded real row), scratch)).
+type InverseRowChunk<'a> = (
+    usize,
+    (
+        ((&'a mut [C64], &'a mut [f64]), &'a mut Vec<f64>),
+        &'a mut Scratch,
+    ),
+);
 
 /// Grids with at least this many cells are transformed with rayon.
 pub const PARALLEL_CELLS: usize = 128 * 128;
@@ -44,8 +51,9 @@ pub struct Fft2d {
     row_inv: Arc<dyn ComplexToReal<f64>>,
     col_fwd: Arc<dyn Fft<f64>>,
     col_inv: Arc<dyn Fft<f64>>,
-    /// Padded real field, `2N₁ × 2N₂` row-major.
-    real: Vec<f64>,
+    /// One padded real row (`2N₂` values) per worker thread: fields are padded row by row, so no
+    /// `2N₁ × 2N₂` real array is held.
+    row_real: Vec<Vec<f64>>,
     /// Row transforms, `2N₁ × (N₂+1)` row-major.
     rows: Vec<C64>,
     /// One scratch buffer per worker thread.
@@ -87,7 +95,7 @@ impl Fft2d {
             row_inv,
             col_fwd,
             col_inv,
-            real: vec![0.0; p1 * p2],
+            row_real: vec![vec![0.0; p2]; threads],
             rows: vec![C64::new(0.0, 0.0); p1 * (n2 + 1)],
             row_scratch: vec![vec![C64::new(0.0, 0.0); row_scratch_len]; threads],
             col_scratch: vec![vec![C64::new(0.0, 0.0); col_scratch_len.max(1)]; threads],
@@ -120,24 +128,74 @@ impl Fft2d {
         self.check_spectrum(out)?;
         let (n1, n2) = (self.n1, self.n2);
         let (p1, p2) = (2 * n1, 2 * n2);
+        // Setup only: the padded kernel is tabulated once (the kernel need not be thread-safe).
+        let mut table = vec![0.0; p1 * p2];
         for a in 0..p1 {
             for b in 0..p2 {
-                self.real[a * p2 + b] = match (wrap(a, n1), wrap(b, n2)) {
+                table[a * p2 + b] = match (wrap(a, n1), wrap(b, n2)) {
                     (Some(m), Some(n)) => k(m, n),
                     _ => 0.0,
                 };
             }
         }
-        if let Some(bad) = self.real.iter().find(|v| !v.is_finite()) {
+        if let Some(bad) = table.iter().find(|v| !v.is_finite()) {
             return Err(NumericsError::InvalidParameter {
                 name: "DC-FFT kernel value",
                 value: *bad,
                 allowed: "finite",
             });
         }
-        self.forward_real(out, 0..p1);
+        self.forward_padded(
+            &|a, row| row.copy_from_slice(&table[a * p2..(a + 1) * p2]),
+            out,
+            0..p1,
+        );
         let scale = 1.0 / (p1 * p2) as f64;
         out.iter_mut().for_each(|s| *s *= scale);
+        Ok(())
+    }
+
+    /// The spectrum of a kernel even in both offsets, `K(m, n) = K(|m|, |n|)`, from its quadrant
+    /// `quadrant[m N₂ + n] = K(m, n)` (`0 ≤ m < N₁`, `0 ≤ n < N₂`). The DFT of a real sequence even
+    /// in both indices is real, so only the real part is stored (`out.len()` =
+    /// [`Fft2d::spectrum_len`]), divided by `4N₁N₂` as in [`Fft2d::kernel_spectrum`].
+    pub fn even_kernel_spectrum(
+        &mut self,
+        quadrant: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), NumericsError> {
+        let (n1, n2) = (self.n1, self.n2);
+        if quadrant.len() != n1 * n2 || out.len() != self.spectrum_len() {
+            return Err(NumericsError::LengthMismatch {
+                what: "even kernel quadrant (or its real spectrum)",
+                expected: n1 * n2,
+                got: quadrant.len(),
+            });
+        }
+        if let Some(bad) = quadrant.iter().find(|v| !v.is_finite()) {
+            return Err(NumericsError::InvalidParameter {
+                name: "DC-FFT kernel value",
+                value: *bad,
+                allowed: "finite",
+            });
+        }
+        let (p1, p2) = (2 * n1, 2 * n2);
+        let fill = |a: usize, row: &mut [f64]| {
+            for (b, v) in row.iter_mut().enumerate() {
+                *v = match (wrap(a, n1), wrap(b, n2)) {
+                    (Some(m), Some(n)) => {
+                        quadrant[m.unsigned_abs() as usize * n2 + n.unsigned_abs() as usize]
+                    }
+                    _ => 0.0,
+                };
+            }
+        };
+        let mut spec = self.new_spectrum();
+        self.forward_padded(&fill, &mut spec, 0..p1);
+        let scale = 1.0 / (p1 * p2) as f64;
+        for (o, s) in out.iter_mut().zip(&spec) {
+            *o = s.re * scale;
+        }
         Ok(())
     }
 
@@ -189,12 +247,11 @@ impl Fft2d {
             });
         }
         self.check_spectrum(out)?;
-        let p2 = 2 * n2;
-        for a in rows.clone() {
-            self.real[a * p2..a * p2 + n2].copy_from_slice(&x[a * n2..(a + 1) * n2]);
-            self.real[a * p2 + n2..(a + 1) * p2].fill(0.0);
-        }
-        self.forward_real(out, rows);
+        let fill = |a: usize, row: &mut [f64]| {
+            row[..n2].copy_from_slice(&x[a * n2..(a + 1) * n2]);
+            row[n2..].fill(0.0);
+        };
+        self.forward_padded(&fill, out, rows);
         Ok(())
     }
 
@@ -229,11 +286,7 @@ impl Fft2d {
             });
         }
         self.check_spectrum(spec)?;
-        self.inverse_to_real(spec, rows.clone());
-        let p2 = 2 * n2;
-        for a in rows {
-            y[a * n2..(a + 1) * n2].copy_from_slice(&self.real[a * p2..a * p2 + n2]);
-        }
+        self.inverse_cropped(spec, rows, y);
         Ok(())
     }
 
@@ -248,30 +301,36 @@ impl Fft2d {
         Ok(())
     }
 
-    /// Spectrum of `self.real` (overwritten), column-major; only the rows `nonzero` may be nonzero
-    /// (the row transforms of the others, and of the zero padding, are skipped).
-    fn forward_real(&mut self, spec: &mut [C64], nonzero: std::ops::Range<usize>) {
-        let (p1, p2, h2) = (2 * self.n1, 2 * self.n2, self.n2 + 1);
+    /// Spectrum (column-major) of the padded field whose row `a` (`2N₂` values) `fill(a, row)`
+    /// writes; only the rows `nonzero` may be nonzero (the row transforms of the others, and of
+    /// the zero padding, are skipped).
+    fn forward_padded(
+        &mut self,
+        fill: &(dyn Fn(usize, &mut [f64]) + Sync),
+        spec: &mut [C64],
+        nonzero: std::ops::Range<usize>,
+    ) {
+        let (p1, h2) = (2 * self.n1, self.n2 + 1);
         let threads = self.row_scratch.len();
         let chunk = nonzero.len().div_ceil(threads).max(1);
+        let first = nonzero.start;
         let fwd = &self.row_fwd;
-        let body = |((real, rows), scratch): RowChunk<'_>| {
-            for (r, c) in real.chunks_mut(p2).zip(rows.chunks_mut(h2)) {
-                fwd.process_with_scratch(r, c, scratch)
+        let body = |(t, ((rows, real), scratch)): RowChunk<'_>| {
+            for (k, c) in rows.chunks_mut(h2).enumerate() {
+                fill(first + t * chunk + k, real);
+                fwd.process_with_scratch(real, c, scratch)
                     .expect("lengths from the plan");
             }
         };
-        let (real, rows) = (
-            &mut self.real[nonzero.start * p2..nonzero.end * p2],
-            &mut self.rows[nonzero.start * h2..nonzero.end * h2],
-        );
+        let rows = &mut self.rows[nonzero.start * h2..nonzero.end * h2];
         if threads > 1 {
-            real.par_chunks_mut(chunk * p2)
-                .zip(rows.par_chunks_mut(chunk * h2))
+            rows.par_chunks_mut(chunk * h2)
+                .zip(self.row_real.par_iter_mut())
                 .zip(self.row_scratch.par_iter_mut())
+                .enumerate()
                 .for_each(body);
         } else {
-            body(((real, rows), &mut self.row_scratch[0]));
+            body((0, ((rows, &mut self.row_real[0]), &mut self.row_scratch[0])));
         }
         self.rows[..nonzero.start * h2].fill(C64::new(0.0, 0.0));
         self.rows[nonzero.end * h2..].fill(C64::new(0.0, 0.0));
@@ -299,9 +358,9 @@ impl Fft2d {
     }
 
     /// Writes the rows `keep` (within the first `N₁`) of the inverse transform of `spec`
-    /// (column-major, overwritten) into `self.real` (only those rows are kept by the crop).
-    fn inverse_to_real(&mut self, spec: &mut [C64], keep: std::ops::Range<usize>) {
-        let (p1, p2, h2) = (2 * self.n1, 2 * self.n2, self.n2 + 1);
+    /// (column-major, overwritten), cropped to `N₂` columns, into `y`.
+    fn inverse_cropped(&mut self, spec: &mut [C64], keep: std::ops::Range<usize>, y: &mut [f64]) {
+        let (p1, n2, h2) = (2 * self.n1, self.n2, self.n2 + 1);
         let threads = self.col_scratch.len();
         let inv = &self.col_inv;
         let chunk = h2.div_ceil(threads).max(1);
@@ -321,31 +380,47 @@ impl Fft2d {
         let rinv = &self.row_inv;
         let chunk = keep.len().div_ceil(threads).max(1);
         let first = keep.start;
-        let body = |(t, ((rows, real), scratch)): InverseRowChunk<'_>| {
-            for (k, (row, r)) in rows.chunks_mut(h2).zip(real.chunks_mut(p2)).enumerate() {
+        let body = |(t, (((rows, ys), real), scratch)): InverseRowChunk<'_>| {
+            for (k, (row, yrow)) in rows.chunks_mut(h2).zip(ys.chunks_mut(n2)).enumerate() {
                 let a = first + t * chunk + k;
                 for (b, v) in row.iter_mut().enumerate() {
                     *v = out[b * p1 + a];
                 }
                 row[0].im = 0.0;
                 row[h2 - 1].im = 0.0;
-                rinv.process_with_scratch(row, r, scratch)
+                rinv.process_with_scratch(row, real, scratch)
                     .expect("lengths from the plan");
+                yrow.copy_from_slice(&real[..n2]);
             }
         };
-        let (rows, real) = (
+        let (rows, ys) = (
             &mut self.rows[keep.start * h2..keep.end * h2],
-            &mut self.real[keep.start * p2..keep.end * p2],
+            &mut y[keep.start * n2..keep.end * n2],
         );
         if threads > 1 {
             rows.par_chunks_mut(chunk * h2)
-                .zip(real.par_chunks_mut(chunk * p2))
+                .zip(ys.par_chunks_mut(chunk * n2))
+                .zip(self.row_real.par_iter_mut())
                 .zip(self.row_scratch.par_iter_mut())
                 .enumerate()
                 .for_each(body);
         } else {
-            body((0, ((rows, real), &mut self.row_scratch[0])));
+            body((
+                0,
+                (
+                    ((rows, ys), &mut self.row_real[0]),
+                    &mut self.row_scratch[0],
+                ),
+            ));
         }
+    }
+}
+
+/// `x *= k` elementwise, for a real spectrum `k` ([`Fft2d::even_kernel_spectrum`]).
+#[inline]
+pub fn multiply_real(x: &mut [C64], k: &[f64]) {
+    for (s, k) in x.iter_mut().zip(k) {
+        *s *= *k;
     }
 }
 

@@ -9,11 +9,15 @@
 //! * [`quad`]: trapezoid rules on uniform grids.
 //! * [`fft2d`], [`conv2d`], [`layered`]: one padded 2D real-FFT plan; DC-FFT block operators and the
 //!   layered 3D DC-FFT (kernels by layer difference and layer sum), each with a dense twin.
+//! * [`circulant`]: periodic operators with a real symbol (the `|k|` preconditioner of the
+//!   half-space compliance).
+//! * [`memory`]: footprint estimates checked before allocating.
 //! * [`linop`], [`krylov`]: a flat linear-operator trait; restarted GMRES and the preconditioned
 //!   Richardson (block-Jacobi) iteration on it.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod circulant;
 pub mod conv1d;
 pub mod conv2d;
 pub mod diff;
@@ -23,6 +27,7 @@ pub mod grid;
 pub mod krylov;
 pub mod layered;
 pub mod linop;
+pub mod memory;
 pub mod power_sum;
 pub mod quad;
 pub mod special;

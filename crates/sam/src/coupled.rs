@@ -79,7 +79,9 @@ pub struct ContactProblem {
     params: ContactParams,
     coupled: bool,
     normal: NormalSolver,
-    tangential: TangentialSolver,
+    /// The tangential operator and solver; `None` without friction (`μ = 0`: `q = 0`, and a
+    /// frictionless problem allocates only the normal operator).
+    tangential: Option<TangentialSolver>,
     /// q → Δu₃: `κ ⟦P_B^{(α)}⟧ *` (1 × 2 blocks).
     shear_to_normal: Option<DcFft2d>,
     /// p → Δu_α: `−κ ⟦P_B^{(α)}⟧ *` (2 × 1 blocks).
@@ -149,7 +151,11 @@ impl ContactProblem {
         let z = || vec![0.0; n];
         Ok(Self {
             normal: NormalSolver::new(grid, &compliance)?,
-            tangential: TangentialSolver::new(grid, &compliance)?,
+            tangential: if params.friction > 0.0 {
+                Some(TangentialSolver::new(grid, &compliance)?)
+            } else {
+                None
+            },
             shear_to_normal,
             pressure_to_tangential,
             grid,
@@ -337,13 +343,23 @@ impl ContactProblem {
             }
             let [q0, q1] = &mut self.state.shear;
             let [s0, s1] = &mut self.state.slip;
-            tangential_info = self.tangential.solve(
-                &self.bound,
-                [&self.b[0], &self.b[1]],
-                [q0, q1],
-                [s0, s1],
-                &self.params.tangential,
-            )?;
+            tangential_info = match &mut self.tangential {
+                Some(solver) => solver.solve(
+                    &self.bound,
+                    [&self.b[0], &self.b[1]],
+                    [q0, q1],
+                    [s0, s1],
+                    &self.params.tangential,
+                )?,
+                // μ = 0: no shear, the slip is the whole relative displacement b (spec §4.2).
+                None => {
+                    q0.fill(0.0);
+                    q1.fill(0.0);
+                    s0.copy_from_slice(&self.b[0]);
+                    s1.copy_from_slice(&self.b[1]);
+                    TangentialInfo::frictionless(normal_info.contact_cells)
+                }
+            };
             if !self.coupled {
                 break;
             }
@@ -378,8 +394,15 @@ impl ContactProblem {
         // Δuⁿ⁺¹ = T q + c (the trial history, committed by `commit`).
         {
             let [t0, t1] = &mut self.tq;
-            self.tangential
-                .displacement([&self.state.shear[0], &self.state.shear[1]], [t0, t1])?;
+            match &mut self.tangential {
+                Some(solver) => {
+                    solver.displacement([&self.state.shear[0], &self.state.shear[1]], [t0, t1])?
+                }
+                None => {
+                    t0.fill(0.0);
+                    t1.fill(0.0);
+                }
+            }
         }
         for a in 0..2 {
             for k in 0..n {

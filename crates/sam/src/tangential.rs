@@ -43,6 +43,19 @@ pub struct TangentialInfo {
     pub slip_cells: usize,
 }
 
+impl TangentialInfo {
+    /// The (trivial) solve without friction: `q = 0`, every contact cell slips.
+    pub fn frictionless(contact_cells: usize) -> Self {
+        Self {
+            iterations: 0,
+            residual: 0.0,
+            kkt: 0.0,
+            stick_cells: 0,
+            slip_cells: contact_cells,
+        }
+    }
+}
+
 /// The 2 × 2 block tangential compliance `T` as a DC-FFT operator, with the FISTA solver.
 pub struct TangentialSolver {
     grid: SurfaceGrid,
