@@ -323,8 +323,14 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
     };
     // A grid of any size is accepted; FFT sizes need no padding to powers of two (5-smooth is fastest).
     let grid = SurfaceGrid::square(args.grid, extent)?;
-    let geometry = geometry(&indenter, &grid)?;
     let compliance = Compliance::pair(tool, half)?;
+    // Before the first field is allocated: a grid that cannot fit is refused with the estimate.
+    halfspace::sam::memory::check_problem(
+        &grid,
+        friction > 0.0,
+        friction > 0.0 && compliance.coupling != 0.0,
+    )?;
+    let geometry = geometry(&indenter, &grid)?;
     let params = ContactParams {
         friction,
         normal: NormalParams {
@@ -723,24 +729,36 @@ fn fields_record(problem: &ContactProblem, summary: &serde_json::Value) -> Recor
     let g = problem.grid();
     let s = problem.state();
     let (x, y): (Vec<f64>, Vec<f64>) = (0..g.len()).map(|k| g.centre(k / g.n2, k % g.n2)).unzip();
+    // Without friction the problem holds no tangential fields: q = 0, no stick; the slip of a
+    // frictionless increment is not tracked (written as zeros).
+    let frictional = !s.shear[0].is_empty();
+    let or_zeros = |v: &Vec<f64>| {
+        if frictional {
+            v.clone()
+        } else {
+            vec![0.0; g.len()]
+        }
+    };
     let stick = (0..g.len())
         .map(|k| {
-            let bound = problem.friction() * s.pressure[k];
-            f64::from(u8::from(halfspace::sam::tangential::is_stick(
-                bound,
-                s.shear[0][k],
-                s.shear[1][k],
-            )))
+            f64::from(u8::from(
+                frictional
+                    && halfspace::sam::tangential::is_stick(
+                        problem.friction() * s.pressure[k],
+                        s.shear[0][k],
+                        s.shear[1][k],
+                    ),
+            ))
         })
         .collect();
     let mut rec = Record::default()
         .array("x", x)
         .array("y", y)
         .array("pressure", s.pressure.clone())
-        .array("shear_x", s.shear[0].clone())
-        .array("shear_y", s.shear[1].clone())
-        .array("slip_x", s.slip[0].clone())
-        .array("slip_y", s.slip[1].clone())
+        .array("shear_x", or_zeros(&s.shear[0]))
+        .array("shear_y", or_zeros(&s.shear[1]))
+        .array("slip_x", or_zeros(&s.slip[0]))
+        .array("slip_y", or_zeros(&s.slip[1]))
         .array("stick", stick);
     for (k, v) in summary.as_object().expect("object") {
         let value = match v {
@@ -825,6 +843,7 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
         ("amplitude", cfg.amplitude),
         ("shift_step", cfg.shift_step),
         ("extent_over_a", cfg.extent_over_a),
+        ("friction", cfg.friction),
     ] {
         if !(v.is_finite() && v > 0.0) {
             return Err(CliError::Spec(format!(
@@ -841,6 +860,7 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
     let e_star = cfg.e / (1.0 - cfg.nu * cfg.nu);
     let a = (3.0 * cfg.force * cfg.radius / (4.0 * e_star)).cbrt();
     let grid = SurfaceGrid::square(cfg.grid, cfg.extent_over_a * a)?;
+    halfspace::sam::memory::check_problem(&grid, true, false)?;
     let geometry = (0..grid.len())
         .map(|k| {
             let (x, y) = grid.centre(k / grid.n2, k % grid.n2);

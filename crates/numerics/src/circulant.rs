@@ -15,6 +15,8 @@ use rustfft::{Fft, FftPlanner};
 use crate::fft2d::{C64, PARALLEL_CELLS};
 use crate::NumericsError;
 
+/// One thread's share of the forward rows: (chunk index, ((row spectra, real row), scratch)).
+type RowChunk<'a> = (usize, ((&'a mut [C64], &'a mut Vec<f64>), &'a mut Vec<C64>));
 /// One thread's share of the inverse rows: (chunk index, ((row spectra, output rows), scratch)).
 type InverseChunk<'a> = (usize, ((&'a mut [C64], &'a mut [f64]), &'a mut Vec<C64>));
 
@@ -32,8 +34,8 @@ pub struct Circulant2d {
     rows: Vec<C64>,
     /// Column-major copy for the column transforms, `(N₂/2 + 1) × N₁`.
     cols: Vec<C64>,
-    /// Real row buffers (one row per cell row).
-    real: Vec<f64>,
+    /// One real row per worker thread (the row transform overwrites its input).
+    row_real: Vec<Vec<f64>>,
     scratch: Vec<Vec<C64>>,
     parallel: bool,
 }
@@ -98,7 +100,7 @@ impl Circulant2d {
             symbol,
             rows: vec![C64::new(0.0, 0.0); n1 * h2],
             cols: vec![C64::new(0.0, 0.0); n1 * h2],
-            real: vec![0.0; n1 * n2],
+            row_real: vec![vec![0.0; n2]; threads],
             scratch: vec![vec![C64::new(0.0, 0.0); scratch_len]; threads],
             parallel,
         })
@@ -152,25 +154,33 @@ impl Circulant2d {
             }
         }
         let h2 = n2 / 2 + 1;
-        self.real.copy_from_slice(x);
         // Rows: real → complex.
         let fwd = &self.row_fwd;
         let threads = self.scratch.len();
         let chunk = n1.div_ceil(threads);
-        let row_body = |((r, c), s): ((&mut [f64], &mut [C64]), &mut Vec<C64>)| {
-            for (rr, cc) in r.chunks_mut(n2).zip(c.chunks_mut(h2)) {
-                fwd.process_with_scratch(rr, cc, s)
+        let row_body = |(t, ((c, buf), s)): RowChunk<'_>| {
+            for (k, cc) in c.chunks_mut(h2).enumerate() {
+                let a = t * chunk + k;
+                buf.copy_from_slice(&x[a * n2..(a + 1) * n2]);
+                fwd.process_with_scratch(buf, cc, s)
                     .expect("lengths from the plan");
             }
         };
         if self.parallel {
-            self.real
-                .par_chunks_mut(chunk * n2)
-                .zip(self.rows.par_chunks_mut(chunk * h2))
+            self.rows
+                .par_chunks_mut(chunk * h2)
+                .zip(self.row_real.par_iter_mut())
                 .zip(self.scratch.par_iter_mut())
+                .enumerate()
                 .for_each(row_body);
         } else {
-            row_body(((&mut self.real, &mut self.rows), &mut self.scratch[0]));
+            row_body((
+                0,
+                (
+                    (&mut self.rows, &mut self.row_real[0]),
+                    &mut self.scratch[0],
+                ),
+            ));
         }
         // Columns: transpose, forward, multiply by the symbol, inverse, transpose back.
         let (rows, symbol) = (&self.rows, &self.symbol);

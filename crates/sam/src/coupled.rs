@@ -148,7 +148,13 @@ impl ContactProblem {
         } else {
             (None, None)
         };
+        // Without friction the tangential fields are empty (q = 0, nothing to store): a
+        // frictionless problem holds the geometry, h and p only (spec §3), 24 B per cell.
+        let frictional = params.friction > 0.0;
+        crate::memory::check_problem(&grid, frictional, coupled)?;
         let z = || vec![0.0; n];
+        let t = || if frictional { vec![0.0; n] } else { Vec::new() };
+        let c_only = || if coupled { vec![0.0; n] } else { Vec::new() };
         Ok(Self {
             normal: NormalSolver::new(grid, &compliance)?,
             tangential: if params.friction > 0.0 {
@@ -164,24 +170,24 @@ impl ContactProblem {
             geometry,
             state: ContactState {
                 pressure: z(),
-                shear: [z(), z()],
-                tangential_displacement: [z(), z()],
-                slip: [z(), z()],
+                shear: [t(), t()],
+                tangential_displacement: [t(), t()],
+                slip: [t(), t()],
                 shift: [0.0; 2],
                 approach: 0.0,
                 force: 0.0,
             },
-            h: z(),
-            c: [z(), z()],
-            b: [z(), z()],
-            bound: z(),
-            p_prev: z(),
-            q_prev: [z(), z()],
-            tq: [z(), z()],
-            w: [z(), z()],
-            u3: z(),
+            h: Vec::new(),
+            c: [t(), t()],
+            b: [t(), t()],
+            bound: t(),
+            p_prev: c_only(),
+            q_prev: [c_only(), c_only()],
+            tq: [t(), t()],
+            w: [t(), t()],
+            u3: c_only(),
             eigen: None,
-            trial_displacement: [z(), z()],
+            trial_displacement: [t(), t()],
             trial_shift: [0.0; 2],
         })
     }
@@ -262,7 +268,7 @@ impl ContactProblem {
     /// increment with new eigen-displacements, a force control searching the shift); only
     /// [`ContactProblem::commit`] changes the history.
     pub fn begin(&mut self) {
-        let n = self.grid.len();
+        let n = self.state.tangential_displacement[0].len();
         for a in 0..2 {
             for k in 0..n {
                 self.w[a][k] = self.state.tangential_displacement[a][k] - self.state.shift[a];
@@ -300,24 +306,38 @@ impl ContactProblem {
         let (mut normal_info, mut tangential_info);
         loop {
             alternations += 1;
-            self.p_prev.copy_from_slice(&self.state.pressure);
-            self.q_prev[0].copy_from_slice(&self.state.shear[0]);
-            self.q_prev[1].copy_from_slice(&self.state.shear[1]);
-            // Normal solve with q frozen: h = h₀ + u₃^eig + κ⟦P_B⟧ * q.
-            self.h.copy_from_slice(&self.geometry);
-            if let Some(eig) = &self.eigen {
-                self.h.iter_mut().zip(&eig[2]).for_each(|(h, u)| *h += u);
+            if self.coupled {
+                self.p_prev.copy_from_slice(&self.state.pressure);
+                self.q_prev[0].copy_from_slice(&self.state.shear[0]);
+                self.q_prev[1].copy_from_slice(&self.state.shear[1]);
             }
-            if let Some(op) = &mut self.shear_to_normal {
-                op.apply(
-                    &[&self.state.shear[0], &self.state.shear[1]],
-                    &mut [&mut self.u3],
-                )?;
-                self.h.iter_mut().zip(&self.u3).for_each(|(h, u)| *h += u);
-            }
+            // Normal solve with q frozen: h = h₀ + u₃^eig + κ⟦P_B⟧ * q (h₀ itself when neither
+            // term is present: no copy is held then).
+            let h = if self.eigen.is_none() && self.shear_to_normal.is_none() {
+                &self.geometry
+            } else {
+                self.h.resize(n, 0.0);
+                self.h.copy_from_slice(&self.geometry);
+                if let Some(eig) = &self.eigen {
+                    self.h.iter_mut().zip(&eig[2]).for_each(|(h, u)| *h += u);
+                }
+                if let Some(op) = &mut self.shear_to_normal {
+                    op.apply(
+                        &[&self.state.shear[0], &self.state.shear[1]],
+                        &mut [&mut self.u3],
+                    )?;
+                    self.h.iter_mut().zip(&self.u3).for_each(|(h, u)| *h += u);
+                }
+                &self.h
+            };
             normal_info =
                 self.normal
-                    .solve(&self.h, load, &mut self.state.pressure, &self.params.normal)?;
+                    .solve(h, load, &mut self.state.pressure, &self.params.normal)?;
+            let Some(tangential) = self.tangential.as_mut() else {
+                // μ = 0: no shear and no tangential fields (spec §3 alone).
+                tangential_info = TangentialInfo::frictionless(normal_info.contact_cells);
+                break;
+            };
             // Tangential solve with p frozen: c = −κ⟦P_B⟧ * p + u_α^eig, b = w + D − c.
             if let Some(op) = &mut self.pressure_to_tangential {
                 let [c0, c1] = &mut self.c;
@@ -343,23 +363,13 @@ impl ContactProblem {
             }
             let [q0, q1] = &mut self.state.shear;
             let [s0, s1] = &mut self.state.slip;
-            tangential_info = match &mut self.tangential {
-                Some(solver) => solver.solve(
-                    &self.bound,
-                    [&self.b[0], &self.b[1]],
-                    [q0, q1],
-                    [s0, s1],
-                    &self.params.tangential,
-                )?,
-                // μ = 0: no shear, the slip is the whole relative displacement b (spec §4.2).
-                None => {
-                    q0.fill(0.0);
-                    q1.fill(0.0);
-                    s0.copy_from_slice(&self.b[0]);
-                    s1.copy_from_slice(&self.b[1]);
-                    TangentialInfo::frictionless(normal_info.contact_cells)
-                }
-            };
+            tangential_info = tangential.solve(
+                &self.bound,
+                [&self.b[0], &self.b[1]],
+                [q0, q1],
+                [s0, s1],
+                &self.params.tangential,
+            )?;
             if !self.coupled {
                 break;
             }
@@ -405,7 +415,7 @@ impl ContactProblem {
             }
         }
         for a in 0..2 {
-            for k in 0..n {
+            for k in 0..self.trial_displacement[a].len() {
                 self.trial_displacement[a][k] = self.tq[a][k] + self.c[a][k];
             }
         }
@@ -413,7 +423,7 @@ impl ContactProblem {
         self.state.approach = normal_info.approach;
         self.state.force = normal_info.force;
         let area = self.grid.cell_area();
-        let stick = (0..n)
+        let stick = (0..self.bound.len())
             .filter(|&k| {
                 is_stick(
                     self.bound[k],

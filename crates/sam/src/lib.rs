@@ -19,6 +19,7 @@ mod error;
 pub mod grid;
 pub mod influence;
 pub mod kernels;
+pub mod memory;
 pub mod nested;
 pub mod normal;
 pub mod subsurface;

@@ -195,39 +195,66 @@ impl NormalOperator {
     }
 }
 
-/// The Polonsky–Keer solver on one grid, planned once (operator spectrum, work arrays).
-pub struct NormalSolver {
-    grid: SurfaceGrid,
-    compliance: Compliance,
+/// The operator, preconditioner and work fields of one grid, allocated at the first solve (after
+/// the coarse grids of the nested continuation are done and dropped, so that they never coexist
+/// with the fine grid's).
+struct Work {
     op: NormalOperator,
     preconditioner: Option<Circulant2d>,
     u: Vec<f64>,
     g: Vec<f64>,
     z: Vec<f64>,
     t: Vec<f64>,
+    /// `K*t`, then `p` of the iteration's start.
     r: Vec<f64>,
-    p_old: Vec<f64>,
     /// Cells clipped or re-admitted in one iteration (capacity fixed: no allocation in the loop).
     changed: Vec<(usize, f64)>,
 }
 
+/// The Polonsky–Keer solver on one grid, planned once (operator spectrum, work arrays).
+pub struct NormalSolver {
+    grid: SurfaceGrid,
+    compliance: Compliance,
+    work: Option<Box<Work>>,
+}
+
 impl NormalSolver {
-    /// Plans `K^p_3 *` for the pair's normal compliance on `grid`.
+    /// A solver for the pair's normal compliance on `grid`; `K^p_3 *` is planned (and the memory
+    /// checked) here, its arrays allocated at the first use.
     pub fn new(grid: SurfaceGrid, compliance: &Compliance) -> Result<Self, SamError> {
-        let n = grid.len();
+        halfspace_numerics::memory::check_fits(
+            "the normal contact solver",
+            crate::memory::NORMAL_BYTES_PER_CELL * grid.len() as f64,
+        )?;
         Ok(Self {
-            op: NormalOperator::new(&grid, compliance)?,
-            preconditioner: None,
             grid,
             compliance: *compliance,
-            u: vec![0.0; n],
-            g: vec![0.0; n],
-            z: vec![0.0; n],
-            t: vec![0.0; n],
-            r: vec![0.0; n],
-            p_old: vec![0.0; n],
-            changed: Vec::with_capacity(SPARSE_COLUMNS),
+            work: None,
         })
+    }
+
+    /// The operator and work fields, built on first use.
+    fn work(&mut self) -> Result<&mut Work, SamError> {
+        if self.work.is_none() {
+            let n = self.grid.len();
+            self.work = Some(Box::new(Work {
+                op: NormalOperator::new(&self.grid, &self.compliance)?,
+                preconditioner: None,
+                u: vec![0.0; n],
+                g: vec![0.0; n],
+                z: vec![0.0; n],
+                t: vec![0.0; n],
+                r: vec![0.0; n],
+                changed: Vec::with_capacity(SPARSE_COLUMNS),
+            }));
+        }
+        Ok(self.work.as_mut().expect("built above"))
+    }
+
+    /// Plans the operator now (otherwise done by the first solve): separates the setup from the
+    /// solve in timings.
+    pub fn plan(&mut self) -> Result<(), SamError> {
+        self.work().map(|_| ())
     }
 
     /// The grid.
@@ -237,7 +264,7 @@ impl NormalSolver {
 
     /// `u = K^p_3 * p` (relative normal displacement of the pressure field).
     pub fn displacement(&mut self, p: &[f64], u: &mut [f64]) -> Result<(), SamError> {
-        self.op.apply(p, u)
+        self.work()?.op.apply(p, u)
     }
 
     /// Solves `p ≥ 0, g = K*p + h − δ ≥ 0, p g = 0` with `h` the initial separation (geometry plus
@@ -314,9 +341,8 @@ impl NormalSolver {
         p: &mut [f64],
         params: &NormalParams,
     ) -> Result<NormalInfo, SamError> {
-        let n = self.grid.len();
-        let n2 = self.grid.n2;
-        let area = self.grid.cell_area();
+        let grid = self.grid;
+        let (n, n2, area) = (grid.len(), grid.n2, grid.cell_area());
         // Initial guess: keep a usable warm start, else uniform (force) or small where h < δ.
         if p.iter().all(|v| *v <= 0.0) {
             if force_control {
@@ -326,7 +352,7 @@ impl NormalSolver {
                 if hmin >= target {
                     return Err(SamError::NoContact);
                 }
-                let scale = (target - hmin) / (self.grid.half1 * 1e3);
+                let scale = (target - hmin) / (grid.half1 * 1e3);
                 for (pi, hi) in p.iter_mut().zip(h) {
                     *pi = if *hi < target {
                         scale * (target - hi)
@@ -339,20 +365,16 @@ impl NormalSolver {
             let s: f64 = p.iter().sum();
             p.iter_mut().for_each(|v| *v *= target / (area * s));
         }
-        if params.preconditioned && self.preconditioner.is_none() {
-            let (d1, d2) = (2.0 * self.grid.half1, 2.0 * self.grid.half2);
-            self.preconditioner = Some(Circulant2d::inverse_half_space(
-                self.grid.n1,
-                self.grid.n2,
-                d1,
-                d2,
-            )?);
+        let w = self.work()?;
+        if params.preconditioned && w.preconditioner.is_none() {
+            let (d1, d2) = (2.0 * grid.half1, 2.0 * grid.half2);
+            w.preconditioner = Some(Circulant2d::inverse_half_space(grid.n1, grid.n2, d1, d2)?);
         }
         let limit = SPARSE_COLUMNS;
         let mut g_old = 1.0;
         let mut conjugate = false;
         let mut approach = target;
-        self.t.fill(0.0);
+        w.t.fill(0.0);
         let mut exact_u = false;
         let offset = if force_control { 0.0 } else { target };
         // The passes over the grid are fused (each field is read as few times as possible): at
@@ -360,13 +382,12 @@ impl NormalSolver {
         for it in 1..=params.max_iterations {
             // 1–2: gap and its mean over the contact set (the approach, under force control).
             if !params.incremental || !exact_u || it % REFRESH_INTERVAL == 1 {
-                self.op.apply(p, &mut self.u)?;
+                w.op.apply(p, &mut w.u)?;
             }
             let (mut count, mut mean) = (0usize, 0.0);
             for k in 0..n {
-                self.p_old[k] = p[k];
-                let g = self.u[k] + h[k] - offset;
-                self.g[k] = g;
+                let g = w.u[k] + h[k] - offset;
+                w.g[k] = g;
                 if p[k] > 0.0 {
                     mean += g;
                     count += 1;
@@ -383,53 +404,49 @@ impl NormalSolver {
             }
             // 3–4: (preconditioned) conjugate direction on the contact set, G = Σ_I g·z.
             let mut big_g = 0.0;
-            if let (true, Some(pre)) = (params.preconditioned, self.preconditioner.as_mut()) {
+            if let (true, Some(pre)) = (params.preconditioned, w.preconditioner.as_mut()) {
                 for k in 0..n {
-                    self.g[k] -= mean;
-                    self.r[k] = if p[k] > 0.0 { self.g[k] } else { 0.0 };
+                    w.g[k] -= mean;
+                    w.r[k] = if p[k] > 0.0 { w.g[k] } else { 0.0 };
                 }
-                pre.apply(&self.r, &mut self.z)?;
+                pre.apply(&w.r, &mut w.z)?;
                 let zmean = if force_control {
-                    (0..n)
-                        .filter(|&k| p[k] > 0.0)
-                        .map(|k| self.z[k])
-                        .sum::<f64>()
-                        / count as f64
+                    (0..n).filter(|&k| p[k] > 0.0).map(|k| w.z[k]).sum::<f64>() / count as f64
                 } else {
                     0.0
                 };
                 for k in 0..n {
                     if p[k] > 0.0 {
-                        self.z[k] -= zmean;
-                        big_g += self.g[k] * self.z[k];
+                        w.z[k] -= zmean;
+                        big_g += w.g[k] * w.z[k];
                     } else {
-                        self.z[k] = 0.0;
+                        w.z[k] = 0.0;
                     }
                 }
             } else {
                 for k in 0..n {
-                    self.g[k] -= mean;
+                    w.g[k] -= mean;
                     if p[k] > 0.0 {
-                        self.z[k] = self.g[k];
-                        big_g += self.g[k] * self.g[k];
+                        w.z[k] = w.g[k];
+                        big_g += w.g[k] * w.g[k];
                     } else {
-                        self.z[k] = 0.0;
+                        w.z[k] = 0.0;
                     }
                 }
             }
             let beta = if conjugate { big_g / g_old } else { 0.0 };
             for k in 0..n {
-                self.t[k] = self.z[k] + beta * self.t[k] * f64::from(u8::from(p[k] > 0.0));
+                w.t[k] = w.z[k] + beta * w.t[k] * f64::from(u8::from(p[k] > 0.0));
             }
             g_old = big_g;
             // 5–6: step length τ = Σ g t / Σ (r − r̄) t with r = K*t (the product of the
             // iteration); Σ(r − r̄)t = Σ r t − r̄ Σ t.
-            self.op.apply(&self.t, &mut self.r)?;
+            w.op.apply(&w.t, &mut w.r)?;
             let (mut num, mut rt, mut rs, mut ts) = (0.0, 0.0, 0.0, 0.0);
             for k in 0..n {
                 if p[k] > 0.0 {
-                    let (t, r) = (self.t[k], self.r[k]);
-                    num += self.g[k] * t;
+                    let (t, r) = (w.t[k], w.r[k]);
+                    num += w.g[k] * t;
                     rt += r * t;
                     rs += r;
                     ts += t;
@@ -442,23 +459,26 @@ impl NormalSolver {
             };
             let tau = if den != 0.0 { num / den } else { 0.0 };
             // 7: update and project; 8: cells with penetration outside the contact re-enter.
-            // The cells where p departs from p_old − τt are recorded for the displacement update.
-            self.changed.clear();
+            // The cells where p departs from p_old − τt are recorded for the displacement update;
+            // u takes −τ K*t here, and K*t's field then keeps p_old (one field fewer).
+            w.changed.clear();
             let (mut overflow, mut overlap, mut sum) = (false, false, 0.0);
             for k in 0..n {
+                w.u[k] -= tau * w.r[k];
+                w.r[k] = p[k];
                 if p[k] > 0.0 {
-                    let free = p[k] - self.t[k] * tau;
+                    let free = p[k] - w.t[k] * tau;
                     if free < 0.0 {
                         p[k] = 0.0;
-                        record(&mut self.changed, limit, &mut overflow, k, -free);
+                        record(&mut w.changed, limit, &mut overflow, k, -free);
                     } else {
                         p[k] = free;
                         sum += free;
                     }
-                } else if self.g[k] < 0.0 {
-                    p[k] = -tau * self.g[k];
+                } else if w.g[k] < 0.0 {
+                    p[k] = -tau * w.g[k];
                     sum += p[k];
-                    record(&mut self.changed, limit, &mut overflow, k, p[k]);
+                    record(&mut w.changed, limit, &mut overflow, k, p[k]);
                     overlap = true;
                 }
             }
@@ -478,23 +498,23 @@ impl NormalSolver {
             if exact_u {
                 for k in 0..n {
                     p[k] *= s;
-                    change += (p[k] - self.p_old[k]).abs();
-                    self.u[k] = s * (self.u[k] - tau * self.r[k]);
+                    change += (p[k] - w.r[k]).abs();
+                    w.u[k] *= s;
                 }
-                for c in self.changed.iter_mut() {
+                for c in w.changed.iter_mut() {
                     c.1 *= s;
                 }
-                self.op.add_columns(&self.changed, n2, &mut self.u);
+                w.op.add_columns(&w.changed, n2, &mut w.u);
             } else {
                 for k in 0..n {
                     p[k] *= s;
-                    change += (p[k] - self.p_old[k]).abs();
+                    change += (p[k] - w.r[k]).abs();
                 }
             }
             let residual = change / (s * sum);
             if residual < params.tolerance {
                 let contact_cells = p.iter().filter(|v| **v > 0.0).count();
-                if (0..n).any(|k| p[k] > 0.0 && self.grid.on_boundary(k)) {
+                if (0..n).any(|k| p[k] > 0.0 && grid.on_boundary(k)) {
                     return Err(SamError::ContactAtDomainEdge);
                 }
                 return Ok(NormalInfo {

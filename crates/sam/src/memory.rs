@@ -1,0 +1,57 @@
+//! Footprint of the 3D contact problems, estimated from the grid before anything is allocated
+//! (bytes per surface cell; the padded spectra hold `2N₁(N₂+1) ≈ 2N` values). A grid that would
+//! not fit is refused with the estimate ([`halfspace_numerics::memory::check_fits`]).
+
+use halfspace_numerics::memory::check_fits;
+
+use crate::{SamError, SurfaceGrid};
+
+/// Bytes per cell of the normal solver: padded row spectra (32), the kernel's real spectrum (16),
+/// the input spectrum (32), the kernel quadrant (8), five work fields (40), the `|k|`
+/// preconditioner (24), and the coarser grids of the nested continuation (+1/3).
+pub const NORMAL_BYTES_PER_CELL: f64 = (32.0 + 16.0 + 32.0 + 8.0 + 40.0 + 24.0) * 4.0 / 3.0;
+
+/// Bytes per cell of the tangential solver: padded row spectra (32), four complex block spectra
+/// (128), two input and one output spectra (96), eight work fields (64).
+pub const TANGENTIAL_BYTES_PER_CELL: f64 = 32.0 + 128.0 + 96.0 + 64.0;
+
+/// Bytes per cell of the two coupling operators `q → Δu₃`, `p → Δu_α` (each: row spectra, two
+/// block spectra, inputs and output).
+pub const COUPLING_BYTES_PER_CELL: f64 = 2.0 * (32.0 + 64.0 + 96.0);
+
+/// Estimated bytes of a contact problem on `grid`: the normal solver, the geometry, `h` and `p`,
+/// and with friction the tangential solver and its 19 fields (shear, slip, history, work), with
+/// coupling the two coupling operators and four more fields.
+pub fn problem_bytes(grid: &SurfaceGrid, frictional: bool, coupled: bool) -> f64 {
+    let mut per_cell = NORMAL_BYTES_PER_CELL + 3.0 * 8.0;
+    if frictional {
+        per_cell += TANGENTIAL_BYTES_PER_CELL + 19.0 * 8.0;
+    }
+    if coupled {
+        per_cell += COUPLING_BYTES_PER_CELL + 4.0 * 8.0;
+    }
+    per_cell * grid.n1 as f64 * grid.n2 as f64
+}
+
+/// Refuses a problem whose [`problem_bytes`] exceeds the available memory.
+pub fn check_problem(grid: &SurfaceGrid, frictional: bool, coupled: bool) -> Result<(), SamError> {
+    check_fits(
+        "the 3D contact problem",
+        problem_bytes(grid, frictional, coupled),
+    )?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_grid_of_1e5_squared_is_refused() {
+        let grid = SurfaceGrid::square(100_000, 1e-3).unwrap();
+        let err = check_problem(&grid, false, false).unwrap_err();
+        assert!(err.to_string().contains("needs about"), "{err}");
+        let small = SurfaceGrid::square(64, 1e-3).unwrap();
+        assert!(check_problem(&small, true, true).is_ok());
+    }
+}
