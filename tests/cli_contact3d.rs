@@ -406,3 +406,45 @@ fn bad_inhomogeneities_exit_2_with_the_reason() {
     args.extend(["--force", "0.08", "--grid", "64", "--subsurface", "-1"]);
     bad(&args, "--subsurface");
 }
+
+/// Requests that cannot fit in memory are refused up front with the estimate (exit 2), instead of
+/// aborting in the allocator or being killed; a tight `HALFSPACE_MEMORY_LIMIT` refuses a grid that
+/// would otherwise run.
+#[test]
+fn requests_beyond_memory_are_refused_with_the_estimate() {
+    let m = "homogeneous:E=210e9,nu=0.3";
+    let base = [
+        "--indenter",
+        "sphere:R=105e-6",
+        "--material",
+        m,
+        "--force",
+        "0.08",
+    ];
+    let mut args = vec!["contact3d", "--grid", "100000"];
+    args.extend(base);
+    bad(&args, "needs about");
+    bad(
+        &[
+            "axisym",
+            "--profile",
+            "sphere:R=1e-2",
+            "--material",
+            m,
+            "--force",
+            "10",
+            "--n",
+            "2000000000",
+        ],
+        "needs about",
+    );
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_halfspace"))
+        .env("HALFSPACE_MEMORY_LIMIT", "1e6")
+        .args(["contact3d", "--grid", "128"])
+        .args(base)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("needs about") && err.contains("GiB"), "{err}");
+}

@@ -31,8 +31,9 @@ pub const COARSE_TOLERANCE: f64 = 1e-4;
 
 /// Cells changed by the projection up to which `K*c` is added column by column; above, the next
 /// iteration recomputes `K*p` by a full product (`N` multiply-adds per column: a padded product
-/// costs about as much as 8–12 columns on 256²–1024²; 4, 8, 12 and 33 measured on Hertz).
-const SPARSE_COLUMNS: usize = 8;
+/// costs about as much as 8–12 columns on 256²–1024²; 4, 8, 12 and 33 measured on Hertz, and
+/// under `perf` the columns took 13 % of a 512² solve at 8).
+const SPARSE_COLUMNS: usize = 4;
 
 /// Nested continuation stops coarsening below this many cells per side.
 pub const COARSEST_SIDE: usize = 64;
@@ -139,18 +140,7 @@ impl NormalOperator {
     /// Tabulates the quadrant (rows in parallel) and transforms it once.
     fn new(grid: &SurfaceGrid, compliance: &Compliance) -> Result<Self, SamError> {
         let (n1, n2) = (grid.n1, grid.n2);
-        let (d1, d2) = (2.0 * grid.half1, 2.0 * grid.half2);
-        let mut quadrant = vec![0.0; n1 * n2];
-        let fill = |(m, row): (usize, &mut [f64])| {
-            for (n, v) in row.iter_mut().enumerate() {
-                *v = compliance.normal_from_pressure(grid, m as f64 * d1, n as f64 * d2);
-            }
-        };
-        if n1 * n2 >= halfspace_numerics::fft2d::PARALLEL_CELLS {
-            quadrant.par_chunks_mut(n2).enumerate().for_each(fill);
-        } else {
-            quadrant.chunks_mut(n2).enumerate().for_each(fill);
-        }
+        let quadrant = compliance.normal_quadrant(grid, halfspace_numerics::fft2d::PARALLEL_CELLS);
         let mut fft = Fft2d::new(n1, n2)?;
         let mut spectrum = vec![0.0; fft.spectrum_len()];
         fft.even_kernel_spectrum(&quadrant, &mut spectrum)?;
