@@ -21,7 +21,13 @@ pub struct ContactParams {
     pub alternation_tolerance: f64,
     /// Alternation limit.
     pub max_alternations: usize,
+    /// Tangential solves of the early alternations to a hundredth of the alternation's last
+    /// change (at most [`INEXACT_CEILING`]), the last one to the full tolerance.
+    pub inexact_alternation: bool,
 }
+
+/// The loosest KKT tolerance an early alternation's tangential solve uses.
+pub const INEXACT_CEILING: f64 = 1e-4;
 
 impl Default for ContactParams {
     fn default() -> Self {
@@ -31,6 +37,7 @@ impl Default for ContactParams {
             tangential: TangentialParams::default(),
             alternation_tolerance: 1e-7,
             max_alternations: 200,
+            inexact_alternation: true,
         }
     }
 }
@@ -303,6 +310,11 @@ impl ContactProblem {
         let n = self.grid.len();
         let mu = self.params.friction;
         let mut alternations = 0;
+        // Inexact alternation: while the alternation is still moving by `change`, the tangential
+        // solve need not be tighter than a hundredth of it (it is re-solved anyway); the
+        // alternation stops only after a pass at the full tolerance.
+        let mut change: f64 = f64::INFINITY;
+        let tight = self.params.tangential;
         let (mut normal_info, mut tangential_info);
         loop {
             alternations += 1;
@@ -363,12 +375,23 @@ impl ContactProblem {
             }
             let [q0, q1] = &mut self.state.shear;
             let [s0, s1] = &mut self.state.slip;
+            let tangential_params = if self.coupled && self.params.inexact_alternation {
+                let loose = (0.01 * change).clamp(tight.kkt_tolerance, INEXACT_CEILING);
+                TangentialParams {
+                    kkt_tolerance: loose,
+                    tolerance: tight.tolerance * loose / tight.kkt_tolerance,
+                    ..tight
+                }
+            } else {
+                tight
+            };
+            let at_full_tolerance = tangential_params == tight;
             tangential_info = tangential.solve(
                 &self.bound,
                 [&self.b[0], &self.b[1]],
                 [q0, q1],
                 [s0, s1],
-                &self.params.tangential,
+                &tangential_params,
             )?;
             if !self.coupled {
                 break;
@@ -390,7 +413,8 @@ impl ContactProblem {
                 })
                 .fold(0.0, f64::max);
             let tol = self.params.alternation_tolerance;
-            if alternations > 1 && dp <= tol * pmax && dq <= tol * mu * pmax {
+            change = (dp / pmax).max(dq / (mu * pmax));
+            if alternations > 1 && at_full_tolerance && dp <= tol * pmax && dq <= tol * mu * pmax {
                 break;
             }
             if alternations >= self.params.max_alternations {

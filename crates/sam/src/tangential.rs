@@ -28,6 +28,32 @@ impl Default for TangentialParams {
     }
 }
 
+impl TangentialParams {
+    /// Checks the stopping rule: tolerances in `(0, 1)`, `max_iterations ≥ 1`.
+    pub fn validate(&self) -> Result<(), SamError> {
+        for (name, v) in [
+            ("tangential solver tolerance", self.tolerance),
+            ("tangential KKT tolerance", self.kkt_tolerance),
+        ] {
+            if !(v.is_finite() && v > 0.0 && v < 1.0) {
+                return Err(SamError::InvalidParameter {
+                    name,
+                    value: v,
+                    allowed: "in (0, 1)",
+                });
+            }
+        }
+        if self.max_iterations == 0 {
+            return Err(SamError::InvalidParameter {
+                name: "tangential solver iteration limit",
+                value: 0.0,
+                allowed: "≥ 1",
+            });
+        }
+        Ok(())
+    }
+}
+
 /// What the solve did and found.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TangentialInfo {
@@ -125,6 +151,7 @@ impl TangentialSolver {
         slip: [&mut [f64]; 2],
         params: &TangentialParams,
     ) -> Result<TangentialInfo, SamError> {
+        params.validate()?;
         let n = self.grid.len();
         let [q0, q1] = q;
         let [s_out0, s_out1] = slip;
