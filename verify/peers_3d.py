@@ -6,7 +6,8 @@ Case: R = 105 μm, E = 210 GPa, ν = 0.3, W = 80 mN, square domain 4a, N² cells
 (N, tol): total time = setup + solve (what a user waits for, output writing excluded), iterations on
 the finest grid, the L2 error of p against Hertz, and the peak resident memory of the process
 that ran the case (each case runs in its own process; ASPHER and Tamaas in Python, whose baseline
-with numpy and the module imported is printed once).
+with numpy and the module imported is printed once). Up to 512² each case runs three times and the
+fastest counts (millisecond timings vary by ±30 % between runs).
 
 Optional, not in CI: `pip install -r verify/requirements-peers.txt` (ASPHER builds from its sdist;
 install Debian's `libeigen3-dev` first, or its build tries to download Eigen). Threads: 2 each
@@ -110,11 +111,18 @@ def baseline(tool):
     return {"peak_mb": peak_mb(resource.RUSAGE_SELF)}
 
 
-def in_subprocess(args):
+def in_subprocess(args, repeat=1):
+    """The case in a fresh process; with `repeat` > 1 the fastest of that many (timings of a few
+    milliseconds vary by ±30 % from run to run on this machine)."""
     env = dict(os.environ, OMP_NUM_THREADS="2")
-    out = subprocess.run([sys.executable, __file__, "--case", *map(str, args)], check=True, capture_output=True,
-                         text=True, env=env)
-    return json.loads(out.stdout.strip().splitlines()[-1])
+    best = None
+    for _ in range(repeat):
+        out = subprocess.run([sys.executable, __file__, "--case", *map(str, args)], check=True,
+                             capture_output=True, text=True, env=env)
+        r = json.loads(out.stdout.strip().splitlines()[-1])
+        if best is None or r["seconds"] < best["seconds"]:
+            best = r
+    return best
 
 
 def main():
@@ -143,13 +151,14 @@ def main():
     print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for n in a.sizes:
         for tol in a.tols:
-            h = in_subprocess(["halfspace", n, tol, a.binary])
-            s = in_subprocess(["aspher", n, tol])
+            repeat = 3 if n <= 512 else 1
+            h = in_subprocess(["halfspace", n, tol, a.binary], repeat)
+            s = in_subprocess(["aspher", n, tol], repeat)
             row = (f"| {n}² | {tol:g} | {h['seconds']:.3f} s ({h['setup']:.3f}) | {h['iterations']} | "
                    f"{100 * h['l2']:.3f} % | {h['peak_mb']:.0f} MB | {s['seconds']:.3f} s | {s['iterations']} | "
                    f"{100 * s['l2']:.3f} % | {s['peak_mb']:.0f} MB | {s['seconds'] / h['seconds']:.2f}× |")
             if n <= a.tamaas_max:
-                t = in_subprocess(["tamaas", n, tol])
+                t = in_subprocess(["tamaas", n, tol], repeat)
                 row += f" {t['seconds']:.3f} s | {100 * t['l2']:.3f} % | {t['seconds'] / h['seconds']:.1f}× |"
             else:
                 row += " – | – | – |"

@@ -12,7 +12,7 @@ use rayon::prelude::*;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use rustfft::{Fft, FftPlanner};
 
-use crate::fft2d::{C64, PARALLEL_CELLS};
+use crate::fft2d::{C64, PARALLEL_CELLS, TRANSPOSE_BLOCK};
 use crate::NumericsError;
 
 /// One thread's share of the forward rows: (chunk index, ((row spectra, real row), scratch)).
@@ -187,16 +187,25 @@ impl Circulant2d {
         let (cf, ci) = (&self.col_fwd, &self.col_inv);
         let cchunk = h2.div_ceil(threads);
         let col_body = |(t, (cols, s)): (usize, (&mut [C64], &mut Vec<C64>))| {
-            for (k, column) in cols.chunks_mut(n1).enumerate() {
-                let b = t * cchunk + k;
-                for (a, v) in column.iter_mut().enumerate() {
-                    *v = rows[a * h2 + b];
+            let first = t * cchunk;
+            let ncols = cols.len() / n1;
+            for g in (0..ncols).step_by(TRANSPOSE_BLOCK) {
+                let w = TRANSPOSE_BLOCK.min(ncols - g);
+                let block = &mut cols[g * n1..(g + w) * n1];
+                for a in 0..n1 {
+                    let start = a * h2 + first + g;
+                    for (c, v) in rows[start..start + w].iter().enumerate() {
+                        block[c * n1 + a] = *v;
+                    }
                 }
-                cf.process_with_scratch(column, s);
-                for (a, v) in column.iter_mut().enumerate() {
-                    *v *= symbol[a * h2 + b];
+                for (c, column) in block.chunks_mut(n1).enumerate() {
+                    let b = first + g + c;
+                    cf.process_with_scratch(column, s);
+                    for (a, v) in column.iter_mut().enumerate() {
+                        *v *= symbol[a * h2 + b];
+                    }
+                    ci.process_with_scratch(column, s);
                 }
-                ci.process_with_scratch(column, s);
             }
         };
         if self.parallel {
@@ -212,17 +221,26 @@ impl Circulant2d {
         let cols = &self.cols;
         let inv = &self.row_inv;
         let inv_body = |(t, ((c, out), s)): InverseChunk<'_>| {
-            for (k, (cc, yy)) in c.chunks_mut(h2).zip(out.chunks_mut(n2)).enumerate() {
-                let a = t * chunk + k;
-                for (b, v) in cc.iter_mut().enumerate() {
-                    *v = cols[b * n1 + a];
+            let nrows = c.len() / h2;
+            for g in (0..nrows).step_by(TRANSPOSE_BLOCK) {
+                let w = TRANSPOSE_BLOCK.min(nrows - g);
+                let a0 = t * chunk + g;
+                let block = &mut c[g * h2..(g + w) * h2];
+                for b in 0..h2 {
+                    let start = b * n1 + a0;
+                    for (r, v) in cols[start..start + w].iter().enumerate() {
+                        block[r * h2 + b] = *v;
+                    }
                 }
-                cc[0].im = 0.0;
-                if n2 % 2 == 0 {
-                    cc[h2 - 1].im = 0.0;
+                let oblock = &mut out[g * n2..(g + w) * n2];
+                for (cc, yy) in block.chunks_mut(h2).zip(oblock.chunks_mut(n2)) {
+                    cc[0].im = 0.0;
+                    if n2 % 2 == 0 {
+                        cc[h2 - 1].im = 0.0;
+                    }
+                    inv.process_with_scratch(cc, yy, s)
+                        .expect("lengths from the plan");
                 }
-                inv.process_with_scratch(cc, yy, s)
-                    .expect("lengths from the plan");
             }
         };
         if self.parallel {

@@ -37,6 +37,9 @@ type InverseRowChunk<'a> = (
     ),
 );
 
+/// Columns (rows) gathered together in the transposes between the row and column transforms.
+pub(crate) const TRANSPOSE_BLOCK: usize = 8;
+
 /// Grids with at least this many cells are transformed with rayon.
 pub const PARALLEL_CELLS: usize = 128 * 128;
 
@@ -339,12 +342,22 @@ impl Fft2d {
         let col = &self.col_fwd;
         let chunk = h2.div_ceil(threads).max(1);
         let body = |(t, (cols, scratch)): ColChunk<'_>| {
-            for (k, column) in cols.chunks_mut(p1).enumerate() {
-                let b = t * chunk + k;
-                for (a, v) in column.iter_mut().enumerate() {
-                    *v = rows[a * h2 + b];
+            // Gathered TRANSPOSE_BLOCK columns at a time: each row contributes a contiguous run
+            // (the column-by-column gather read one value per cache line).
+            let first = t * chunk;
+            let ncols = cols.len() / p1;
+            for g in (0..ncols).step_by(TRANSPOSE_BLOCK) {
+                let w = TRANSPOSE_BLOCK.min(ncols - g);
+                let block = &mut cols[g * p1..(g + w) * p1];
+                for a in 0..p1 {
+                    let start = a * h2 + first + g;
+                    for (c, v) in rows[start..start + w].iter().enumerate() {
+                        block[c * p1 + a] = *v;
+                    }
                 }
-                col.process_with_scratch(column, scratch);
+                for column in block.chunks_mut(p1) {
+                    col.process_with_scratch(column, scratch);
+                }
             }
         };
         if threads > 1 {
@@ -381,16 +394,25 @@ impl Fft2d {
         let chunk = keep.len().div_ceil(threads).max(1);
         let first = keep.start;
         let body = |(t, (((rows, ys), real), scratch)): InverseRowChunk<'_>| {
-            for (k, (row, yrow)) in rows.chunks_mut(h2).zip(ys.chunks_mut(n2)).enumerate() {
-                let a = first + t * chunk + k;
-                for (b, v) in row.iter_mut().enumerate() {
-                    *v = out[b * p1 + a];
+            let nrows = rows.len() / h2;
+            for g in (0..nrows).step_by(TRANSPOSE_BLOCK) {
+                let w = TRANSPOSE_BLOCK.min(nrows - g);
+                let a0 = first + t * chunk + g;
+                let block = &mut rows[g * h2..(g + w) * h2];
+                for b in 0..h2 {
+                    let start = b * p1 + a0;
+                    for (r, v) in out[start..start + w].iter().enumerate() {
+                        block[r * h2 + b] = *v;
+                    }
                 }
-                row[0].im = 0.0;
-                row[h2 - 1].im = 0.0;
-                rinv.process_with_scratch(row, real, scratch)
-                    .expect("lengths from the plan");
-                yrow.copy_from_slice(&real[..n2]);
+                let yblock = &mut ys[g * n2..(g + w) * n2];
+                for (row, yrow) in block.chunks_mut(h2).zip(yblock.chunks_mut(n2)) {
+                    row[0].im = 0.0;
+                    row[h2 - 1].im = 0.0;
+                    rinv.process_with_scratch(row, real, scratch)
+                        .expect("lengths from the plan");
+                    yrow.copy_from_slice(&real[..n2]);
+                }
             }
         };
         let (rows, ys) = (
