@@ -12,8 +12,9 @@ use crate::{SamError, SurfaceGrid};
 pub const NORMAL_BYTES_PER_CELL: f64 = (32.0 + 16.0 + 32.0 + 8.0 + 40.0 + 24.0) * 4.0 / 3.0;
 
 /// Bytes per cell of the tangential solver: padded row spectra (32), four complex block spectra
-/// (128), two input and one output spectra (96), eight work fields (64).
-pub const TANGENTIAL_BYTES_PER_CELL: f64 = 32.0 + 128.0 + 96.0 + 64.0;
+/// (128), two input and one output spectra (96), fourteen work fields (112), the stick flags (1)
+/// and the `|k|` preconditioner (16).
+pub const TANGENTIAL_BYTES_PER_CELL: f64 = 32.0 + 128.0 + 96.0 + 112.0 + 1.0 + 16.0;
 
 /// Bytes per cell of the two coupling operators `q → Δu₃`, `p → Δu_α` (each: row spectra, two
 /// block spectra, inputs and output).
