@@ -126,8 +126,10 @@ pub struct NormalInfo {
 }
 
 /// `K^p_3 *` on one grid: the kernel's quadrant (it is even in both offsets) and its real
-/// spectrum on one padded FFT plan.
+/// spectrum on one padded FFT plan; or, as the dense twin, the direct sum over the quadrant.
 struct NormalOperator {
+    /// `Some(cells)`: the dense twin (the nonzero input cells gathered in a preallocated list).
+    dense: Option<Vec<(usize, f64)>>,
     fft: Fft2d,
     /// `K(m, n)` for `0 ≤ m < N₁`, `0 ≤ n < N₂`, row-major.
     quadrant: Vec<f64>,
@@ -137,14 +139,16 @@ struct NormalOperator {
 }
 
 impl NormalOperator {
-    /// Tabulates the quadrant (rows in parallel) and transforms it once.
-    fn new(grid: &SurfaceGrid, compliance: &Compliance) -> Result<Self, SamError> {
+    /// Tabulates the quadrant (rows in parallel) and transforms it once; `dense`: the O(N²)
+    /// direct sum instead of the product (the twin of the tests).
+    fn new(grid: &SurfaceGrid, compliance: &Compliance, dense: bool) -> Result<Self, SamError> {
         let (n1, n2) = (grid.n1, grid.n2);
         let quadrant = compliance.normal_quadrant(grid, halfspace_numerics::fft2d::PARALLEL_CELLS);
         let mut fft = Fft2d::new(n1, n2)?;
         let mut spectrum = vec![0.0; fft.spectrum_len()];
         fft.even_kernel_spectrum(&quadrant, &mut spectrum)?;
         Ok(Self {
+            dense: dense.then(|| Vec::with_capacity(n1 * n2)),
             hat: fft.new_spectrum(),
             fft,
             quadrant,
@@ -152,8 +156,22 @@ impl NormalOperator {
         })
     }
 
-    /// `y = K * x` (DC-FFT).
+    /// `y = K * x` (DC-FFT, or the direct sum for the twin).
     fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), SamError> {
+        if let Some(mut cells) = self.dense.take() {
+            cells.clear();
+            cells.extend(
+                x.iter()
+                    .enumerate()
+                    .filter(|(_, v)| **v != 0.0)
+                    .map(|(k, v)| (k, *v)),
+            );
+            y.fill(0.0);
+            let n2 = self.fft.shape().1;
+            self.add_columns(&cells, n2, y);
+            self.dense = Some(cells);
+            return Ok(());
+        }
         self.fft.forward(x, &mut self.hat)?;
         multiply_real(&mut self.hat, &self.spectrum);
         self.fft.inverse(&mut self.hat, y)?;
@@ -205,6 +223,8 @@ struct Work {
 pub struct NormalSolver {
     grid: SurfaceGrid,
     compliance: Compliance,
+    /// The dense twin: every product (here and on the coarse grids) is the direct O(N²) sum.
+    dense: bool,
     work: Option<Box<Work>>,
 }
 
@@ -219,7 +239,17 @@ impl NormalSolver {
         Ok(Self {
             grid,
             compliance: *compliance,
+            dense: false,
             work: None,
+        })
+    }
+
+    /// The dense twin of [`NormalSolver::new`]: the same iteration with every `K*` product a
+    /// direct O(N²) sum over the kernel's quadrant (tests compare the two solvers).
+    pub fn dense_twin(grid: SurfaceGrid, compliance: &Compliance) -> Result<Self, SamError> {
+        Ok(Self {
+            dense: true,
+            ..Self::new(grid, compliance)?
         })
     }
 
@@ -228,7 +258,7 @@ impl NormalSolver {
         if self.work.is_none() {
             let n = self.grid.len();
             self.work = Some(Box::new(Work {
-                op: NormalOperator::new(&self.grid, &self.compliance)?,
+                op: NormalOperator::new(&self.grid, &self.compliance, self.dense)?,
                 preconditioner: None,
                 u: vec![0.0; n],
                 g: vec![0.0; n],
@@ -298,6 +328,7 @@ impl NormalSolver {
                 let hc = restrict(&self.grid, h);
                 let mut pc = vec![0.0; coarse.len()];
                 let mut solver = NormalSolver::new(coarse, &self.compliance)?;
+                solver.dense = self.dense;
                 // The coarse solve only starts the fine one: its discretisation error (O(Δ)) is
                 // far above its tolerance.
                 let coarse_params = NormalParams {
@@ -611,7 +642,7 @@ mod tests {
     fn operator_matches_the_direct_sum() {
         for (n1, n2) in [(9, 14), (130, 128)] {
             let (grid, c) = setup(n1, n2);
-            let mut op = NormalOperator::new(&grid, &c).unwrap();
+            let mut op = NormalOperator::new(&grid, &c, false).unwrap();
             let (d1, d2) = (2.0 * grid.half1, 2.0 * grid.half2);
             let k = |m: i64, n: i64| c.normal_from_pressure(&grid, m as f64 * d1, n as f64 * d2);
             let kernels: [Option<KernelFn>; 1] = [Some(&k)];
@@ -637,7 +668,7 @@ mod tests {
     fn added_columns_equal_the_product() {
         for (n1, n2) in [(12, 9), (130, 128)] {
             let (grid, c) = setup(n1, n2);
-            let mut op = NormalOperator::new(&grid, &c).unwrap();
+            let mut op = NormalOperator::new(&grid, &c, false).unwrap();
             let cells = [
                 (0, 1.0),
                 (n1 * n2 - 1, -0.5),
