@@ -287,7 +287,7 @@ fn the_solver_on_its_dense_twin_gives_the_same_pressure() {
         tolerance: 1e-12,
         ..Default::default()
     };
-    let mut solve = |mut solver: NormalSolver| {
+    let solve = |mut solver: NormalSolver| {
         let mut p = vec![0.0; grid.len()];
         let info = solver
             .solve(&h, NormalLoad::Force(W), &mut p, &params)
