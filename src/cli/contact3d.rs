@@ -7,6 +7,7 @@ use std::time::Instant;
 use clap::Args;
 use halfspace::data::{read_npy_2d, write_record, AttrValue, Record};
 use halfspace::sam::coupled::{ContactParams, ContactProblem, IncrementInfo};
+use halfspace::sam::eim::{fibres, FibreLayout, Inhomogeneity};
 use halfspace::sam::nested::{InhomogeneousContact, NestedInfo, NestedParams};
 use halfspace::sam::normal::{NormalLoad, NormalParams};
 use halfspace::sam::subsurface::{subsurface_stress, StressField};
@@ -790,6 +791,11 @@ pub struct FrettingLoopArgs {
     /// Cells per side (overrides the config).
     #[arg(long)]
     grid: Option<usize>,
+    /// Preset: `homogeneous` ([LN11]'s homogeneous half-space, the default) or `composite` (its
+    /// unidirectional composite: fibres along y, r = 0.13a, spacing 3r, axes at depth 1.5r,
+    /// E_I = 2E_m (config `fibre_e_ratio`), ν_I = ν_m, 4 cells per fibre radius; config `layout`).
+    #[arg(long, default_value = "homogeneous")]
+    case: String,
     /// Print one JSON object on stdout.
     #[arg(long)]
     json: bool,
@@ -809,6 +815,13 @@ struct LoopConfig {
     shift_step: f64,
     grid: usize,
     extent_over_a: f64,
+    /// `[[inhomogeneity]]` tables: `kind = "sphere" | "cylinder" | "cuboid"` and the keys of the
+    /// CLI's `--inhomogeneity` specs (`x, y, z, r, axis, hx, hy, hz, e, nu`).
+    inhomogeneity: Vec<toml::Table>,
+    /// Composite preset: `"fibre-centred"` (a fibre axis at x = 0) or `"gap-centred"`.
+    layout: String,
+    /// Composite preset: E_I / E_m of the fibres (2 in [LN11]; 0.5 for soft fibres).
+    fibre_e_ratio: f64,
 }
 
 impl Default for LoopConfig {
@@ -824,8 +837,41 @@ impl Default for LoopConfig {
             shift_step: 0.002e-6,
             grid: 64,
             extent_over_a: 4.16,
+            inhomogeneity: Vec::new(),
+            layout: "fibre-centred".into(),
+            fibre_e_ratio: 2.0,
         }
     }
+}
+
+/// One `[[inhomogeneity]]` table as the CLI's `kind:key=value,...` spec (one parser for both; the
+/// TOML key `e` is the spec's `E`).
+fn inhomogeneity_from_table(table: &toml::Table) -> Result<Inhomogeneity, CliError> {
+    let kind = table
+        .get("kind")
+        .and_then(|v| v.as_str())
+        .ok_or_else(|| {
+            CliError::Spec(
+                "fretting-loop: every [[inhomogeneity]] needs kind = \"sphere\" | \"cylinder\" | \"cuboid\""
+                    .into(),
+            )
+        })?;
+    let mut pairs = Vec::new();
+    for (key, value) in table.iter().filter(|(k, _)| k.as_str() != "kind") {
+        let text = match value {
+            toml::Value::Float(v) => format!("{v:e}"),
+            toml::Value::Integer(v) => v.to_string(),
+            toml::Value::String(v) => v.clone(),
+            other => {
+                return Err(CliError::Spec(format!(
+                    "fretting-loop: [[inhomogeneity]] {key} = {other}: a number (or x/y for axis)"
+                )))
+            }
+        };
+        let key = if key == "e" { "E" } else { key.as_str() };
+        pairs.push(format!("{key}={text}"));
+    }
+    super::spec::parse_inhomogeneity(&format!("{kind}:{}", pairs.join(",")))
 }
 
 /// (label, pressure along x, shear q_x along x, pressure along y) at one of the points A–D.
@@ -834,6 +880,20 @@ type Profiles = (String, Vec<f64>, Vec<f64>, Vec<f64>);
 pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
     let start = Instant::now();
     let mut cfg: LoopConfig = super::read_config(args.config.as_deref())?;
+    let composite = match args.case.as_str() {
+        "homogeneous" => false,
+        "composite" => true,
+        other => {
+            return Err(CliError::Spec(format!(
+                "--case '{other}': homogeneous or composite"
+            )))
+        }
+    };
+    if composite {
+        // [LN11]: 4 cells per fibre radius r = 0.13a over the domain (128² at 4.16a).
+        let cell = 0.13 / 4.0;
+        cfg.grid = (cfg.extent_over_a / cell).round() as usize;
+    }
     if let Some(g) = args.grid {
         cfg.grid = g;
     }
@@ -872,7 +932,45 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
         friction: cfg.friction,
         ..ContactParams::default()
     };
-    let mut problem = ContactProblem::new(grid, compliance, geometry, params)?;
+    let problem = ContactProblem::new(grid, compliance, geometry, params)?;
+    let mut inhomogeneities = cfg
+        .inhomogeneity
+        .iter()
+        .map(inhomogeneity_from_table)
+        .collect::<Result<Vec<_>, _>>()?;
+    if composite {
+        let layout = match cfg.layout.as_str() {
+            "fibre-centred" => FibreLayout::FibreCentred,
+            "gap-centred" => FibreLayout::GapCentred,
+            other => {
+                return Err(CliError::Spec(format!(
+                    "fretting-loop: layout = '{other}': fibre-centred or gap-centred"
+                )))
+            }
+        };
+        let r = 0.13 * a;
+        inhomogeneities.extend(fibres(
+            r,
+            1.5 * r,
+            3.0 * r,
+            0.5 * cfg.extent_over_a * a,
+            layout,
+            cfg.fibre_e_ratio * cfg.e,
+            cfg.nu,
+        )?);
+    }
+    let mut solver = if inhomogeneities.is_empty() {
+        Solver::Plain(Box::new(problem))
+    } else {
+        Solver::Nested(Box::new(InhomogeneousContact::new(
+            problem,
+            cfg.e,
+            cfg.nu,
+            &inhomogeneities,
+            NestedParams::default(),
+        )?))
+    };
+    let mut nested_info = None;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| CliError::Spec(format!("--out {}: {e}", args.out.display())))?;
     // Path: W ramp at D = 0, then D: 0 → +A → −A → +A.
@@ -907,14 +1005,18 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
         cfg.normal_steps + 2 * quarter,
         cfg.normal_steps + 3 * quarter,
     ];
+    let mut max_transverse_slip: f64 = 0.0;
     for (k, (w, d)) in path.iter().enumerate() {
-        let info = problem.increment(NormalLoad::Force(*w), [*d, 0.0])?;
+        let info = solver.increment(NormalLoad::Force(*w), [*d, 0.0], &mut nested_info)?;
         history.push((*w, *d, info));
         if let Some(bar) = &bar {
             bar.inc(1);
         }
+        let s = solver.problem().state();
+        max_transverse_slip = s.slip[1]
+            .iter()
+            .fold(max_transverse_slip, |m, v| m.max(v.abs()));
         if let Some(m) = marks.iter().position(|&s| s == k + 1) {
-            let s = problem.state();
             let label = ["A", "B", "C", "D"][m].to_string();
             let along_x: Vec<f64> = (0..n).map(|i| s.pressure[i * n + mid]).collect();
             let shear_x: Vec<f64> = (0..n).map(|i| s.shear[0][i * n + mid]).collect();
@@ -1037,7 +1139,15 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
         false,
     )
     .map_err(|e| CliError::Plot(format!("{}: {e}", p.display())))?;
-    let summary = json!({
+    // Ratchet: Q/μW at the loop's end minus at its start, both at δx = +A.
+    let ratchet = (history[history.len() - 1].2.tangential_force[0]
+        - history[cfg.normal_steps + quarter - 1].2.tangential_force[0])
+        / mu_w;
+    let mut summary = json!({
+        "contact_area_over_hertz_end_of_normal_loading":
+            end_normal.contact_area / (std::f64::consts::PI * a * a),
+        "max_transverse_slip": max_transverse_slip,
+        "ratchet": ratchet,
         "max_pressure_over_p0_end_of_normal_loading": end_normal.max_pressure / p0,
         "approach_over_hertz_end_of_normal_loading": history[cfg.normal_steps - 1].2.normal.approach / (a * a / cfg.radius),
         "tangential_force_over_mu_w_at_amplitude": history[cfg.normal_steps + quarter - 1].2.tangential_force[0] / mu_w,
@@ -1047,6 +1157,12 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
         "seconds": seconds,
         "out": args.out.display().to_string(),
     });
+    if let Solver::Nested(n) = &solver {
+        let extra = summary.as_object_mut().expect("object");
+        extra.insert("inclusion_cells".into(), json!(n.inclusions().len()));
+        extra.insert("layers".into(), json!(n.inclusions().layers.len()));
+        extra.insert("case".into(), json!(args.case));
+    }
     if args.json {
         println!("{summary}");
     } else {
