@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{bad, ok_json, run};
+use common::{arrays_equal, bad, ok_json, run};
 
 const BASE: [&str; 6] = [
     "contact3d",
@@ -531,4 +531,70 @@ fn composite_fretting_loop_on_a_reduced_case() {
         ],
         "--case",
     );
+}
+
+/// A composite fretting loop killed twice (during the normal ramp, then during the cycle) and
+/// resumed gives the uninterrupted run's results bit for bit; a re-run into a directory holding a
+/// checkpoint is refused, as is a resume with another configuration.
+#[test]
+fn composite_loop_resumes_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("loop.toml");
+    std::fs::write(
+        &cfg,
+        "normal_steps = 4\namplitude = 0.04e-6\nshift_step = 0.02e-6\n",
+    )
+    .unwrap();
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    let args = |out: &std::path::Path, extra: &[&str]| {
+        let mut v = vec![
+            "fretting-loop".to_string(),
+            "--case".into(),
+            "composite".into(),
+            "--grid".into(),
+            "32".into(),
+            "--config".into(),
+            cfg.to_str().unwrap().into(),
+            "--out".into(),
+            out.to_str().unwrap().into(),
+        ];
+        v.extend(extra.iter().map(|s| s.to_string()));
+        v
+    };
+    let go = |v: Vec<String>| run(&v.iter().map(|s| s.as_str()).collect::<Vec<_>>());
+    let full = ok_json(&go(args(&a, &["--json"])));
+    assert!(!a.join("checkpoint.npz").exists());
+    assert!(go(args(&b, &["--stop-after", "3"])).status.success());
+    assert!(b.join("checkpoint.npz").is_file() && !b.join("results.h5").exists());
+    let refused = go(args(&b, &[]));
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("--resume"));
+    let other = go(vec![
+        "fretting-loop".into(),
+        "--case".into(),
+        "composite".into(),
+        "--grid".into(),
+        "34".into(),
+        "--config".into(),
+        cfg.to_str().unwrap().into(),
+        "--out".into(),
+        b.to_str().unwrap().into(),
+        "--resume".into(),
+    ]);
+    assert_eq!(other.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&other.stderr).contains("another configuration"));
+    assert!(go(args(&b, &["--resume", "--stop-after", "9"]))
+        .status
+        .success());
+    let resumed = ok_json(&go(args(&b, &["--resume", "--json"])));
+    arrays_equal(&a.join("results.h5"), &b.join("results.h5"));
+    for key in [
+        "dissipated_energy",
+        "ratchet",
+        "max_transverse_slip",
+        "max_pressure_over_p0_end_of_normal_loading",
+    ] {
+        assert_eq!(full[key], resumed[key], "{key}");
+    }
+    assert!(!b.join("checkpoint.npz").exists());
 }

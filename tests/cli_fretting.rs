@@ -3,9 +3,7 @@
 
 mod common;
 
-use common::{bad, ok_json, run};
-
-use std::path::Path;
+use common::{arrays_equal, bad, ok_json, run};
 
 use halfspace::data::read_record;
 
@@ -65,22 +63,6 @@ fn default_run_is_the_reference_run_and_writes_everything() {
         "--json",
     ]));
     assert_eq!(v["cycles"], 200);
-}
-
-fn arrays_equal(a: &Path, b: &Path) {
-    let (ra, rb) = (read_record(a).unwrap(), read_record(b).unwrap());
-    assert_eq!(ra.arrays.len(), rb.arrays.len());
-    for (name, values) in &ra.arrays {
-        let other = rb.get(name).unwrap_or_else(|| panic!("{name} missing"));
-        // Bit for bit.
-        assert!(
-            values
-                .iter()
-                .zip(other)
-                .all(|(x, y)| x.to_bits() == y.to_bits()),
-            "{name} differs"
-        );
-    }
 }
 
 #[test]

@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use halfspace::data::{read_npy_2d, write_record, AttrValue, Record};
-use halfspace::sam::coupled::{ContactParams, ContactProblem, IncrementInfo};
+use halfspace::data::{read_npy_2d, read_record, write_record, AttrValue, Record};
+use halfspace::sam::coupled::{ContactParams, ContactProblem, ContactState, IncrementInfo};
 use halfspace::sam::eim::{fibres, FibreLayout, Inhomogeneity};
 use halfspace::sam::nested::{InhomogeneousContact, NestedInfo, NestedParams};
 use halfspace::sam::normal::{NormalLoad, NormalParams};
@@ -796,9 +796,224 @@ pub struct FrettingLoopArgs {
     /// E_I = 2E_m (config `fibre_e_ratio`), ν_I = ν_m, 4 cells per fibre radius; config `layout`).
     #[arg(long, default_value = "homogeneous")]
     case: String,
+    /// Continue a killed run from OUT/checkpoint.npz (the same configuration), bit for bit.
+    #[arg(long)]
+    resume: bool,
+    /// Seconds of work between checkpoints (written atomically to OUT/checkpoint.npz; removed when
+    /// the loop completes).
+    #[arg(long, default_value_t = 5.0)]
+    checkpoint_seconds: f64,
+    /// Testing hook: stop (as if killed) after this many increments, leaving the checkpoint.
+    #[arg(long, hide = true)]
+    stop_after: Option<usize>,
     /// Print one JSON object on stdout.
     #[arg(long)]
     json: bool,
+}
+
+/// One increment of the loop as stored in the results and the checkpoint.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct LoopRow {
+    w: f64,
+    d: f64,
+    q: [f64; 2],
+    max_pressure: f64,
+    contact_area: f64,
+    stick_area: f64,
+    alternations: f64,
+    approach: f64,
+}
+
+impl LoopRow {
+    fn of(w: f64, d: f64, info: &IncrementInfo) -> Self {
+        Self {
+            w,
+            d,
+            q: info.tangential_force,
+            max_pressure: info.max_pressure,
+            contact_area: info.contact_area,
+            stick_area: info.stick_area,
+            alternations: info.alternations as f64,
+            approach: info.normal.approach,
+        }
+    }
+
+    /// (array name, field) pairs of the results file.
+    const FIELDS: [&'static str; 9] = [
+        "normal_force",
+        "shift_x",
+        "tangential_force",
+        "tangential_force_y",
+        "max_pressure",
+        "contact_area",
+        "stick_area",
+        "alternations",
+        "approach",
+    ];
+
+    fn values(&self) -> [f64; 9] {
+        [
+            self.w,
+            self.d,
+            self.q[0],
+            self.q[1],
+            self.max_pressure,
+            self.contact_area,
+            self.stick_area,
+            self.alternations,
+            self.approach,
+        ]
+    }
+
+    fn from_values(v: [f64; 9]) -> Self {
+        Self {
+            w: v[0],
+            d: v[1],
+            q: [v[2], v[3]],
+            max_pressure: v[4],
+            contact_area: v[5],
+            stick_area: v[6],
+            alternations: v[7],
+            approach: v[8],
+        }
+    }
+}
+
+/// The rows as named arrays.
+fn rows_record(mut rec: Record, rows: &[LoopRow]) -> Record {
+    for (f, name) in LoopRow::FIELDS.iter().enumerate() {
+        rec = rec.array(name, rows.iter().map(|r| r.values()[f]).collect());
+    }
+    rec
+}
+
+/// Everything an interrupted loop needs to continue bit for bit: the next increment, the rows so
+/// far, the profiles at A–D so far, the contact state and (with inhomogeneities) the eigenstrains
+/// and eigen-displacements; the configuration as text, to refuse a resume with another one.
+fn loop_checkpoint(
+    fingerprint: &str,
+    next: usize,
+    rows: &[LoopRow],
+    profiles: &[Profiles],
+    max_transverse_slip: f64,
+    solver: &Solver,
+) -> Record {
+    let st = solver.problem().state();
+    let mut rec = rows_record(Record::default(), rows)
+        .attr("config", AttrValue::Text(fingerprint.into()))
+        .attr("next", AttrValue::Int(next as i64))
+        .attr("max_transverse_slip", AttrValue::Float(max_transverse_slip))
+        .attr("profiles", AttrValue::Int(profiles.len() as i64))
+        .array("state_pressure", st.pressure.clone())
+        .array("state_shear_x", st.shear[0].clone())
+        .array("state_shear_y", st.shear[1].clone())
+        .array("state_history_x", st.tangential_displacement[0].clone())
+        .array("state_history_y", st.tangential_displacement[1].clone())
+        .array("state_slip_x", st.slip[0].clone())
+        .array("state_slip_y", st.slip[1].clone())
+        .array(
+            "state_scalars",
+            vec![st.shift[0], st.shift[1], st.approach, st.force],
+        );
+    for (label, px, qx, py) in profiles {
+        rec = rec
+            .array(&format!("profile_{label}_px"), px.clone())
+            .array(&format!("profile_{label}_qx"), qx.clone())
+            .array(&format!("profile_{label}_py"), py.clone());
+    }
+    if let Solver::Nested(n) = solver {
+        let u = n.eigen_displacements();
+        rec = rec
+            .array("eigenstrain", n.eigenstrain().to_vec())
+            .array("eigen_displacement_1", u[0].clone())
+            .array("eigen_displacement_2", u[1].clone())
+            .array("eigen_displacement_3", u[2].clone());
+    }
+    rec
+}
+
+/// The state of [`loop_checkpoint`], restored into `solver`: (next, rows, profiles, max s₂).
+fn restore_loop(
+    path: &std::path::Path,
+    fingerprint: &str,
+    solver: &mut Solver,
+) -> Result<(usize, Vec<LoopRow>, Vec<Profiles>, f64), CliError> {
+    let rec = read_record(path)?;
+    let bad = |what: String| CliError::Spec(format!("--resume {}: {what}", path.display()));
+    match rec.get_attr("config") {
+        Some(AttrValue::Text(t)) if t == fingerprint => {}
+        _ => {
+            return Err(bad(
+                "the checkpoint was made with another configuration; resume with the same                  --config, --case and --grid (or remove it to start over)"
+                    .into(),
+            ))
+        }
+    }
+    let int = |name: &str| match rec.get_attr(name) {
+        Some(AttrValue::Int(v)) if *v >= 0 => Ok(*v as usize),
+        other => Err(bad(format!("attribute {name} is {other:?}"))),
+    };
+    let array = |name: &str| {
+        rec.get(name)
+            .map(|v| v.to_vec())
+            .ok_or_else(|| bad(format!("array {name} is missing")))
+    };
+    let next = int("next")?;
+    let columns = LoopRow::FIELDS
+        .iter()
+        .map(|f| array(f))
+        .collect::<Result<Vec<_>, _>>()?;
+    if columns.iter().any(|c| c.len() != next) {
+        return Err(bad("the rows do not match the next increment".into()));
+    }
+    let rows = (0..next)
+        .map(|k| {
+            let mut v = [0.0; 9];
+            for (f, c) in columns.iter().enumerate() {
+                v[f] = c[k];
+            }
+            LoopRow::from_values(v)
+        })
+        .collect();
+    let mut profiles = Vec::new();
+    for label in ["A", "B", "C", "D"].iter().take(int("profiles")?) {
+        profiles.push((
+            label.to_string(),
+            array(&format!("profile_{label}_px"))?,
+            array(&format!("profile_{label}_qx"))?,
+            array(&format!("profile_{label}_py"))?,
+        ));
+    }
+    let scalars = array("state_scalars")?;
+    if scalars.len() != 4 {
+        return Err(bad("state_scalars must hold 4 values".into()));
+    }
+    let state = ContactState {
+        pressure: array("state_pressure")?,
+        shear: [array("state_shear_x")?, array("state_shear_y")?],
+        tangential_displacement: [array("state_history_x")?, array("state_history_y")?],
+        slip: [array("state_slip_x")?, array("state_slip_y")?],
+        shift: [scalars[0], scalars[1]],
+        approach: scalars[2],
+        force: scalars[3],
+    };
+    match solver {
+        Solver::Plain(p) => p.restore_state(&state)?,
+        Solver::Nested(n) => {
+            n.problem_mut().restore_state(&state)?;
+            let (u1, u2, u3) = (
+                array("eigen_displacement_1")?,
+                array("eigen_displacement_2")?,
+                array("eigen_displacement_3")?,
+            );
+            n.restore(&array("eigenstrain")?, [&u1, &u2, &u3])?;
+        }
+    }
+    let max_s2 = match rec.get_attr("max_transverse_slip") {
+        Some(AttrValue::Float(v)) => *v,
+        other => return Err(bad(format!("max_transverse_slip is {other:?}"))),
+    };
+    Ok((next, rows, profiles, max_s2))
 }
 
 /// The fretting-loop case (defaults: [LN11]'s homogeneous case).
@@ -971,8 +1186,28 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
         )?))
     };
     let mut nested_info = None;
+    if !(args.checkpoint_seconds.is_finite() && args.checkpoint_seconds > 0.0) {
+        return Err(CliError::Spec(format!(
+            "--checkpoint-seconds must be finite and > 0, got {}",
+            args.checkpoint_seconds
+        )));
+    }
     std::fs::create_dir_all(&args.out)
         .map_err(|e| CliError::Spec(format!("--out {}: {e}", args.out.display())))?;
+    let checkpoint = args.out.join("checkpoint.npz");
+    if checkpoint.exists() && !args.resume {
+        return Err(CliError::Spec(format!(
+            "{} holds an interrupted run: --resume continues it (or remove it to start over)",
+            checkpoint.display()
+        )));
+    }
+    if args.resume && !checkpoint.exists() {
+        return Err(CliError::Spec(format!(
+            "--resume: {} has no checkpoint.npz",
+            args.out.display()
+        )));
+    }
+    let fingerprint = format!("{cfg:?} case={} grid={}", args.case, cfg.grid);
     // Path: W ramp at D = 0, then D: 0 → +A → −A → +A.
     let quarter = (cfg.amplitude / cfg.shift_step).round().max(1.0) as usize;
     let mut path: Vec<(f64, f64)> = (1..=cfg.normal_steps)
@@ -994,8 +1229,11 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
     } else {
         None
     };
-    let mut history: Vec<(f64, f64, IncrementInfo)> = Vec::new();
-    let mut profiles: Vec<Profiles> = Vec::new();
+    let (first, mut history, mut profiles, mut max_transverse_slip) = if args.resume {
+        restore_loop(&checkpoint, &fingerprint, &mut solver)?
+    } else {
+        (0, Vec::new(), Vec::new(), 0.0f64)
+    };
     let n = cfg.grid;
     let mid = n / 2;
     // Points A–D ([LN11] Fig. 6 style): end of normal loading; D = +A; D = 0 on unloading; D = −A.
@@ -1005,10 +1243,29 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
         cfg.normal_steps + 2 * quarter,
         cfg.normal_steps + 3 * quarter,
     ];
-    let mut max_transverse_slip: f64 = 0.0;
-    for (k, (w, d)) in path.iter().enumerate() {
-        let info = solver.increment(NormalLoad::Force(*w), [*d, 0.0], &mut nested_info)?;
-        history.push((*w, *d, info));
+    if let Some(bar) = &bar {
+        bar.set_position(first as u64);
+    }
+    let every = std::time::Duration::from_secs_f64(args.checkpoint_seconds);
+    let mut last_checkpoint = Instant::now();
+    for (k, (w, d)) in path.iter().enumerate().skip(first) {
+        let info = match solver.increment(NormalLoad::Force(*w), [*d, 0.0], &mut nested_info) {
+            Ok(info) => info,
+            Err(e) => {
+                // Keep what was done: the checkpoint holds the last converged increment.
+                let rec = loop_checkpoint(
+                    &fingerprint,
+                    k,
+                    &history,
+                    &profiles,
+                    max_transverse_slip,
+                    &solver,
+                );
+                let _ = write_record(&checkpoint, &rec);
+                return Err(e);
+            }
+        };
+        history.push(LoopRow::of(*w, *d, &info));
         if let Some(bar) = &bar {
             bar.inc(1);
         }
@@ -1023,6 +1280,25 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
             let along_y: Vec<f64> = (0..n).map(|j| s.pressure[mid * n + j]).collect();
             profiles.push((label, along_x, shear_x, along_y));
         }
+        let stop = args.stop_after.is_some_and(|m| k + 1 >= m) && k + 1 < path.len();
+        if stop || last_checkpoint.elapsed() >= every {
+            let rec = loop_checkpoint(
+                &fingerprint,
+                k + 1,
+                &history,
+                &profiles,
+                max_transverse_slip,
+                &solver,
+            );
+            write_record(&checkpoint, &rec)?;
+            last_checkpoint = Instant::now();
+        }
+        if stop {
+            if let Some(bar) = &bar {
+                bar.finish_and_clear();
+            }
+            return Ok(());
+        }
     }
     if let Some(bar) = &bar {
         bar.finish_and_clear();
@@ -1030,44 +1306,18 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
     let mu_w = cfg.friction * cfg.force;
     let cycle: Vec<(f64, f64)> = history[cfg.normal_steps + quarter - 1..]
         .iter()
-        .map(|(_, d, i)| (*d, i.tangential_force[0]))
+        .map(|r| (r.d, r.q[0]))
         .collect();
     let energy: f64 = cycle
         .windows(2)
         .map(|w| 0.5 * (w[0].1 + w[1].1) * (w[1].0 - w[0].0))
         .sum::<f64>()
         .abs();
-    let end_normal = &history[cfg.normal_steps - 1].2;
+    let end_normal = &history[cfg.normal_steps - 1];
     let p0 = 3.0 * cfg.force / (2.0 * std::f64::consts::PI * a * a);
     let seconds = start.elapsed().as_secs_f64();
     let rec = {
-        let mut r = Record::default()
-            .array("normal_force", history.iter().map(|h| h.0).collect())
-            .array("shift_x", history.iter().map(|h| h.1).collect())
-            .array(
-                "tangential_force",
-                history.iter().map(|h| h.2.tangential_force[0]).collect(),
-            )
-            .array(
-                "tangential_force_y",
-                history.iter().map(|h| h.2.tangential_force[1]).collect(),
-            )
-            .array(
-                "max_pressure",
-                history.iter().map(|h| h.2.max_pressure).collect(),
-            )
-            .array(
-                "contact_area",
-                history.iter().map(|h| h.2.contact_area).collect(),
-            )
-            .array(
-                "stick_area",
-                history.iter().map(|h| h.2.stick_area).collect(),
-            )
-            .array(
-                "alternations",
-                history.iter().map(|h| h.2.alternations as f64).collect(),
-            )
+        let mut r = rows_record(Record::default(), &history)
             .array("x", (0..n).map(|i| grid.centre(i, mid).0).collect());
         for (label, px, qx, py) in &profiles {
             r = r
@@ -1091,6 +1341,11 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
             )
     };
     write_record(&args.out.join("results.h5"), &rec)?;
+    // Complete: the checkpoint is no longer needed (a re-run into the same directory starts over).
+    if checkpoint.exists() {
+        std::fs::remove_file(&checkpoint)
+            .map_err(|e| CliError::Spec(format!("removing {}: {e}", checkpoint.display())))?;
+    }
     let loop_curve: Vec<(String, Vec<(f64, f64)>)> = vec![(
         "Q / μW against δx (μm)".into(),
         cycle.iter().map(|(d, q)| (d * 1e6, q / mu_w)).collect(),
@@ -1140,17 +1395,16 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
     )
     .map_err(|e| CliError::Plot(format!("{}: {e}", p.display())))?;
     // Ratchet: Q/μW at the loop's end minus at its start, both at δx = +A.
-    let ratchet = (history[history.len() - 1].2.tangential_force[0]
-        - history[cfg.normal_steps + quarter - 1].2.tangential_force[0])
-        / mu_w;
+    let ratchet =
+        (history[history.len() - 1].q[0] - history[cfg.normal_steps + quarter - 1].q[0]) / mu_w;
     let mut summary = json!({
         "contact_area_over_hertz_end_of_normal_loading":
             end_normal.contact_area / (std::f64::consts::PI * a * a),
         "max_transverse_slip": max_transverse_slip,
         "ratchet": ratchet,
         "max_pressure_over_p0_end_of_normal_loading": end_normal.max_pressure / p0,
-        "approach_over_hertz_end_of_normal_loading": history[cfg.normal_steps - 1].2.normal.approach / (a * a / cfg.radius),
-        "tangential_force_over_mu_w_at_amplitude": history[cfg.normal_steps + quarter - 1].2.tangential_force[0] / mu_w,
+        "approach_over_hertz_end_of_normal_loading": end_normal.approach / (a * a / cfg.radius),
+        "tangential_force_over_mu_w_at_amplitude": history[cfg.normal_steps + quarter - 1].q[0] / mu_w,
         "dissipated_energy": energy,
         "increments": history.len(),
         "grid": cfg.grid,

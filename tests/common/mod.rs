@@ -29,3 +29,23 @@ pub fn bad(args: &[&str], needle: &str) {
     assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
     assert!(err.contains(needle), "{args:?}: {err:?} lacks {needle:?}");
 }
+
+/// Every array of two results files equal bit for bit (a resumed run against an uninterrupted one).
+pub fn arrays_equal(a: &std::path::Path, b: &std::path::Path) {
+    let (ra, rb) = (
+        halfspace::data::read_record(a).unwrap(),
+        halfspace::data::read_record(b).unwrap(),
+    );
+    assert_eq!(ra.arrays.len(), rb.arrays.len());
+    for (name, values) in &ra.arrays {
+        let other = rb.get(name).unwrap_or_else(|| panic!("{name} missing"));
+        // Bit for bit.
+        assert!(
+            values
+                .iter()
+                .zip(other)
+                .all(|(x, y)| x.to_bits() == y.to_bits()),
+            "{name} differs"
+        );
+    }
+}

@@ -257,6 +257,56 @@ impl ContactProblem {
         &self.state
     }
 
+    /// Restores a converged state (a checkpoint's): every field must have this problem's length
+    /// (empty tangential fields for a frictionless problem) and be finite. The next increment then
+    /// starts from it exactly as it would have after the increment that produced it.
+    pub fn restore_state(&mut self, state: &ContactState) -> Result<(), SamError> {
+        let fields = |s: &ContactState| {
+            [
+                s.pressure.len(),
+                s.shear[0].len(),
+                s.shear[1].len(),
+                s.tangential_displacement[0].len(),
+                s.tangential_displacement[1].len(),
+                s.slip[0].len(),
+                s.slip[1].len(),
+            ]
+        };
+        if fields(state) != fields(&self.state) {
+            return Err(SamError::Numerics(
+                halfspace_numerics::NumericsError::LengthMismatch {
+                    what: "restored contact state fields",
+                    expected: self.state.pressure.len(),
+                    got: state.pressure.len(),
+                },
+            ));
+        }
+        let all = [
+            &state.pressure,
+            &state.shear[0],
+            &state.shear[1],
+            &state.tangential_displacement[0],
+            &state.tangential_displacement[1],
+            &state.slip[0],
+            &state.slip[1],
+        ];
+        let scalars = [state.shift[0], state.shift[1], state.approach, state.force];
+        if let Some(bad) = all
+            .iter()
+            .flat_map(|v| v.iter())
+            .chain(scalars.iter())
+            .find(|v| !v.is_finite())
+        {
+            return Err(SamError::InvalidParameter {
+                name: "restored contact state value",
+                value: *bad,
+                allowed: "finite",
+            });
+        }
+        self.state.clone_from(state);
+        Ok(())
+    }
+
     /// One increment to normal load `load` and rigid shift `shift` (spec §4.4):
     /// [`ContactProblem::begin`], [`ContactProblem::solve`], [`ContactProblem::commit`].
     pub fn increment(

@@ -230,6 +230,27 @@ impl InhomogeneousContact {
         &self.problem
     }
 
+    /// The contact problem, mutable (to restore its state from a checkpoint).
+    pub fn problem_mut(&mut self) -> &mut ContactProblem {
+        &mut self.problem
+    }
+
+    /// Restores the warm starts of a checkpoint: the eigenstrains (6 per inclusion cell) and the
+    /// surface eigen-displacements. With [`ContactProblem::restore_state`] this is all the state an
+    /// increment reads, so a resumed loop repeats the uninterrupted one bit for bit.
+    pub fn restore(&mut self, eigenstrain: &[f64], u_eig: [&[f64]; 3]) -> Result<(), SamError> {
+        check_len("eigenstrain", eigenstrain, self.eps_star.len())?;
+        for u in u_eig {
+            check_len("eigen-displacement", u, self.u_eig[0].len())?;
+        }
+        self.eps_star.copy_from_slice(eigenstrain);
+        for (mine, theirs) in self.u_eig.iter_mut().zip(u_eig) {
+            mine.copy_from_slice(theirs);
+        }
+        self.system.disturbance(&self.eps_star)?;
+        Ok(())
+    }
+
     /// The inclusion cells.
     pub fn inclusions(&self) -> &InclusionSet {
         self.system.set()
@@ -255,4 +276,24 @@ impl InhomogeneousContact {
     pub fn spectra_bytes(&self) -> usize {
         self.system.spectra_bytes()
     }
+}
+
+fn check_len(what: &'static str, v: &[f64], expected: usize) -> Result<(), SamError> {
+    if v.len() != expected {
+        return Err(SamError::Numerics(
+            halfspace_numerics::NumericsError::LengthMismatch {
+                what,
+                expected,
+                got: v.len(),
+            },
+        ));
+    }
+    if let Some(bad) = v.iter().find(|x| !x.is_finite()) {
+        return Err(SamError::InvalidParameter {
+            name: what,
+            value: *bad,
+            allowed: "finite",
+        });
+    }
+    Ok(())
 }
