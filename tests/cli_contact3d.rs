@@ -494,6 +494,13 @@ fn composite_fretting_loop_on_a_reduced_case() {
     // Measured at 32²: p_max ×1.064, contact area ×0.957 (the paper at 128²: > 1.2, ~0.93).
     assert!(ratio("max_pressure_over_p0_end_of_normal_loading") > 1.04);
     assert!(ratio("contact_area_over_hertz_end_of_normal_loading") < 0.99);
+    // The composite run carries its homogeneous reference (the same loop without fibres).
+    let own = |key: &str| comp[key].as_f64().unwrap();
+    let r = ratio("max_pressure_over_p0_end_of_normal_loading");
+    assert!((own("max_pressure_ratio_to_homogeneous") - r).abs() < 1e-12 * r);
+    let r = ratio("dissipated_energy");
+    assert!((own("dissipated_energy_ratio_to_homogeneous") - r).abs() < 1e-12 * r);
+    assert_eq!(comp["homogeneous"]["ratchet"], hom["ratchet"]);
     // One stiff sphere from a TOML table; a table without kind is refused.
     std::fs::write(
         &cfg,

@@ -1136,12 +1136,13 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
     let a = (3.0 * cfg.force * cfg.radius / (4.0 * e_star)).cbrt();
     let grid = SurfaceGrid::square(cfg.grid, cfg.extent_over_a * a)?;
     halfspace::sam::memory::check_problem(&grid, true, false)?;
-    let geometry = (0..grid.len())
+    let geometry: Vec<f64> = (0..grid.len())
         .map(|k| {
             let (x, y) = grid.centre(k / grid.n2, k % grid.n2);
             (x * x + y * y) / (2.0 * cfg.radius)
         })
         .collect();
+    let reference_geometry = geometry.clone();
     let compliance = Compliance::pair(Body::Rigid, half)?;
     let params = ContactParams {
         friction: cfg.friction,
@@ -1303,16 +1304,44 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
     if let Some(bar) = &bar {
         bar.finish_and_clear();
     }
+    // With inhomogeneities: the homogeneous loop of the same configuration, for the comparison
+    // ([LN11] Figs. 5–10 show both); cheap beside the nested loop.
+    let reference = if matches!(solver, Solver::Nested(_)) {
+        let mut plain = ContactProblem::new(grid, compliance, reference_geometry, params)?;
+        let (mut rows, mut prof) = (Vec::new(), Vec::new());
+        for (k, (w, d)) in path.iter().enumerate() {
+            let info = plain.increment(NormalLoad::Force(*w), [*d, 0.0])?;
+            rows.push(LoopRow::of(*w, *d, &info));
+            if let Some(m) = marks.iter().position(|&s| s == k + 1) {
+                let s = plain.state();
+                prof.push((
+                    ["A", "B", "C", "D"][m].to_string(),
+                    (0..n).map(|i| s.pressure[i * n + mid]).collect(),
+                    (0..n).map(|i| s.shear[0][i * n + mid]).collect(),
+                    (0..n).map(|j| s.pressure[mid * n + j]).collect(),
+                ));
+            }
+        }
+        Some((rows, prof))
+    } else {
+        None
+    };
     let mu_w = cfg.friction * cfg.force;
-    let cycle: Vec<(f64, f64)> = history[cfg.normal_steps + quarter - 1..]
-        .iter()
-        .map(|r| (r.d, r.q[0]))
-        .collect();
-    let energy: f64 = cycle
-        .windows(2)
-        .map(|w| 0.5 * (w[0].1 + w[1].1) * (w[1].0 - w[0].0))
-        .sum::<f64>()
-        .abs();
+    let cycle_of = |rows: &[LoopRow]| -> Vec<(f64, f64)> {
+        rows[cfg.normal_steps + quarter - 1..]
+            .iter()
+            .map(|r| (r.d, r.q[0]))
+            .collect()
+    };
+    let energy_of = |cycle: &[(f64, f64)]| -> f64 {
+        cycle
+            .windows(2)
+            .map(|w| 0.5 * (w[0].1 + w[1].1) * (w[1].0 - w[0].0))
+            .sum::<f64>()
+            .abs()
+    };
+    let cycle = cycle_of(&history);
+    let energy = energy_of(&cycle);
     let end_normal = &history[cfg.normal_steps - 1];
     let p0 = 3.0 * cfg.force / (2.0 * std::f64::consts::PI * a * a);
     let seconds = start.elapsed().as_secs_f64();
@@ -1346,10 +1375,23 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
         std::fs::remove_file(&checkpoint)
             .map_err(|e| CliError::Spec(format!("removing {}: {e}", checkpoint.display())))?;
     }
-    let loop_curve: Vec<(String, Vec<(f64, f64)>)> = vec![(
-        "Q / μW against δx (μm)".into(),
+    let mut loop_curve: Vec<(String, Vec<(f64, f64)>)> = vec![(
+        if reference.is_some() {
+            "with the inhomogeneities".into()
+        } else {
+            "Q / μW against δx (μm)".into()
+        },
         cycle.iter().map(|(d, q)| (d * 1e6, q / mu_w)).collect(),
     )];
+    if let Some((rows, _)) = &reference {
+        loop_curve.push((
+            "homogeneous".into(),
+            cycle_of(rows)
+                .iter()
+                .map(|(d, q)| (d * 1e6, q / mu_w))
+                .collect(),
+        ));
+    }
     for ext in ["svg", "png"] {
         let p = args.out.join(format!("fretting_loop.{ext}"));
         plot::curves(
@@ -1363,27 +1405,25 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::Plot(format!("{}: {e}", p.display())))?;
     }
     let x: Vec<f64> = (0..n).map(|i| grid.centre(i, mid).0 / a).collect();
-    let pressure: Vec<(String, Vec<(f64, f64)>)> = profiles
-        .iter()
-        .map(|(l, px, _, _)| {
-            (
-                format!("p along x, {l}"),
+    let mut pressure: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    let mut shear: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    let sets = std::iter::once(("", &profiles))
+        .chain(reference.as_ref().map(|(_, prof)| (" (homogeneous)", prof)));
+    for (suffix, prof) in sets {
+        for (l, px, qx, _) in prof.iter() {
+            pressure.push((
+                format!("p along x, {l}{suffix}"),
                 x.iter().copied().zip(px.iter().map(|v| v / p0)).collect(),
-            )
-        })
-        .collect();
-    let shear: Vec<(String, Vec<(f64, f64)>)> = profiles
-        .iter()
-        .map(|(l, _, qx, _)| {
-            (
-                format!("q_x along x, {l}"),
+            ));
+            shear.push((
+                format!("q_x along x, {l}{suffix}"),
                 x.iter()
                     .copied()
                     .zip(qx.iter().map(|v| v / (cfg.friction * p0)))
                     .collect(),
-            )
-        })
-        .collect();
+            ));
+        }
+    }
     let p = args.out.join("fretting_profiles.svg");
     plot::curves(
         &p,
@@ -1416,6 +1456,32 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
         extra.insert("inclusion_cells".into(), json!(n.inclusions().len()));
         extra.insert("layers".into(), json!(n.inclusions().layers.len()));
         extra.insert("case".into(), json!(args.case));
+        if let Some((rows, _)) = &reference {
+            let end = &rows[cfg.normal_steps - 1];
+            let ref_energy = energy_of(&cycle_of(rows));
+            extra.insert(
+                "homogeneous".into(),
+                json!({
+                    "max_pressure_over_p0_end_of_normal_loading": end.max_pressure / p0,
+                    "contact_area_over_hertz_end_of_normal_loading":
+                        end.contact_area / (std::f64::consts::PI * a * a),
+                    "dissipated_energy": ref_energy,
+                    "ratchet": (rows[rows.len() - 1].q[0] - rows[cfg.normal_steps + quarter - 1].q[0]) / mu_w,
+                }),
+            );
+            extra.insert(
+                "max_pressure_ratio_to_homogeneous".into(),
+                json!(end_normal.max_pressure / end.max_pressure),
+            );
+            extra.insert(
+                "contact_area_ratio_to_homogeneous".into(),
+                json!(end_normal.contact_area / end.contact_area),
+            );
+            extra.insert(
+                "dissipated_energy_ratio_to_homogeneous".into(),
+                json!(energy / ref_energy),
+            );
+        }
     }
     if args.json {
         println!("{summary}");
