@@ -7,7 +7,10 @@ use std::time::Instant;
 use clap::Args;
 use halfspace::data::{read_npy_2d, read_record, write_record, AttrValue, Record};
 use halfspace::sam::coupled::{ContactParams, ContactProblem, ContactState, IncrementInfo};
-use halfspace::sam::eim::{fibres, FibreLayout, Inhomogeneity};
+use halfspace::sam::eim::{
+    composite_fibres, FibreLayout, Inhomogeneity, COMPOSITE_CELLS_PER_RADIUS,
+    COMPOSITE_FIBRE_RADIUS,
+};
 use halfspace::sam::nested::{InhomogeneousContact, NestedInfo, NestedParams};
 use halfspace::sam::normal::{NormalLoad, NormalParams};
 use halfspace::sam::subsurface::{subsurface_stress, StressField};
@@ -1106,7 +1109,7 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
     };
     if composite {
         // [LN11]: 4 cells per fibre radius r = 0.13a over the domain (128² at 4.16a).
-        let cell = 0.13 / 4.0;
+        let cell = COMPOSITE_FIBRE_RADIUS / COMPOSITE_CELLS_PER_RADIUS;
         cfg.grid = (cfg.extent_over_a / cell).round() as usize;
     }
     if let Some(g) = args.grid {
@@ -1164,15 +1167,13 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
                 )))
             }
         };
-        let r = 0.13 * a;
-        inhomogeneities.extend(fibres(
-            r,
-            1.5 * r,
-            3.0 * r,
+        inhomogeneities.extend(composite_fibres(
+            a,
             0.5 * cfg.extent_over_a * a,
             layout,
-            cfg.fibre_e_ratio * cfg.e,
+            cfg.e,
             cfg.nu,
+            cfg.fibre_e_ratio,
         )?);
     }
     let mut solver = if inhomogeneities.is_empty() {

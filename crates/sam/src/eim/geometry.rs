@@ -234,6 +234,37 @@ pub fn fibres(
     Ok(list)
 }
 
+/// The unidirectional composite of [LN11] (§4 of the paper, spec §7.6) below a contact of Hertz
+/// radius `a`: fibres along `x₂` of radius `0.13a`, centre spacing `3r`, axes at depth `1.5r`,
+/// Young's modulus `e_ratio · e_matrix` and the matrix's Poisson ratio, over `|x₁| ≤ half_width`.
+pub fn composite_fibres(
+    a: f64,
+    half_width: f64,
+    layout: FibreLayout,
+    e_matrix: f64,
+    nu: f64,
+    e_ratio: f64,
+) -> Result<Vec<Inhomogeneity>, SamError> {
+    crate::error::positive("Hertz radius a", a)?;
+    crate::error::positive("fibre to matrix modulus ratio", e_ratio)?;
+    let r = COMPOSITE_FIBRE_RADIUS * a;
+    fibres(
+        r,
+        1.5 * r,
+        3.0 * r,
+        half_width,
+        layout,
+        e_ratio * e_matrix,
+        nu,
+    )
+}
+
+/// Fibre radius of [LN11]'s composite over the Hertz radius.
+pub const COMPOSITE_FIBRE_RADIUS: f64 = 0.13;
+
+/// Cells per fibre radius at the paper's resolution (128² over 4.16a).
+pub const COMPOSITE_CELLS_PER_RADIUS: f64 = 4.0;
+
 /// One inclusion cell: its layer, its surface cell and its material.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Cell {

@@ -9,7 +9,10 @@ pub mod operator;
 pub mod solve;
 pub mod tractions;
 
-pub use geometry::{fibres, Axis, Cell, FibreLayout, InclusionSet, Inhomogeneity, Shape, Window};
+pub use geometry::{
+    composite_fibres, fibres, Axis, Cell, FibreLayout, InclusionSet, Inhomogeneity, Shape, Window,
+    COMPOSITE_CELLS_PER_RADIUS, COMPOSITE_FIBRE_RADIUS,
+};
 pub use operator::{Backend, EimFields, Space};
 pub use solve::{EimInfo, EimMethod, EimParams, EimSystem};
 pub use tractions::{solve_under_tractions, TractionSolution};
