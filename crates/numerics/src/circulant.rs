@@ -12,7 +12,7 @@ use rayon::prelude::*;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use rustfft::{Fft, FftPlanner};
 
-use crate::fft2d::{C64, PARALLEL_CELLS, TRANSPOSE_BLOCK};
+use crate::fft2d::{gather_block, C64, PARALLEL_CELLS, TRANSPOSE_BLOCK};
 use crate::NumericsError;
 
 /// One thread's share of the forward rows: (chunk index, ((row spectra, real row), scratch)).
@@ -192,12 +192,7 @@ impl Circulant2d {
             for g in (0..ncols).step_by(TRANSPOSE_BLOCK) {
                 let w = TRANSPOSE_BLOCK.min(ncols - g);
                 let block = &mut cols[g * n1..(g + w) * n1];
-                for a in 0..n1 {
-                    let start = a * h2 + first + g;
-                    for (c, v) in rows[start..start + w].iter().enumerate() {
-                        block[c * n1 + a] = *v;
-                    }
-                }
+                gather_block(rows, h2, first + g, n1, block);
                 for (c, column) in block.chunks_mut(n1).enumerate() {
                     let b = first + g + c;
                     cf.process_with_scratch(column, s);
@@ -226,12 +221,7 @@ impl Circulant2d {
                 let w = TRANSPOSE_BLOCK.min(nrows - g);
                 let a0 = t * chunk + g;
                 let block = &mut c[g * h2..(g + w) * h2];
-                for b in 0..h2 {
-                    let start = b * n1 + a0;
-                    for (r, v) in cols[start..start + w].iter().enumerate() {
-                        block[r * h2 + b] = *v;
-                    }
-                }
+                gather_block(cols, n1, a0, h2, block);
                 let oblock = &mut out[g * n2..(g + w) * n2];
                 for (cc, yy) in block.chunks_mut(h2).zip(oblock.chunks_mut(n2)) {
                     cc[0].im = 0.0;

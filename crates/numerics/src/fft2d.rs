@@ -349,12 +349,7 @@ impl Fft2d {
             for g in (0..ncols).step_by(TRANSPOSE_BLOCK) {
                 let w = TRANSPOSE_BLOCK.min(ncols - g);
                 let block = &mut cols[g * p1..(g + w) * p1];
-                for a in 0..p1 {
-                    let start = a * h2 + first + g;
-                    for (c, v) in rows[start..start + w].iter().enumerate() {
-                        block[c * p1 + a] = *v;
-                    }
-                }
+                gather_block(rows, h2, first + g, p1, block);
                 for column in block.chunks_mut(p1) {
                     col.process_with_scratch(column, scratch);
                 }
@@ -399,12 +394,7 @@ impl Fft2d {
                 let w = TRANSPOSE_BLOCK.min(nrows - g);
                 let a0 = first + t * chunk + g;
                 let block = &mut rows[g * h2..(g + w) * h2];
-                for b in 0..h2 {
-                    let start = b * p1 + a0;
-                    for (r, v) in out[start..start + w].iter().enumerate() {
-                        block[r * h2 + b] = *v;
-                    }
-                }
+                gather_block(out, p1, a0, h2, block);
                 let yblock = &mut ys[g * n2..(g + w) * n2];
                 for (row, yrow) in block.chunks_mut(h2).zip(yblock.chunks_mut(n2)) {
                     row[0].im = 0.0;
@@ -434,6 +424,20 @@ impl Fft2d {
                     &mut self.row_scratch[0],
                 ),
             ));
+        }
+    }
+}
+
+/// One block of a transpose: `dst[r·len + b] = src[b·stride + start + r]` for `r < dst.len()/len`,
+/// `b < len` — the `w` consecutive values of each of `len` strided source lines are read together
+/// (one cache line), not one line at a time.
+#[inline]
+pub(crate) fn gather_block(src: &[C64], stride: usize, start: usize, len: usize, dst: &mut [C64]) {
+    let w = dst.len() / len;
+    for b in 0..len {
+        let from = b * stride + start;
+        for (r, v) in src[from..from + w].iter().enumerate() {
+            dst[r * len + b] = *v;
         }
     }
 }

@@ -10,8 +10,18 @@ const R: f64 = 105e-6;
 const W: f64 = 0.08;
 const MU: f64 = 0.3;
 
-#[test]
-fn cattaneo_mindlin_stick_radius_and_shear() {
+/// The case of spec §7.2 on 128² over 4a: the grid, the (uncoupled) compliance, the friction
+/// bound μp of the Hertz pressure, and a, p₀ and the Cattaneo–Mindlin compliance K.
+struct Case {
+    grid: SurfaceGrid,
+    c: Compliance,
+    bound: Vec<f64>,
+    a: f64,
+    p0: f64,
+    k_cm: f64,
+}
+
+fn case() -> Case {
     let e_star = 210e9 / 0.91;
     let a = (3.0 * W * R / (4.0 * e_star)).cbrt();
     let n = 128;
@@ -19,7 +29,6 @@ fn cattaneo_mindlin_stick_radius_and_shear() {
     let c = Compliance::pair(Body::Rigid, Body::elastic(210e9, 0.3).unwrap())
         .unwrap()
         .uncoupled();
-    let mut normal = NormalSolver::new(grid, &c).unwrap();
     let h: Vec<f64> = (0..grid.len())
         .map(|k| {
             let (x, y) = grid.centre(k / n, k % n);
@@ -27,14 +36,32 @@ fn cattaneo_mindlin_stick_radius_and_shear() {
         })
         .collect();
     let mut p = vec![0.0; grid.len()];
-    normal
+    NormalSolver::new(grid, &c)
+        .unwrap()
         .solve(&h, NormalLoad::Force(W), &mut p, &NormalParams::default())
         .unwrap();
-    let bound: Vec<f64> = p.iter().map(|v| MU * v).collect();
+    Case {
+        grid,
+        c,
+        bound: p.iter().map(|v| MU * v).collect(),
+        a,
+        p0: 3.0 * W / (2.0 * std::f64::consts::PI * a * a),
+        k_cm: 3.0 * MU * W / (16.0 * a) * ((2.0 - 0.3) / (210e9 / 2.6)),
+    }
+}
+
+#[test]
+fn cattaneo_mindlin_stick_radius_and_shear() {
+    let Case {
+        grid,
+        c,
+        bound,
+        a,
+        p0,
+        k_cm,
+    } = case();
+    let n = grid.n1;
     let mut tang = TangentialSolver::new(grid, &c).unwrap();
-    let g_mod = 210e9 / 2.6;
-    let k_cm = 3.0 * MU * W / (16.0 * a) * ((2.0 - 0.3) / g_mod);
-    let p0 = 3.0 * W / (2.0 * std::f64::consts::PI * a * a);
     let mut q = [vec![0.0; grid.len()], vec![0.0; grid.len()]];
     let mut s = [vec![0.0; grid.len()], vec![0.0; grid.len()]];
     // Spec: Q/μP = 0.30010/0.60025/0.90047/0.99018; c/a = 0.8948/0.7405/0.4651/0.2145;
@@ -94,27 +121,14 @@ fn cattaneo_mindlin_stick_radius_and_shear() {
 /// The same sequence of shifts warm-starts each method from its previous solution.
 #[test]
 fn active_set_matches_fista_in_a_third_of_the_products() {
-    let e_star = 210e9 / 0.91;
-    let a = (3.0 * W * R / (4.0 * e_star)).cbrt();
-    let n = 128;
-    let grid = SurfaceGrid::square(n, 4.0 * a).unwrap();
-    let c = Compliance::pair(Body::Rigid, Body::elastic(210e9, 0.3).unwrap())
-        .unwrap()
-        .uncoupled();
-    let h: Vec<f64> = (0..grid.len())
-        .map(|k| {
-            let (x, y) = grid.centre(k / n, k % n);
-            (x * x + y * y) / (2.0 * R)
-        })
-        .collect();
-    let mut p = vec![0.0; grid.len()];
-    NormalSolver::new(grid, &c)
-        .unwrap()
-        .solve(&h, NormalLoad::Force(W), &mut p, &NormalParams::default())
-        .unwrap();
-    let bound: Vec<f64> = p.iter().map(|v| MU * v).collect();
-    let p0 = 3.0 * W / (2.0 * std::f64::consts::PI * a * a);
-    let k_cm = 3.0 * MU * W / (16.0 * a) * ((2.0 - 0.3) / (210e9 / 2.6));
+    let Case {
+        grid,
+        c,
+        bound,
+        p0,
+        k_cm,
+        ..
+    } = case();
     let mut tang = TangentialSolver::new(grid, &c).unwrap();
     let z = || [vec![0.0; grid.len()], vec![0.0; grid.len()]];
     let (mut q_fista, mut q_active, mut s) = (z(), z(), z());
