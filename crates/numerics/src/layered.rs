@@ -137,7 +137,7 @@ pub struct LayeredSpectra {
     families: Vec<(Family, SpectraByKey)>,
     /// The same operator with the depth sums done by FFT, when targets and sources are one
     /// contiguous stack of layers.
-    depth: Option<DepthSpectra>,
+    depth: Option<Box<DepthSpectra>>,
 }
 
 /// The layered operator on one contiguous stack of `L` layers (targets = sources, depth keys
@@ -157,11 +157,8 @@ struct DepthSpectra {
     stored_rows: usize,
     /// Depth frequencies stored (`P/2 + 1` when the depth spectra are Hermitian).
     stored_k: usize,
-    /// Per block: sign of the spectrum under ξ₁ → −ξ₁ (−1 when odd in m), with the row symmetry.
-    row_sign: Option<Vec<f64>>,
-    /// Per block: `T̂[P−k] = σ conj(T̂[k])` (σ = +1 for a real in-plane spectrum, −1 for an imaginary
-    /// one), with the Hermitian depth symmetry.
-    herm_sign: Option<Vec<f64>>,
+    /// The blocks' parities, factored per output and input, when the quarter is stored.
+    symmetry: Option<Symmetry>,
     /// `w^{(L−1)k}`: the phase of the reversed stack's spectrum (sum family).
     phase: Vec<C64>,
     /// `data[((g · parts + part) · stored_k + k) · blocks + o · n_in + i]`: the kernel's depth
@@ -169,6 +166,22 @@ struct DepthSpectra {
     data: Vec<C64>,
     fwd: std::sync::Arc<dyn rustfft::Fft<f64>>,
     inv: std::sync::Arc<dyn rustfft::Fft<f64>>,
+    /// Work arrays kept between applications.
+    pool: std::sync::Mutex<Vec<DepthBuffers>>,
+}
+
+/// Work arrays borrowed from a pool, returned when dropped.
+struct Pooled<'a> {
+    pool: &'a std::sync::Mutex<Vec<DepthBuffers>>,
+    buffers: Option<DepthBuffers>,
+}
+
+impl Drop for Pooled<'_> {
+    fn drop(&mut self) {
+        if let (Some(b), Ok(mut pool)) = (self.buffers.take(), self.pool.lock()) {
+            pool.push(b);
+        }
+    }
 }
 
 impl DepthSpectra {
@@ -196,9 +209,10 @@ impl DepthSpectra {
         z0: i64,
         layers: usize,
         (n1, n2): (usize, usize),
-        blocks: usize,
+        (n_out, n_in): (usize, usize),
         parity: Option<&[(bool, bool)]>,
     ) -> Self {
+        let blocks = n_out * n_in;
         let p = 2 * layers;
         let mut planner = rustfft::FftPlanner::<f64>::new();
         let fwd = planner.plan_fft_forward(p);
@@ -207,21 +221,12 @@ impl DepthSpectra {
         let l = layers as i64;
         let p1 = 2 * n1;
         let cols = n2 + 1;
-        let (stored_rows, stored_k) = if parity.is_some() {
+        let symmetry = parity.and_then(|par| Symmetry::factor(par, n_out, n_in));
+        let (stored_rows, stored_k) = if symmetry.is_some() {
             (n1 + 1, p / 2 + 1)
         } else {
             (p1, p)
         };
-        let row_sign = parity.map(|par| {
-            par.iter()
-                .map(|&(odd_m, _)| if odd_m { -1.0 } else { 1.0 })
-                .collect()
-        });
-        let herm_sign = parity.map(|par| {
-            par.iter()
-                .map(|&(odd_m, odd_n)| if odd_m == odd_n { 1.0 } else { -1.0 })
-                .collect()
-        });
         // Per part, per depth slot m ∈ 0..P, per block: the key spectrum (if any) that goes there.
         let slots: Vec<Vec<Vec<Option<&[C64]>>>> = families
             .iter()
@@ -287,123 +292,285 @@ impl DepthSpectra {
             p1,
             stored_rows,
             stored_k,
-            row_sign,
-            herm_sign,
+            symmetry,
             phase,
             data,
             fwd,
             inv,
+            pool: std::sync::Mutex::new(Vec::new()),
         }
     }
 
-    /// `outs[a · n_out + o][f − start] += Σ_b Σ_i K_{oi}(a, b) x̂[b · n_in + i][f]` for the
-    /// frequencies of one chunk.
+    /// `outs[a · n_out + o][row] += Σ_b Σ_i K_{oi}(a, b) x̂[b · n_in + i][col · 2N₁ + row]` for every
+    /// row of one in-plane column (`outs` are that column's slices). With the symmetries the rows
+    /// `r` and `2N₁ − r` and the depth frequencies `k` and `P − k` share one stored kernel value,
+    /// read once for all four.
     // Several arrays share the frequency and layer indices.
-    #[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
-    fn apply_chunk(
+    #[allow(clippy::too_many_arguments)]
+    fn apply_column(
         &self,
         n_out: usize,
         n_in: usize,
-        start: usize,
+        col: usize,
         inputs_hat: &[Vec<C64>],
         skip: &[bool],
         outs: &mut [&mut [C64]],
         buffers: &mut DepthBuffers,
     ) {
-        let (p, l) = (self.p, self.layers);
         let parts = self.part_is_sum.len();
-        let blocks = n_out * n_in;
-        let sk = self.stored_k;
-        let DepthBuffers {
-            x,
-            xr,
-            y,
-            expanded,
-            scratch,
-        } = buffers;
-        let len = outs.first().map_or(0, |o| o.len());
-        for df in 0..len {
-            let f = start + df;
-            let (col, row) = (f / self.p1, f % self.p1);
-            let (stored_row, mirrored) = if self.row_sign.is_some() && row > self.p1 / 2 {
-                (self.p1 - row, true)
-            } else {
-                (row, false)
-            };
+        let per_g = parts * self.stored_k * n_out * n_in;
+        let p1 = self.p1;
+        // The column of every input and output, copied into contiguous buffers (sequential reads
+        // and writes instead of one stream per layer and component).
+        for (v, input) in inputs_hat.iter().enumerate() {
+            if !skip[v] {
+                buffers.column_in[v * p1..(v + 1) * p1]
+                    .copy_from_slice(&input[col * p1..(col + 1) * p1]);
+            }
+        }
+        buffers.column_out.fill(C64::new(0.0, 0.0));
+        for stored_row in 0..self.stored_rows {
             let g = col * self.stored_rows + stored_row;
-            let stored = &self.data[g * parts * sk * blocks..(g + 1) * parts * sk * blocks];
-            for i in 0..n_in {
-                for b in 0..p {
-                    x[i * p + b] = if b < l && !skip[b * n_in + i] {
-                        inputs_hat[b * n_in + i][f]
-                    } else {
-                        C64::new(0.0, 0.0)
-                    };
+            let stored = &self.data[g * per_g..(g + 1) * per_g];
+            let mirror = (self.symmetry.is_some() && stored_row > 0 && stored_row < self.p1 / 2)
+                .then_some(self.p1 - stored_row);
+            let DepthBuffers {
+                first,
+                second,
+                lanes,
+                acc,
+                column_in,
+                column_out,
+                scratch,
+            } = &mut *buffers;
+            self.load(n_in, stored_row, column_in, skip, first, scratch);
+            if let Some(row) = mirror {
+                self.load(n_in, row, column_in, skip, second, scratch);
+            }
+            self.product(
+                n_out,
+                n_in,
+                stored,
+                mirror.is_some(),
+                first,
+                second,
+                lanes,
+                acc,
+            );
+            let rows = std::iter::once((stored_row, first)).chain(mirror.map(|row| (row, second)));
+            for (row, side) in rows {
+                self.inv.process_with_scratch(&mut side.y, scratch);
+                for a in 0..self.layers {
+                    for o in 0..n_out {
+                        column_out[(a * n_out + o) * p1 + row] = side.y[o * self.p + a];
+                    }
                 }
             }
-            self.fwd.process_with_scratch(x, scratch);
-            // The reversed stack's spectrum: X'(k) = w^{(L−1)k} X(−k).
-            for i in 0..n_in {
-                for k in 0..p {
-                    xr[i * p + k] = self.phase[k] * x[i * p + (p - k) % p];
-                }
+        }
+        for (v, out) in outs.iter_mut().enumerate() {
+            for (y, c) in out
+                .iter_mut()
+                .zip(&buffers.column_out[v * p1..(v + 1) * p1])
+            {
+                *y += c;
             }
-            // The full kernel of this frequency (from its stored quarter when symmetric).
-            let kernel: &[C64] = if self.herm_sign.is_none() && !mirrored {
-                stored
+        }
+    }
+
+    /// The depth spectra of the inputs at row `row` of the column (`column[v · 2N₁ + row]`):
+    /// `x[i · P + k]`, and those of the reversed stack `X'(k) = w^{(L−1)k} X(−k)` (sum family).
+    fn load(
+        &self,
+        n_in: usize,
+        row: usize,
+        column: &[C64],
+        skip: &[bool],
+        side: &mut DepthSide,
+        scratch: &mut [C64],
+    ) {
+        let (p, l) = (self.p, self.layers);
+        for i in 0..n_in {
+            let x = &mut side.x[i * p..(i + 1) * p];
+            for (b, v) in x.iter_mut().enumerate() {
+                *v = if b < l && !skip[b * n_in + i] {
+                    column[(b * n_in + i) * self.p1 + row]
+                } else {
+                    C64::new(0.0, 0.0)
+                };
+            }
+        }
+        self.fwd.process_with_scratch(&mut side.x, scratch);
+        for i in 0..n_in {
+            let (x, xr) = (
+                &side.x[i * p..(i + 1) * p],
+                &mut side.xr[i * p..(i + 1) * p],
+            );
+            xr[0] = x[0];
+            for k in 1..p {
+                xr[k] = self.phase[k] * x[p - k];
+            }
+        }
+    }
+
+    /// `y[o · P + k] = Σ_F Σ_i K̂^F_{oi}(k) x^F[i · P + k]` on the first side and, with `mirrored`,
+    /// on the second (row `2N₁ − r`), from one read of the stored quarter. With the factored signs
+    /// (`K(−ξ₁) = s_o s_i K(ξ₁)`, `K(P − k) = t_o t_i conj K(k)`), the four products of one stored
+    /// value are plain complex products on four lanes:
+    /// `y(k) = Σ K(k) x(k)`, `y(P−k) = t_o conj Σ K(k) conj(t_i x(P−k))`, and the same on the
+    /// mirrored row with `s_i` on the inputs and `s_o` on the outputs.
+    #[allow(clippy::too_many_arguments)]
+    fn product(
+        &self,
+        n_out: usize,
+        n_in: usize,
+        stored: &[C64],
+        mirrored: bool,
+        first: &mut DepthSide,
+        second: &mut DepthSide,
+        lanes: &mut [[f64; 8]],
+        acc: &mut [[f64; 8]],
+    ) {
+        let p = self.p;
+        let sk = self.stored_k;
+        let blocks = n_out * n_in;
+        let parts = self.part_is_sum.len();
+        let zero = C64::new(0.0, 0.0);
+        // Lanes: re 0..4, im 4..8 of [x₁(k), conj(t x₁(P−k)), s x₂(k), conj(s t x₂(P−k))].
+        for (part, &is_sum) in self.part_is_sum.iter().enumerate() {
+            let (in1, in2) = if is_sum {
+                (&first.xr, &second.xr)
             } else {
-                for part in 0..parts {
-                    for k in 0..p {
-                        let dst = &mut expanded[(part * p + k) * blocks..][..blocks];
-                        if k < sk {
-                            dst.copy_from_slice(&stored[(part * sk + k) * blocks..][..blocks]);
-                        } else {
-                            let src = &stored[(part * sk + p - k) * blocks..][..blocks];
-                            let hs = self.herm_sign.as_deref().expect("k ≥ stored_k: Hermitian");
-                            for b in 0..blocks {
-                                dst[b] = src[b].conj() * hs[b];
-                            }
-                        }
-                        if mirrored {
-                            let rs = self.row_sign.as_deref().expect("mirrored rows have signs");
-                            for b in 0..blocks {
-                                dst[b] *= rs[b];
-                            }
-                        }
-                    }
-                }
-                expanded
+                (&first.x, &second.x)
             };
-            for o in 0..n_out {
-                for k in 0..p {
-                    let mut acc = C64::new(0.0, 0.0);
-                    for (part, &is_sum) in self.part_is_sum.iter().enumerate() {
-                        let input: &[C64] = if is_sum { xr } else { x };
-                        let row = &kernel[(part * p + k) * blocks + o * n_in..][..n_in];
-                        for (i, kv) in row.iter().enumerate() {
-                            acc += kv * input[i * p + k];
-                        }
+            for kk in 0..sk {
+                let k2 = p - kk;
+                let paired = self.symmetry.is_some() && kk > 0 && k2 != kk;
+                for i in 0..n_in {
+                    let (s_i, t_i) = self
+                        .symmetry
+                        .as_ref()
+                        .map_or((1.0, 1.0), |sy| (sy.s_in[i], sy.t_in[i]));
+                    let v = [
+                        in1[i * p + kk],
+                        if paired {
+                            (in1[i * p + k2] * t_i).conj()
+                        } else {
+                            zero
+                        },
+                        if mirrored {
+                            in2[i * p + kk] * s_i
+                        } else {
+                            zero
+                        },
+                        if mirrored && paired {
+                            (in2[i * p + k2] * (s_i * t_i)).conj()
+                        } else {
+                            zero
+                        },
+                    ];
+                    let lane = &mut lanes[(part * sk + kk) * n_in + i];
+                    for (j, c) in v.iter().enumerate() {
+                        lane[j] = c.re;
+                        lane[4 + j] = c.im;
                     }
-                    y[o * p + k] = acc;
                 }
             }
-            self.inv.process_with_scratch(y, scratch);
-            for a in 0..l {
-                for o in 0..n_out {
-                    outs[a * n_out + o][df] += y[o * p + a];
+        }
+        for kk in 0..sk {
+            let k2 = p - kk;
+            let paired = self.symmetry.is_some() && kk > 0 && k2 != kk;
+            for (o, a) in acc.iter_mut().enumerate().take(n_out) {
+                *a = [0.0; 8];
+                for part in 0..parts {
+                    let kernel = &stored[(part * sk + kk) * blocks + o * n_in..][..n_in];
+                    let lane = &lanes[(part * sk + kk) * n_in..][..n_in];
+                    for (kv, z) in kernel.iter().zip(lane) {
+                        for j in 0..4 {
+                            a[j] += kv.re * z[j] - kv.im * z[4 + j];
+                            a[4 + j] += kv.re * z[4 + j] + kv.im * z[j];
+                        }
+                    }
+                }
+                let (s_o, t_o) = self
+                    .symmetry
+                    .as_ref()
+                    .map_or((1.0, 1.0), |sy| (sy.s_out[o], sy.t_out[o]));
+                first.y[o * p + kk] = C64::new(a[0], a[4]);
+                if paired {
+                    first.y[o * p + k2] = C64::new(a[1], -a[5]) * t_o;
+                }
+                if mirrored {
+                    second.y[o * p + kk] = C64::new(a[2], a[6]) * s_o;
+                    if paired {
+                        second.y[o * p + k2] = C64::new(a[3], -a[7]) * (s_o * t_o);
+                    }
                 }
             }
         }
     }
 }
 
-/// Per-thread work arrays of [`DepthSpectra::apply_chunk`].
-struct DepthBuffers {
+/// The parities of a layered operator's blocks, factored per output and input: a block `(o, i)` is
+/// odd in `m` when exactly one of `o`, `i` is (`s = −1`), and its 2D spectrum is imaginary when its
+/// parities in `m` and `n` differ (`t = −1` for an index odd in one of them).
+#[derive(Debug, Clone)]
+struct Symmetry {
+    s_out: Vec<f64>,
+    s_in: Vec<f64>,
+    t_out: Vec<f64>,
+    t_in: Vec<f64>,
+}
+
+impl Symmetry {
+    /// The factorisation of per-block parities `par[o · n_in + i]`, if one exists.
+    fn factor(par: &[(bool, bool)], n_out: usize, n_in: usize) -> Option<Self> {
+        if par.len() != n_out * n_in || n_in == 0 || n_out == 0 {
+            return None;
+        }
+        let sign = |odd: bool| if odd { -1.0 } else { 1.0 };
+        let m_in: Vec<bool> = (0..n_in).map(|i| par[i].0).collect();
+        let n_in_: Vec<bool> = (0..n_in).map(|i| par[i].1).collect();
+        let m_out: Vec<bool> = (0..n_out).map(|o| par[o * n_in].0 ^ m_in[0]).collect();
+        let n_out_: Vec<bool> = (0..n_out).map(|o| par[o * n_in].1 ^ n_in_[0]).collect();
+        let factors = (0..n_out).all(|o| {
+            (0..n_in).all(|i| par[o * n_in + i] == (m_out[o] ^ m_in[i], n_out_[o] ^ n_in_[i]))
+        });
+        factors.then(|| Self {
+            s_out: m_out.iter().map(|&m| sign(m)).collect(),
+            s_in: m_in.iter().map(|&m| sign(m)).collect(),
+            t_out: m_out
+                .iter()
+                .zip(&n_out_)
+                .map(|(&m, &n)| sign(m ^ n))
+                .collect(),
+            t_in: m_in
+                .iter()
+                .zip(&n_in_)
+                .map(|(&m, &n)| sign(m ^ n))
+                .collect(),
+        })
+    }
+}
+
+/// One in-plane frequency's depth arrays in [`DepthSpectra::apply_column`].
+struct DepthSide {
     x: Vec<C64>,
     xr: Vec<C64>,
     y: Vec<C64>,
-    /// The kernel of one frequency expanded from its stored quarter.
-    expanded: Vec<C64>,
+}
+
+/// Per-thread work arrays of [`DepthSpectra::apply_column`].
+struct DepthBuffers {
+    /// The row `r` and its mirror `2N₁ − r`.
+    first: DepthSide,
+    second: DepthSide,
+    /// Per (part, stored depth frequency, input): the four lanes of [`DepthSpectra::product`].
+    lanes: Vec<[f64; 8]>,
+    /// Per output: the four lanes' sums.
+    acc: Vec<[f64; 8]>,
+    /// The column's input and output spectra, `[v · 2N₁ + row]`.
+    column_in: Vec<C64>,
+    column_out: Vec<C64>,
     scratch: Vec<C64>,
 }
 
@@ -461,11 +628,11 @@ impl LayeredSpectra {
                 targets[0],
                 targets.len(),
                 (n1, n2),
-                n_out * n_in,
+                (n_out, n_in),
                 parity.as_deref(),
             );
             stored.clear();
-            Some(d)
+            Some(Box::new(d))
         } else {
             None
         };
@@ -541,13 +708,15 @@ impl LayeredSpectra {
         // from memory once per application (instead of once per target).
         let len = out_hat.first().map_or(0, |v| v.len());
         if let Some(depth) = &self.depth {
-            let chunks = len.div_ceil(FREQUENCY_CHUNK).max(1);
-            let mut per_chunk: Vec<Vec<&mut [C64]>> = (0..chunks)
+            // One task per in-plane column: its rows r and 2N₁ − r share a stored kernel.
+            let column = depth.p1;
+            let out_count = out_hat.len();
+            let mut per_column: Vec<Vec<&mut [C64]>> = (0..len / column)
                 .map(|_| Vec::with_capacity(out_hat.len()))
                 .collect();
             for out in out_hat.iter_mut() {
-                for (c, piece) in out.chunks_mut(FREQUENCY_CHUNK).enumerate() {
-                    per_chunk[c].push(piece);
+                for (c, piece) in out.chunks_mut(column).enumerate() {
+                    per_column[c].push(piece);
                 }
             }
             let p = depth.p;
@@ -556,25 +725,34 @@ impl LayeredSpectra {
                 .get_inplace_scratch_len()
                 .max(depth.inv.get_inplace_scratch_len());
             let (n_in, n_out) = (self.n_in, self.n_out);
-            let parts = depth.part_is_sum.len();
-            per_chunk.into_par_iter().enumerate().for_each_init(
-                || DepthBuffers {
-                    x: vec![C64::new(0.0, 0.0); n_in * p],
-                    xr: vec![C64::new(0.0, 0.0); n_in * p],
-                    y: vec![C64::new(0.0, 0.0); n_out * p],
-                    expanded: vec![C64::new(0.0, 0.0); parts * p * n_out * n_in],
-                    scratch: vec![C64::new(0.0, 0.0); scratch],
+            let side = || DepthSide {
+                x: vec![C64::new(0.0, 0.0); n_in * p],
+                xr: vec![C64::new(0.0, 0.0); n_in * p],
+                y: vec![C64::new(0.0, 0.0); n_out * p],
+            };
+            let lanes = depth.part_is_sum.len() * depth.stored_k * n_in;
+            // Work arrays from the operator's pool (allocated at the first application only: a
+            // fresh allocation per task costs page faults on every application).
+            per_column.into_par_iter().enumerate().for_each_init(
+                || {
+                    let buffers = depth.pool.lock().ok().and_then(|mut pool| pool.pop());
+                    Pooled {
+                        pool: &depth.pool,
+                        buffers: Some(buffers.unwrap_or_else(|| DepthBuffers {
+                            first: side(),
+                            second: side(),
+                            lanes: vec![[0.0; 8]; lanes],
+                            acc: vec![[0.0; 8]; n_out],
+                            column_in: vec![C64::new(0.0, 0.0); inputs_hat.len() * column],
+                            column_out: vec![C64::new(0.0, 0.0); out_count * column],
+                            scratch: vec![C64::new(0.0, 0.0); scratch],
+                        })),
+                    }
                 },
-                |buffers, (c, mut outs)| {
-                    depth.apply_chunk(
-                        n_out,
-                        n_in,
-                        c * FREQUENCY_CHUNK,
-                        inputs_hat,
-                        skip,
-                        &mut outs,
-                        buffers,
-                    );
+                |pooled, (c, mut outs)| {
+                    if let Some(buffers) = pooled.buffers.as_mut() {
+                        depth.apply_column(n_out, n_in, c, inputs_hat, skip, &mut outs, buffers);
+                    }
                 },
             );
             return Ok(());
@@ -881,6 +1059,41 @@ mod tests {
         }
     }
 
+    /// Blocks whose parities factor per output and input (as the strain kernels' do): the depth
+    /// products then use the row and depth-frequency symmetries.
+    struct Factored;
+    impl Factored {
+        const OUTS: [(bool, bool); 2] = [(false, false), (true, true)];
+        const INS: [(bool, bool); 3] = [(false, false), (true, false), (false, true)];
+    }
+    impl LayerKernel for Factored {
+        fn blocks(&self) -> (usize, usize) {
+            (2, 3)
+        }
+        fn eval(&self, key: i64, m: i64, n: i64, out: &mut [f64]) {
+            let par = self.parity().expect("declared");
+            for (b, v) in out.iter_mut().enumerate() {
+                let r2 = (m * m + 2 * n * n + key * key) as f64 + 1.0 + b as f64;
+                let mut w = (1.0 + 0.05 * key as f64) / r2.sqrt();
+                if par[b].0 {
+                    w *= m as f64;
+                }
+                if par[b].1 {
+                    w *= n as f64;
+                }
+                *v = w;
+            }
+        }
+        fn parity(&self) -> Option<Vec<(bool, bool)>> {
+            Some(
+                Self::OUTS
+                    .iter()
+                    .flat_map(|o| Self::INS.iter().map(move |i| (o.0 ^ i.0, o.1 ^ i.1)))
+                    .collect(),
+            )
+        }
+    }
+
     #[test]
     fn depth_fft_products_equal_the_direct_sum() {
         // Targets = sources = a contiguous stack: the depth sums go through the depth FFT.
@@ -894,16 +1107,26 @@ mod tests {
             ],
             vec![(Family::Difference, &k1 as &dyn LayerKernel)],
             vec![(Family::Sum, &k2 as &dyn LayerKernel)],
-            // With parities: a quarter stored, the rest by symmetry.
+            // Parities that do not factor: every spectrum stored.
             vec![
                 (Family::Difference, &Parity as &dyn LayerKernel),
                 (Family::Sum, &Parity),
             ],
-            vec![(Family::Sum, &Parity as &dyn LayerKernel)],
+            // Factored parities: a quarter stored, the rest by symmetry.
+            vec![
+                (Family::Difference, &Factored as &dyn LayerKernel),
+                (Family::Sum, &Factored),
+            ],
+            vec![(Family::Sum, &Factored as &dyn LayerKernel)],
         ] {
             let mut fft = Fft2d::new(n1, n2).unwrap();
             let spectra = LayeredSpectra::new(&mut fft, &layers, &layers, &families).unwrap();
-            assert!(spectra.depth.is_some());
+            let depth = spectra.depth.as_ref().expect("a contiguous stack");
+            let factored = families[0]
+                .1
+                .parity()
+                .is_some_and(|p| p[4] == (false, true));
+            assert_eq!(depth.symmetry.is_some(), factored);
             let dense = DenseLayered::new(n1, n2, &layers, &layers, &families);
             let xs: Vec<Vec<f64>> = (0..layers.len() * 3)
                 .map(|k| {
