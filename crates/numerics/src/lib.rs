@@ -12,11 +12,13 @@
 //! * [`circulant`]: periodic operators with a real symbol (the `|k|` preconditioner of the
 //!   half-space compliance).
 //! * [`memory`]: footprint estimates checked before allocating.
+//! * [`anderson`]: Anderson acceleration of fixed-point iterations.
 //! * [`linop`], [`krylov`]: a flat linear-operator trait; restarted GMRES and the preconditioned
 //!   Richardson (block-Jacobi) iteration on it.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod anderson;
 pub mod circulant;
 pub mod conv1d;
 pub mod conv2d;

@@ -242,6 +242,11 @@ impl ContactProblem {
         &self.grid
     }
 
+    /// The parameters.
+    pub fn params(&self) -> &ContactParams {
+        &self.params
+    }
+
     /// The friction coefficient μ.
     pub fn friction(&self) -> f64 {
         self.params.friction
@@ -348,6 +353,26 @@ impl ContactProblem {
     /// uncoupled. The eigen-displacements enter `h` and `Δu`. Pressure and shear are updated (and
     /// serve as warm starts); the history is not.
     pub fn solve(&mut self, load: NormalLoad, shift: [f64; 2]) -> Result<IncrementInfo, SamError> {
+        self.solve_loosely(load, shift, 1.0)
+    }
+
+    /// [`ContactProblem::solve`] with the alternation and tangential tolerances multiplied by
+    /// `slack ≥ 1` (the tangential one at most [`INEXACT_CEILING`]): for an outer loop whose next
+    /// pass re-solves the increment anyway (the EIM loop of spec §6.2 far from convergence), as the
+    /// inexact alternation does for its own early passes. `slack = 1` is [`ContactProblem::solve`].
+    pub fn solve_loosely(
+        &mut self,
+        load: NormalLoad,
+        shift: [f64; 2],
+        slack: f64,
+    ) -> Result<IncrementInfo, SamError> {
+        if !(slack.is_finite() && slack >= 1.0) {
+            return Err(SamError::InvalidParameter {
+                name: "contact tolerance slack",
+                value: slack,
+                allowed: "finite and ≥ 1",
+            });
+        }
         for s in shift {
             if !s.is_finite() {
                 return Err(SamError::InvalidParameter {
@@ -364,7 +389,18 @@ impl ContactProblem {
         // solve need not be tighter than a hundredth of it (it is re-solved anyway); the
         // alternation stops only after a pass at the full tolerance.
         let mut change: f64 = f64::INFINITY;
-        let tight = self.params.tangential;
+        let tight = if slack > 1.0 {
+            let base = self.params.tangential;
+            let kkt = (base.kkt_tolerance * slack).min(INEXACT_CEILING.max(base.kkt_tolerance));
+            TangentialParams {
+                kkt_tolerance: kkt,
+                tolerance: base.tolerance * kkt / base.kkt_tolerance,
+                ..base
+            }
+        } else {
+            self.params.tangential
+        };
+        let alternation_tolerance = self.params.alternation_tolerance * slack;
         let (mut normal_info, mut tangential_info);
         loop {
             alternations += 1;
@@ -425,16 +461,17 @@ impl ContactProblem {
             }
             let [q0, q1] = &mut self.state.shear;
             let [s0, s1] = &mut self.state.slip;
-            let tangential_params = if self.coupled && self.params.inexact_alternation {
-                let loose = (0.01 * change).clamp(tight.kkt_tolerance, INEXACT_CEILING);
-                TangentialParams {
-                    kkt_tolerance: loose,
-                    tolerance: tight.tolerance * loose / tight.kkt_tolerance,
-                    ..tight
-                }
-            } else {
-                tight
-            };
+            let loose = (0.01 * change).clamp(tight.kkt_tolerance, INEXACT_CEILING);
+            let tangential_params =
+                if self.coupled && self.params.inexact_alternation && loose > tight.kkt_tolerance {
+                    TangentialParams {
+                        kkt_tolerance: loose,
+                        tolerance: tight.tolerance * loose / tight.kkt_tolerance,
+                        ..tight
+                    }
+                } else {
+                    tight
+                };
             let at_full_tolerance = tangential_params == tight;
             tangential_info = tangential.solve(
                 &self.bound,
@@ -462,7 +499,7 @@ impl ContactProblem {
                         .map(|(x, y)| (x - y).abs())
                 })
                 .fold(0.0, f64::max);
-            let tol = self.params.alternation_tolerance;
+            let tol = alternation_tolerance;
             change = (dp / pmax).max(dq / (mu * pmax));
             if alternations > 1 && at_full_tolerance && dp <= tol * pmax && dq <= tol * mu * pmax {
                 break;
