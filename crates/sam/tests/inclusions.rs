@@ -43,7 +43,13 @@ fn run(cells_per_a: usize, ratio: f64) -> Outcome {
     let (a, _, _) = hertz();
     let n = 4 * cells_per_a;
     let grid = SurfaceGrid::square(n, 4.0 * a).unwrap();
-    let inh = Inhomogeneity {
+    solve_with(grid, &[sphere_under_contact(ratio)])
+}
+
+/// The spec §7.6 sphere: radius 0.3a, centre 0.5a below the contact centre, `E_I = ratio · E`.
+fn sphere_under_contact(ratio: f64) -> Inhomogeneity {
+    let (a, _, _) = hertz();
+    Inhomogeneity {
         shape: Shape::Sphere {
             x: 0.0,
             y: 0.0,
@@ -52,8 +58,7 @@ fn run(cells_per_a: usize, ratio: f64) -> Outcome {
         },
         e: ratio * E,
         nu: NU,
-    };
-    solve_with(grid, &[inh])
+    }
 }
 
 fn solve_with(grid: SurfaceGrid, inhomogeneities: &[Inhomogeneity]) -> Outcome {
@@ -185,16 +190,7 @@ fn composite_fibres_under_frictionless_hertz_contact_match_the_spec_reproduction
 fn accelerated_outer_loop_reaches_the_plain_loop_state() {
     let (a, p0, delta) = hertz();
     let grid = SurfaceGrid::square(32, 4.0 * a).unwrap();
-    let inh = Inhomogeneity {
-        shape: Shape::Sphere {
-            x: 0.0,
-            y: 0.0,
-            z: 0.5 * a,
-            r: 0.3 * a,
-        },
-        e: 2.0 * E,
-        nu: NU,
-    };
+    let inh = sphere_under_contact(2.0);
     let c = Compliance::pair(Body::Rigid, Body::elastic(E, NU).unwrap()).unwrap();
     let run = |params: NestedParams| {
         let problem =
