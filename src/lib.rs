@@ -6,3 +6,5 @@ pub use halfspace_fretting as fretting;
 pub use halfspace_mdr as mdr;
 pub use halfspace_numerics as numerics;
 pub use halfspace_sam as sam;
+
+pub mod records;

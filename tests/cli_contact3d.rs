@@ -276,7 +276,13 @@ fn fretting_loop_runs_on_a_small_grid() {
         "results.h5",
         "fretting_loop.png",
         "fretting_loop.svg",
-        "fretting_profiles.svg",
+        "profiles_x.svg",
+        "profiles_y.svg",
+        "slip_B.svg",
+        "shear_x_map_B.svg",
+        "transverse_slip_map_B.svg",
+        "von_mises_A.svg",
+        "von_mises_D.svg",
     ] {
         assert!(out.join(f).is_file(), "{f}");
     }
@@ -478,6 +484,35 @@ fn composite_fretting_loop_on_a_reduced_case() {
         ]))
     };
     let (hom, comp) = (run_case("homogeneous"), run_case("composite"));
+    // The paper's figures, with and without the fibres, and the fields at A–D in the results.
+    for f in [
+        "shear_x_map_B.svg",
+        "shear_x_map_B_homogeneous.svg",
+        "transverse_slip_map_B_homogeneous.svg",
+        "von_mises_B.svg",
+    ] {
+        assert!(dir.path().join("composite").join(f).is_file(), "{f}");
+    }
+    let rec =
+        halfspace::data::read_record(&dir.path().join("composite").join("results.h5")).unwrap();
+    for name in [
+        "pressure_A",
+        "homogeneous_pressure_A",
+        "slip_y_B",
+        "eigen_displacement_3_D",
+        "pressure_along_y_C",
+        "homogeneous_tangential_force",
+    ] {
+        assert!(rec.get(name).is_some(), "{name}");
+    }
+    assert_eq!(rec.shape_of("pressure_A"), Some(vec![32, 32]));
+    assert_eq!(
+        rec.shape_of("von_mises_B").map(|s| s[1..].to_vec()),
+        Some(vec![32, 32])
+    );
+    let b = comp["breakdown"].as_object().unwrap();
+    assert!(b["outer_iterations"].as_u64().unwrap() >= comp["increments"].as_u64().unwrap());
+    assert!(b["eim_operator_applications"].as_u64().unwrap() > 0);
     for key in [
         "contact_area_over_hertz_end_of_normal_loading",
         "max_transverse_slip",
@@ -604,4 +639,39 @@ fn composite_loop_resumes_bit_for_bit() {
         assert_eq!(full[key], resumed[key], "{key}");
     }
     assert!(!b.join("checkpoint.npz").exists());
+}
+
+/// `contact3d` with an inhomogeneity, friction and a prescribed tangential force (issue 11): the
+/// nested loop under force control reaches Q within the search tolerance, and a displacement-
+/// controlled run to the shift it found gives the same Q and pressure.
+#[test]
+fn a_stiff_sphere_under_a_tangential_force() {
+    let sphere = "sphere:x=0,y=0,z=1.50554e-6,r=0.90332e-6,E=420e9,nu=0.3";
+    let with = |extra: &[&str]| {
+        let mut args = BASE.to_vec();
+        args.extend([
+            "--force",
+            "0.08",
+            "--grid",
+            "32",
+            "--friction",
+            "0.3",
+            "--inhomogeneity",
+            sphere,
+        ]);
+        args.extend(extra);
+        ok_json(&run(&args))
+    };
+    let q = 0.5 * 0.3 * 0.08;
+    let v = with(&["--tangential-force", "0.012"]);
+    let got = v["tangential_force"].as_f64().unwrap();
+    assert!((got - q).abs() <= 1e-6 * 0.3 * 0.08 * 1.01, "{got} vs {q}");
+    assert!(v["outer_iterations"].as_u64().unwrap() >= 1);
+    let shift = v["shift_x"].as_f64().unwrap();
+    let d = with(&["--shift-x", &format!("{shift:e}")]);
+    let dq = (d["tangential_force"].as_f64().unwrap() - got).abs();
+    assert!(dq < 1e-4 * q, "Q at the found shift differs by {dq:e}");
+    let dp =
+        (d["max_pressure"].as_f64().unwrap() / v["max_pressure"].as_f64().unwrap() - 1.0).abs();
+    assert!(dp < 1e-5, "{dp:e}");
 }

@@ -1,22 +1,18 @@
-//! `halfspace contact3d` and `halfspace fretting-loop`: 3D semi-analytical contact (spec `sam.md`).
+//! `halfspace contact3d`: 3D semi-analytical contact (spec `sam.md`), one normal and one tangential
+//! increment, with or without inhomogeneities.
 
-use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use halfspace::data::{read_npy_2d, read_record, write_record, AttrValue, Record};
-use halfspace::sam::coupled::{ContactParams, ContactProblem, ContactState, IncrementInfo};
-use halfspace::sam::eim::{
-    composite_fibres, FibreLayout, Inhomogeneity, COMPOSITE_CELLS_PER_RADIUS,
-    COMPOSITE_FIBRE_RADIUS,
-};
-use halfspace::sam::nested::{InhomogeneousContact, NestedInfo, NestedParams};
+use halfspace::data::{read_npy_2d, write_record, AttrValue, Record};
+use halfspace::sam::coupled::{ContactParams, ContactProblem};
+use halfspace::sam::fretting_loop::ContactSolver;
+use halfspace::sam::nested::NestedParams;
 use halfspace::sam::normal::{NormalLoad, NormalParams};
-use halfspace::sam::subsurface::{subsurface_stress, StressField};
+use halfspace::sam::subsurface::StressField;
 use halfspace::sam::tangential::TangentialParams;
 use halfspace::sam::{Body, Compliance, SurfaceGrid};
-use serde::Deserialize;
 use serde_json::json;
 
 use super::{plot, CliError};
@@ -301,11 +297,6 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
         .iter()
         .map(|s| super::spec::parse_inhomogeneity(s))
         .collect::<Result<Vec<_>, _>>()?;
-    if !inhomogeneities.is_empty() && args.tangential_force.is_some() {
-        return Err(CliError::Spec(
-            "--tangential-force with --inhomogeneity is not available yet (use --shift-x)".into(),
-        ));
-    }
     if !(args.tol.is_finite() && args.tol > 0.0 && args.tol < 1e-2) {
         return Err(CliError::Spec(format!(
             "--tol must be in (0, 1e-2), got {}",
@@ -352,34 +343,37 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
         Body::Elastic { e, nu } => (e, nu),
         Body::Rigid => unreachable!("checked above"),
     };
-    let mut solver = if inhomogeneities.is_empty() {
-        Solver::Plain(Box::new(problem))
-    } else {
-        Solver::Nested(Box::new(InhomogeneousContact::new(
-            problem,
-            e_half,
-            nu_half,
-            &inhomogeneities,
-            NestedParams::default(),
-        )?))
-    };
+    let mut solver = ContactSolver::new(
+        problem,
+        e_half,
+        nu_half,
+        &inhomogeneities,
+        NestedParams::default(),
+    )?;
     let setup_seconds = start.elapsed().as_secs_f64();
     let solve_start = Instant::now();
-    let mut nested_info = None;
-    let mut info = solver.increment(load, [0.0, 0.0], &mut nested_info)?;
+    let (mut info, mut nested_info) = solver.increment(load, [0.0, 0.0])?;
     let mut iterations = info.normal.iterations + info.tangential.iterations;
     let mut shift = 0.0;
     if let Some(dx) = args.shift_x {
-        info = solver.increment(load, [dx, 0.0], &mut nested_info)?;
+        (info, nested_info) = solver.increment(load, [dx, 0.0])?;
         iterations += info.normal.iterations + info.tangential.iterations;
         shift = dx;
     } else if let Some(qx) = args.tangential_force {
-        let Solver::Plain(problem) = &mut solver else {
-            unreachable!("refused above")
-        };
         let bracket = 0.05 * extent * 1e-3;
-        let (i, d) = problem.increment_with_force(load, qx, bracket)?;
-        info = i;
+        let d = match &mut solver {
+            ContactSolver::Plain(problem) => {
+                let (i, d) = problem.increment_with_force(load, qx, bracket)?;
+                info = i;
+                d
+            }
+            ContactSolver::Nested(nested) => {
+                let (ni, d) = nested.increment_with_force(load, qx, bracket)?;
+                info = ni.contact;
+                nested_info = Some(ni);
+                d
+            }
+        };
         iterations += info.normal.iterations + info.tangential.iterations;
         shift = d;
     }
@@ -388,23 +382,7 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
     let subsurface_start = Instant::now();
     let field = match args.subsurface {
         None => None,
-        Some(depth) => {
-            let st = problem.state();
-            let q = (friction > 0.0).then(|| [st.shear[0].as_slice(), st.shear[1].as_slice()]);
-            let inclusions = match &solver {
-                Solver::Nested(n) => Some((n.inclusions(), n.eigenstrain())),
-                Solver::Plain(_) => None,
-            };
-            Some(subsurface_stress(
-                problem.grid(),
-                e_half,
-                nu_half,
-                &st.pressure,
-                q,
-                depth,
-                inclusions,
-            )?)
-        }
+        Some(depth) => Some(solver.subsurface(e_half, nu_half, depth)?),
     };
     let subsurface_seconds = subsurface_start.elapsed().as_secs_f64();
     let state = problem.state();
@@ -432,7 +410,7 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
         "friction": friction,
     });
     let extra = summary.as_object_mut().expect("object");
-    if let (Solver::Nested(n), Some(ni)) = (&solver, &nested_info) {
+    if let (Some(n), Some(ni)) = (solver.nested(), &nested_info) {
         extra.insert("inclusion_cells".into(), json!(n.inclusions().len()));
         extra.insert("layers".into(), json!(n.inclusions().layers.len()));
         extra.insert("eim_iterations".into(), json!(ni.eim_iterations));
@@ -454,7 +432,7 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
             json!(format!("{:?}", ni.last_eim.method)),
         );
     }
-    if let Solver::Nested(n) = &solver {
+    if let Some(n) = solver.nested() {
         extra.insert("eim_spectra_bytes".into(), json!(n.spectra_bytes()));
     }
     if let Some(f) = &field {
@@ -503,42 +481,11 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The contact solver: plain, or nested with the EIM when there are inhomogeneities.
-enum Solver {
-    Plain(Box<ContactProblem>),
-    Nested(Box<InhomogeneousContact>),
-}
-
-impl Solver {
-    fn increment(
-        &mut self,
-        load: NormalLoad,
-        shift: [f64; 2],
-        nested_info: &mut Option<NestedInfo>,
-    ) -> Result<IncrementInfo, CliError> {
-        Ok(match self {
-            Solver::Plain(p) => p.increment(load, shift)?,
-            Solver::Nested(n) => {
-                let info = n.increment(load, shift)?;
-                *nested_info = Some(info);
-                info.contact
-            }
-        })
-    }
-
-    fn problem(&self) -> &ContactProblem {
-        match self {
-            Solver::Plain(p) => p,
-            Solver::Nested(n) => n.problem(),
-        }
-    }
-}
-
 /// The pressure (and `u₃^eig`) along x through the centre, with Hertz's pressure for a sphere
 /// (`hertz = (R, W, E*)`), and the von Mises map in the x–z plane through the centre.
 fn draw_figures(
     path: &std::path::Path,
-    solver: &Solver,
+    solver: &ContactSolver,
     field: Option<&StressField>,
     hertz: Option<(f64, f64, f64)>,
 ) -> Result<(), CliError> {
@@ -576,15 +523,15 @@ fn draw_figures(
                 .collect(),
         ));
     }
-    let right: Vec<(String, Vec<(f64, f64)>)> = match solver {
-        Solver::Nested(n) => vec![(
+    let right: Vec<(String, Vec<(f64, f64)>)> = match solver.nested() {
+        Some(n) => vec![(
             "eigen-displacement u3 (nm)".to_string(),
             xs.iter()
                 .enumerate()
                 .map(|(i, x)| (x * 1e6, n.eigen_displacements()[2][i * g.n2 + col] * 1e9))
                 .collect(),
         )],
-        Solver::Plain(_) => vec![],
+        None => vec![],
     };
     let err = |e: Box<dyn std::error::Error>| CliError::Plot(e.to_string());
     plot::curves(
@@ -648,7 +595,7 @@ const VOLUME_FIELDS: [&str; 14] = [
 ];
 
 /// Adds the subsurface fields (and the eigenstrains on the same lattice) with their shape.
-fn volume_record(mut rec: Record, f: &StressField, solver: &Solver) -> Record {
+fn volume_record(mut rec: Record, f: &StressField, solver: &ContactSolver) -> Record {
     let shape = [f.layers, f.grid.n1, f.grid.n2];
     for (o, name) in VOLUME_FIELDS[..6].iter().enumerate() {
         rec = rec.shaped(name, f.stress[o].clone(), &shape);
@@ -668,7 +615,7 @@ fn volume_record(mut rec: Record, f: &StressField, solver: &Solver) -> Record {
     );
     let n = f.grid.len();
     let mut eig: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; f.layers * n]);
-    if let Solver::Nested(nested) = solver {
+    if let Some(nested) = solver.nested() {
         let set = nested.inclusions();
         for (c, cell) in set.cells.iter().enumerate() {
             let k = set.layers[cell.layer];
@@ -781,713 +728,4 @@ fn fields_record(problem: &ContactProblem, summary: &serde_json::Value) -> Recor
             g.n1, g.n2
         )),
     )
-}
-
-#[derive(Debug, Args)]
-pub struct FrettingLoopArgs {
-    /// TOML file with any of: radius, e, nu, friction, force, normal_steps, amplitude, shift_step, grid, extent_over_a.
-    #[arg(long)]
-    config: Option<PathBuf>,
-    /// Output directory (results.h5, fretting_loop.png/.svg, fretting_profiles.svg).
-    #[arg(long, default_value = "fretting-loop-out")]
-    out: PathBuf,
-    /// Cells per side (overrides the config).
-    #[arg(long)]
-    grid: Option<usize>,
-    /// Preset: `homogeneous` ([LN11]'s homogeneous half-space, the default) or `composite` (its
-    /// unidirectional composite: fibres along y, r = 0.13a, spacing 3r, axes at depth 1.5r,
-    /// E_I = 2E_m (config `fibre_e_ratio`), ν_I = ν_m, 4 cells per fibre radius; config `layout`).
-    #[arg(long, default_value = "homogeneous")]
-    case: String,
-    /// Continue a killed run from OUT/checkpoint.npz (the same configuration), bit for bit.
-    #[arg(long)]
-    resume: bool,
-    /// Seconds of work between checkpoints (written atomically to OUT/checkpoint.npz; removed when
-    /// the loop completes).
-    #[arg(long, default_value_t = 5.0)]
-    checkpoint_seconds: f64,
-    /// Testing hook: stop (as if killed) after this many increments, leaving the checkpoint.
-    #[arg(long, hide = true)]
-    stop_after: Option<usize>,
-    /// Print one JSON object on stdout.
-    #[arg(long)]
-    json: bool,
-}
-
-/// One increment of the loop as stored in the results and the checkpoint.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct LoopRow {
-    w: f64,
-    d: f64,
-    q: [f64; 2],
-    max_pressure: f64,
-    contact_area: f64,
-    stick_area: f64,
-    alternations: f64,
-    approach: f64,
-}
-
-impl LoopRow {
-    fn of(w: f64, d: f64, info: &IncrementInfo) -> Self {
-        Self {
-            w,
-            d,
-            q: info.tangential_force,
-            max_pressure: info.max_pressure,
-            contact_area: info.contact_area,
-            stick_area: info.stick_area,
-            alternations: info.alternations as f64,
-            approach: info.normal.approach,
-        }
-    }
-
-    /// (array name, field) pairs of the results file.
-    const FIELDS: [&'static str; 9] = [
-        "normal_force",
-        "shift_x",
-        "tangential_force",
-        "tangential_force_y",
-        "max_pressure",
-        "contact_area",
-        "stick_area",
-        "alternations",
-        "approach",
-    ];
-
-    fn values(&self) -> [f64; 9] {
-        [
-            self.w,
-            self.d,
-            self.q[0],
-            self.q[1],
-            self.max_pressure,
-            self.contact_area,
-            self.stick_area,
-            self.alternations,
-            self.approach,
-        ]
-    }
-
-    fn from_values(v: [f64; 9]) -> Self {
-        Self {
-            w: v[0],
-            d: v[1],
-            q: [v[2], v[3]],
-            max_pressure: v[4],
-            contact_area: v[5],
-            stick_area: v[6],
-            alternations: v[7],
-            approach: v[8],
-        }
-    }
-}
-
-/// The rows as named arrays.
-fn rows_record(mut rec: Record, rows: &[LoopRow]) -> Record {
-    for (f, name) in LoopRow::FIELDS.iter().enumerate() {
-        rec = rec.array(name, rows.iter().map(|r| r.values()[f]).collect());
-    }
-    rec
-}
-
-/// Everything an interrupted loop needs to continue bit for bit: the next increment, the rows so
-/// far, the profiles at A–D so far, the contact state and (with inhomogeneities) the eigenstrains
-/// and eigen-displacements; the configuration as text, to refuse a resume with another one.
-fn loop_checkpoint(
-    fingerprint: &str,
-    next: usize,
-    rows: &[LoopRow],
-    profiles: &[Profiles],
-    max_transverse_slip: f64,
-    solver: &Solver,
-) -> Record {
-    let st = solver.problem().state();
-    let mut rec = rows_record(Record::default(), rows)
-        .attr("config", AttrValue::Text(fingerprint.into()))
-        .attr("next", AttrValue::Int(next as i64))
-        .attr("max_transverse_slip", AttrValue::Float(max_transverse_slip))
-        .attr("profiles", AttrValue::Int(profiles.len() as i64))
-        .array("state_pressure", st.pressure.clone())
-        .array("state_shear_x", st.shear[0].clone())
-        .array("state_shear_y", st.shear[1].clone())
-        .array("state_history_x", st.tangential_displacement[0].clone())
-        .array("state_history_y", st.tangential_displacement[1].clone())
-        .array("state_slip_x", st.slip[0].clone())
-        .array("state_slip_y", st.slip[1].clone())
-        .array(
-            "state_scalars",
-            vec![st.shift[0], st.shift[1], st.approach, st.force],
-        );
-    for (label, px, qx, py) in profiles {
-        rec = rec
-            .array(&format!("profile_{label}_px"), px.clone())
-            .array(&format!("profile_{label}_qx"), qx.clone())
-            .array(&format!("profile_{label}_py"), py.clone());
-    }
-    if let Solver::Nested(n) = solver {
-        let u = n.eigen_displacements();
-        rec = rec
-            .array("eigenstrain", n.eigenstrain().to_vec())
-            .array("eigen_displacement_1", u[0].clone())
-            .array("eigen_displacement_2", u[1].clone())
-            .array("eigen_displacement_3", u[2].clone());
-    }
-    rec
-}
-
-/// The state of [`loop_checkpoint`], restored into `solver`: (next, rows, profiles, max s₂).
-fn restore_loop(
-    path: &std::path::Path,
-    fingerprint: &str,
-    solver: &mut Solver,
-) -> Result<(usize, Vec<LoopRow>, Vec<Profiles>, f64), CliError> {
-    let rec = read_record(path)?;
-    let bad = |what: String| CliError::Spec(format!("--resume {}: {what}", path.display()));
-    match rec.get_attr("config") {
-        Some(AttrValue::Text(t)) if t == fingerprint => {}
-        _ => {
-            return Err(bad(
-                "the checkpoint was made with another configuration; resume with the same                  --config, --case and --grid (or remove it to start over)"
-                    .into(),
-            ))
-        }
-    }
-    let int = |name: &str| match rec.get_attr(name) {
-        Some(AttrValue::Int(v)) if *v >= 0 => Ok(*v as usize),
-        other => Err(bad(format!("attribute {name} is {other:?}"))),
-    };
-    let array = |name: &str| {
-        rec.get(name)
-            .map(|v| v.to_vec())
-            .ok_or_else(|| bad(format!("array {name} is missing")))
-    };
-    let next = int("next")?;
-    let columns = LoopRow::FIELDS
-        .iter()
-        .map(|f| array(f))
-        .collect::<Result<Vec<_>, _>>()?;
-    if columns.iter().any(|c| c.len() != next) {
-        return Err(bad("the rows do not match the next increment".into()));
-    }
-    let rows = (0..next)
-        .map(|k| {
-            let mut v = [0.0; 9];
-            for (f, c) in columns.iter().enumerate() {
-                v[f] = c[k];
-            }
-            LoopRow::from_values(v)
-        })
-        .collect();
-    let mut profiles = Vec::new();
-    for label in ["A", "B", "C", "D"].iter().take(int("profiles")?) {
-        profiles.push((
-            label.to_string(),
-            array(&format!("profile_{label}_px"))?,
-            array(&format!("profile_{label}_qx"))?,
-            array(&format!("profile_{label}_py"))?,
-        ));
-    }
-    let scalars = array("state_scalars")?;
-    if scalars.len() != 4 {
-        return Err(bad("state_scalars must hold 4 values".into()));
-    }
-    let state = ContactState {
-        pressure: array("state_pressure")?,
-        shear: [array("state_shear_x")?, array("state_shear_y")?],
-        tangential_displacement: [array("state_history_x")?, array("state_history_y")?],
-        slip: [array("state_slip_x")?, array("state_slip_y")?],
-        shift: [scalars[0], scalars[1]],
-        approach: scalars[2],
-        force: scalars[3],
-    };
-    match solver {
-        Solver::Plain(p) => p.restore_state(&state)?,
-        Solver::Nested(n) => {
-            n.problem_mut().restore_state(&state)?;
-            let (u1, u2, u3) = (
-                array("eigen_displacement_1")?,
-                array("eigen_displacement_2")?,
-                array("eigen_displacement_3")?,
-            );
-            n.restore(&array("eigenstrain")?, [&u1, &u2, &u3])?;
-        }
-    }
-    let max_s2 = match rec.get_attr("max_transverse_slip") {
-        Some(AttrValue::Float(v)) => *v,
-        other => return Err(bad(format!("max_transverse_slip is {other:?}"))),
-    };
-    Ok((next, rows, profiles, max_s2))
-}
-
-/// The fretting-loop case (defaults: [LN11]'s homogeneous case).
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-struct LoopConfig {
-    radius: f64,
-    e: f64,
-    nu: f64,
-    friction: f64,
-    force: f64,
-    normal_steps: usize,
-    amplitude: f64,
-    shift_step: f64,
-    grid: usize,
-    extent_over_a: f64,
-    /// `[[inhomogeneity]]` tables: `kind = "sphere" | "cylinder" | "cuboid"` and the keys of the
-    /// CLI's `--inhomogeneity` specs (`x, y, z, r, axis, hx, hy, hz, e, nu`).
-    inhomogeneity: Vec<toml::Table>,
-    /// Composite preset: `"fibre-centred"` (a fibre axis at x = 0) or `"gap-centred"`.
-    layout: String,
-    /// Composite preset: E_I / E_m of the fibres (2 in [LN11]; 0.5 for soft fibres).
-    fibre_e_ratio: f64,
-}
-
-impl Default for LoopConfig {
-    fn default() -> Self {
-        Self {
-            radius: 105e-6,
-            e: 210e9,
-            nu: 0.3,
-            friction: 0.3,
-            force: 0.08,
-            normal_steps: 80,
-            amplitude: 0.04e-6,
-            shift_step: 0.002e-6,
-            grid: 64,
-            extent_over_a: 4.16,
-            inhomogeneity: Vec::new(),
-            layout: "fibre-centred".into(),
-            fibre_e_ratio: 2.0,
-        }
-    }
-}
-
-/// One `[[inhomogeneity]]` table as the CLI's `kind:key=value,...` spec (one parser for both; the
-/// TOML key `e` is the spec's `E`).
-fn inhomogeneity_from_table(table: &toml::Table) -> Result<Inhomogeneity, CliError> {
-    let kind = table
-        .get("kind")
-        .and_then(|v| v.as_str())
-        .ok_or_else(|| {
-            CliError::Spec(
-                "fretting-loop: every [[inhomogeneity]] needs kind = \"sphere\" | \"cylinder\" | \"cuboid\""
-                    .into(),
-            )
-        })?;
-    let mut pairs = Vec::new();
-    for (key, value) in table.iter().filter(|(k, _)| k.as_str() != "kind") {
-        let text = match value {
-            toml::Value::Float(v) => format!("{v:e}"),
-            toml::Value::Integer(v) => v.to_string(),
-            toml::Value::String(v) => v.clone(),
-            other => {
-                return Err(CliError::Spec(format!(
-                    "fretting-loop: [[inhomogeneity]] {key} = {other}: a number (or x/y for axis)"
-                )))
-            }
-        };
-        let key = if key == "e" { "E" } else { key.as_str() };
-        pairs.push(format!("{key}={text}"));
-    }
-    super::spec::parse_inhomogeneity(&format!("{kind}:{}", pairs.join(",")))
-}
-
-/// (label, pressure along x, shear q_x along x, pressure along y) at one of the points A–D.
-type Profiles = (String, Vec<f64>, Vec<f64>, Vec<f64>);
-
-pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
-    let start = Instant::now();
-    let mut cfg: LoopConfig = super::read_config(args.config.as_deref())?;
-    let composite = match args.case.as_str() {
-        "homogeneous" => false,
-        "composite" => true,
-        other => {
-            return Err(CliError::Spec(format!(
-                "--case '{other}': homogeneous or composite"
-            )))
-        }
-    };
-    if composite {
-        // [LN11]: 4 cells per fibre radius r = 0.13a over the domain (128² at 4.16a).
-        let cell = COMPOSITE_FIBRE_RADIUS / COMPOSITE_CELLS_PER_RADIUS;
-        cfg.grid = (cfg.extent_over_a / cell).round() as usize;
-    }
-    if let Some(g) = args.grid {
-        cfg.grid = g;
-    }
-    for (name, v) in [
-        ("radius", cfg.radius),
-        ("force", cfg.force),
-        ("amplitude", cfg.amplitude),
-        ("shift_step", cfg.shift_step),
-        ("extent_over_a", cfg.extent_over_a),
-        ("friction", cfg.friction),
-    ] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(CliError::Spec(format!(
-                "fretting-loop: {name} must be finite and > 0, got {v}"
-            )));
-        }
-    }
-    if cfg.normal_steps == 0 {
-        return Err(CliError::Spec(
-            "fretting-loop: normal_steps must be ≥ 1".into(),
-        ));
-    }
-    let half = Body::elastic(cfg.e, cfg.nu)?;
-    let e_star = cfg.e / (1.0 - cfg.nu * cfg.nu);
-    let a = (3.0 * cfg.force * cfg.radius / (4.0 * e_star)).cbrt();
-    let grid = SurfaceGrid::square(cfg.grid, cfg.extent_over_a * a)?;
-    halfspace::sam::memory::check_problem(&grid, true, false)?;
-    let geometry: Vec<f64> = (0..grid.len())
-        .map(|k| {
-            let (x, y) = grid.centre(k / grid.n2, k % grid.n2);
-            (x * x + y * y) / (2.0 * cfg.radius)
-        })
-        .collect();
-    let reference_geometry = geometry.clone();
-    let compliance = Compliance::pair(Body::Rigid, half)?;
-    let params = ContactParams {
-        friction: cfg.friction,
-        ..ContactParams::default()
-    };
-    let problem = ContactProblem::new(grid, compliance, geometry, params)?;
-    let mut inhomogeneities = cfg
-        .inhomogeneity
-        .iter()
-        .map(inhomogeneity_from_table)
-        .collect::<Result<Vec<_>, _>>()?;
-    if composite {
-        let layout = match cfg.layout.as_str() {
-            "fibre-centred" => FibreLayout::FibreCentred,
-            "gap-centred" => FibreLayout::GapCentred,
-            other => {
-                return Err(CliError::Spec(format!(
-                    "fretting-loop: layout = '{other}': fibre-centred or gap-centred"
-                )))
-            }
-        };
-        inhomogeneities.extend(composite_fibres(
-            a,
-            0.5 * cfg.extent_over_a * a,
-            layout,
-            cfg.e,
-            cfg.nu,
-            cfg.fibre_e_ratio,
-        )?);
-    }
-    let mut solver = if inhomogeneities.is_empty() {
-        Solver::Plain(Box::new(problem))
-    } else {
-        Solver::Nested(Box::new(InhomogeneousContact::new(
-            problem,
-            cfg.e,
-            cfg.nu,
-            &inhomogeneities,
-            NestedParams::default(),
-        )?))
-    };
-    let mut nested_info = None;
-    if !(args.checkpoint_seconds.is_finite() && args.checkpoint_seconds > 0.0) {
-        return Err(CliError::Spec(format!(
-            "--checkpoint-seconds must be finite and > 0, got {}",
-            args.checkpoint_seconds
-        )));
-    }
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| CliError::Spec(format!("--out {}: {e}", args.out.display())))?;
-    let checkpoint = args.out.join("checkpoint.npz");
-    if checkpoint.exists() && !args.resume {
-        return Err(CliError::Spec(format!(
-            "{} holds an interrupted run: --resume continues it (or remove it to start over)",
-            checkpoint.display()
-        )));
-    }
-    if args.resume && !checkpoint.exists() {
-        return Err(CliError::Spec(format!(
-            "--resume: {} has no checkpoint.npz",
-            args.out.display()
-        )));
-    }
-    let fingerprint = format!("{cfg:?} case={} grid={}", args.case, cfg.grid);
-    // Path: W ramp at D = 0, then D: 0 → +A → −A → +A.
-    let quarter = (cfg.amplitude / cfg.shift_step).round().max(1.0) as usize;
-    let mut path: Vec<(f64, f64)> = (1..=cfg.normal_steps)
-        .map(|i| (cfg.force * i as f64 / cfg.normal_steps as f64, 0.0))
-        .collect();
-    let dd = cfg.amplitude / quarter as f64;
-    for i in 1..=quarter {
-        path.push((cfg.force, i as f64 * dd));
-    }
-    for i in 1..=2 * quarter {
-        path.push((cfg.force, cfg.amplitude - i as f64 * dd));
-    }
-    for i in 1..=2 * quarter {
-        path.push((cfg.force, -cfg.amplitude + i as f64 * dd));
-    }
-    let bar = if std::io::stderr().is_terminal() && !args.json {
-        let bar = indicatif::ProgressBar::new(path.len() as u64);
-        Some(bar)
-    } else {
-        None
-    };
-    let (first, mut history, mut profiles, mut max_transverse_slip) = if args.resume {
-        restore_loop(&checkpoint, &fingerprint, &mut solver)?
-    } else {
-        (0, Vec::new(), Vec::new(), 0.0f64)
-    };
-    let n = cfg.grid;
-    let mid = n / 2;
-    // Points A–D ([LN11] Fig. 6 style): end of normal loading; D = +A; D = 0 on unloading; D = −A.
-    let marks = [
-        cfg.normal_steps,
-        cfg.normal_steps + quarter,
-        cfg.normal_steps + 2 * quarter,
-        cfg.normal_steps + 3 * quarter,
-    ];
-    if let Some(bar) = &bar {
-        bar.set_position(first as u64);
-    }
-    let every = std::time::Duration::from_secs_f64(args.checkpoint_seconds);
-    let mut last_checkpoint = Instant::now();
-    for (k, (w, d)) in path.iter().enumerate().skip(first) {
-        let info = match solver.increment(NormalLoad::Force(*w), [*d, 0.0], &mut nested_info) {
-            Ok(info) => info,
-            Err(e) => {
-                // Keep what was done: the checkpoint holds the last converged increment.
-                let rec = loop_checkpoint(
-                    &fingerprint,
-                    k,
-                    &history,
-                    &profiles,
-                    max_transverse_slip,
-                    &solver,
-                );
-                let _ = write_record(&checkpoint, &rec);
-                return Err(e);
-            }
-        };
-        history.push(LoopRow::of(*w, *d, &info));
-        if let Some(bar) = &bar {
-            bar.inc(1);
-        }
-        let s = solver.problem().state();
-        max_transverse_slip = s.slip[1]
-            .iter()
-            .fold(max_transverse_slip, |m, v| m.max(v.abs()));
-        if let Some(m) = marks.iter().position(|&s| s == k + 1) {
-            let label = ["A", "B", "C", "D"][m].to_string();
-            let along_x: Vec<f64> = (0..n).map(|i| s.pressure[i * n + mid]).collect();
-            let shear_x: Vec<f64> = (0..n).map(|i| s.shear[0][i * n + mid]).collect();
-            let along_y: Vec<f64> = (0..n).map(|j| s.pressure[mid * n + j]).collect();
-            profiles.push((label, along_x, shear_x, along_y));
-        }
-        let stop = args.stop_after.is_some_and(|m| k + 1 >= m) && k + 1 < path.len();
-        if stop || last_checkpoint.elapsed() >= every {
-            let rec = loop_checkpoint(
-                &fingerprint,
-                k + 1,
-                &history,
-                &profiles,
-                max_transverse_slip,
-                &solver,
-            );
-            write_record(&checkpoint, &rec)?;
-            last_checkpoint = Instant::now();
-        }
-        if stop {
-            if let Some(bar) = &bar {
-                bar.finish_and_clear();
-            }
-            return Ok(());
-        }
-    }
-    if let Some(bar) = &bar {
-        bar.finish_and_clear();
-    }
-    // With inhomogeneities: the homogeneous loop of the same configuration, for the comparison
-    // ([LN11] Figs. 5–10 show both); cheap beside the nested loop.
-    let reference = if matches!(solver, Solver::Nested(_)) {
-        let mut plain = ContactProblem::new(grid, compliance, reference_geometry, params)?;
-        let (mut rows, mut prof) = (Vec::new(), Vec::new());
-        for (k, (w, d)) in path.iter().enumerate() {
-            let info = plain.increment(NormalLoad::Force(*w), [*d, 0.0])?;
-            rows.push(LoopRow::of(*w, *d, &info));
-            if let Some(m) = marks.iter().position(|&s| s == k + 1) {
-                let s = plain.state();
-                prof.push((
-                    ["A", "B", "C", "D"][m].to_string(),
-                    (0..n).map(|i| s.pressure[i * n + mid]).collect(),
-                    (0..n).map(|i| s.shear[0][i * n + mid]).collect(),
-                    (0..n).map(|j| s.pressure[mid * n + j]).collect(),
-                ));
-            }
-        }
-        Some((rows, prof))
-    } else {
-        None
-    };
-    let mu_w = cfg.friction * cfg.force;
-    let cycle_of = |rows: &[LoopRow]| -> Vec<(f64, f64)> {
-        rows[cfg.normal_steps + quarter - 1..]
-            .iter()
-            .map(|r| (r.d, r.q[0]))
-            .collect()
-    };
-    let energy_of = |cycle: &[(f64, f64)]| -> f64 {
-        cycle
-            .windows(2)
-            .map(|w| 0.5 * (w[0].1 + w[1].1) * (w[1].0 - w[0].0))
-            .sum::<f64>()
-            .abs()
-    };
-    let cycle = cycle_of(&history);
-    let energy = energy_of(&cycle);
-    let end_normal = &history[cfg.normal_steps - 1];
-    let p0 = 3.0 * cfg.force / (2.0 * std::f64::consts::PI * a * a);
-    let seconds = start.elapsed().as_secs_f64();
-    let rec = {
-        let mut r = rows_record(Record::default(), &history)
-            .array("x", (0..n).map(|i| grid.centre(i, mid).0).collect());
-        for (label, px, qx, py) in &profiles {
-            r = r
-                .array(&format!("pressure_x_{label}"), px.clone())
-                .array(&format!("shear_x_{label}"), qx.clone())
-                .array(&format!("pressure_y_{label}"), py.clone());
-        }
-        r.attr("radius", AttrValue::Float(cfg.radius))
-            .attr("E", AttrValue::Float(cfg.e))
-            .attr("nu", AttrValue::Float(cfg.nu))
-            .attr("friction", AttrValue::Float(cfg.friction))
-            .attr("force", AttrValue::Float(cfg.force))
-            .attr("grid", AttrValue::Int(cfg.grid as i64))
-            .attr("extent", AttrValue::Float(grid.half1 * 2.0 * n as f64))
-            .attr("dissipated_energy", AttrValue::Float(energy))
-            .attr(
-                "points",
-                AttrValue::Text(
-                    "A: end of normal loading; B: D = +A; C: D = 0 unloading; D: D = −A".into(),
-                ),
-            )
-    };
-    write_record(&args.out.join("results.h5"), &rec)?;
-    // Complete: the checkpoint is no longer needed (a re-run into the same directory starts over).
-    if checkpoint.exists() {
-        std::fs::remove_file(&checkpoint)
-            .map_err(|e| CliError::Spec(format!("removing {}: {e}", checkpoint.display())))?;
-    }
-    let mut loop_curve: Vec<(String, Vec<(f64, f64)>)> = vec![(
-        if reference.is_some() {
-            "with the inhomogeneities".into()
-        } else {
-            "Q / μW against δx (μm)".into()
-        },
-        cycle.iter().map(|(d, q)| (d * 1e6, q / mu_w)).collect(),
-    )];
-    if let Some((rows, _)) = &reference {
-        loop_curve.push((
-            "homogeneous".into(),
-            cycle_of(rows)
-                .iter()
-                .map(|(d, q)| (d * 1e6, q / mu_w))
-                .collect(),
-        ));
-    }
-    for ext in ["svg", "png"] {
-        let p = args.out.join(format!("fretting_loop.{ext}"));
-        plot::curves(
-            &p,
-            "Fretting loop (SAM, coupled): Q/μW against δx",
-            "δx (μm)",
-            ("Q / μW", &loop_curve),
-            ("", &[]),
-            false,
-        )
-        .map_err(|e| CliError::Plot(format!("{}: {e}", p.display())))?;
-    }
-    let x: Vec<f64> = (0..n).map(|i| grid.centre(i, mid).0 / a).collect();
-    let mut pressure: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
-    let mut shear: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
-    let sets = std::iter::once(("", &profiles))
-        .chain(reference.as_ref().map(|(_, prof)| (" (homogeneous)", prof)));
-    for (suffix, prof) in sets {
-        for (l, px, qx, _) in prof.iter() {
-            pressure.push((
-                format!("p along x, {l}{suffix}"),
-                x.iter().copied().zip(px.iter().map(|v| v / p0)).collect(),
-            ));
-            shear.push((
-                format!("q_x along x, {l}{suffix}"),
-                x.iter()
-                    .copied()
-                    .zip(qx.iter().map(|v| v / (cfg.friction * p0)))
-                    .collect(),
-            ));
-        }
-    }
-    let p = args.out.join("fretting_profiles.svg");
-    plot::curves(
-        &p,
-        "Pressure p/p0 and shear q_x/(μ p0) along x at A–D",
-        "x / a",
-        ("p / p0", &pressure),
-        ("q_x / (μ p0)", &shear),
-        false,
-    )
-    .map_err(|e| CliError::Plot(format!("{}: {e}", p.display())))?;
-    // Ratchet: Q/μW at the loop's end minus at its start, both at δx = +A.
-    let ratchet =
-        (history[history.len() - 1].q[0] - history[cfg.normal_steps + quarter - 1].q[0]) / mu_w;
-    let mut summary = json!({
-        "contact_area_over_hertz_end_of_normal_loading":
-            end_normal.contact_area / (std::f64::consts::PI * a * a),
-        "max_transverse_slip": max_transverse_slip,
-        "ratchet": ratchet,
-        "max_pressure_over_p0_end_of_normal_loading": end_normal.max_pressure / p0,
-        "approach_over_hertz_end_of_normal_loading": end_normal.approach / (a * a / cfg.radius),
-        "tangential_force_over_mu_w_at_amplitude": history[cfg.normal_steps + quarter - 1].q[0] / mu_w,
-        "dissipated_energy": energy,
-        "increments": history.len(),
-        "grid": cfg.grid,
-        "seconds": seconds,
-        "out": args.out.display().to_string(),
-    });
-    if let Solver::Nested(n) = &solver {
-        let extra = summary.as_object_mut().expect("object");
-        extra.insert("inclusion_cells".into(), json!(n.inclusions().len()));
-        extra.insert("layers".into(), json!(n.inclusions().layers.len()));
-        extra.insert("case".into(), json!(args.case));
-        if let Some((rows, _)) = &reference {
-            let end = &rows[cfg.normal_steps - 1];
-            let ref_energy = energy_of(&cycle_of(rows));
-            extra.insert(
-                "homogeneous".into(),
-                json!({
-                    "max_pressure_over_p0_end_of_normal_loading": end.max_pressure / p0,
-                    "contact_area_over_hertz_end_of_normal_loading":
-                        end.contact_area / (std::f64::consts::PI * a * a),
-                    "dissipated_energy": ref_energy,
-                    "ratchet": (rows[rows.len() - 1].q[0] - rows[cfg.normal_steps + quarter - 1].q[0]) / mu_w,
-                }),
-            );
-            extra.insert(
-                "max_pressure_ratio_to_homogeneous".into(),
-                json!(end_normal.max_pressure / end.max_pressure),
-            );
-            extra.insert(
-                "contact_area_ratio_to_homogeneous".into(),
-                json!(end_normal.contact_area / end.contact_area),
-            );
-            extra.insert(
-                "dissipated_energy_ratio_to_homogeneous".into(),
-                json!(energy / ref_energy),
-            );
-        }
-    }
-    if args.json {
-        println!("{summary}");
-    } else {
-        println!("{summary:#}");
-    }
-    Ok(())
 }

@@ -3,6 +3,7 @@
 mod axisym;
 mod contact3d;
 mod fretting;
+mod fretting_loop;
 mod plot;
 mod spec;
 mod study;
@@ -28,7 +29,7 @@ enum Command {
     /// 3D semi-analytical contact (DC-FFT, Polonsky–Keer, stick–slip with Coulomb friction).
     Contact3d(contact3d::Contact3dArgs),
     /// The fretting loop of Leroux & Nélias (2011): normal ramp, then cyclic tangential shift.
-    FrettingLoop(contact3d::FrettingLoopArgs),
+    FrettingLoop(fretting_loop::FrettingLoopArgs),
     /// Convergence studies against closed forms (the figures of docs/).
     Study(study::StudyArgs),
 }
@@ -44,13 +45,25 @@ pub enum CliError {
     Mdr(#[from] halfspace::mdr::MdrError),
     /// The 3D contact solvers refused the input or did not converge.
     #[error(transparent)]
-    Sam(#[from] halfspace::sam::SamError),
+    Sam(halfspace::sam::SamError),
     /// Reading or writing data failed.
     #[error(transparent)]
     Data(#[from] halfspace::data::DataError),
     /// Plotting failed.
     #[error("plot: {0}")]
     Plot(String),
+}
+
+/// The library's errors name no flag; the CLI adds the flag that fixes the input.
+impl From<halfspace::sam::SamError> for CliError {
+    fn from(e: halfspace::sam::SamError) -> Self {
+        match e {
+            halfspace::sam::SamError::ContactAtDomainEdge => {
+                CliError::Spec(format!("{e}: enlarge --extent"))
+            }
+            other => CliError::Sam(other),
+        }
+    }
 }
 
 /// A TOML config (unknown keys refused by the type), or the defaults without one.
@@ -80,7 +93,7 @@ pub fn run() -> ExitCode {
         Command::Study(args) => study::run(args),
         Command::FrettingWear(args) => fretting::run(args),
         Command::Contact3d(args) => contact3d::run(args),
-        Command::FrettingLoop(args) => contact3d::run_loop(args),
+        Command::FrettingLoop(args) => fretting_loop::run_loop(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

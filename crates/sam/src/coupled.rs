@@ -587,111 +587,125 @@ impl ContactProblem {
                 limit: mu * w_force,
             });
         }
-        let eval = |this: &mut Self, d: f64| -> Result<(f64, IncrementInfo), SamError> {
-            this.state.pressure.copy_from_slice(&warm_p);
-            this.state.shear[0].copy_from_slice(&warm_q[0]);
-            this.state.shear[1].copy_from_slice(&warm_q[1]);
-            let info = this.solve(load, [d, start_shift[1]])?;
+        let tol_q = 1e-6 * mu * w_force;
+        let mut eval = |d: f64| -> Result<(f64, IncrementInfo), SamError> {
+            self.state.pressure.copy_from_slice(&warm_p);
+            self.state.shear[0].copy_from_slice(&warm_q[0]);
+            self.state.shear[1].copy_from_slice(&warm_q[1]);
+            let info = self.solve(load, [d, start_shift[1]])?;
             Ok((info.tangential_force[0] - force, info))
         };
-        // Bracket: from the previous shift, step by `bracket` toward the target until the sign flips.
-        let start = start_shift[0];
-        let (mut a, (mut fa, _)) = (start, eval(self, start)?);
-        let mut last;
-        let dir = if fa < 0.0 { 1.0 } else { -1.0 };
-        let mut step = bracket.abs().max(f64::MIN_POSITIVE);
-        let (mut b, (mut fb, mut info_b)) = (start + dir * step, eval(self, start + dir * step)?);
-        last = b;
-        let mut expansions = 0;
-        while fa * fb > 0.0 {
-            expansions += 1;
-            if expansions > 60 {
-                return Err(SamError::NoConvergence {
-                    solver: "tangential force bracket",
-                    iterations: expansions,
-                    residual: fb,
-                });
-            }
-            a = b;
-            fa = fb;
-            step *= 2.0;
-            b = a + dir * step;
-            let r = eval(self, b)?;
-            last = b;
-            fb = r.0;
-            info_b = r.1;
+        let (info, d) = shift_for_force(start_shift[0], bracket, tol_q, &mut eval)?;
+        self.commit();
+        Ok((info, d))
+    }
+}
+
+/// The shift `D₁` at which a monotone `D₁ ↦ Q₁(D₁)` reaches a target: `eval(D₁)` returns
+/// `(Q₁(D₁) − target, info)`; bracketed from `start` in steps of `bracket` (doubling) toward the
+/// target, then Brent's method to `|Q₁ − target| ≤ tol_q`. The last evaluation is at the returned
+/// shift (so the caller's state is that solution). One search for every force-controlled
+/// increment (with and without inhomogeneities).
+pub fn shift_for_force<I>(
+    start: f64,
+    bracket: f64,
+    tol_q: f64,
+    eval: &mut impl FnMut(f64) -> Result<(f64, I), SamError>,
+) -> Result<(I, f64), SamError> {
+    // Bracket: from the previous shift, step by `bracket` toward the target until the sign flips.
+    let (mut a, (mut fa, _)) = (start, eval(start)?);
+    let mut last;
+    let dir = if fa < 0.0 { 1.0 } else { -1.0 };
+    let mut step = bracket.abs().max(f64::MIN_POSITIVE);
+    let (mut b, (mut fb, mut info_b)) = (start + dir * step, eval(start + dir * step)?);
+    last = b;
+    let mut expansions = 0;
+    while fa * fb > 0.0 {
+        expansions += 1;
+        if expansions > 60 {
+            return Err(SamError::NoConvergence {
+                solver: "tangential force bracket",
+                iterations: expansions,
+                residual: fb,
+            });
         }
-        // Brent's method.
-        let (mut c, mut fc) = (a, fa);
-        let mut d = b - a;
-        let mut e = d;
-        let tol_q = 1e-6 * mu * w_force;
-        for _ in 0..100 {
-            if fb.abs() <= tol_q {
-                break;
+        a = b;
+        fa = fb;
+        step *= 2.0;
+        b = a + dir * step;
+        let r = eval(b)?;
+        last = b;
+        fb = r.0;
+        info_b = r.1;
+    }
+    // Brent's method.
+    let (mut c, mut fc) = (a, fa);
+    let mut d = b - a;
+    let mut e = d;
+    for _ in 0..100 {
+        if fb.abs() <= tol_q {
+            break;
+        }
+        if (fc > 0.0) == (fb > 0.0) {
+            c = a;
+            fc = fa;
+            d = b - a;
+            e = d;
+        }
+        if fc.abs() < fb.abs() {
+            a = b;
+            b = c;
+            c = a;
+            fa = fb;
+            fb = fc;
+            fc = fa;
+        }
+        let tol = 2.0 * f64::EPSILON * b.abs() + 1e-15;
+        let m = 0.5 * (c - b);
+        if m.abs() <= tol {
+            break;
+        }
+        if e.abs() >= tol && fa.abs() > fb.abs() {
+            let s = fb / fa;
+            let (mut p, mut q);
+            if a == c {
+                p = 2.0 * m * s;
+                q = 1.0 - s;
+            } else {
+                let qq = fa / fc;
+                let r = fb / fc;
+                p = s * (2.0 * m * qq * (qq - r) - (b - a) * (r - 1.0));
+                q = (qq - 1.0) * (r - 1.0) * (s - 1.0);
             }
-            if (fc > 0.0) == (fb > 0.0) {
-                c = a;
-                fc = fa;
-                d = b - a;
+            if p > 0.0 {
+                q = -q;
+            } else {
+                p = -p;
+            }
+            if 2.0 * p < (3.0 * m * q - (tol * q).abs()).min((e * q).abs()) {
                 e = d;
-            }
-            if fc.abs() < fb.abs() {
-                a = b;
-                b = c;
-                c = a;
-                fa = fb;
-                fb = fc;
-                fc = fa;
-            }
-            let tol = 2.0 * f64::EPSILON * b.abs() + 1e-15;
-            let m = 0.5 * (c - b);
-            if m.abs() <= tol {
-                break;
-            }
-            if e.abs() >= tol && fa.abs() > fb.abs() {
-                let s = fb / fa;
-                let (mut p, mut q);
-                if a == c {
-                    p = 2.0 * m * s;
-                    q = 1.0 - s;
-                } else {
-                    let qq = fa / fc;
-                    let r = fb / fc;
-                    p = s * (2.0 * m * qq * (qq - r) - (b - a) * (r - 1.0));
-                    q = (qq - 1.0) * (r - 1.0) * (s - 1.0);
-                }
-                if p > 0.0 {
-                    q = -q;
-                } else {
-                    p = -p;
-                }
-                if 2.0 * p < (3.0 * m * q - (tol * q).abs()).min((e * q).abs()) {
-                    e = d;
-                    d = p / q;
-                } else {
-                    d = m;
-                    e = m;
-                }
+                d = p / q;
             } else {
                 d = m;
                 e = m;
             }
-            a = b;
-            fa = fb;
-            b += if d.abs() > tol { d } else { tol * m.signum() };
-            let r = eval(self, b)?;
-            last = b;
-            fb = r.0;
-            info_b = r.1;
+        } else {
+            d = m;
+            e = m;
         }
-        // The state must be the solution at the returned shift (Brent swaps b and c).
-        if last != b {
-            info_b = eval(self, b)?.1;
-        }
-        self.commit();
-        Ok((info_b, b))
+        a = b;
+        fa = fb;
+        b += if d.abs() > tol { d } else { tol * m.signum() };
+        let r = eval(b)?;
+        last = b;
+        fb = r.0;
+        info_b = r.1;
     }
+    // The state must be the solution at the returned shift (Brent swaps b and c).
+    if last != b {
+        info_b = eval(b)?.1;
+    }
+    Ok((info_b, b))
 }
 
 /// The Mindlin–Deresiewicz closed forms for a Hertzian contact (spec §7.3), uncoupled.

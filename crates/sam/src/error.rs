@@ -25,7 +25,7 @@ pub enum SamError {
         residual: f64,
     },
     /// The contact reaches the edge of the computational domain.
-    #[error("the contact reaches the edge of the domain (pressure on the boundary cells); enlarge --extent")]
+    #[error("the contact reaches the edge of the domain (pressure on the boundary cells); enlarge the domain (its extent)")]
     ContactAtDomainEdge,
     /// No contact at all (the indenter does not touch).
     #[error("no contact: the indenter does not reach the surface at this load")]
@@ -40,6 +40,10 @@ pub enum SamError {
         /// μ W.
         limit: f64,
     },
+    /// An input that does not fit the request (a checkpoint of another configuration, the metrics
+    /// of an unfinished loop).
+    #[error("{0}")]
+    InvalidInput(String),
     /// Grid shape or array length problems.
     #[error(transparent)]
     Numerics(#[from] NumericsError),

@@ -16,6 +16,7 @@ pub mod analytic;
 pub mod coupled;
 pub mod eim;
 mod error;
+pub mod fretting_loop;
 pub mod grid;
 pub mod influence;
 pub mod kernels;

@@ -10,7 +10,7 @@
 //!
 //! The friction history is committed only when the increment has converged (spec §8.11).
 
-use crate::coupled::{ContactProblem, IncrementInfo};
+use crate::coupled::{shift_for_force, ContactProblem, IncrementInfo};
 use crate::eim::{
     Backend, EimFields, EimInfo, EimParams, EimSystem, InclusionSet, Inhomogeneity, Space,
 };
@@ -205,6 +205,53 @@ impl InhomogeneousContact {
     /// committed at convergence.
     pub fn increment(&mut self, load: NormalLoad, shift: [f64; 2]) -> Result<NestedInfo, SamError> {
         self.problem.begin();
+        let info = self.solve(load, shift)?;
+        self.problem.commit();
+        Ok(info)
+    }
+
+    /// One increment to normal load `load` and a prescribed tangential force `Q₁` (`Q₂` free at
+    /// `D₂ = 0`): the shift `D₁` by [`shift_for_force`], each evaluation the nested loop of
+    /// [`InhomogeneousContact::increment`] from the same history and the same warm start
+    /// (contact state, eigenstrains, eigen-displacements); the history committed once, at the
+    /// found shift. `|Q₁| ≥ μW` is gross slip and refused. Returns the report and `D₁`.
+    pub fn increment_with_force(
+        &mut self,
+        load: NormalLoad,
+        force: f64,
+        bracket: f64,
+    ) -> Result<(NestedInfo, f64), SamError> {
+        let mu = self.problem.friction();
+        let NormalLoad::Force(w) = load else {
+            return Err(SamError::InvalidInput(
+                "a prescribed tangential force with inhomogeneities needs a prescribed normal force"
+                    .into(),
+            ));
+        };
+        if !force.is_finite() || force.abs() >= mu * w {
+            return Err(SamError::GrossSlip {
+                force: force.abs(),
+                limit: mu * w,
+            });
+        }
+        self.problem.begin();
+        let warm_state = self.problem.state().clone();
+        let warm_eps = self.eps_star.clone();
+        let warm_u = self.u_eig.clone();
+        let start = warm_state.shift;
+        let mut eval = |d: f64| -> Result<(f64, NestedInfo), SamError> {
+            self.problem.restore_state(&warm_state)?;
+            self.restore(&warm_eps, [&warm_u[0], &warm_u[1], &warm_u[2]])?;
+            let info = self.solve(load, [d, start[1]])?;
+            Ok((info.contact.tangential_force[0] - force, info))
+        };
+        let (info, d) = shift_for_force(start[0], bracket, 1e-6 * mu * w, &mut eval)?;
+        self.problem.commit();
+        Ok((info, d))
+    }
+
+    /// The nested loop of one increment after `problem.begin()`, without committing.
+    fn solve(&mut self, load: NormalLoad, shift: [f64; 2]) -> Result<NestedInfo, SamError> {
         self.anderson.reset();
         let mut eim_iterations = 0;
         let mut work = ContactWork::default();
@@ -295,7 +342,6 @@ impl InhomogeneousContact {
             if change < self.params.tolerance && slack == 1.0 {
                 // The state is the contact solve with the previous u_eig, which agrees with the
                 // new one to `tol`.
-                self.problem.commit();
                 return Ok(NestedInfo {
                     contact,
                     outer_iterations: outer,

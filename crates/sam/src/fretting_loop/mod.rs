@@ -1,0 +1,23 @@
+//! The fretting loop of [LN11] (Leroux & Nélias 2011, §3–4) as a library driver: a rigid sphere on a
+//! half-space (with or without inhomogeneities), the normal load ramped in steps, then the rigid
+//! shift `δx` cycled `0 → +A → −A → +A`, each increment the coupled stick–slip contact (spec §4.5)
+//! or, with inhomogeneities, the nested contact ↔ EIM loop (spec §6.2).
+//!
+//! * [`LoopCase`]: the configuration (the paper's constants by default; [`LoopCase::composite`] for
+//!   its fibre case) and [`LoadPath`], the increments and the points A–D.
+//! * [`ContactSolver`]: the plain or nested solver behind one interface (also used by one-off
+//!   contacts).
+//! * [`FrettingLoop`]: the loop, increment by increment ([`FrettingLoop::step`]) or to the end with
+//!   an observer ([`FrettingLoop::run`]); the rows of every increment, the fields at A–D
+//!   ([`PointFields`]), a [`LoopSnapshot`] to resume bit for bit, and the [`LoopMetrics`]
+//!   (dissipated energy, ratchet, regime).
+
+mod case;
+mod metrics;
+mod run;
+mod solver;
+
+pub use case::{LoadPath, LoopCase, POINT_LABELS};
+pub use metrics::{FrettingRegime, LoopMetrics};
+pub use run::{FrettingLoop, LoopRow, LoopSeconds, LoopSnapshot, PointFields};
+pub use solver::ContactSolver;

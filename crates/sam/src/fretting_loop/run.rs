@@ -1,0 +1,407 @@
+//! The fretting loop, increment by increment.
+
+use std::ops::ControlFlow;
+use std::time::Instant;
+
+use super::case::{LoadPath, LoopCase, POINT_LABELS};
+use super::metrics::LoopMetrics;
+use super::solver::ContactSolver;
+use crate::coupled::{ContactParams, ContactProblem, ContactState, IncrementInfo};
+use crate::influence::{Body, Compliance};
+use crate::nested::{NestedInfo, NestedParams};
+use crate::normal::NormalLoad;
+use crate::tangential::is_stick;
+use crate::{SamError, SurfaceGrid};
+
+/// One increment of the loop (deterministic: equal on a resumed and an uninterrupted run).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LoopRow {
+    /// Normal force W (N).
+    pub w: f64,
+    /// Shift δx (m).
+    pub d: f64,
+    /// Tangential force `(Q₁, Q₂)` (N).
+    pub q: [f64; 2],
+    /// Largest pressure (Pa).
+    pub max_pressure: f64,
+    /// Contact area (m²).
+    pub contact_area: f64,
+    /// Stick area (m²).
+    pub stick_area: f64,
+    /// Panagiotopoulos alternations (of the last contact solve).
+    pub alternations: usize,
+    /// Rigid approach δ (m).
+    pub approach: f64,
+    /// Outer contact ↔ EIM passes (0 without inhomogeneities).
+    pub outer_iterations: usize,
+    /// EIM operator applications summed over the outer passes (0 without inhomogeneities).
+    pub eim_iterations: usize,
+}
+
+impl LoopRow {
+    /// Names of [`LoopRow::values`], as stored in the results and checkpoints.
+    pub const FIELDS: [&'static str; 11] = [
+        "normal_force",
+        "shift_x",
+        "tangential_force",
+        "tangential_force_y",
+        "max_pressure",
+        "contact_area",
+        "stick_area",
+        "alternations",
+        "approach",
+        "outer_iterations",
+        "eim_iterations",
+    ];
+
+    fn of(w: f64, d: f64, info: &IncrementInfo, nested: Option<&NestedInfo>) -> Self {
+        Self {
+            w,
+            d,
+            q: info.tangential_force,
+            max_pressure: info.max_pressure,
+            contact_area: info.contact_area,
+            stick_area: info.stick_area,
+            alternations: info.alternations,
+            approach: info.normal.approach,
+            outer_iterations: nested.map_or(0, |n| n.outer_iterations),
+            eim_iterations: nested.map_or(0, |n| n.eim_iterations),
+        }
+    }
+
+    /// The row as numbers in the order of [`LoopRow::FIELDS`].
+    pub fn values(&self) -> [f64; 11] {
+        [
+            self.w,
+            self.d,
+            self.q[0],
+            self.q[1],
+            self.max_pressure,
+            self.contact_area,
+            self.stick_area,
+            self.alternations as f64,
+            self.approach,
+            self.outer_iterations as f64,
+            self.eim_iterations as f64,
+        ]
+    }
+
+    /// The inverse of [`LoopRow::values`].
+    pub fn from_values(v: [f64; 11]) -> Self {
+        Self {
+            w: v[0],
+            d: v[1],
+            q: [v[2], v[3]],
+            max_pressure: v[4],
+            contact_area: v[5],
+            stick_area: v[6],
+            alternations: v[7] as usize,
+            approach: v[8],
+            outer_iterations: v[9] as usize,
+            eim_iterations: v[10] as usize,
+        }
+    }
+}
+
+/// Wall time of the loop by part (s); not deterministic, so not part of the results' arrays.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct LoopSeconds {
+    /// Whole increments.
+    pub increments: f64,
+    /// Contact solves (inside the outer loop with inhomogeneities).
+    pub contact: f64,
+    /// Applied strains of the tractions at the inclusion layers.
+    pub traction_strain: f64,
+    /// EIM solves.
+    pub eim: f64,
+    /// Disturbance fields and eigen-displacements.
+    pub disturbance: f64,
+    /// Von Mises fields at the points A–D.
+    pub subsurface: f64,
+}
+
+/// The surface fields (and the von Mises field below) at one of the points A–D, each `N₁N₂`
+/// row-major (x index slow).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PointFields {
+    /// "A" … "D".
+    pub label: &'static str,
+    /// Increments done at this point.
+    pub increment: usize,
+    /// Pressure p.
+    pub pressure: Vec<f64>,
+    /// Shear `(q₁, q₂)`.
+    pub shear: [Vec<f64>; 2],
+    /// Slip of the last increment `(s₁, s₂)`.
+    pub slip: [Vec<f64>; 2],
+    /// 1 where the cell sticks, 0 elsewhere.
+    pub stick: Vec<f64>,
+    /// Surface eigen-displacements `(u₁, u₂, u₃)^eig` (with inhomogeneities).
+    pub eigen_displacement: Option<[Vec<f64>; 3]>,
+    /// Von Mises stress on the layers below (`layers · N₁N₂`, layer slow), with
+    /// [`LoopCase::subsurface_depth`].
+    pub von_mises: Option<Vec<f64>>,
+}
+
+/// Everything a loop needs to continue bit for bit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoopSnapshot {
+    /// The configuration it was made with ([`FrettingLoop::fingerprint`]).
+    pub fingerprint: String,
+    /// Rows done.
+    pub rows: Vec<LoopRow>,
+    /// Points A–D reached.
+    pub points: Vec<PointFields>,
+    /// Largest `|s₂|` so far.
+    pub max_transverse_slip: f64,
+    /// The contact state.
+    pub state: ContactState,
+    /// With inhomogeneities: the eigenstrains (6 per inclusion cell) and eigen-displacements.
+    pub eigen: Option<(Vec<f64>, [Vec<f64>; 3])>,
+}
+
+/// The fretting loop of a [`LoopCase`] (module doc of [`crate::fretting_loop`]).
+pub struct FrettingLoop {
+    case: LoopCase,
+    path: LoadPath,
+    solver: ContactSolver,
+    rows: Vec<LoopRow>,
+    points: Vec<PointFields>,
+    max_transverse_slip: f64,
+    seconds: LoopSeconds,
+}
+
+impl FrettingLoop {
+    /// Plans the loop of `case` with the default solver parameters; refuses up front a case that
+    /// does not fit in memory.
+    pub fn new(case: LoopCase) -> Result<Self, SamError> {
+        Self::with_params(case, NestedParams::default())
+    }
+
+    /// [`FrettingLoop::new`] with the outer-loop parameters `nested` (used with inhomogeneities).
+    pub fn with_params(case: LoopCase, nested: NestedParams) -> Result<Self, SamError> {
+        case.validate()?;
+        let a = case.hertz_radius();
+        let grid = SurfaceGrid::square(case.grid, case.extent_over_a * a)?;
+        crate::memory::check_problem(&grid, true, false)?;
+        let geometry = (0..grid.len())
+            .map(|k| {
+                let (x, y) = grid.centre(k / grid.n2, k % grid.n2);
+                (x * x + y * y) / (2.0 * case.radius)
+            })
+            .collect();
+        let compliance = Compliance::pair(Body::Rigid, Body::elastic(case.e, case.nu)?)?;
+        let params = ContactParams {
+            friction: case.friction,
+            ..ContactParams::default()
+        };
+        let problem = ContactProblem::new(grid, compliance, geometry, params)?;
+        let solver = ContactSolver::new(problem, case.e, case.nu, &case.inhomogeneities, nested)?;
+        Ok(Self {
+            path: case.path(),
+            case,
+            solver,
+            rows: Vec::new(),
+            points: Vec::new(),
+            max_transverse_slip: 0.0,
+            seconds: LoopSeconds::default(),
+        })
+    }
+
+    /// A loop continued from `snapshot` (made by [`FrettingLoop::snapshot`] of the same case):
+    /// the next increment repeats the uninterrupted loop's bit for bit.
+    pub fn resume(case: LoopCase, snapshot: LoopSnapshot) -> Result<Self, SamError> {
+        let mut lp = Self::new(case)?;
+        if snapshot.fingerprint != lp.fingerprint() {
+            return Err(SamError::InvalidInput(
+                "the checkpoint was made with another configuration".into(),
+            ));
+        }
+        if snapshot.rows.len() > lp.path.len() {
+            return Err(SamError::InvalidInput(format!(
+                "the checkpoint holds {} increments, the path has {}",
+                snapshot.rows.len(),
+                lp.path.len()
+            )));
+        }
+        lp.solver.problem_mut().restore_state(&snapshot.state)?;
+        match (&mut lp.solver, &snapshot.eigen) {
+            (ContactSolver::Nested(n), Some((eps, u))) => n.restore(eps, [&u[0], &u[1], &u[2]])?,
+            (ContactSolver::Plain(_), None) => {}
+            _ => {
+                return Err(SamError::InvalidInput(
+                    "the checkpoint's eigenstrains do not match the inhomogeneities".into(),
+                ))
+            }
+        }
+        lp.rows = snapshot.rows;
+        lp.points = snapshot.points;
+        lp.max_transverse_slip = snapshot.max_transverse_slip;
+        Ok(lp)
+    }
+
+    /// The configuration as text (a checkpoint is resumed only with the same one).
+    pub fn fingerprint(&self) -> String {
+        format!("{:?}", self.case)
+    }
+
+    /// The case.
+    pub fn case(&self) -> &LoopCase {
+        &self.case
+    }
+
+    /// The load path.
+    pub fn path(&self) -> &LoadPath {
+        &self.path
+    }
+
+    /// The solver (its grid, state, inclusions).
+    pub fn solver(&self) -> &ContactSolver {
+        &self.solver
+    }
+
+    /// The rows of the increments done.
+    pub fn rows(&self) -> &[LoopRow] {
+        &self.rows
+    }
+
+    /// The points A–D reached so far.
+    pub fn points(&self) -> &[PointFields] {
+        &self.points
+    }
+
+    /// Largest `|s₂|` (transverse slip, from the normal–tangential coupling) so far (m).
+    pub fn max_transverse_slip(&self) -> f64 {
+        self.max_transverse_slip
+    }
+
+    /// Wall time by part since this object was made.
+    pub fn seconds(&self) -> LoopSeconds {
+        self.seconds
+    }
+
+    /// Whether every increment is done.
+    pub fn is_done(&self) -> bool {
+        self.rows.len() >= self.path.len()
+    }
+
+    /// The next increment: its row, or `None` when the loop is done.
+    pub fn step(&mut self) -> Result<Option<&LoopRow>, SamError> {
+        let k = self.rows.len();
+        let Some(&(w, shift)) = self.path.increments.get(k) else {
+            return Ok(None);
+        };
+        let start = Instant::now();
+        let (info, nested) = self.solver.increment(NormalLoad::Force(w), shift)?;
+        self.seconds.increments += start.elapsed().as_secs_f64();
+        match &nested {
+            Some(n) => {
+                self.seconds.contact += n.seconds.contact;
+                self.seconds.traction_strain += n.seconds.traction_strain;
+                self.seconds.eim += n.seconds.eim;
+                self.seconds.disturbance += n.seconds.disturbance;
+            }
+            None => self.seconds.contact += start.elapsed().as_secs_f64(),
+        }
+        self.rows
+            .push(LoopRow::of(w, shift[0], &info, nested.as_ref()));
+        let state = self.solver.problem().state();
+        self.max_transverse_slip = state.slip[1]
+            .iter()
+            .fold(self.max_transverse_slip, |m, v| m.max(v.abs()));
+        if let Some(m) = self.path.marks().iter().position(|&s| s == k + 1) {
+            let fields = self.point_fields(POINT_LABELS[m], k + 1)?;
+            self.points.push(fields);
+        }
+        Ok(self.rows.last())
+    }
+
+    /// Runs to the end, calling `observer` after every increment; the observer stops the loop
+    /// early with `ControlFlow::Break` (the loop can continue later). Returns whether it is done.
+    pub fn run(
+        &mut self,
+        mut observer: impl FnMut(&Self) -> ControlFlow<()>,
+    ) -> Result<bool, SamError> {
+        while self.step()?.is_some() {
+            if observer(self).is_break() {
+                return Ok(self.is_done());
+            }
+        }
+        Ok(true)
+    }
+
+    /// The state to continue from ([`FrettingLoop::resume`]).
+    pub fn snapshot(&self) -> LoopSnapshot {
+        LoopSnapshot {
+            fingerprint: self.fingerprint(),
+            rows: self.rows.clone(),
+            points: self.points.clone(),
+            max_transverse_slip: self.max_transverse_slip,
+            state: self.solver.problem().state().clone(),
+            eigen: self
+                .solver
+                .nested()
+                .map(|n| (n.eigenstrain().to_vec(), n.eigen_displacements().clone())),
+        }
+    }
+
+    /// The loop's metrics ([`LoopMetrics`]); an error before the loop is done.
+    pub fn metrics(&self) -> Result<LoopMetrics, SamError> {
+        if !self.is_done() {
+            return Err(SamError::InvalidInput(format!(
+                "the loop's metrics need all {} increments, {} done",
+                self.path.len(),
+                self.rows.len()
+            )));
+        }
+        Ok(LoopMetrics::of(
+            &self.case,
+            &self.path,
+            &self.rows,
+            self.max_transverse_slip,
+        ))
+    }
+
+    fn point_fields(
+        &mut self,
+        label: &'static str,
+        increment: usize,
+    ) -> Result<PointFields, SamError> {
+        let problem = self.solver.problem();
+        let st = problem.state();
+        let n = problem.grid().len();
+        let mu = problem.friction();
+        let stick = (0..n)
+            .map(|k| {
+                f64::from(u8::from(is_stick(
+                    mu * st.pressure[k],
+                    st.shear[0][k],
+                    st.shear[1][k],
+                )))
+            })
+            .collect();
+        let von_mises = match self.case.subsurface_depth {
+            Some(depth) => {
+                let t = Instant::now();
+                let field = self.solver.subsurface(self.case.e, self.case.nu, depth)?;
+                self.seconds.subsurface += t.elapsed().as_secs_f64();
+                Some(field.von_mises)
+            }
+            None => None,
+        };
+        let st = self.solver.problem().state();
+        Ok(PointFields {
+            label,
+            increment,
+            pressure: st.pressure.clone(),
+            shear: st.shear.clone(),
+            slip: st.slip.clone(),
+            stick,
+            eigen_displacement: self
+                .solver
+                .nested()
+                .map(|n| n.eigen_displacements().clone()),
+            von_mises,
+        })
+    }
+}

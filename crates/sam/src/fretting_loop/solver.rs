@@ -1,0 +1,91 @@
+//! The contact solver with or without inhomogeneities behind one interface.
+
+use crate::coupled::{ContactProblem, IncrementInfo};
+use crate::eim::Inhomogeneity;
+use crate::nested::{InhomogeneousContact, NestedInfo, NestedParams};
+use crate::normal::NormalLoad;
+use crate::subsurface::{subsurface_stress, StressField};
+use crate::SamError;
+
+/// A contact problem on a homogeneous half-space ([`ContactProblem`]) or, with inhomogeneities,
+/// the nested contact ↔ EIM loop ([`InhomogeneousContact`], spec §6.2).
+pub enum ContactSolver {
+    /// No inhomogeneity.
+    Plain(Box<ContactProblem>),
+    /// With inhomogeneities.
+    Nested(Box<InhomogeneousContact>),
+}
+
+impl ContactSolver {
+    /// `problem` alone when `inhomogeneities` is empty, else nested with the EIM in the matrix
+    /// `(e, nu)`.
+    pub fn new(
+        problem: ContactProblem,
+        e: f64,
+        nu: f64,
+        inhomogeneities: &[Inhomogeneity],
+        params: NestedParams,
+    ) -> Result<Self, SamError> {
+        Ok(if inhomogeneities.is_empty() {
+            Self::Plain(Box::new(problem))
+        } else {
+            Self::Nested(Box::new(InhomogeneousContact::new(
+                problem,
+                e,
+                nu,
+                inhomogeneities,
+                params,
+            )?))
+        })
+    }
+
+    /// One increment (begin → solve → commit); the nested loop's report with inhomogeneities.
+    pub fn increment(
+        &mut self,
+        load: NormalLoad,
+        shift: [f64; 2],
+    ) -> Result<(IncrementInfo, Option<NestedInfo>), SamError> {
+        Ok(match self {
+            Self::Plain(p) => (p.increment(load, shift)?, None),
+            Self::Nested(n) => {
+                let info = n.increment(load, shift)?;
+                (info.contact, Some(info))
+            }
+        })
+    }
+
+    /// The contact problem (grid, state).
+    pub fn problem(&self) -> &ContactProblem {
+        match self {
+            Self::Plain(p) => p,
+            Self::Nested(n) => n.problem(),
+        }
+    }
+
+    /// The contact problem, mutable (to restore a state).
+    pub fn problem_mut(&mut self) -> &mut ContactProblem {
+        match self {
+            Self::Plain(p) => p,
+            Self::Nested(n) => n.problem_mut(),
+        }
+    }
+
+    /// The nested solver, with inhomogeneities.
+    pub fn nested(&self) -> Option<&InhomogeneousContact> {
+        match self {
+            Self::Plain(_) => None,
+            Self::Nested(n) => Some(n),
+        }
+    }
+
+    /// The stress field below the current state down to `depth` in the matrix `(e, nu)`: the
+    /// surface tractions and, with inhomogeneities, the eigenstrains ([`subsurface_stress`]).
+    pub fn subsurface(&self, e: f64, nu: f64, depth: f64) -> Result<StressField, SamError> {
+        let problem = self.problem();
+        let st = problem.state();
+        let q =
+            (problem.friction() > 0.0).then(|| [st.shear[0].as_slice(), st.shear[1].as_slice()]);
+        let inclusions = self.nested().map(|n| (n.inclusions(), n.eigenstrain()));
+        subsurface_stress(problem.grid(), e, nu, &st.pressure, q, depth, inclusions)
+    }
+}

@@ -1,0 +1,573 @@
+//! `halfspace fretting-loop`: the fretting loop of [LN11] (parse → `sam::fretting_loop` → write).
+
+use std::io::IsTerminal;
+use std::ops::ControlFlow;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use clap::Args;
+use halfspace::data::{read_record, write_record};
+use halfspace::records::{loop_results_record, snapshot_from_record, snapshot_record};
+use halfspace::sam::eim::{FibreLayout, Inhomogeneity};
+use halfspace::sam::fretting_loop::{FrettingLoop, LoopCase, LoopMetrics, PointFields};
+use serde::Deserialize;
+use serde_json::{json, Value};
+
+use super::plot::Curves;
+
+/// One labelled curve.
+type Labelled = (String, Vec<(f64, f64)>);
+use super::{plot, CliError};
+
+#[derive(Debug, Args)]
+pub struct FrettingLoopArgs {
+    /// TOML file with any of: radius, e, nu, friction, force, normal_steps, amplitude, shift_step, grid,
+    /// extent_over_a, subsurface_over_a, [[inhomogeneity]], layout, fibre_e_ratio.
+    #[arg(long)]
+    config: Option<PathBuf>,
+    /// Output directory (results.h5, the figures of [LN11] Figs. 6–9, checkpoint.npz while running).
+    #[arg(long, default_value = "fretting-loop-out")]
+    out: PathBuf,
+    /// Cells per side (overrides the config).
+    #[arg(long)]
+    grid: Option<usize>,
+    /// Preset: `homogeneous` ([LN11]'s homogeneous half-space, the default) or `composite` (its
+    /// unidirectional composite: fibres along y, r = 0.13a, spacing 3r, axes at depth 1.5r,
+    /// E_I = 2E_m (config `fibre_e_ratio`), ν_I = ν_m, 4 cells per fibre radius; config `layout`).
+    #[arg(long, default_value = "homogeneous")]
+    case: String,
+    /// Continue a killed run from OUT/checkpoint.npz (the same configuration), bit for bit.
+    #[arg(long)]
+    resume: bool,
+    /// Seconds of work between checkpoints (written atomically to OUT/checkpoint.npz; removed when
+    /// the loop completes).
+    #[arg(long, default_value_t = 5.0)]
+    checkpoint_seconds: f64,
+    /// Testing hook: stop (as if killed) after this many increments, leaving the checkpoint.
+    #[arg(long, hide = true)]
+    stop_after: Option<usize>,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
+}
+
+/// The fretting-loop case (defaults: [LN11]'s homogeneous case).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+struct LoopConfig {
+    radius: f64,
+    e: f64,
+    nu: f64,
+    friction: f64,
+    force: f64,
+    normal_steps: usize,
+    amplitude: f64,
+    shift_step: f64,
+    grid: usize,
+    extent_over_a: f64,
+    /// `[[inhomogeneity]]` tables: `kind = "sphere" | "cylinder" | "cuboid"` and the keys of the
+    /// CLI's `--inhomogeneity` specs (`x, y, z, r, axis, hx, hy, hz, e, nu`).
+    inhomogeneity: Vec<toml::Table>,
+    /// Composite preset: `"fibre-centred"` (a fibre axis at x = 0) or `"gap-centred"`.
+    layout: String,
+    /// Composite preset: E_I / E_m of the fibres (2 in [LN11]; 0.5 for soft fibres).
+    fibre_e_ratio: f64,
+    /// Depth of the von Mises fields at the points A–D over a (0: none).
+    subsurface_over_a: f64,
+}
+
+impl Default for LoopConfig {
+    /// The library's [LN11] case ([`LoopCase::default`]).
+    fn default() -> Self {
+        let c = LoopCase::default();
+        Self {
+            radius: c.radius,
+            e: c.e,
+            nu: c.nu,
+            friction: c.friction,
+            force: c.force,
+            normal_steps: c.normal_steps,
+            amplitude: c.amplitude,
+            shift_step: c.shift_step,
+            grid: c.grid,
+            extent_over_a: c.extent_over_a,
+            inhomogeneity: Vec::new(),
+            layout: "fibre-centred".into(),
+            fibre_e_ratio: 2.0,
+            subsurface_over_a: 1.0,
+        }
+    }
+}
+
+/// One `[[inhomogeneity]]` table as the CLI's `kind:key=value,...` spec (one parser for both; the
+/// TOML key `e` is the spec's `E`).
+fn inhomogeneity_from_table(table: &toml::Table) -> Result<Inhomogeneity, CliError> {
+    let kind = table
+        .get("kind")
+        .and_then(|v| v.as_str())
+        .ok_or_else(|| {
+            CliError::Spec(
+                "fretting-loop: every [[inhomogeneity]] needs kind = \"sphere\" | \"cylinder\" | \"cuboid\""
+                    .into(),
+            )
+        })?;
+    let mut pairs = Vec::new();
+    for (key, value) in table.iter().filter(|(k, _)| k.as_str() != "kind") {
+        let text = match value {
+            toml::Value::Float(v) => format!("{v:e}"),
+            toml::Value::Integer(v) => v.to_string(),
+            toml::Value::String(v) => v.clone(),
+            other => {
+                return Err(CliError::Spec(format!(
+                    "fretting-loop: [[inhomogeneity]] {key} = {other}: a number (or x/y for axis)"
+                )))
+            }
+        };
+        let key = if key == "e" { "E" } else { key.as_str() };
+        pairs.push(format!("{key}={text}"));
+    }
+    super::spec::parse_inhomogeneity(&format!("{kind}:{}", pairs.join(",")))
+}
+
+/// The library's case from the config and the flags.
+fn loop_case(cfg: &LoopConfig, args: &FrettingLoopArgs) -> Result<LoopCase, CliError> {
+    let mut case = LoopCase {
+        radius: cfg.radius,
+        e: cfg.e,
+        nu: cfg.nu,
+        friction: cfg.friction,
+        force: cfg.force,
+        normal_steps: cfg.normal_steps,
+        amplitude: cfg.amplitude,
+        shift_step: cfg.shift_step,
+        grid: cfg.grid,
+        extent_over_a: cfg.extent_over_a,
+        inhomogeneities: cfg
+            .inhomogeneity
+            .iter()
+            .map(inhomogeneity_from_table)
+            .collect::<Result<Vec<_>, _>>()?,
+        subsurface_depth: None,
+    };
+    if !(cfg.subsurface_over_a.is_finite() && cfg.subsurface_over_a >= 0.0) {
+        return Err(CliError::Spec(format!(
+            "fretting-loop: subsurface_over_a must be finite and ≥ 0, got {}",
+            cfg.subsurface_over_a
+        )));
+    }
+    match args.case.as_str() {
+        "homogeneous" => {}
+        "composite" => {
+            let layout = match cfg.layout.as_str() {
+                "fibre-centred" => FibreLayout::FibreCentred,
+                "gap-centred" => FibreLayout::GapCentred,
+                other => {
+                    return Err(CliError::Spec(format!(
+                        "fretting-loop: layout = '{other}': fibre-centred or gap-centred"
+                    )))
+                }
+            };
+            case = case
+                .composite(layout, cfg.fibre_e_ratio)
+                .map_err(|e| CliError::Spec(format!("fretting-loop: {e}")))?;
+        }
+        other => {
+            return Err(CliError::Spec(format!(
+                "--case '{other}': homogeneous or composite"
+            )))
+        }
+    }
+    if let Some(g) = args.grid {
+        case.grid = g;
+    }
+    case.validate()
+        .map_err(|e| CliError::Spec(format!("fretting-loop: {e}")))?;
+    if cfg.subsurface_over_a > 0.0 {
+        case.subsurface_depth = Some(cfg.subsurface_over_a * case.hertz_radius());
+    }
+    Ok(case)
+}
+
+pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
+    let start = Instant::now();
+    let cfg: LoopConfig = super::read_config(args.config.as_deref())?;
+    let case = loop_case(&cfg, &args)?;
+    if !(args.checkpoint_seconds.is_finite() && args.checkpoint_seconds > 0.0) {
+        return Err(CliError::Spec(format!(
+            "--checkpoint-seconds must be finite and > 0, got {}",
+            args.checkpoint_seconds
+        )));
+    }
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| CliError::Spec(format!("--out {}: {e}", args.out.display())))?;
+    let checkpoint = args.out.join("checkpoint.npz");
+    if checkpoint.exists() && !args.resume {
+        return Err(CliError::Spec(format!(
+            "{} holds an interrupted run: --resume continues it (or remove it to start over)",
+            checkpoint.display()
+        )));
+    }
+    if args.resume && !checkpoint.exists() {
+        return Err(CliError::Spec(format!(
+            "--resume: {} has no checkpoint.npz",
+            args.out.display()
+        )));
+    }
+    let n = case.grid;
+    let mut lp = if args.resume {
+        let snapshot = snapshot_from_record(&read_record(&checkpoint)?, &checkpoint)?;
+        FrettingLoop::resume(case.clone(), snapshot).map_err(|e| {
+            CliError::Spec(format!(
+                "--resume {}: {e}; resume with the same --config, --case and --grid (or remove it to start over)",
+                checkpoint.display()
+            ))
+        })?
+    } else {
+        FrettingLoop::new(case.clone())?
+    };
+    let total = lp.path().len();
+    let bar = (std::io::stderr().is_terminal() && !args.json).then(|| {
+        let bar = indicatif::ProgressBar::new(total as u64);
+        bar.set_position(lp.rows().len() as u64);
+        bar
+    });
+    let every = Duration::from_secs_f64(args.checkpoint_seconds);
+    let mut last_checkpoint = Instant::now();
+    let mut write_error = None;
+    let mut stopped = false;
+    let outcome = lp.run(|l| {
+        if let Some(bar) = &bar {
+            bar.inc(1);
+        }
+        let done = l.rows().len();
+        let stop = args.stop_after.is_some_and(|m| done >= m) && done < total;
+        if stop || last_checkpoint.elapsed() >= every {
+            if let Err(e) = write_record(&checkpoint, &snapshot_record(&l.snapshot(), (n, n))) {
+                write_error = Some(e);
+                return ControlFlow::Break(());
+            }
+            last_checkpoint = Instant::now();
+        }
+        stopped = stop;
+        if stop {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    });
+    if let Some(bar) = &bar {
+        bar.finish_and_clear();
+    }
+    if let Some(e) = write_error {
+        return Err(e.into());
+    }
+    if let Err(e) = outcome {
+        // Keep what was done: the checkpoint holds the increments before the failing one.
+        let _ = write_record(&checkpoint, &snapshot_record(&lp.snapshot(), (n, n)));
+        return Err(e.into());
+    }
+    if stopped {
+        return Ok(());
+    }
+    let metrics = lp.metrics()?;
+    // With inhomogeneities: the homogeneous loop of the same case, for the comparison ([LN11]
+    // Figs. 6–9 show both); cheap beside the nested loop.
+    let reference_start = Instant::now();
+    let reference = if case.inhomogeneities.is_empty() {
+        None
+    } else {
+        let mut r = FrettingLoop::new(case.homogeneous())?;
+        r.run(|_| ControlFlow::Continue(()))?;
+        let m = r.metrics()?;
+        Some((r, m))
+    };
+    let reference_seconds = reference_start.elapsed().as_secs_f64();
+    let rec = loop_results_record(&lp, &metrics, reference.as_ref().map(|(r, m)| (r, m)));
+    write_record(&args.out.join("results.h5"), &rec)?;
+    // Complete: the checkpoint is no longer needed (a re-run into the same directory starts over).
+    if checkpoint.exists() {
+        std::fs::remove_file(&checkpoint)
+            .map_err(|e| CliError::Spec(format!("removing {}: {e}", checkpoint.display())))?;
+    }
+    draw_loop_figures(&args.out, &lp, reference.as_ref().map(|(r, _)| r))?;
+    let summary = loop_summary(
+        &lp,
+        &metrics,
+        reference.as_ref(),
+        &args,
+        start,
+        reference_seconds,
+    );
+    if args.json {
+        println!("{summary}");
+    } else {
+        println!("{summary:#}");
+    }
+    Ok(())
+}
+
+/// The JSON summary: the metrics, the run's work and time by part, and with inhomogeneities the
+/// homogeneous reference and the ratios to it.
+fn loop_summary(
+    lp: &FrettingLoop,
+    m: &LoopMetrics,
+    reference: Option<&(FrettingLoop, LoopMetrics)>,
+    args: &FrettingLoopArgs,
+    start: Instant,
+    reference_seconds: f64,
+) -> Value {
+    let rows = lp.rows();
+    let s = lp.seconds();
+    let sum =
+        |f: fn(&halfspace::sam::fretting_loop::LoopRow) -> usize| rows.iter().map(f).sum::<usize>();
+    let mut summary = json!({
+        "contact_area_over_hertz_end_of_normal_loading": m.contact_area_over_hertz_end_of_normal_loading,
+        "max_transverse_slip": m.max_transverse_slip,
+        "ratchet": m.ratchet,
+        "max_pressure_over_p0_end_of_normal_loading": m.max_pressure_over_p0_end_of_normal_loading,
+        "approach_over_hertz_end_of_normal_loading": m.approach_over_hertz_end_of_normal_loading,
+        "tangential_force_over_mu_w_at_amplitude": m.tangential_force_over_mu_w_at_amplitude,
+        "dissipated_energy": m.dissipated_energy,
+        "energy_ratio": m.energy_ratio,
+        "sliding_fraction": m.sliding_fraction,
+        "regime": m.regime as i64,
+        "increments": rows.len(),
+        "grid": lp.case().grid,
+        "seconds": start.elapsed().as_secs_f64(),
+        "breakdown": {
+            "increment_seconds": s.increments,
+            "contact_seconds": s.contact,
+            "traction_strain_seconds": s.traction_strain,
+            "eim_seconds": s.eim,
+            "disturbance_seconds": s.disturbance,
+            "subsurface_seconds": s.subsurface,
+            "homogeneous_reference_seconds": reference_seconds,
+            "alternations": sum(|r| r.alternations),
+            "outer_iterations": sum(|r| r.outer_iterations),
+            "eim_operator_applications": sum(|r| r.eim_iterations),
+        },
+        "out": args.out.display().to_string(),
+    });
+    if let Some(n) = lp.solver().nested() {
+        let extra = summary.as_object_mut().expect("object");
+        extra.insert("inclusion_cells".into(), json!(n.inclusions().len()));
+        extra.insert("layers".into(), json!(n.inclusions().layers.len()));
+        extra.insert("case".into(), json!(args.case));
+        if let Some((r, rm)) = reference {
+            let (a, b) = (
+                &rows[lp.path().normal_steps - 1],
+                &r.rows()[r.path().normal_steps - 1],
+            );
+            extra.insert(
+                "homogeneous".into(),
+                json!({
+                    "max_pressure_over_p0_end_of_normal_loading": rm.max_pressure_over_p0_end_of_normal_loading,
+                    "contact_area_over_hertz_end_of_normal_loading": rm.contact_area_over_hertz_end_of_normal_loading,
+                    "dissipated_energy": rm.dissipated_energy,
+                    "ratchet": rm.ratchet,
+                    "max_transverse_slip": rm.max_transverse_slip,
+                    "tangential_force_over_mu_w_at_amplitude": rm.tangential_force_over_mu_w_at_amplitude,
+                    "energy_ratio": rm.energy_ratio,
+                    "regime": rm.regime as i64,
+                }),
+            );
+            extra.insert(
+                "max_pressure_ratio_to_homogeneous".into(),
+                json!(a.max_pressure / b.max_pressure),
+            );
+            extra.insert(
+                "contact_area_ratio_to_homogeneous".into(),
+                json!(a.contact_area / b.contact_area),
+            );
+            extra.insert(
+                "dissipated_energy_ratio_to_homogeneous".into(),
+                json!(m.dissipated_energy / rm.dissipated_energy),
+            );
+        }
+    }
+    summary
+}
+
+/// The figures of [LN11] from a completed loop (and its homogeneous reference): the loops (Fig. 8),
+/// p and q along x and y at A–D (Fig. 6), the slips at B (Fig. 7), the map of q_x at B (Fig. 9),
+/// the map of the transverse slip s₂ at B, and the von Mises sections at A–D.
+fn draw_loop_figures(
+    out: &Path,
+    lp: &FrettingLoop,
+    reference: Option<&FrettingLoop>,
+) -> Result<(), CliError> {
+    let case = lp.case();
+    let grid = *lp.solver().problem().grid();
+    let (n1, n2) = (grid.n1, grid.n2);
+    let a = case.hertz_radius();
+    let p0 = case.hertz_pressure();
+    let mu_w = case.friction * case.force;
+    let mu_p0 = case.friction * p0;
+    let fail =
+        |p: &Path, e: Box<dyn std::error::Error>| CliError::Plot(format!("{}: {e}", p.display()));
+    let with = if reference.is_some() {
+        " (with the inhomogeneities)"
+    } else {
+        ""
+    };
+    let sets: Vec<(&str, &FrettingLoop)> = std::iter::once((with, lp))
+        .chain(reference.map(|r| (" (homogeneous)", r)))
+        .collect();
+    // Fig. 8: the loops.
+    let loops: Vec<Labelled> = sets
+        .iter()
+        .map(|(suffix, l)| {
+            let rows = &l.rows()[l.path().cycle_start()..];
+            (
+                format!("Q/μW{suffix}"),
+                rows.iter().map(|r| (r.d * 1e6, r.q[0] / mu_w)).collect(),
+            )
+        })
+        .collect();
+    for ext in ["svg", "png"] {
+        let p = out.join(format!("fretting_loop.{ext}"));
+        plot::curves(
+            &p,
+            "Fretting loop (SAM, coupled): Q/μW against δx",
+            "δx (μm)",
+            ("Q / μW", &loops),
+            ("", &[]),
+            false,
+        )
+        .map_err(|e| fail(&p, e))?;
+    }
+    let xs: Vec<f64> = (0..n1).map(|i| grid.centre(i, n2 / 2).0 / a).collect();
+    let ys: Vec<f64> = (0..n2).map(|j| grid.centre(n1 / 2, j).1 / a).collect();
+    let along_x = |v: &[f64], s: f64| -> Vec<(f64, f64)> {
+        (0..n1).map(|i| (xs[i], v[i * n2 + n2 / 2] / s)).collect()
+    };
+    let along_y = |v: &[f64], s: f64| -> Vec<(f64, f64)> {
+        (0..n2).map(|j| (ys[j], v[(n1 / 2) * n2 + j] / s)).collect()
+    };
+    // Fig. 6: p and q along x (a) and y (b) at A–D.
+    type Line<'a> = &'a dyn Fn(&[f64], f64) -> Vec<(f64, f64)>;
+    for (axis, line) in [("x", &along_x as Line), ("y", &along_y as Line)] {
+        let (mut left, mut right): (Vec<Labelled>, Vec<Labelled>) = (Vec::new(), Vec::new());
+        for (suffix, l) in &sets {
+            for p in l.points() {
+                left.push((format!("p, {}{suffix}", p.label), line(&p.pressure, p0)));
+                right.push((
+                    format!("q_x, {}{suffix}", p.label),
+                    line(&p.shear[0], mu_p0),
+                ));
+                if axis == "y" {
+                    right.push((
+                        format!("q_y, {}{suffix}", p.label),
+                        line(&p.shear[1], mu_p0),
+                    ));
+                }
+            }
+        }
+        let p = out.join(format!("profiles_{axis}.svg"));
+        plot::curves(
+            &p,
+            &format!("[LN11] Fig. 6: p/p0 and q/(μ p0) along {axis} at A–D"),
+            &format!("{axis} / a"),
+            ("p / p0", &left),
+            ("q / (μ p0)", &right),
+            false,
+        )
+        .map_err(|e| fail(&p, e))?;
+    }
+    // Fig. 7: slips at B along x (a) and y (b).
+    let at = |l: &FrettingLoop, label: &str| -> Option<PointFields> {
+        l.points().iter().find(|p| p.label == label).cloned()
+    };
+    let mut slip_x: Vec<Labelled> = Vec::new();
+    let mut slip_y: Vec<Labelled> = Vec::new();
+    for (suffix, l) in &sets {
+        if let Some(b) = at(l, "B") {
+            for (c, name) in [(0, "s_x"), (1, "s_y")] {
+                slip_x.push((format!("{name} along x{suffix}"), along_x(&b.slip[c], 1e-9)));
+                slip_y.push((format!("{name} along y{suffix}"), along_y(&b.slip[c], 1e-9)));
+            }
+        }
+    }
+    let p = out.join("slip_B.svg");
+    plot::curves(
+        &p,
+        "[LN11] Fig. 7: slip of the last increment at B (nm), along x and along y",
+        "x / a (left), y / a (right)",
+        ("slip along x (nm)", &slip_x as &Curves),
+        ("slip along y (nm)", &slip_y),
+        false,
+    )
+    .map_err(|e| fail(&p, e))?;
+    // Fig. 9 and the transverse slip: surface maps at B over |x|, |y| ≤ 1.3a.
+    let window: Vec<usize> = (0..n1).filter(|&i| xs[i].abs() <= 1.3).collect();
+    let cols: Vec<usize> = (0..n2).filter(|&j| ys[j].abs() <= 1.3).collect();
+    let map = |name: &str, title: &str, unit: &str, v: &[f64], s: f64| -> Result<(), CliError> {
+        let values: Vec<Vec<f64>> = cols
+            .iter()
+            .map(|&j| window.iter().map(|&i| v[i * n2 + j] / s).collect())
+            .collect();
+        let p = out.join(name);
+        plot::heatmap(
+            &p,
+            title,
+            ("x / a", "y / a", unit),
+            &window.iter().map(|&i| xs[i]).collect::<Vec<_>>(),
+            &cols.iter().map(|&j| ys[j]).collect::<Vec<_>>(),
+            &values,
+        )
+        .map_err(|e| fail(&p, e))
+    };
+    for (suffix, l) in &sets {
+        let tag = if suffix.contains("homogeneous") {
+            "_homogeneous"
+        } else {
+            ""
+        };
+        if let Some(b) = at(l, "B") {
+            map(
+                &format!("shear_x_map_B{tag}.svg"),
+                &format!("[LN11] Fig. 9: q_x/(μ p0) on the surface at B{suffix}"),
+                "q_x / (μ p0)",
+                &b.shear[0],
+                mu_p0,
+            )?;
+            map(
+                &format!("transverse_slip_map_B{tag}.svg"),
+                &format!("Transverse slip s_y at B (nm){suffix}"),
+                "s_y (nm)",
+                &b.slip[1],
+                1e-9,
+            )?;
+        }
+    }
+    // Von Mises sections (x–z through y = 0) at A–D.
+    let half = grid.half1;
+    for p in lp.points() {
+        let Some(vm) = &p.von_mises else { continue };
+        let layers = vm.len() / (n1 * n2);
+        let zs: Vec<f64> = (0..layers).map(|k| (2 * k + 1) as f64 * half / a).collect();
+        let window: Vec<usize> = (0..n1).filter(|&i| xs[i].abs() <= 1.5).collect();
+        let values: Vec<Vec<f64>> = (0..layers)
+            .map(|k| {
+                window
+                    .iter()
+                    .map(|&i| vm[k * n1 * n2 + i * n2 + n2 / 2] / p0)
+                    .collect()
+            })
+            .collect();
+        let path = out.join(format!("von_mises_{}.svg", p.label));
+        plot::heatmap(
+            &path,
+            &format!(
+                "Von Mises stress / p0 at {} (x–z section through y = 0){with}",
+                p.label
+            ),
+            ("x / a", "depth / a", "σ_vM / p0"),
+            &window.iter().map(|&i| xs[i]).collect::<Vec<_>>(),
+            &zs,
+            &values,
+        )
+        .map_err(|e| fail(&path, e))?;
+    }
+    Ok(())
+}

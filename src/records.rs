@@ -1,0 +1,256 @@
+//! The library's results as named arrays ([`Record`]): what the CLI writes to `.h5` / `.npz` and
+//! reads back, one conversion for every front end.
+
+use std::path::Path;
+
+use crate::data::{AttrValue, DataError, Record};
+use crate::sam::coupled::ContactState;
+use crate::sam::fretting_loop::{
+    FrettingLoop, LoopMetrics, LoopRow, LoopSnapshot, PointFields, POINT_LABELS,
+};
+
+/// The rows as one array per field of [`LoopRow::FIELDS`], names prefixed by `prefix`.
+pub fn rows_record(mut rec: Record, prefix: &str, rows: &[LoopRow]) -> Record {
+    for (f, name) in LoopRow::FIELDS.iter().enumerate() {
+        rec = rec.array(
+            &format!("{prefix}{name}"),
+            rows.iter().map(|r| r.values()[f]).collect(),
+        );
+    }
+    rec
+}
+
+/// The fields of one point as `(N₁, N₂)` arrays `{prefix}{name}_{label}` (and the von Mises
+/// volume `(layers, N₁, N₂)`).
+fn point_record(mut rec: Record, prefix: &str, p: &PointFields, shape: (usize, usize)) -> Record {
+    let (n1, n2) = shape;
+    let l = p.label;
+    let put = |rec: Record, name: &str, v: &[f64]| {
+        rec.shaped(&format!("{prefix}{name}_{l}"), v.to_vec(), &[n1, n2])
+    };
+    rec = put(rec, "pressure", &p.pressure);
+    rec = put(rec, "shear_x", &p.shear[0]);
+    rec = put(rec, "shear_y", &p.shear[1]);
+    rec = put(rec, "slip_x", &p.slip[0]);
+    rec = put(rec, "slip_y", &p.slip[1]);
+    rec = put(rec, "stick", &p.stick);
+    if let Some(u) = &p.eigen_displacement {
+        for (c, v) in u.iter().enumerate() {
+            rec = put(rec, &format!("eigen_displacement_{}", c + 1), v);
+        }
+    }
+    if let Some(vm) = &p.von_mises {
+        let layers = vm.len() / (n1 * n2).max(1);
+        rec = rec.shaped(
+            &format!("{prefix}von_mises_{l}"),
+            vm.clone(),
+            &[layers, n1, n2],
+        );
+    }
+    rec.attr(
+        &format!("{prefix}increment_{l}"),
+        AttrValue::Int(p.increment as i64),
+    )
+}
+
+/// Everything [`snapshot_from_record`] needs.
+pub fn snapshot_record(s: &LoopSnapshot, shape: (usize, usize)) -> Record {
+    let st = &s.state;
+    let mut rec = rows_record(Record::default(), "", &s.rows)
+        .attr("config", AttrValue::Text(s.fingerprint.clone()))
+        .attr("next", AttrValue::Int(s.rows.len() as i64))
+        .attr(
+            "max_transverse_slip",
+            AttrValue::Float(s.max_transverse_slip),
+        )
+        .attr("points", AttrValue::Int(s.points.len() as i64))
+        .array("state_pressure", st.pressure.clone())
+        .array("state_shear_x", st.shear[0].clone())
+        .array("state_shear_y", st.shear[1].clone())
+        .array("state_history_x", st.tangential_displacement[0].clone())
+        .array("state_history_y", st.tangential_displacement[1].clone())
+        .array("state_slip_x", st.slip[0].clone())
+        .array("state_slip_y", st.slip[1].clone())
+        .array(
+            "state_scalars",
+            vec![st.shift[0], st.shift[1], st.approach, st.force],
+        );
+    for p in &s.points {
+        rec = point_record(rec, "point_", p, shape);
+    }
+    if let Some((eps, u)) = &s.eigen {
+        rec = rec
+            .array("eigenstrain", eps.clone())
+            .array("eigen_displacement_1", u[0].clone())
+            .array("eigen_displacement_2", u[1].clone())
+            .array("eigen_displacement_3", u[2].clone());
+    }
+    rec
+}
+
+/// The inverse of [`snapshot_record`]; `path` names the file in errors.
+pub fn snapshot_from_record(rec: &Record, path: &Path) -> Result<LoopSnapshot, DataError> {
+    let bad = |message: String| DataError::InvalidContent {
+        path: path.to_path_buf(),
+        message,
+    };
+    let int = |name: &str| match rec.get_attr(name) {
+        Some(AttrValue::Int(v)) if *v >= 0 => Ok(*v as usize),
+        other => Err(bad(format!("attribute {name} is {other:?}"))),
+    };
+    let array = |name: &str| {
+        rec.get(name)
+            .map(|v| v.to_vec())
+            .ok_or_else(|| bad(format!("array {name} is missing")))
+    };
+    let fingerprint = match rec.get_attr("config") {
+        Some(AttrValue::Text(t)) => t.clone(),
+        other => return Err(bad(format!("attribute config is {other:?}"))),
+    };
+    let next = int("next")?;
+    let columns = LoopRow::FIELDS
+        .iter()
+        .map(|f| array(f))
+        .collect::<Result<Vec<_>, _>>()?;
+    if columns.iter().any(|c| c.len() != next) {
+        return Err(bad("the rows do not match the next increment".into()));
+    }
+    let rows = (0..next)
+        .map(|k| {
+            let mut v = [0.0; 11];
+            for (f, c) in columns.iter().enumerate() {
+                v[f] = c[k];
+            }
+            LoopRow::from_values(v)
+        })
+        .collect();
+    let mut points = Vec::new();
+    for label in POINT_LABELS.iter().take(int("points")?) {
+        let field = |name: &str| array(&format!("point_{name}_{label}"));
+        let eigen = match rec.get(&format!("point_eigen_displacement_1_{label}")) {
+            Some(_) => Some([
+                field("eigen_displacement_1")?,
+                field("eigen_displacement_2")?,
+                field("eigen_displacement_3")?,
+            ]),
+            None => None,
+        };
+        points.push(PointFields {
+            label,
+            increment: int(&format!("point_increment_{label}"))?,
+            pressure: field("pressure")?,
+            shear: [field("shear_x")?, field("shear_y")?],
+            slip: [field("slip_x")?, field("slip_y")?],
+            stick: field("stick")?,
+            eigen_displacement: eigen,
+            von_mises: rec
+                .get(&format!("point_von_mises_{label}"))
+                .map(|v| v.to_vec()),
+        });
+    }
+    let scalars = array("state_scalars")?;
+    if scalars.len() != 4 {
+        return Err(bad("state_scalars must hold 4 values".into()));
+    }
+    let state = ContactState {
+        pressure: array("state_pressure")?,
+        shear: [array("state_shear_x")?, array("state_shear_y")?],
+        tangential_displacement: [array("state_history_x")?, array("state_history_y")?],
+        slip: [array("state_slip_x")?, array("state_slip_y")?],
+        shift: [scalars[0], scalars[1]],
+        approach: scalars[2],
+        force: scalars[3],
+    };
+    let eigen = match rec.get("eigenstrain") {
+        Some(eps) => Some((
+            eps.to_vec(),
+            [
+                array("eigen_displacement_1")?,
+                array("eigen_displacement_2")?,
+                array("eigen_displacement_3")?,
+            ],
+        )),
+        None => None,
+    };
+    let max_transverse_slip = match rec.get_attr("max_transverse_slip") {
+        Some(AttrValue::Float(v)) => *v,
+        other => return Err(bad(format!("max_transverse_slip is {other:?}"))),
+    };
+    Ok(LoopSnapshot {
+        fingerprint,
+        rows,
+        points,
+        max_transverse_slip,
+        state,
+        eigen,
+    })
+}
+
+/// The results of a completed loop (and of its homogeneous reference): the rows, the fields at
+/// A–D (2D `(N₁, N₂)`, row-major with x slow) and their profiles along x and y through the
+/// centre, `x` (m), the metrics as attributes.
+pub fn loop_results_record(
+    lp: &FrettingLoop,
+    metrics: &LoopMetrics,
+    reference: Option<(&FrettingLoop, &LoopMetrics)>,
+) -> Record {
+    let grid = *lp.solver().problem().grid();
+    let (n1, n2) = (grid.n1, grid.n2);
+    let case = lp.case();
+    let mut rec = Record::default()
+        .array("x", (0..n1).map(|i| grid.centre(i, n2 / 2).0).collect())
+        .array("y", (0..n2).map(|j| grid.centre(n1 / 2, j).1).collect());
+    let sets = std::iter::once(("", lp, metrics))
+        .chain(reference.into_iter().map(|(r, m)| ("homogeneous_", r, m)));
+    for (prefix, l, m) in sets {
+        rec = rows_record(rec, prefix, l.rows());
+        for p in l.points() {
+            rec = point_record(rec, prefix, p, (n1, n2));
+            let label = p.label;
+            let along_x = |v: &[f64]| (0..n1).map(|i| v[i * n2 + n2 / 2]).collect::<Vec<_>>();
+            let along_y = |v: &[f64]| (0..n2).map(|j| v[(n1 / 2) * n2 + j]).collect::<Vec<_>>();
+            for (name, v) in [
+                ("pressure", &p.pressure),
+                ("shear_x", &p.shear[0]),
+                ("shear_y", &p.shear[1]),
+                ("slip_x", &p.slip[0]),
+                ("slip_y", &p.slip[1]),
+            ] {
+                rec = rec
+                    .array(&format!("{prefix}{name}_along_x_{label}"), along_x(v))
+                    .array(&format!("{prefix}{name}_along_y_{label}"), along_y(v));
+            }
+        }
+        for (name, v) in [
+            ("dissipated_energy", m.dissipated_energy),
+            ("ratchet", m.ratchet),
+            ("energy_ratio", m.energy_ratio),
+            ("sliding_fraction", m.sliding_fraction),
+            ("max_transverse_slip", m.max_transverse_slip),
+        ] {
+            rec = rec.attr(&format!("{prefix}{name}"), AttrValue::Float(v));
+        }
+        rec = rec.attr(&format!("{prefix}regime"), AttrValue::Int(m.regime as i64));
+    }
+    rec.attr("radius", AttrValue::Float(case.radius))
+        .attr("E", AttrValue::Float(case.e))
+        .attr("nu", AttrValue::Float(case.nu))
+        .attr("friction", AttrValue::Float(case.friction))
+        .attr("force", AttrValue::Float(case.force))
+        .attr("grid", AttrValue::Int(case.grid as i64))
+        .attr("extent", AttrValue::Float(grid.half1 * 2.0 * n1 as f64))
+        .attr("hertz_radius", AttrValue::Float(case.hertz_radius()))
+        .attr("hertz_pressure", AttrValue::Float(case.hertz_pressure()))
+        .attr(
+            "points",
+            AttrValue::Text(
+                "A: end of normal loading; B: D = +A; C: D = 0 unloading; D: D = −A".into(),
+            ),
+        )
+        .attr(
+            "layout",
+            AttrValue::Text(format!(
+                "{n1} × {n2} cells, row-major (x index slow); von Mises (layers, N1, N2), layer k at depth (2k+1)·half cell"
+            )),
+        )
+}
