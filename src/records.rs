@@ -8,6 +8,7 @@ use crate::sam::coupled::ContactState;
 use crate::sam::fretting_loop::{
     FrettingLoop, LoopMetrics, LoopRow, LoopSnapshot, PointFields, POINT_LABELS,
 };
+use crate::sam::nested::NestedWarmStart;
 
 /// The rows as one array per field of [`LoopRow::FIELDS`], names prefixed by `prefix`.
 pub fn rows_record(mut rec: Record, prefix: &str, rows: &[LoopRow]) -> Record {
@@ -78,12 +79,19 @@ pub fn snapshot_record(s: &LoopSnapshot, shape: (usize, usize)) -> Record {
     for p in &s.points {
         rec = point_record(rec, "point_", p, shape);
     }
-    if let Some((eps, u)) = &s.eigen {
+    if let Some(w) = &s.eigen {
+        let u = &w.eigen_displacement;
+        let (eps_prev, u_prev) = &w.previous;
         rec = rec
-            .array("eigenstrain", eps.clone())
+            .array("eigenstrain", w.eigenstrain.clone())
             .array("eigen_displacement_1", u[0].clone())
             .array("eigen_displacement_2", u[1].clone())
-            .array("eigen_displacement_3", u[2].clone());
+            .array("eigen_displacement_3", u[2].clone())
+            .array("eigenstrain_previous", eps_prev.clone())
+            .array("eigen_displacement_previous_1", u_prev[0].clone())
+            .array("eigen_displacement_previous_2", u_prev[1].clone())
+            .array("eigen_displacement_previous_3", u_prev[2].clone())
+            .attr("committed", AttrValue::Int(w.committed as i64));
     }
     rec
 }
@@ -162,14 +170,23 @@ pub fn snapshot_from_record(rec: &Record, path: &Path) -> Result<LoopSnapshot, D
         force: scalars[3],
     };
     let eigen = match rec.get("eigenstrain") {
-        Some(eps) => Some((
-            eps.to_vec(),
-            [
+        Some(eps) => Some(NestedWarmStart {
+            eigenstrain: eps.to_vec(),
+            eigen_displacement: [
                 array("eigen_displacement_1")?,
                 array("eigen_displacement_2")?,
                 array("eigen_displacement_3")?,
             ],
-        )),
+            previous: (
+                array("eigenstrain_previous")?,
+                [
+                    array("eigen_displacement_previous_1")?,
+                    array("eigen_displacement_previous_2")?,
+                    array("eigen_displacement_previous_3")?,
+                ],
+            ),
+            committed: int("committed")?,
+        }),
         None => None,
     };
     let max_transverse_slip = match rec.get_attr("max_transverse_slip") {
@@ -227,6 +244,7 @@ pub fn loop_results_record(
             ("energy_ratio", m.energy_ratio),
             ("sliding_fraction", m.sliding_fraction),
             ("max_transverse_slip", m.max_transverse_slip),
+            ("unloading_stiffness", m.unloading_stiffness),
         ] {
             rec = rec.attr(&format!("{prefix}{name}"), AttrValue::Float(v));
         }

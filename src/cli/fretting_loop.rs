@@ -331,6 +331,7 @@ fn loop_summary(
         "energy_ratio": m.energy_ratio,
         "sliding_fraction": m.sliding_fraction,
         "regime": m.regime as i64,
+        "unloading_stiffness": m.unloading_stiffness,
         "increments": rows.len(),
         "grid": lp.case().grid,
         "seconds": start.elapsed().as_secs_f64(),
@@ -369,6 +370,8 @@ fn loop_summary(
                     "tangential_force_over_mu_w_at_amplitude": rm.tangential_force_over_mu_w_at_amplitude,
                     "energy_ratio": rm.energy_ratio,
                     "regime": rm.regime as i64,
+                    "sliding_fraction": rm.sliding_fraction,
+                    "unloading_stiffness": rm.unloading_stiffness,
                 }),
             );
             extra.insert(

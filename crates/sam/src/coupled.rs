@@ -735,4 +735,19 @@ pub mod mindlin {
             * (6.0 * (1.0 - (1.0 - r).powf(5.0 / 3.0))
                 - 5.0 * r * (1.0 + (1.0 - r).powf(2.0 / 3.0)))
     }
+
+    /// Dissipated energy per cycle of a loop driven by the shift between `±A` (`A = amplitude`):
+    /// with `x = A/K`, partial slip (`x ≤ 1`, `r = 1 − (1 − x)^{3/2}` in
+    /// [`dissipated_energy`]) or gross slip (`x > 1`: the `r = 1` loop plus two sliding plateaus,
+    /// `E = 4μPA − 3.2μPK`). At a fixed amplitude the sensitivity to the stiffness,
+    /// `−d ln E / d ln K = 3.2/(4x − 3.2)` in gross slip, is 4 at the transition `x = 1`: a 1 %
+    /// stiffer contact (`K` 1 % smaller) dissipates 4 % more; deep in gross slip it vanishes.
+    pub fn dissipated_energy_at_amplitude(amplitude: f64, k_cm: f64, mu_p: f64) -> f64 {
+        let x = amplitude / k_cm;
+        if x <= 1.0 {
+            dissipated_energy(1.0 - (1.0 - x).powf(1.5), k_cm, mu_p)
+        } else {
+            4.0 * mu_p * amplitude - 3.2 * mu_p * k_cm
+        }
+    }
 }

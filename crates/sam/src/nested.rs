@@ -39,6 +39,24 @@ pub struct NestedParams {
     /// relaxed Picard iteration of spec §6.2), mixing `ω` = [`NestedParams::relaxation`]
     /// ([`halfspace_numerics::anderson`]).
     pub anderson_depth: usize,
+    /// Start each increment from the secant prediction `2x_n − x_{n−1}` of the eigenstrains and
+    /// eigen-displacements of the last two increments (instead of `x_n`): on the loop's equal
+    /// steps it removes most of the first outer change.
+    pub predictor: bool,
+}
+
+/// What the next increment of the nested loop starts from: the eigenstrains (6 per inclusion cell)
+/// and eigen-displacements of the last increment and, for the predictor, of the one before.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NestedWarmStart {
+    /// Eigenstrains of the last increment.
+    pub eigenstrain: Vec<f64>,
+    /// Eigen-displacements `(u₁, u₂, u₃)^eig` of the last increment.
+    pub eigen_displacement: [Vec<f64>; 3],
+    /// Those of the increment before (used by the predictor once two increments are committed).
+    pub previous: (Vec<f64>, [Vec<f64>; 3]),
+    /// Increments committed.
+    pub committed: usize,
 }
 
 /// The loosest alternation tolerance of an early outer pass's contact solve.
@@ -53,6 +71,7 @@ impl Default for NestedParams {
             eim: EimParams::default(),
             inexact_contact: true,
             anderson_depth: 3,
+            predictor: true,
         }
     }
 }
@@ -148,6 +167,11 @@ pub struct InhomogeneousContact {
     anderson: Anderson,
     x_flat: Vec<f64>,
     g_flat: Vec<f64>,
+    /// The previous increment's eigenstrains and eigen-displacements (predictor), and the number
+    /// of increments committed.
+    eps_prev: Vec<f64>,
+    u_prev: [Vec<f64>; 3],
+    committed: usize,
 }
 
 impl InhomogeneousContact {
@@ -198,6 +222,9 @@ impl InhomogeneousContact {
             anderson: Anderson::new(components * n, params.anderson_depth),
             x_flat: vec![0.0; components * n],
             g_flat: vec![0.0; components * n],
+            eps_prev: vec![0.0; 6 * cells],
+            u_prev: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+            committed: 0,
         })
     }
 
@@ -205,9 +232,59 @@ impl InhomogeneousContact {
     /// committed at convergence.
     pub fn increment(&mut self, load: NormalLoad, shift: [f64; 2]) -> Result<NestedInfo, SamError> {
         self.problem.begin();
+        self.predict();
         let info = self.solve(load, shift)?;
         self.problem.commit();
+        self.committed += 1;
         Ok(info)
+    }
+
+    /// The predictor of [`NestedParams::predictor`]: `x ← 2x − x_prev`, `x_prev ← x` (only the
+    /// latter before two increments are committed).
+    fn predict(&mut self) {
+        if !self.params.predictor || self.committed == 0 {
+            return;
+        }
+        let extrapolate = self.committed >= 2;
+        let pairs = std::iter::once((&mut self.eps_star, &mut self.eps_prev))
+            .chain(self.u_eig.iter_mut().zip(self.u_prev.iter_mut()));
+        for (x, prev) in pairs {
+            for (v, p) in x.iter_mut().zip(prev.iter_mut()) {
+                let current = *v;
+                if extrapolate {
+                    *v = 2.0 * current - *p;
+                }
+                *p = current;
+            }
+        }
+    }
+
+    /// The state the next increment starts from (for a checkpoint).
+    pub fn warm_start(&self) -> NestedWarmStart {
+        NestedWarmStart {
+            eigenstrain: self.eps_star.clone(),
+            eigen_displacement: self.u_eig.clone(),
+            previous: (self.eps_prev.clone(), self.u_prev.clone()),
+            committed: self.committed,
+        }
+    }
+
+    /// Restores [`InhomogeneousContact::warm_start`]; with [`ContactProblem::restore_state`] this
+    /// is all the state an increment reads, so a resumed loop repeats the uninterrupted one bit
+    /// for bit.
+    pub fn set_warm_start(&mut self, w: &NestedWarmStart) -> Result<(), SamError> {
+        check_len("previous eigenstrain", &w.previous.0, self.eps_prev.len())?;
+        for u in &w.previous.1 {
+            check_len("previous eigen-displacement", u, self.u_prev[0].len())?;
+        }
+        let u = &w.eigen_displacement;
+        self.restore(&w.eigenstrain, [&u[0], &u[1], &u[2]])?;
+        self.eps_prev.copy_from_slice(&w.previous.0);
+        for (mine, theirs) in self.u_prev.iter_mut().zip(&w.previous.1) {
+            mine.copy_from_slice(theirs);
+        }
+        self.committed = w.committed;
+        Ok(())
     }
 
     /// One increment to normal load `load` and a prescribed tangential force `Q₁` (`Q₂` free at
@@ -235,6 +312,7 @@ impl InhomogeneousContact {
             });
         }
         self.problem.begin();
+        self.predict();
         let warm_state = self.problem.state().clone();
         let warm_eps = self.eps_star.clone();
         let warm_u = self.u_eig.clone();
@@ -247,6 +325,7 @@ impl InhomogeneousContact {
         };
         let (info, d) = shift_for_force(start[0], bracket, 1e-6 * mu * w, &mut eval)?;
         self.problem.commit();
+        self.committed += 1;
         Ok((info, d))
     }
 

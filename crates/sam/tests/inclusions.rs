@@ -214,6 +214,7 @@ fn accelerated_outer_loop_reaches_the_plain_loop_state() {
     let (plain, outer_plain) = run(NestedParams {
         anderson_depth: 0,
         inexact_contact: false,
+        predictor: false,
         ..NestedParams::default()
     });
     let max_diff = |x: &[f64], y: &[f64]| {

@@ -249,3 +249,47 @@ fn inexact_alternation_reaches_the_same_state() {
         assert!(dp < 1e-7 * pmax && dq < 1e-7 * MU * pmax);
     }
 }
+
+/// The displacement-driven Mindlin loop energy: equal to the trapezoid integral of its own branches
+/// (loading / unloading closed forms, the naive control) on both sides of the transition, continuous
+/// at `A = K`, with the log-derivative 4 there (finite differences).
+#[test]
+fn mindlin_energy_at_amplitude_matches_its_branches() {
+    let (k, mu_p) = (1.0, 1.0);
+    let by_branches = |a: f64| {
+        // Lower branch: unloading from (+A, Q*); upper: its mirror. E = ∫ (Q_up − Q_low) dD.
+        let q_star = mindlin::loading(a, k, mu_p);
+        let n = 200_000;
+        let h = 2.0 * a / n as f64;
+        (0..=n)
+            .map(|i| {
+                let d = -a + i as f64 * h;
+                let down = mindlin::unloading(d, a, q_star, k, mu_p);
+                let up = -mindlin::unloading(-d, a, q_star, k, mu_p);
+                let w = if i == 0 || i == n { 0.5 } else { 1.0 };
+                w * h * (up - down)
+            })
+            .sum::<f64>()
+    };
+    for a in [0.3, 0.8, 1.0, 1.5, 3.0] {
+        let closed = mindlin::dissipated_energy_at_amplitude(a, k, mu_p);
+        let numeric = by_branches(a);
+        assert!(
+            (closed - numeric).abs() < 1e-6 * closed,
+            "A/K = {a}: {closed} vs {numeric}"
+        );
+    }
+    let e = |x: f64| mindlin::dissipated_energy_at_amplitude(x, k, mu_p);
+    assert!((e(1.0 - 1e-12) - e(1.0 + 1e-12)).abs() < 1e-9);
+    // Sensitivity to the stiffness at a fixed amplitude, −d ln E / d ln K, → 4 at A = K (the
+    // partial-slip side approaches it as 4 − 7.5 √(1 − A/K)).
+    let at_k = |kk: f64| mindlin::dissipated_energy_at_amplitude(1.0, kk, mu_p);
+    for kk in [1.0 - 1e-4, 1.0 + 1e-4] {
+        let h = 1e-7;
+        let slope = -(at_k(kk + h).ln() - at_k(kk - h).ln()) / ((kk + h).ln() - (kk - h).ln());
+        assert!(
+            (slope - 4.0).abs() < 0.1,
+            "−d ln E / d ln K = {slope} at K = {kk}"
+        );
+    }
+}

@@ -44,6 +44,10 @@ pub struct LoopMetrics {
     pub sliding_fraction: f64,
     /// The regime ([`FrettingRegime`]).
     pub regime: FrettingRegime,
+    /// Tangential stiffness on the first step back from `δx = +A` (point B), `ΔQ₁/Δδx` (N/m): the
+    /// elastic (all-stick) stiffness of the contact on a load reversal (Mindlin), which sets the
+    /// full-slip shift `δ_s = 3μW / (2k)` of Mindlin's theory.
+    pub unloading_stiffness: f64,
     /// Fouvry's energy ratio `E_d / (4 Q* δ*)` (`Q*`, `δ*` the cycle's force and shift
     /// amplitudes): below ≈ 0.2 partial slip in the Mindlin limit.
     pub energy_ratio: f64,
@@ -83,6 +87,10 @@ impl LoopMetrics {
         let q_star = cycle.iter().map(|r| r.q[0].abs()).fold(0.0, f64::max);
         let d_star = cycle.iter().map(|r| r.d.abs()).fold(0.0, f64::max);
         let end_normal = &rows[path.normal_steps - 1];
+        let unloading_stiffness = match (rows.get(start), rows.get(start + 1)) {
+            (Some(b), Some(next)) if next.d != b.d => (next.q[0] - b.q[0]) / (next.d - b.d),
+            _ => f64::NAN,
+        };
         Self {
             dissipated_energy,
             ratchet: (rows[rows.len() - 1].q[0] - rows[start].q[0]) / mu_w,
@@ -95,6 +103,7 @@ impl LoopMetrics {
             max_transverse_slip,
             sliding_fraction,
             regime,
+            unloading_stiffness,
             energy_ratio: if q_star > 0.0 && d_star > 0.0 {
                 dissipated_energy / (4.0 * q_star * d_star)
             } else {

@@ -8,7 +8,7 @@ use super::metrics::LoopMetrics;
 use super::solver::ContactSolver;
 use crate::coupled::{ContactParams, ContactProblem, ContactState, IncrementInfo};
 use crate::influence::{Body, Compliance};
-use crate::nested::{NestedInfo, NestedParams};
+use crate::nested::{NestedInfo, NestedParams, NestedWarmStart};
 use crate::normal::NormalLoad;
 use crate::tangential::is_stick;
 use crate::{SamError, SurfaceGrid};
@@ -156,8 +156,8 @@ pub struct LoopSnapshot {
     pub max_transverse_slip: f64,
     /// The contact state.
     pub state: ContactState,
-    /// With inhomogeneities: the eigenstrains (6 per inclusion cell) and eigen-displacements.
-    pub eigen: Option<(Vec<f64>, [Vec<f64>; 3])>,
+    /// With inhomogeneities: the nested loop's warm start (eigenstrains, eigen-displacements).
+    pub eigen: Option<NestedWarmStart>,
 }
 
 /// The fretting loop of a [`LoopCase`] (module doc of [`crate::fretting_loop`]).
@@ -226,7 +226,7 @@ impl FrettingLoop {
         }
         lp.solver.problem_mut().restore_state(&snapshot.state)?;
         match (&mut lp.solver, &snapshot.eigen) {
-            (ContactSolver::Nested(n), Some((eps, u))) => n.restore(eps, [&u[0], &u[1], &u[2]])?,
+            (ContactSolver::Nested(n), Some(w)) => n.set_warm_start(w)?,
             (ContactSolver::Plain(_), None) => {}
             _ => {
                 return Err(SamError::InvalidInput(
@@ -338,10 +338,7 @@ impl FrettingLoop {
             points: self.points.clone(),
             max_transverse_slip: self.max_transverse_slip,
             state: self.solver.problem().state().clone(),
-            eigen: self
-                .solver
-                .nested()
-                .map(|n| (n.eigenstrain().to_vec(), n.eigen_displacements().clone())),
+            eigen: self.solver.nested().map(|n| n.warm_start()),
         }
     }
 
