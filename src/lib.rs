@@ -8,3 +8,4 @@ pub use halfspace_numerics as numerics;
 pub use halfspace_sam as sam;
 
 pub mod records;
+pub mod spec;

@@ -10,7 +10,7 @@ use halfspace::mdr::{
 };
 use serde_json::json;
 
-use super::{plot, spec, CliError};
+use super::{plot, CliError};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Method {
@@ -57,8 +57,8 @@ pub struct AxisymArgs {
 }
 
 pub fn run(args: AxisymArgs) -> Result<(), CliError> {
-    let profile = spec::parse_profile(&args.profile)?;
-    let material = spec::parse_material(&args.material)?;
+    let profile = halfspace::spec::parse_profile(&args.profile, "--profile")?;
+    let material = halfspace::spec::parse_material(&args.material, "--material")?;
     let load = match (args.depth, args.force) {
         (Some(d), None) => Load::Depth(d),
         (None, Some(f)) => Load::Force(f),

@@ -5,14 +5,16 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use halfspace::data::{read_npy_2d, write_record, AttrValue, Record};
+use halfspace::data::{write_record, AttrValue, Record};
 use halfspace::sam::coupled::{ContactParams, ContactProblem};
 use halfspace::sam::fretting_loop::ContactSolver;
+use halfspace::sam::indenter::Indenter;
 use halfspace::sam::nested::NestedParams;
 use halfspace::sam::normal::{NormalLoad, NormalParams};
 use halfspace::sam::subsurface::StressField;
 use halfspace::sam::tangential::TangentialParams;
 use halfspace::sam::{Body, Compliance, SurfaceGrid};
+use halfspace::spec::{parse_body, parse_indenter, parse_inhomogeneity};
 use serde_json::json;
 
 use super::{plot, CliError};
@@ -78,168 +80,14 @@ pub struct Contact3dArgs {
     plot: Option<PathBuf>,
 }
 
-enum Indenter {
-    Ellipsoid(f64, f64),
-    Cone(f64),
-    Flat(f64),
-    Table(PathBuf),
-}
-
-fn keys(spec: &str, what: &str) -> Result<(String, Vec<(String, f64)>), CliError> {
-    let (kind, rest) = spec
-        .split_once(':')
-        .ok_or_else(|| CliError::Spec(format!("{what} '{spec}': expected KIND:KEY=VALUE,...")))?;
-    if kind == "table" {
-        return Ok((kind.into(), vec![]));
-    }
-    let mut out = Vec::new();
-    for item in rest.split(',').filter(|s| !s.is_empty()) {
-        let (k, v) = item
-            .split_once('=')
-            .ok_or_else(|| CliError::Spec(format!("{what} '{spec}': '{item}' is not KEY=VALUE")))?;
-        let v: f64 = v
-            .trim()
-            .parse()
-            .map_err(|_| CliError::Spec(format!("{what} '{spec}': {k}='{v}' is not a number")))?;
-        out.push((k.trim().to_string(), v));
-    }
-    Ok((kind.to_string(), out))
-}
-
-fn take(
-    spec: &str,
-    what: &str,
-    pairs: &mut Vec<(String, f64)>,
-    key: &str,
-) -> Result<f64, CliError> {
-    let i = pairs
-        .iter()
-        .position(|(k, _)| k == key)
-        .ok_or_else(|| CliError::Spec(format!("{what} '{spec}': missing key '{key}'")))?;
-    let v = pairs.remove(i).1;
-    if !(v.is_finite() && v > 0.0) {
-        return Err(CliError::Spec(format!(
-            "{what} '{spec}': {key} must be finite and > 0, got {v}"
-        )));
-    }
-    Ok(v)
-}
-
-fn done(spec: &str, what: &str, pairs: &[(String, f64)]) -> Result<(), CliError> {
-    match pairs.first() {
-        None => Ok(()),
-        Some((k, _)) => Err(CliError::Spec(format!(
-            "{what} '{spec}': unknown key '{k}'"
-        ))),
-    }
-}
-
-fn parse_indenter(spec: &str) -> Result<Indenter, CliError> {
-    let what = "--indenter";
-    let (kind, mut p) = keys(spec, what)?;
-    let ind = match kind.as_str() {
-        "sphere" => {
-            let r = take(spec, what, &mut p, "R")?;
-            Indenter::Ellipsoid(r, r)
-        }
-        "ellipsoid" => Indenter::Ellipsoid(
-            take(spec, what, &mut p, "Rx")?,
-            take(spec, what, &mut p, "Ry")?,
-        ),
-        "cone" => Indenter::Cone(take(spec, what, &mut p, "slope")?),
-        "flat" => Indenter::Flat(take(spec, what, &mut p, "a")?),
-        "table" => Indenter::Table(PathBuf::from(
-            spec.split_once(':').map(|x| x.1).unwrap_or_default(),
-        )),
-        other => {
-            return Err(CliError::Spec(format!(
-                "{what} '{spec}': unknown indenter '{other}' (sphere, ellipsoid, cone, flat, table)"
-            )))
-        }
-    };
-    done(spec, what, &p)?;
-    Ok(ind)
-}
-
-fn parse_body(spec: &str, what: &str) -> Result<Body, CliError> {
-    if spec == "rigid" {
-        return Ok(Body::Rigid);
-    }
-    let (kind, mut p) = keys(spec, what)?;
-    if kind != "homogeneous" {
-        return Err(CliError::Spec(format!(
-            "{what} '{spec}': use homogeneous:E=..,nu=.. (or rigid)"
-        )));
-    }
-    let e = take(spec, what, &mut p, "E")?;
-    let i = p
-        .iter()
-        .position(|(k, _)| k == "nu")
-        .ok_or_else(|| CliError::Spec(format!("{what} '{spec}': missing key 'nu'")))?;
-    let nu = p.remove(i).1;
-    done(spec, what, &p)?;
-    Ok(Body::elastic(e, nu)?)
-}
-
-/// Estimated contact radius for the default domain.
-fn estimate_radius(ind: &Indenter, e_star: f64, load: NormalLoad) -> Option<f64> {
-    match (ind, load) {
-        (Indenter::Ellipsoid(rx, ry), NormalLoad::Force(w)) => {
-            Some((3.0 * w * (rx * ry).sqrt() / (4.0 * e_star)).cbrt())
-        }
-        (Indenter::Ellipsoid(rx, ry), NormalLoad::Approach(d)) => {
-            Some((d * (rx * ry).sqrt()).sqrt())
-        }
-        (Indenter::Cone(s), NormalLoad::Force(w)) => {
-            Some((2.0 * w / (std::f64::consts::PI * e_star * s)).sqrt())
-        }
-        (Indenter::Cone(s), NormalLoad::Approach(d)) => Some(2.0 * d / (std::f64::consts::PI * s)),
-        (Indenter::Flat(a), _) => Some(*a * 0.75),
-        (Indenter::Table(_), _) => None,
-    }
-}
-
-fn geometry(ind: &Indenter, grid: &SurfaceGrid) -> Result<Vec<f64>, CliError> {
-    let n = grid.n1;
-    if let Indenter::Table(path) = ind {
-        let (rows, cols, v) = read_npy_2d(path)?;
-        if rows != grid.n1 || cols != grid.n2 {
-            return Err(CliError::Spec(format!(
-                "{}: height table has shape ({rows}, {cols}); the grid is ({n}, {n}) (--grid)",
-                path.display()
-            )));
-        }
-        if let Some(bad) = v.iter().find(|x| !x.is_finite()) {
-            return Err(CliError::Spec(format!(
-                "{}: non-finite height {bad}",
-                path.display()
-            )));
-        }
-        return Ok(v);
-    }
-    let wall = 1e3 * 2.0 * grid.half1 * n as f64;
-    Ok((0..grid.len())
-        .map(|k| {
-            let (x, y) = grid.centre(k / grid.n2, k % grid.n2);
-            match ind {
-                Indenter::Ellipsoid(rx, ry) => x * x / (2.0 * rx) + y * y / (2.0 * ry),
-                Indenter::Cone(s) => s * (x * x + y * y).sqrt(),
-                Indenter::Flat(a) => {
-                    if x * x + y * y <= a * a {
-                        0.0
-                    } else {
-                        wall
-                    }
-                }
-                Indenter::Table(_) => unreachable!(),
-            }
-        })
-        .collect())
-}
-
 pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
     let start = Instant::now();
-    let indenter = parse_indenter(&args.indenter)?;
+    if args.indenter.trim_start().starts_with("table:") && args.extent.is_none() {
+        return Err(CliError::Spec(
+            "--indenter table: give --extent (the side of the grid in m)".into(),
+        ));
+    }
+    let indenter = parse_indenter(&args.indenter, "--indenter")?;
     let half = parse_body(&args.material, "--material")?;
     let tool = parse_body(&args.indenter_material, "--indenter-material")?;
     if matches!(half, Body::Rigid) {
@@ -295,7 +143,7 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
     let inhomogeneities = args
         .inhomogeneities
         .iter()
-        .map(|s| super::spec::parse_inhomogeneity(s))
+        .map(|s| parse_inhomogeneity(s, "--inhomogeneity"))
         .collect::<Result<Vec<_>, _>>()?;
     if !(args.tol.is_finite() && args.tol > 0.0 && args.tol < 1e-2) {
         return Err(CliError::Spec(format!(
@@ -307,7 +155,7 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
         halfspace::data::Format::of(path)?;
     }
     let e_star = 1.0 / (tool.normal_term() + half.normal_term());
-    let extent = match (args.extent, estimate_radius(&indenter, e_star, load)) {
+    let extent = match (args.extent, indenter.contact_radius_estimate(e_star, load)) {
         (Some(x), _) => x,
         (None, Some(a)) => 4.0 * a,
         (None, None) => {
@@ -325,7 +173,12 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
         friction > 0.0,
         friction > 0.0 && compliance.coupling != 0.0,
     )?;
-    let geometry = geometry(&indenter, &grid)?;
+    let geometry = indenter.gap(&grid).map_err(|e| {
+        CliError::Spec(format!(
+            "--indenter '{}': {e} (--grid, --extent)",
+            args.indenter
+        ))
+    })?;
     let params = ContactParams {
         friction,
         normal: NormalParams {
@@ -448,7 +301,7 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
     let problem = solver.problem();
     if let Some(path) = &args.plot {
         let hertz = match indenter {
-            Indenter::Ellipsoid(rx, ry) if rx == ry => Some((rx, state.force, e_star)),
+            Indenter::Ellipsoid { rx, ry } if rx == ry => Some((rx, state.force, e_star)),
             _ => None,
         };
         draw_figures(path, &solver, field.as_ref(), hertz)?;

@@ -126,7 +126,10 @@ fn inhomogeneity_from_table(table: &toml::Table) -> Result<Inhomogeneity, CliErr
         let key = if key == "e" { "E" } else { key.as_str() };
         pairs.push(format!("{key}={text}"));
     }
-    super::spec::parse_inhomogeneity(&format!("{kind}:{}", pairs.join(",")))
+    Ok(halfspace::spec::parse_inhomogeneity(
+        &format!("{kind}:{}", pairs.join(",")),
+        "fretting-loop: [[inhomogeneity]]",
+    )?)
 }
 
 /// The library's case from the config and the flags.

@@ -5,7 +5,6 @@ mod contact3d;
 mod fretting;
 mod fretting_loop;
 mod plot;
-mod spec;
 mod study;
 
 use std::process::ExitCode;
@@ -52,6 +51,12 @@ pub enum CliError {
     /// Plotting failed.
     #[error("plot: {0}")]
     Plot(String),
+}
+
+impl From<halfspace::spec::SpecError> for CliError {
+    fn from(e: halfspace::spec::SpecError) -> Self {
+        CliError::Spec(e.0)
+    }
 }
 
 /// The library's errors name no flag; the CLI adds the flag that fixes the input.

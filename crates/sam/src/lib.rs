@@ -18,6 +18,7 @@ pub mod eim;
 mod error;
 pub mod fretting_loop;
 pub mod grid;
+pub mod indenter;
 pub mod influence;
 pub mod kernels;
 pub mod memory;
