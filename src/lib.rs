@@ -7,5 +7,6 @@ pub use halfspace_mdr as mdr;
 pub use halfspace_numerics as numerics;
 pub use halfspace_sam as sam;
 
+pub mod config;
 pub mod records;
 pub mod spec;

@@ -6,11 +6,10 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use clap::Args;
+use halfspace::config::LoopConfig;
 use halfspace::data::{read_record, write_record};
 use halfspace::records::{loop_results_record, snapshot_from_record, snapshot_record};
-use halfspace::sam::eim::{FibreLayout, Inhomogeneity};
-use halfspace::sam::fretting_loop::{FrettingLoop, LoopCase, LoopMetrics, PointFields};
-use serde::Deserialize;
+use halfspace::sam::fretting_loop::{FrettingLoop, LoopMetrics, PointFields};
 use serde_json::{json, Value};
 
 use super::plot::Curves;
@@ -51,150 +50,16 @@ pub struct FrettingLoopArgs {
     json: bool,
 }
 
-/// The fretting-loop case (defaults: [LN11]'s homogeneous case).
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-struct LoopConfig {
-    radius: f64,
-    e: f64,
-    nu: f64,
-    friction: f64,
-    force: f64,
-    normal_steps: usize,
-    amplitude: f64,
-    shift_step: f64,
-    grid: usize,
-    extent_over_a: f64,
-    /// `[[inhomogeneity]]` tables: `kind = "sphere" | "cylinder" | "cuboid"` and the keys of the
-    /// CLI's `--inhomogeneity` specs (`x, y, z, r, axis, hx, hy, hz, e, nu`).
-    inhomogeneity: Vec<toml::Table>,
-    /// Composite preset: `"fibre-centred"` (a fibre axis at x = 0) or `"gap-centred"`.
-    layout: String,
-    /// Composite preset: E_I / E_m of the fibres (2 in [LN11]; 0.5 for soft fibres).
-    fibre_e_ratio: f64,
-    /// Depth of the von Mises fields at the points A–D over a (0: none).
-    subsurface_over_a: f64,
-}
-
-impl Default for LoopConfig {
-    /// The library's [LN11] case ([`LoopCase::default`]).
-    fn default() -> Self {
-        let c = LoopCase::default();
-        Self {
-            radius: c.radius,
-            e: c.e,
-            nu: c.nu,
-            friction: c.friction,
-            force: c.force,
-            normal_steps: c.normal_steps,
-            amplitude: c.amplitude,
-            shift_step: c.shift_step,
-            grid: c.grid,
-            extent_over_a: c.extent_over_a,
-            inhomogeneity: Vec::new(),
-            layout: "fibre-centred".into(),
-            fibre_e_ratio: 2.0,
-            subsurface_over_a: 1.0,
-        }
-    }
-}
-
-/// One `[[inhomogeneity]]` table as the CLI's `kind:key=value,...` spec (one parser for both; the
-/// TOML key `e` is the spec's `E`).
-fn inhomogeneity_from_table(table: &toml::Table) -> Result<Inhomogeneity, CliError> {
-    let kind = table
-        .get("kind")
-        .and_then(|v| v.as_str())
-        .ok_or_else(|| {
-            CliError::Spec(
-                "fretting-loop: every [[inhomogeneity]] needs kind = \"sphere\" | \"cylinder\" | \"cuboid\""
-                    .into(),
-            )
-        })?;
-    let mut pairs = Vec::new();
-    for (key, value) in table.iter().filter(|(k, _)| k.as_str() != "kind") {
-        let text = match value {
-            toml::Value::Float(v) => format!("{v:e}"),
-            toml::Value::Integer(v) => v.to_string(),
-            toml::Value::String(v) => v.clone(),
-            other => {
-                return Err(CliError::Spec(format!(
-                    "fretting-loop: [[inhomogeneity]] {key} = {other}: a number (or x/y for axis)"
-                )))
-            }
-        };
-        let key = if key == "e" { "E" } else { key.as_str() };
-        pairs.push(format!("{key}={text}"));
-    }
-    Ok(halfspace::spec::parse_inhomogeneity(
-        &format!("{kind}:{}", pairs.join(",")),
-        "fretting-loop: [[inhomogeneity]]",
-    )?)
-}
-
-/// The library's case from the config and the flags.
-fn loop_case(cfg: &LoopConfig, args: &FrettingLoopArgs) -> Result<LoopCase, CliError> {
-    let mut case = LoopCase {
-        radius: cfg.radius,
-        e: cfg.e,
-        nu: cfg.nu,
-        friction: cfg.friction,
-        force: cfg.force,
-        normal_steps: cfg.normal_steps,
-        amplitude: cfg.amplitude,
-        shift_step: cfg.shift_step,
-        grid: cfg.grid,
-        extent_over_a: cfg.extent_over_a,
-        inhomogeneities: cfg
-            .inhomogeneity
-            .iter()
-            .map(inhomogeneity_from_table)
-            .collect::<Result<Vec<_>, _>>()?,
-        subsurface_depth: None,
-    };
-    if !(cfg.subsurface_over_a.is_finite() && cfg.subsurface_over_a >= 0.0) {
-        return Err(CliError::Spec(format!(
-            "fretting-loop: subsurface_over_a must be finite and ≥ 0, got {}",
-            cfg.subsurface_over_a
-        )));
-    }
-    match args.case.as_str() {
-        "homogeneous" => {}
-        "composite" => {
-            let layout = match cfg.layout.as_str() {
-                "fibre-centred" => FibreLayout::FibreCentred,
-                "gap-centred" => FibreLayout::GapCentred,
-                other => {
-                    return Err(CliError::Spec(format!(
-                        "fretting-loop: layout = '{other}': fibre-centred or gap-centred"
-                    )))
-                }
-            };
-            case = case
-                .composite(layout, cfg.fibre_e_ratio)
-                .map_err(|e| CliError::Spec(format!("fretting-loop: {e}")))?;
-        }
-        other => {
-            return Err(CliError::Spec(format!(
-                "--case '{other}': homogeneous or composite"
-            )))
-        }
-    }
-    if let Some(g) = args.grid {
-        case.grid = g;
-    }
-    case.validate()
-        .map_err(|e| CliError::Spec(format!("fretting-loop: {e}")))?;
-    if cfg.subsurface_over_a > 0.0 {
-        case.subsurface_depth = Some(cfg.subsurface_over_a * case.hertz_radius());
-    }
-    Ok(case)
-}
-
 pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
     let start = Instant::now();
     let cfg: LoopConfig = super::read_config(args.config.as_deref())?;
-    let case = loop_case(&cfg, &args)?;
+    if !matches!(args.case.as_str(), "homogeneous" | "composite") {
+        return Err(CliError::Spec(format!(
+            "--case '{}': homogeneous or composite",
+            args.case
+        )));
+    }
+    let case = cfg.case(&args.case, args.grid)?;
     if !(args.checkpoint_seconds.is_finite() && args.checkpoint_seconds > 0.0) {
         return Err(CliError::Spec(format!(
             "--checkpoint-seconds must be finite and > 0, got {}",

@@ -1,0 +1,159 @@
+//! Configurations of the library's drivers as plain data (TOML for the CLI, dicts for Python):
+//! one schema and one conversion to the library's types.
+
+use serde::Deserialize;
+
+use crate::sam::eim::{FibreLayout, Inhomogeneity};
+use crate::sam::fretting_loop::LoopCase;
+use crate::spec::{parse_inhomogeneity, SpecError};
+
+/// The fretting-loop configuration as read from TOML (`fretting-loop --config`) or from a Python
+/// dict: the keys of [`LoopCase`] in SI units, `[[inhomogeneity]]` tables, the composite preset's
+/// `layout` and `fibre_e_ratio`, and `subsurface_over_a` (defaults: [LN11]'s homogeneous case).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LoopConfig {
+    pub radius: f64,
+    pub e: f64,
+    pub nu: f64,
+    pub friction: f64,
+    pub force: f64,
+    pub normal_steps: usize,
+    pub amplitude: f64,
+    pub shift_step: f64,
+    pub grid: usize,
+    pub extent_over_a: f64,
+    /// `[[inhomogeneity]]` tables: `kind = "sphere" | "cylinder" | "cuboid"` and the keys of the
+    /// CLI's `--inhomogeneity` specs (`x, y, z, r, axis, hx, hy, hz, e, nu`).
+    pub inhomogeneity: Vec<toml::Table>,
+    /// Composite preset: `"fibre-centred"` (a fibre axis at x = 0) or `"gap-centred"`.
+    pub layout: String,
+    /// Composite preset: E_I / E_m of the fibres (2 in [LN11]; 0.5 for soft fibres).
+    pub fibre_e_ratio: f64,
+    /// Depth of the von Mises fields at the points A–D over a (0: none).
+    pub subsurface_over_a: f64,
+}
+
+impl Default for LoopConfig {
+    /// The library's [LN11] case ([`LoopCase::default`]).
+    fn default() -> Self {
+        let c = LoopCase::default();
+        Self {
+            radius: c.radius,
+            e: c.e,
+            nu: c.nu,
+            friction: c.friction,
+            force: c.force,
+            normal_steps: c.normal_steps,
+            amplitude: c.amplitude,
+            shift_step: c.shift_step,
+            grid: c.grid,
+            extent_over_a: c.extent_over_a,
+            inhomogeneity: Vec::new(),
+            layout: "fibre-centred".into(),
+            fibre_e_ratio: 2.0,
+            subsurface_over_a: 1.0,
+        }
+    }
+}
+
+/// One `[[inhomogeneity]]` table as the CLI's `kind:key=value,...` spec (one parser for both; the
+/// TOML key `e` is the spec's `E`).
+fn inhomogeneity_from_table(table: &toml::Table) -> Result<Inhomogeneity, SpecError> {
+    let kind = table
+        .get("kind")
+        .and_then(|v| v.as_str())
+        .ok_or_else(|| {
+            SpecError(
+                "fretting loop config: every [[inhomogeneity]] needs kind = \"sphere\" | \"cylinder\" | \"cuboid\""
+                    .into(),
+            )
+        })?;
+    let mut pairs = Vec::new();
+    for (key, value) in table.iter().filter(|(k, _)| k.as_str() != "kind") {
+        let text = match value {
+            toml::Value::Float(v) => format!("{v:e}"),
+            toml::Value::Integer(v) => v.to_string(),
+            toml::Value::String(v) => v.clone(),
+            other => {
+                return Err(SpecError(format!(
+                    "fretting loop config: [[inhomogeneity]] {key} = {other}: a number (or x/y for axis)"
+                )))
+            }
+        };
+        let key = if key == "e" { "E" } else { key.as_str() };
+        pairs.push(format!("{key}={text}"));
+    }
+    parse_inhomogeneity(&format!("{kind}:{}", pairs.join(",")), "[[inhomogeneity]]")
+}
+
+impl LoopConfig {
+    /// The library's case: `case` is `homogeneous` or `composite` (the paper's fibres of
+    /// `layout`, E_I = `fibre_e_ratio` E, at 4 cells per radius); `grid` overrides the grid.
+    pub fn case(&self, case: &str, grid: Option<usize>) -> Result<LoopCase, SpecError> {
+        loop_case(self, case, grid)
+    }
+}
+
+/// [`LoopConfig::case`].
+fn loop_case(
+    cfg: &LoopConfig,
+    case_name: &str,
+    grid: Option<usize>,
+) -> Result<LoopCase, SpecError> {
+    let mut case = LoopCase {
+        radius: cfg.radius,
+        e: cfg.e,
+        nu: cfg.nu,
+        friction: cfg.friction,
+        force: cfg.force,
+        normal_steps: cfg.normal_steps,
+        amplitude: cfg.amplitude,
+        shift_step: cfg.shift_step,
+        grid: cfg.grid,
+        extent_over_a: cfg.extent_over_a,
+        inhomogeneities: cfg
+            .inhomogeneity
+            .iter()
+            .map(inhomogeneity_from_table)
+            .collect::<Result<Vec<_>, _>>()?,
+        subsurface_depth: None,
+    };
+    if !(cfg.subsurface_over_a.is_finite() && cfg.subsurface_over_a >= 0.0) {
+        return Err(SpecError(format!(
+            "fretting loop config: subsurface_over_a must be finite and ≥ 0, got {}",
+            cfg.subsurface_over_a
+        )));
+    }
+    match case_name {
+        "homogeneous" => {}
+        "composite" => {
+            let layout = match cfg.layout.as_str() {
+                "fibre-centred" => FibreLayout::FibreCentred,
+                "gap-centred" => FibreLayout::GapCentred,
+                other => {
+                    return Err(SpecError(format!(
+                        "fretting loop config: layout = '{other}': fibre-centred or gap-centred"
+                    )))
+                }
+            };
+            case = case
+                .composite(layout, cfg.fibre_e_ratio)
+                .map_err(|e| SpecError(format!("fretting loop config: {e}")))?;
+        }
+        other => {
+            return Err(SpecError(format!(
+                "case '{other}': homogeneous or composite"
+            )))
+        }
+    }
+    if let Some(g) = grid {
+        case.grid = g;
+    }
+    case.validate()
+        .map_err(|e| SpecError(format!("fretting loop config: {e}")))?;
+    if cfg.subsurface_over_a > 0.0 {
+        case.subsurface_depth = Some(cfg.subsurface_over_a * case.hertz_radius());
+    }
+    Ok(case)
+}
