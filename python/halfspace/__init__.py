@@ -1,0 +1,251 @@
+"""halfspace: contact mechanics of elastic half-spaces, from Python.
+
+The library is Rust (``halfspace._halfspace``, built by maturin); this module adds the typed input
+classes and the result objects. Every input class is also accepted as the command line's
+``kind:key=value`` string (``Sphere(R=1e-4)`` is ``"sphere:R=0.0001"``), and both go through the
+library's one parser, so a string that the CLI refuses is refused here with the same message
+(as :class:`HalfspaceError`, a ``ValueError``). Solves release the GIL.
+
+References: Willert, Li & Popov (2021) for the MDR (``axisym``); Leroux & Nélias (2011) for the
+fretting loop with inhomogeneities (``FrettingLoop``); the equations are cited in the docstrings.
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from typing import Any, Iterator
+
+import numpy as np
+
+from ._halfspace import HalfspaceError, _FrettingLoop
+from ._halfspace import axisym as _axisym
+
+__all__ = [
+    "HalfspaceError",
+    "Sphere",
+    "Cone",
+    "Flat",
+    "PowerLaw",
+    "Homogeneous",
+    "Graded",
+    "Inhomogeneity",
+    "Result",
+    "axisym",
+    "FrettingLoop",
+]
+
+
+def _num(v: float) -> str:
+    return repr(float(v))
+
+
+@dataclass(frozen=True)
+class Sphere:
+    """Paraboloid ``f(r) = r² / (2R)`` (m)."""
+
+    R: float
+
+    def spec(self) -> str:
+        return f"sphere:R={_num(self.R)}"
+
+
+@dataclass(frozen=True)
+class Cone:
+    """Cone ``f(r) = slope · r``."""
+
+    slope: float
+
+    def spec(self) -> str:
+        return f"cone:slope={_num(self.slope)}"
+
+
+@dataclass(frozen=True)
+class Flat:
+    """Flat punch of radius ``a`` (m)."""
+
+    a: float
+
+    def spec(self) -> str:
+        return f"flat:a={_num(self.a)}"
+
+
+@dataclass(frozen=True)
+class PowerLaw:
+    """Power-law profile ``f(r) = c rⁿ``."""
+
+    c: float
+    n: float
+
+    def spec(self) -> str:
+        return f"power:c={_num(self.c)},n={_num(self.n)}"
+
+
+@dataclass(frozen=True)
+class Homogeneous:
+    """Homogeneous elastic half-space: ``E`` (Pa) and ``nu``, or the contact modulus ``Estar``."""
+
+    E: float | None = None
+    nu: float | None = None
+    Estar: float | None = None
+
+    def spec(self) -> str:
+        if self.Estar is not None:
+            return f"homogeneous:Estar={_num(self.Estar)}"
+        if self.E is None or self.nu is None:
+            raise HalfspaceError("Homogeneous needs E and nu, or Estar")
+        return f"homogeneous:E={_num(self.E)},nu={_num(self.nu)}"
+
+
+@dataclass(frozen=True)
+class Graded:
+    """Power-law graded half-space ``E(z) = E0 (z / z0)^k`` (Willert et al. 2021, Section 3)."""
+
+    E0: float
+    z0: float
+    nu: float
+    k: float
+
+    def spec(self) -> str:
+        return (
+            f"graded:E0={_num(self.E0)},z0={_num(self.z0)},nu={_num(self.nu)},k={_num(self.k)}"
+        )
+
+
+class Inhomogeneity:
+    """An inhomogeneity below the surface, as the CLI's ``--inhomogeneity`` spec (``z`` is the depth
+    of the centre, positive into the body; SI units)."""
+
+    def __init__(self, spec: str) -> None:
+        self._spec = spec
+
+    def spec(self) -> str:
+        return self._spec
+
+    def __repr__(self) -> str:
+        return f"Inhomogeneity({self._spec!r})"
+
+    @classmethod
+    def sphere(cls, *, x: float, y: float, z: float, r: float, E: float, nu: float) -> "Inhomogeneity":
+        return cls(f"sphere:x={_num(x)},y={_num(y)},z={_num(z)},r={_num(r)},E={_num(E)},nu={_num(nu)}")
+
+    @classmethod
+    def cylinder(
+        cls, *, axis: str, z: float, r: float, E: float, nu: float, x: float | None = None, y: float | None = None
+    ) -> "Inhomogeneity":
+        pos = f"x={_num(x)}" if axis == "y" else f"y={_num(y if y is not None else float('nan'))}"
+        return cls(f"cylinder:axis={axis},{pos},z={_num(z)},r={_num(r)},E={_num(E)},nu={_num(nu)}")
+
+    @classmethod
+    def cuboid(
+        cls, *, x: float, y: float, z: float, hx: float, hy: float, hz: float, E: float, nu: float
+    ) -> "Inhomogeneity":
+        return cls(
+            f"cuboid:x={_num(x)},y={_num(y)},z={_num(z)},hx={_num(hx)},hy={_num(hy)},hz={_num(hz)},"
+            f"E={_num(E)},nu={_num(nu)}"
+        )
+
+
+def _spec(value: Any) -> str:
+    if isinstance(value, str):
+        return value
+    if hasattr(value, "spec"):
+        return value.spec()
+    raise HalfspaceError(f"expected a spec string or a halfspace input class, got {value!r}")
+
+
+class Result:
+    """A result: its attributes are the CLI's JSON keys (floats, ints, strings) and NumPy arrays."""
+
+    def __init__(self, values: dict[str, Any]) -> None:
+        self.__dict__.update(values)
+
+    def to_dict(self) -> dict[str, Any]:
+        return dict(self.__dict__)
+
+    def __repr__(self) -> str:
+        scalars = {k: v for k, v in self.__dict__.items() if not isinstance(v, np.ndarray)}
+        return f"Result({scalars})"
+
+
+def axisym(
+    profile: Any,
+    material: Any,
+    *,
+    force: float | None = None,
+    depth: float | None = None,
+    n: int = 2001,
+    method: str = "fft",
+) -> Result:
+    """Axisymmetric normal contact by the MDR: the profile transform (Willert et al. 2021, Eq. 7;
+    graded Eq. 23), the contact radius from the force or the depth, the pressure (Eq. 17; graded
+    Eq. 29) and the surface displacement (Eqs. 12/13; graded 25/26) on ``n`` nodes, by FFT
+    convolution (``method="fft"``) or the O(N²) products (``"mvm"``). As ``halfspace axisym``."""
+    return Result(
+        _axisym(_spec(profile), _spec(material), force=force, depth=depth, n=n, method=method)
+    )
+
+
+class FrettingLoop:
+    """The fretting loop of Leroux & Nélias (2011): normal load ramped in steps, then the shift
+    cycled 0 → +A → −A → +A, each increment the coupled stick–slip contact (spec §4.5) or, with
+    inhomogeneities, the nested contact ↔ EIM loop (spec §6.2).
+
+    ``config`` holds the keys of ``halfspace fretting-loop --config`` (``radius``, ``e``, ``nu``,
+    ``friction``, ``force``, ``normal_steps``, ``amplitude``, ``shift_step``, ``grid``,
+    ``extent_over_a``, ``subsurface_over_a``, ``layout``, ``fibre_e_ratio``; ``inhomogeneity``: a
+    list of tables ``{"kind": "sphere", "x": ..}`` or of :class:`Inhomogeneity` / spec strings);
+    ``case="composite"`` adds the paper's fibres. Iterating yields each increment's row (a dict);
+    :meth:`run` does the rest with the GIL released.
+    """
+
+    def __init__(self, config: dict[str, Any] | None = None, *, case: str = "homogeneous", grid: int | None = None):
+        cfg = dict(config or {})
+        tables = []
+        for item in cfg.pop("inhomogeneity", []) or []:
+            if isinstance(item, dict):
+                tables.append(item)
+            else:
+                kind, _, rest = _spec(item).partition(":")
+                table: dict[str, Any] = {"kind": kind}
+                for pair in filter(None, rest.split(",")):
+                    key, _, value = pair.partition("=")
+                    key = "e" if key == "E" else key
+                    table[key] = value if key == "axis" else float(value)
+                tables.append(table)
+        if tables:
+            cfg["inhomogeneity"] = tables
+        self._inner = _FrettingLoop(json.dumps(cfg) if cfg else None, case=case, grid=grid)
+
+    def __len__(self) -> int:
+        return len(self._inner)
+
+    def __iter__(self) -> Iterator[dict[str, float]]:
+        while True:
+            row = self._inner.step()
+            if row is None:
+                return
+            yield row
+
+    @property
+    def done(self) -> int:
+        """Increments done."""
+        return self._inner.done
+
+    def run(self) -> "FrettingLoop":
+        """Every remaining increment (GIL released)."""
+        self._inner.run()
+        return self
+
+    def rows(self) -> dict[str, np.ndarray]:
+        """One array per field: normal_force, shift_x, tangential_force(_y), max_pressure,
+        contact_area, stick_area, alternations, approach, outer_iterations, eim_iterations."""
+        return self._inner.rows()
+
+    def points(self) -> dict[str, dict[str, Any]]:
+        """The fields at the points A–D reached so far: label → {name: (N₁, N₂) array}."""
+        return self._inner.points()
+
+    def metrics(self) -> Result:
+        """Dissipated energy, ratchet, regime (0 partial slip, 1 mixed, 2 gross slip), … of the
+        completed loop."""
+        return Result(self._inner.metrics())

@@ -1,0 +1,241 @@
+//! `halfspace._halfspace`: the Rust side of the Python package. Thin: every function parses its
+//! inputs with the library's one spec parser (`halfspace::spec`) or config schema
+//! (`halfspace::config`), calls the library's driver with the GIL released, and returns plain
+//! dicts of floats and NumPy arrays; the typed classes and result objects live in
+//! `halfspace/__init__.py`. Errors are `halfspace.HalfspaceError` (a `ValueError`) carrying the
+//! library's message.
+
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::create_exception;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use halfspace::config::LoopConfig;
+use halfspace::mdr::{Backend, ContactParams, ContactSolver, Load};
+use halfspace::sam::fretting_loop::{FrettingLoop, LoopRow, POINT_LABELS};
+use halfspace::spec::{parse_material, parse_profile};
+
+create_exception!(
+    _halfspace,
+    HalfspaceError,
+    PyValueError,
+    "An input the library refuses or a solve that fails; the message is the library's."
+);
+
+fn err(e: impl std::fmt::Display) -> PyErr {
+    HalfspaceError::new_err(e.to_string())
+}
+
+/// `axisym(profile, material, *, force=None, depth=None, n=2001, method="fft")`: axisymmetric
+/// normal contact by the MDR (Willert et al. 2021, Eqs. 7, 12/13, 17; graded media Eqs. 23–29),
+/// as `halfspace axisym`. Returns a dict: the CLI's JSON keys and the arrays `r`, `pressure`,
+/// `displacement` (m, Pa, m).
+#[pyfunction]
+#[pyo3(signature = (profile, material, *, force=None, depth=None, n=2001, method="fft"))]
+fn axisym<'py>(
+    py: Python<'py>,
+    profile: &str,
+    material: &str,
+    force: Option<f64>,
+    depth: Option<f64>,
+    n: usize,
+    method: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let profile = parse_profile(profile, "profile").map_err(err)?;
+    let material = parse_material(material, "material").map_err(err)?;
+    let load = match (force, depth) {
+        (Some(f), None) => Load::Force(f),
+        (None, Some(d)) => Load::Depth(d),
+        _ => return Err(err("give exactly one of force= and depth=")),
+    };
+    let backend = match method {
+        "fft" => Backend::Fft,
+        "mvm" => Backend::Mvm,
+        other => return Err(err(format!("method '{other}': fft or mvm"))),
+    };
+    let params = ContactParams {
+        nodes: n,
+        backend,
+        ..ContactParams::default()
+    };
+    let sol = py
+        .detach(|| {
+            let mut solver = ContactSolver::new(material, params)?;
+            solver.solve(&profile, load)
+        })
+        .map_err(err)?;
+    let d = PyDict::new(py);
+    d.set_item("contact_radius", sol.contact_radius)?;
+    d.set_item("depth", sol.depth)?;
+    d.set_item("force", sol.force)?;
+    d.set_item("max_pressure", sol.max_pressure())?;
+    d.set_item("mean_pressure", sol.mean_pressure())?;
+    d.set_item("normal_stiffness", sol.normal_stiffness())?;
+    d.set_item("pressure_singular", sol.pressure_is_singular())?;
+    d.set_item("iterations", sol.iterations)?;
+    d.set_item("n", n)?;
+    d.set_item("method", backend.name())?;
+    d.set_item("k", material.grading_exponent())?;
+    d.set_item("contact_modulus", material.contact_modulus())?;
+    d.set_item("r", PyArray1::from_vec(py, sol.radii()))?;
+    d.set_item("pressure", PyArray1::from_vec(py, sol.pressure.clone()))?;
+    d.set_item(
+        "displacement",
+        PyArray1::from_vec(py, sol.displacement.clone()),
+    )?;
+    Ok(d)
+}
+
+/// The fretting loop of [LN11] (`sam::fretting_loop::FrettingLoop`), increment by increment.
+#[pyclass(name = "_FrettingLoop", module = "halfspace._halfspace")]
+struct PyFrettingLoop {
+    inner: FrettingLoop,
+}
+
+#[pymethods]
+impl PyFrettingLoop {
+    /// `config_json`: the fretting-loop TOML keys as a JSON object (`halfspace::config`).
+    #[new]
+    #[pyo3(signature = (config_json=None, case="homogeneous", grid=None))]
+    fn new(config_json: Option<&str>, case: &str, grid: Option<usize>) -> PyResult<Self> {
+        let cfg: LoopConfig = match config_json {
+            Some(text) => serde_json::from_str(text).map_err(|e| err(format!("config: {e}")))?,
+            None => LoopConfig::default(),
+        };
+        let case = cfg.case(case, grid).map_err(err)?;
+        Ok(Self {
+            inner: FrettingLoop::new(case).map_err(err)?,
+        })
+    }
+
+    /// Increments in the load path.
+    fn __len__(&self) -> usize {
+        self.inner.path().len()
+    }
+
+    /// Increments done.
+    #[getter]
+    fn done(&self) -> usize {
+        self.inner.rows().len()
+    }
+
+    /// One increment (GIL released); its row as a dict, or `None` when the loop is done.
+    fn step<'py>(&mut self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let inner = &mut self.inner;
+        let row = py
+            .detach(|| inner.step().map(|r| r.copied()))
+            .map_err(err)?;
+        row.map(|r| row_dict(py, &r)).transpose()
+    }
+
+    /// Every remaining increment (GIL released).
+    fn run(&mut self, py: Python<'_>) -> PyResult<()> {
+        let inner = &mut self.inner;
+        py.detach(|| inner.run(|_| std::ops::ControlFlow::Continue(())))
+            .map_err(err)?;
+        Ok(())
+    }
+
+    /// The rows so far: one array per field (`LoopRow::FIELDS`).
+    fn rows<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for (f, name) in LoopRow::FIELDS.iter().enumerate() {
+            let v: Vec<f64> = self.inner.rows().iter().map(|r| r.values()[f]).collect();
+            d.set_item(*name, PyArray1::from_vec(py, v))?;
+        }
+        Ok(d)
+    }
+
+    /// The fields at the points A–D reached so far: label → {name: (N₁, N₂) array}.
+    fn points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let grid = *self.inner.solver().problem().grid();
+        let (n1, n2) = (grid.n1, grid.n2);
+        let out = PyDict::new(py);
+        for p in self.inner.points() {
+            let d = PyDict::new(py);
+            let put = |name: &str, v: &[f64]| -> PyResult<()> {
+                d.set_item(name, PyArray1::from_vec(py, v.to_vec()).reshape([n1, n2])?)
+            };
+            put("pressure", &p.pressure)?;
+            put("shear_x", &p.shear[0])?;
+            put("shear_y", &p.shear[1])?;
+            put("slip_x", &p.slip[0])?;
+            put("slip_y", &p.slip[1])?;
+            put("stick", &p.stick)?;
+            if let Some(u) = &p.eigen_displacement {
+                for (c, v) in u.iter().enumerate() {
+                    put(&format!("eigen_displacement_{}", c + 1), v)?;
+                }
+            }
+            if let Some(vm) = &p.von_mises {
+                let layers = vm.len() / (n1 * n2).max(1);
+                d.set_item(
+                    "von_mises",
+                    PyArray1::from_vec(py, vm.clone()).reshape([layers, n1, n2])?,
+                )?;
+            }
+            d.set_item("increment", p.increment)?;
+            out.set_item(p.label, d)?;
+        }
+        Ok(out)
+    }
+
+    /// The metrics of the completed loop (an error before it is done).
+    fn metrics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let m = self.inner.metrics().map_err(err)?;
+        let d = PyDict::new(py);
+        d.set_item("dissipated_energy", m.dissipated_energy)?;
+        d.set_item("ratchet", m.ratchet)?;
+        d.set_item(
+            "tangential_force_over_mu_w_at_amplitude",
+            m.tangential_force_over_mu_w_at_amplitude,
+        )?;
+        d.set_item(
+            "max_pressure_over_p0_end_of_normal_loading",
+            m.max_pressure_over_p0_end_of_normal_loading,
+        )?;
+        d.set_item(
+            "contact_area_over_hertz_end_of_normal_loading",
+            m.contact_area_over_hertz_end_of_normal_loading,
+        )?;
+        d.set_item(
+            "approach_over_hertz_end_of_normal_loading",
+            m.approach_over_hertz_end_of_normal_loading,
+        )?;
+        d.set_item("max_transverse_slip", m.max_transverse_slip)?;
+        d.set_item("sliding_fraction", m.sliding_fraction)?;
+        d.set_item("regime", m.regime as i64)?;
+        d.set_item("energy_ratio", m.energy_ratio)?;
+        d.set_item("unloading_stiffness", m.unloading_stiffness)?;
+        d.set_item("increments", self.inner.rows().len())?;
+        d.set_item("grid", self.inner.case().grid)?;
+        if let Some(n) = self.inner.solver().nested() {
+            d.set_item("inclusion_cells", n.inclusions().len())?;
+            d.set_item("layers", n.inclusions().layers.len())?;
+        }
+        Ok(d)
+    }
+
+    /// Labels of the points A–D.
+    #[staticmethod]
+    fn point_labels() -> Vec<&'static str> {
+        POINT_LABELS.to_vec()
+    }
+}
+
+fn row_dict<'py>(py: Python<'py>, r: &LoopRow) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (name, v) in LoopRow::FIELDS.iter().zip(r.values()) {
+        d.set_item(*name, v)?;
+    }
+    Ok(d)
+}
+
+#[pymodule]
+fn _halfspace(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("HalfspaceError", m.py().get_type::<HalfspaceError>())?;
+    m.add_function(wrap_pyfunction!(axisym, m)?)?;
+    m.add_class::<PyFrettingLoop>()?;
+    Ok(())
+}
