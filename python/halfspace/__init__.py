@@ -19,6 +19,7 @@ import numpy as np
 
 from ._halfspace import HalfspaceError, _FrettingLoop
 from ._halfspace import axisym as _axisym
+from ._halfspace import fretting_wear as _fretting_wear
 
 __all__ = [
     "HalfspaceError",
@@ -31,6 +32,7 @@ __all__ = [
     "Inhomogeneity",
     "Result",
     "axisym",
+    "fretting_wear",
     "FrettingLoop",
 ]
 
@@ -183,6 +185,16 @@ def axisym(
     return Result(
         _axisym(_spec(profile), _spec(material), force=force, depth=depth, n=n, method=method)
     )
+
+
+def fretting_wear(
+    *, chi: float = 0.5, n: int = 2001, dtau: float = 1e-3, tau_end: float = 30.0, method: str = "fft"
+) -> Result:
+    """Fretting wear of a parabolic indenter in partial slip by the MDR (Willert et al. 2021,
+    Section 4; spec ``mdr.md`` §5), dimensionless: amplitude ratio ``chi``, ``n`` nodes, wear time
+    step ``dtau`` to ``tau_end``. The worn ``profile`` approaches the ``limiting_profile`` (spec §5.3);
+    ``contact_radius_history`` is a/a₀ per cycle. As ``halfspace fretting-wear``."""
+    return Result(_fretting_wear(chi=chi, n=n, dtau=dtau, tau_end=tau_end, method=method))
 
 
 class FrettingLoop:

@@ -12,6 +12,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use halfspace::config::LoopConfig;
+use halfspace::fretting::{FrettingParams, FrettingSimulation};
 use halfspace::mdr::{Backend, ContactParams, ContactSolver, Load};
 use halfspace::sam::fretting_loop::{FrettingLoop, LoopRow, POINT_LABELS};
 use halfspace::spec::{parse_material, parse_profile};
@@ -83,6 +84,78 @@ fn axisym<'py>(
     d.set_item(
         "displacement",
         PyArray1::from_vec(py, sol.displacement.clone()),
+    )?;
+    Ok(d)
+}
+
+/// `fretting_wear(*, chi=0.5, n=2001, dtau=1e-3, tau_end=30.0, method="fft")`: the MDR
+/// fretting-wear simulation of a parabolic indenter in partial slip (Willert et al. 2021,
+/// Section 4; spec `mdr.md` §5), dimensionless, as `halfspace fretting-wear`. Returns a dict: the
+/// CLI's JSON keys and `r`, `profile` (final worn profile), `limiting_profile`, `tau_history`,
+/// `contact_radius_history` (a/a₀ per cycle).
+#[pyfunction]
+#[pyo3(signature = (*, chi=0.5, n=2001, dtau=1e-3, tau_end=30.0, method="fft"))]
+fn fretting_wear<'py>(
+    py: Python<'py>,
+    chi: f64,
+    n: usize,
+    dtau: f64,
+    tau_end: f64,
+    method: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let backend = match method {
+        "fft" => Backend::Fft,
+        "mvm" => Backend::Mvm,
+        other => return Err(err(format!("method '{other}': fft or mvm"))),
+    };
+    let mut params = FrettingParams {
+        chi,
+        nodes: n,
+        dtau,
+        tau_end,
+        backend,
+        ..FrettingParams::default()
+    };
+    params.snapshots.retain(|t| *t <= tau_end + 1e-12);
+    let sim = py
+        .detach(|| {
+            let mut sim = FrettingSimulation::new(params)?;
+            sim.run(|_| false)?;
+            Ok::<_, halfspace::fretting::FrettingError>(sim)
+        })
+        .map_err(err)?;
+    let state = sim.state();
+    let d = PyDict::new(py);
+    d.set_item("tau_final", state.step as f64 * sim.params().dtau)?;
+    d.set_item("cycles", state.step)?;
+    d.set_item(
+        "contact_radius_over_a0",
+        state.contact_radius_history.last().copied().unwrap_or(1.0),
+    )?;
+    d.set_item("profile_at_a0_over_d", sim.profile_at_a0())?;
+    d.set_item("limit_contact_radius_over_a0", sim.limit_contact_radius())?;
+    d.set_item("method", backend.name())?;
+    d.set_item("n", n)?;
+    d.set_item("chi", chi)?;
+    d.set_item("dtau", dtau)?;
+    d.set_item("r", PyArray1::from_vec(py, sim.grid().coordinates()))?;
+    d.set_item("profile", PyArray1::from_vec(py, state.profile.clone()))?;
+    d.set_item(
+        "limiting_profile",
+        PyArray1::from_vec(py, sim.limiting_profile().to_vec()),
+    )?;
+    d.set_item(
+        "tau_history",
+        PyArray1::from_vec(
+            py,
+            (1..=state.contact_radius_history.len())
+                .map(|k| k as f64 * dtau)
+                .collect(),
+        ),
+    )?;
+    d.set_item(
+        "contact_radius_history",
+        PyArray1::from_vec(py, state.contact_radius_history.clone()),
     )?;
     Ok(d)
 }
@@ -236,6 +309,7 @@ fn row_dict<'py>(py: Python<'py>, r: &LoopRow) -> PyResult<Bound<'py, PyDict>> {
 fn _halfspace(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("HalfspaceError", m.py().get_type::<HalfspaceError>())?;
     m.add_function(wrap_pyfunction!(axisym, m)?)?;
+    m.add_function(wrap_pyfunction!(fretting_wear, m)?)?;
     m.add_class::<PyFrettingLoop>()?;
     Ok(())
 }

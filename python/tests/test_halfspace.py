@@ -51,6 +51,20 @@ def test_axisym_equals_the_cli_bit_for_bit(tmp_path):
     assert set(got.to_dict()) >= {"contact_radius", "r", "pressure", "displacement"}
 
 
+def test_fretting_wear_equals_the_cli(tmp_path):
+    out = tmp_path / "wear"
+    ref = cli("fretting-wear", "--chi", "0.5", "--n", "301", "--dtau", "0.005", "--tau-end", "1.0",
+              "--out", str(out))
+    got = hs.fretting_wear(chi=0.5, n=301, dtau=0.005, tau_end=1.0)
+    for key in ("cycles", "contact_radius_over_a0", "profile_at_a0_over_d", "limit_contact_radius_over_a0"):
+        assert getattr(got, key) == ref[key], key
+    with h5py.File(out / "results.h5") as f:
+        assert np.array_equal(got.contact_radius_history, f["contact_radius_history"][:])
+        assert np.array_equal(got.limiting_profile, f["limiting_profile"][:])
+    with pytest.raises(hs.HalfspaceError):
+        hs.fretting_wear(chi=1.5)
+
+
 def test_graded_and_mvm_paths():
     fft = hs.axisym(hs.Sphere(R=0.1), hs.Graded(E0=210e9, z0=1e-3, nu=0.3, k=0.5), depth=1e-6, n=401)
     mvm = hs.axisym(hs.Sphere(R=0.1), hs.Graded(E0=210e9, z0=1e-3, nu=0.3, k=0.5), depth=1e-6, n=401,
