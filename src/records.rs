@@ -9,6 +9,8 @@ use crate::sam::fretting_loop::{
     FrettingLoop, LoopMetrics, LoopRow, LoopSnapshot, PointFields, POINT_LABELS,
 };
 use crate::sam::nested::NestedWarmStart;
+use crate::sam::single::{ContactCase, ContactOutcome};
+use serde_json::json;
 
 /// The rows as one array per field of [`LoopRow::FIELDS`], names prefixed by `prefix`.
 pub fn rows_record(mut rec: Record, prefix: &str, rows: &[LoopRow]) -> Record {
@@ -271,4 +273,79 @@ pub fn loop_results_record(
                 "{n1} × {n2} cells, row-major (x index slow); von Mises (layers, N1, N2), layer k at depth (2k+1)·half cell"
             )),
         )
+}
+
+/// The summary of one 3D contact (`halfspace contact3d --json`, the Python `contact3d`): the
+/// contact, the work, and with inhomogeneities or a subsurface field their numbers.
+pub fn contact_summary(outcome: &ContactOutcome, case: &ContactCase) -> serde_json::Value {
+    let ContactOutcome {
+        solver,
+        info,
+        nested,
+        shift,
+        iterations,
+        field,
+        extent,
+        seconds: [setup_seconds, solve_seconds, subsurface_seconds],
+        ..
+    } = outcome;
+    let problem = solver.problem();
+    let state = problem.state();
+    let mut summary = json!({
+        "contact_radius": (info.contact_area / std::f64::consts::PI).sqrt(),
+        "contact_area": info.contact_area,
+        "max_pressure": info.max_pressure,
+        "force": state.force,
+        "depth": state.approach,
+        "tangential_force": info.tangential_force[0],
+        "tangential_force_y": info.tangential_force[1],
+        "shift_x": shift,
+        "stick_radius": (info.stick_area / std::f64::consts::PI).sqrt(),
+        "iterations": iterations,
+        "alternations": info.alternations,
+        "residual": info.normal.residual.max(info.tangential.residual),
+        "kkt": info.tangential.kkt,
+        "grid": case.grid,
+        "extent": extent,
+        "coupled": problem.is_coupled(),
+        "seconds": setup_seconds + solve_seconds + subsurface_seconds,
+        "setup_seconds": setup_seconds,
+        "solve_seconds": solve_seconds,
+        "friction": case.friction,
+    });
+    let extra = summary.as_object_mut().expect("object");
+    if let (Some(n), Some(ni)) = (solver.nested(), nested) {
+        extra.insert("inclusion_cells".into(), json!(n.inclusions().len()));
+        extra.insert("layers".into(), json!(n.inclusions().layers.len()));
+        extra.insert("eim_iterations".into(), json!(ni.eim_iterations));
+        extra.insert("outer_iterations".into(), json!(ni.outer_iterations));
+        extra.insert("outer_change".into(), json!(ni.change));
+        extra.insert(
+            "min_eigen_displacement".into(),
+            json!(ni.min_eigen_displacement),
+        );
+        // Spec §8.5b: A Σ p_c should vanish; its size relative to W measures the truncation of p_c
+        // by the domain (enlarge the extent when it is not small).
+        let pc: f64 = n.correction_pressure().iter().sum::<f64>() * problem.grid().cell_area();
+        extra.insert(
+            "correction_pressure_integral_over_force".into(),
+            json!(pc / state.force),
+        );
+        extra.insert(
+            "eim_method".into(),
+            json!(format!("{:?}", ni.last_eim.method)),
+        );
+        extra.insert("eim_spectra_bytes".into(), json!(n.spectra_bytes()));
+    }
+    if let Some(f) = field {
+        let (vm, vm_at) = f.maximum(&f.von_mises);
+        let (tr, tr_at) = f.maximum(&f.tresca);
+        extra.insert("max_von_mises".into(), json!(vm));
+        extra.insert("max_von_mises_at".into(), json!(vm_at));
+        extra.insert("max_tresca".into(), json!(tr));
+        extra.insert("max_tresca_at".into(), json!(tr_at));
+        extra.insert("subsurface_layers".into(), json!(f.layers));
+        extra.insert("subsurface_seconds".into(), json!(subsurface_seconds));
+    }
+    summary
 }

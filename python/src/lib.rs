@@ -14,8 +14,13 @@ use pyo3::types::PyDict;
 use halfspace::config::LoopConfig;
 use halfspace::fretting::{FrettingParams, FrettingSimulation};
 use halfspace::mdr::{Backend, ContactParams, ContactSolver, Load};
+use halfspace::records::contact_summary;
 use halfspace::sam::fretting_loop::{FrettingLoop, LoopRow, POINT_LABELS};
-use halfspace::spec::{parse_material, parse_profile};
+use halfspace::sam::normal::NormalLoad;
+use halfspace::sam::single::{solve_contact, ContactCase, TangentialLoad};
+use halfspace::spec::{
+    parse_body, parse_indenter, parse_inhomogeneity, parse_material, parse_profile,
+};
 
 create_exception!(
     _halfspace,
@@ -158,6 +163,117 @@ fn fretting_wear<'py>(
         PyArray1::from_vec(py, state.contact_radius_history.clone()),
     )?;
     Ok(d)
+}
+
+/// `contact3d(indenter, material, ...)`: one 3D contact (`sam::single::solve_contact`), as
+/// `halfspace contact3d`: returns `(summary_json, arrays)` — the CLI's JSON keys, and the surface
+/// fields `pressure`, `shear_x`, `shear_y`, `slip_x`, `slip_y` shaped (N₁, N₂) with `x`, `y` (m),
+/// the eigen-displacements with inhomogeneities, the stress field (`von_mises`, `tresca`,
+/// `stress_xx` … `stress_xy`, shaped (layers, N₁, N₂)) with `subsurface`.
+#[pyfunction]
+#[pyo3(signature = (indenter, material, *, force=None, depth=None, indenter_material="rigid",
+    shift_x=None, tangential_force=None, friction=0.0, grid=128, extent=None, tol=1e-10,
+    inhomogeneities=Vec::new(), subsurface=None))]
+#[allow(clippy::too_many_arguments)]
+fn contact3d<'py>(
+    py: Python<'py>,
+    indenter: &str,
+    material: &str,
+    force: Option<f64>,
+    depth: Option<f64>,
+    indenter_material: &str,
+    shift_x: Option<f64>,
+    tangential_force: Option<f64>,
+    friction: f64,
+    grid: usize,
+    extent: Option<f64>,
+    tol: f64,
+    inhomogeneities: Vec<String>,
+    subsurface: Option<f64>,
+) -> PyResult<(String, Bound<'py, PyDict>)> {
+    let load = match (force, depth) {
+        (Some(w), None) if w.is_finite() && w > 0.0 => NormalLoad::Force(w),
+        (None, Some(d)) if d.is_finite() && d > 0.0 => NormalLoad::Approach(d),
+        (Some(_), None) | (None, Some(_)) => {
+            return Err(err("force / depth must be finite and > 0"))
+        }
+        _ => return Err(err("give exactly one of force= and depth=")),
+    };
+    let tangential = match (shift_x, tangential_force) {
+        (Some(dx), None) => Some(TangentialLoad::Shift(dx)),
+        (None, Some(q)) => Some(TangentialLoad::Force(q)),
+        (None, None) => None,
+        _ => return Err(err("give at most one of shift_x= and tangential_force=")),
+    };
+    let case = ContactCase {
+        indenter: parse_indenter(indenter, "indenter").map_err(err)?,
+        indenter_body: parse_body(indenter_material, "indenter_material").map_err(err)?,
+        half_space: parse_body(material, "material").map_err(err)?,
+        load,
+        tangential,
+        friction,
+        grid,
+        extent,
+        tolerance: tol,
+        inhomogeneities: inhomogeneities
+            .iter()
+            .map(|s| parse_inhomogeneity(s, "inhomogeneity"))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(err)?,
+        subsurface_depth: subsurface,
+    };
+    let outcome = py.detach(|| solve_contact(&case)).map_err(err)?;
+    let summary = contact_summary(&outcome, &case).to_string();
+    let problem = outcome.solver.problem();
+    let g = *problem.grid();
+    let (n1, n2) = (g.n1, g.n2);
+    let st = problem.state();
+    let d = PyDict::new(py);
+    let zeros = vec![0.0; g.len()];
+    let field = |v: &Vec<f64>| {
+        if v.is_empty() {
+            zeros.clone()
+        } else {
+            v.clone()
+        }
+    };
+    let put2 = |name: &str, v: Vec<f64>| -> PyResult<()> {
+        d.set_item(name, PyArray1::from_vec(py, v).reshape([n1, n2])?)
+    };
+    put2("pressure", st.pressure.clone())?;
+    put2("shear_x", field(&st.shear[0]))?;
+    put2("shear_y", field(&st.shear[1]))?;
+    put2("slip_x", field(&st.slip[0]))?;
+    put2("slip_y", field(&st.slip[1]))?;
+    d.set_item(
+        "x",
+        PyArray1::from_vec(py, (0..n1).map(|i| g.centre(i, 0).0).collect()),
+    )?;
+    d.set_item(
+        "y",
+        PyArray1::from_vec(py, (0..n2).map(|j| g.centre(0, j).1).collect()),
+    )?;
+    if let Some(n) = outcome.solver.nested() {
+        for (c, u) in n.eigen_displacements().iter().enumerate() {
+            put2(&format!("eigen_displacement_{}", c + 1), u.clone())?;
+        }
+    }
+    if let Some(f) = &outcome.field {
+        let shape = [f.layers, n1, n2];
+        let put3 = |name: &str, v: &Vec<f64>| -> PyResult<()> {
+            d.set_item(name, PyArray1::from_vec(py, v.clone()).reshape(shape)?)
+        };
+        put3("von_mises", &f.von_mises)?;
+        put3("tresca", &f.tresca)?;
+        for (o, name) in ["xx", "yy", "zz", "yz", "xz", "xy"].iter().enumerate() {
+            put3(&format!("stress_{name}"), &f.stress[o])?;
+        }
+        d.set_item(
+            "depth_of_layers",
+            PyArray1::from_vec(py, (0..f.layers).map(|k| f.depth(k)).collect()),
+        )?;
+    }
+    Ok((summary, d))
 }
 
 /// The fretting loop of [LN11] (`sam::fretting_loop::FrettingLoop`), increment by increment.
@@ -310,6 +426,7 @@ fn _halfspace(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("HalfspaceError", m.py().get_type::<HalfspaceError>())?;
     m.add_function(wrap_pyfunction!(axisym, m)?)?;
     m.add_function(wrap_pyfunction!(fretting_wear, m)?)?;
+    m.add_function(wrap_pyfunction!(contact3d, m)?)?;
     m.add_class::<PyFrettingLoop>()?;
     Ok(())
 }

@@ -6,14 +6,15 @@ use std::time::Instant;
 
 use clap::Args;
 use halfspace::data::{write_record, AttrValue, Record};
-use halfspace::sam::coupled::{ContactParams, ContactProblem};
+use halfspace::records::contact_summary;
+use halfspace::sam::coupled::ContactProblem;
 use halfspace::sam::fretting_loop::ContactSolver;
 use halfspace::sam::indenter::Indenter;
-use halfspace::sam::nested::NestedParams;
-use halfspace::sam::normal::{NormalLoad, NormalParams};
+use halfspace::sam::normal::NormalLoad;
+use halfspace::sam::single::{solve_contact, ContactCase, ContactOutcome, TangentialLoad};
 use halfspace::sam::subsurface::StressField;
-use halfspace::sam::tangential::TangentialParams;
-use halfspace::sam::{Body, Compliance, SurfaceGrid};
+use halfspace::sam::Body;
+use halfspace::sam::SamError;
 use halfspace::spec::{parse_body, parse_indenter, parse_inhomogeneity};
 use serde_json::json;
 
@@ -154,150 +155,61 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
     if let Some(path) = &args.out {
         halfspace::data::Format::of(path)?;
     }
-    let e_star = 1.0 / (tool.normal_term() + half.normal_term());
-    let extent = match (args.extent, indenter.contact_radius_estimate(e_star, load)) {
-        (Some(x), _) => x,
-        (None, Some(a)) => 4.0 * a,
-        (None, None) => {
-            return Err(CliError::Spec(
-                "--indenter table: give --extent (the side of the grid in m)".into(),
-            ))
-        }
-    };
-    // A grid of any size is accepted; FFT sizes need no padding to powers of two (5-smooth is fastest).
-    let grid = SurfaceGrid::square(args.grid, extent)?;
-    let compliance = Compliance::pair(tool, half)?;
-    // Before the first field is allocated: a grid that cannot fit is refused with the estimate.
-    halfspace::sam::memory::check_problem(
-        &grid,
-        friction > 0.0,
-        friction > 0.0 && compliance.coupling != 0.0,
-    )?;
-    let geometry = indenter.gap(&grid).map_err(|e| {
-        CliError::Spec(format!(
-            "--indenter '{}': {e} (--grid, --extent)",
-            args.indenter
-        ))
-    })?;
-    let params = ContactParams {
+    let case = ContactCase {
+        indenter: indenter.clone(),
+        indenter_body: tool,
+        half_space: half,
+        load,
+        tangential: match (args.shift_x, args.tangential_force) {
+            (Some(dx), _) => Some(TangentialLoad::Shift(dx)),
+            (None, Some(q)) => Some(TangentialLoad::Force(q)),
+            (None, None) => None,
+        },
         friction,
-        normal: NormalParams {
-            tolerance: args.tol,
-            ..NormalParams::default()
-        },
-        tangential: TangentialParams {
-            tolerance: args.tol,
-            ..TangentialParams::default()
-        },
-        ..ContactParams::default()
+        grid: args.grid,
+        extent: args.extent,
+        tolerance: args.tol,
+        inhomogeneities,
+        subsurface_depth: args.subsurface,
     };
-    let problem = ContactProblem::new(grid, compliance, geometry, params)?;
-    let (e_half, nu_half) = match half {
-        Body::Elastic { e, nu } => (e, nu),
-        Body::Rigid => unreachable!("checked above"),
+    let ContactOutcome {
+        solver,
+        info,
+        nested: nested_info,
+        shift,
+        iterations,
+        field,
+        extent,
+        e_star,
+        seconds: [setup_seconds, solve_seconds, subsurface_seconds],
+    } = solve_contact(&case).map_err(|e| match e {
+        SamError::InvalidInput(m) if m.contains("height table") => CliError::Spec(format!(
+            "--indenter '{}': {m} (--grid, --extent)",
+            args.indenter
+        )),
+        other => other.into(),
+    })?;
+    let outcome = ContactOutcome {
+        solver,
+        info,
+        nested: nested_info,
+        shift,
+        iterations,
+        field,
+        extent,
+        e_star,
+        seconds: [setup_seconds, solve_seconds, subsurface_seconds],
     };
-    let mut solver = ContactSolver::new(
-        problem,
-        e_half,
-        nu_half,
-        &inhomogeneities,
-        NestedParams::default(),
-    )?;
-    let setup_seconds = start.elapsed().as_secs_f64();
-    let solve_start = Instant::now();
-    let (mut info, mut nested_info) = solver.increment(load, [0.0, 0.0])?;
-    let mut iterations = info.normal.iterations + info.tangential.iterations;
-    let mut shift = 0.0;
-    if let Some(dx) = args.shift_x {
-        (info, nested_info) = solver.increment(load, [dx, 0.0])?;
-        iterations += info.normal.iterations + info.tangential.iterations;
-        shift = dx;
-    } else if let Some(qx) = args.tangential_force {
-        let bracket = 0.05 * extent * 1e-3;
-        let d = match &mut solver {
-            ContactSolver::Plain(problem) => {
-                let (i, d) = problem.increment_with_force(load, qx, bracket)?;
-                info = i;
-                d
-            }
-            ContactSolver::Nested(nested) => {
-                let (ni, d) = nested.increment_with_force(load, qx, bracket)?;
-                info = ni.contact;
-                nested_info = Some(ni);
-                d
-            }
-        };
-        iterations += info.normal.iterations + info.tangential.iterations;
-        shift = d;
-    }
-    let solve_seconds = solve_start.elapsed().as_secs_f64();
-    let problem = solver.problem();
-    let subsurface_start = Instant::now();
-    let field = match args.subsurface {
-        None => None,
-        Some(depth) => Some(solver.subsurface(e_half, nu_half, depth)?),
-    };
-    let subsurface_seconds = subsurface_start.elapsed().as_secs_f64();
-    let state = problem.state();
+    let mut summary = contact_summary(&outcome, &case);
+    summary["seconds"] = json!(start.elapsed().as_secs_f64());
+    let ContactOutcome {
+        solver,
+        info,
+        field,
+        ..
+    } = outcome;
+    let state = solver.problem().state();
     let seconds = start.elapsed().as_secs_f64();
-    let mut summary = json!({
-        "contact_radius": (info.contact_area / std::f64::consts::PI).sqrt(),
-        "contact_area": info.contact_area,
-        "max_pressure": info.max_pressure,
-        "force": state.force,
-        "depth": state.approach,
-        "tangential_force": info.tangential_force[0],
-        "tangential_force_y": info.tangential_force[1],
-        "shift_x": shift,
-        "stick_radius": (info.stick_area / std::f64::consts::PI).sqrt(),
-        "iterations": iterations,
-        "alternations": info.alternations,
-        "residual": info.normal.residual.max(info.tangential.residual),
-        "kkt": info.tangential.kkt,
-        "grid": args.grid,
-        "extent": extent,
-        "coupled": problem.is_coupled(),
-        "seconds": seconds,
-        "setup_seconds": setup_seconds,
-        "solve_seconds": solve_seconds,
-        "friction": friction,
-    });
-    let extra = summary.as_object_mut().expect("object");
-    if let (Some(n), Some(ni)) = (solver.nested(), &nested_info) {
-        extra.insert("inclusion_cells".into(), json!(n.inclusions().len()));
-        extra.insert("layers".into(), json!(n.inclusions().layers.len()));
-        extra.insert("eim_iterations".into(), json!(ni.eim_iterations));
-        extra.insert("outer_iterations".into(), json!(ni.outer_iterations));
-        extra.insert("outer_change".into(), json!(ni.change));
-        extra.insert(
-            "min_eigen_displacement".into(),
-            json!(ni.min_eigen_displacement),
-        );
-        // Spec §8.5b: A Σ p_c should vanish; its size relative to W measures the truncation of p_c
-        // by the domain (enlarge --extent when it is not small).
-        let pc: f64 = n.correction_pressure().iter().sum::<f64>() * problem.grid().cell_area();
-        extra.insert(
-            "correction_pressure_integral_over_force".into(),
-            json!(pc / state.force),
-        );
-        extra.insert(
-            "eim_method".into(),
-            json!(format!("{:?}", ni.last_eim.method)),
-        );
-    }
-    if let Some(n) = solver.nested() {
-        extra.insert("eim_spectra_bytes".into(), json!(n.spectra_bytes()));
-    }
-    if let Some(f) = &field {
-        let (vm, vm_at) = f.maximum(&f.von_mises);
-        let (tr, tr_at) = f.maximum(&f.tresca);
-        extra.insert("max_von_mises".into(), json!(vm));
-        extra.insert("max_von_mises_at".into(), json!(vm_at));
-        extra.insert("max_tresca".into(), json!(tr));
-        extra.insert("max_tresca_at".into(), json!(tr_at));
-        extra.insert("subsurface_layers".into(), json!(f.layers));
-        extra.insert("subsurface_seconds".into(), json!(subsurface_seconds));
-    }
     let problem = solver.problem();
     if let Some(path) = &args.plot {
         let hertz = match indenter {

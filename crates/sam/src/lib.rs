@@ -24,6 +24,7 @@ pub mod kernels;
 pub mod memory;
 pub mod nested;
 pub mod normal;
+pub mod single;
 pub mod subsurface;
 pub mod tangential;
 
