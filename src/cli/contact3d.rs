@@ -172,40 +172,20 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
         inhomogeneities,
         subsurface_depth: args.subsurface,
     };
-    let ContactOutcome {
-        solver,
-        info,
-        nested: nested_info,
-        shift,
-        iterations,
-        field,
-        extent,
-        e_star,
-        seconds: [setup_seconds, solve_seconds, subsurface_seconds],
-    } = solve_contact(&case).map_err(|e| match e {
+    let outcome = solve_contact(&case).map_err(|e| match e {
         SamError::InvalidInput(m) if m.contains("height table") => CliError::Spec(format!(
             "--indenter '{}': {m} (--grid, --extent)",
             args.indenter
         )),
         other => other.into(),
     })?;
-    let outcome = ContactOutcome {
-        solver,
-        info,
-        nested: nested_info,
-        shift,
-        iterations,
-        field,
-        extent,
-        e_star,
-        seconds: [setup_seconds, solve_seconds, subsurface_seconds],
-    };
     let mut summary = contact_summary(&outcome, &case);
     summary["seconds"] = json!(start.elapsed().as_secs_f64());
     let ContactOutcome {
         solver,
         info,
         field,
+        e_star,
         ..
     } = outcome;
     let state = solver.problem().state();
