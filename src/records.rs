@@ -4,12 +4,13 @@
 use std::path::Path;
 
 use crate::data::{AttrValue, DataError, Record};
-use crate::sam::coupled::ContactState;
+use crate::sam::coupled::{ContactProblem, ContactState};
 use crate::sam::fretting_loop::{
-    FrettingLoop, LoopMetrics, LoopRow, LoopSnapshot, PointFields, POINT_LABELS,
+    ContactSolver, FrettingLoop, LoopMetrics, LoopRow, LoopSnapshot, PointFields, POINT_LABELS,
 };
 use crate::sam::nested::NestedWarmStart;
 use crate::sam::single::{ContactCase, ContactOutcome};
+use crate::sam::subsurface::StressField;
 use serde_json::json;
 
 /// The rows as one array per field of [`LoopRow::FIELDS`], names prefixed by `prefix`.
@@ -348,4 +349,137 @@ pub fn contact_summary(outcome: &ContactOutcome, case: &ContactCase) -> serde_js
         extra.insert("subsurface_seconds".into(), json!(subsurface_seconds));
     }
     summary
+}
+
+/// Names of the volume datasets of [`contact_record`], each of shape `(layers, N₁, N₂)`: the six
+/// stresses (Voigt order), von Mises, Tresca, the principal stresses, the material index (0 matrix,
+/// `i + 1` inhomogeneity `i`) and the six eigenstrains.
+pub const VOLUME_FIELDS: [&str; 18] = [
+    "stress_xx",
+    "stress_yy",
+    "stress_zz",
+    "stress_yz",
+    "stress_xz",
+    "stress_xy",
+    "von_mises",
+    "tresca",
+    "principal_1",
+    "principal_2",
+    "principal_3",
+    "material",
+    "eigenstrain_xx",
+    "eigenstrain_yy",
+    "eigenstrain_zz",
+    "eigenstrain_yz",
+    "eigenstrain_xz",
+    "eigenstrain_xy",
+];
+
+/// One 3D contact as named arrays (what `halfspace contact3d --out` writes and the Python
+/// `contact3d` returns): per surface cell (row-major, x index slow) `x`, `y`, `pressure`,
+/// `shear_x/y`, `slip_x/y`, `stick`; with a subsurface field the [`VOLUME_FIELDS`]; `summary`'s
+/// keys as attributes.
+pub fn contact_record(outcome: &ContactOutcome, summary: &serde_json::Value) -> Record {
+    let mut rec = surface_record(outcome.solver.problem(), summary);
+    if let Some(f) = &outcome.field {
+        rec = volume_record(rec, f, &outcome.solver);
+    }
+    rec
+}
+
+/// Adds the subsurface fields (and the eigenstrains on the same lattice) with their shape.
+fn volume_record(mut rec: Record, f: &StressField, solver: &ContactSolver) -> Record {
+    let shape = [f.layers, f.grid.n1, f.grid.n2];
+    for (o, name) in VOLUME_FIELDS[..6].iter().enumerate() {
+        rec = rec.shaped(name, f.stress[o].clone(), &shape);
+    }
+    rec = rec
+        .shaped(VOLUME_FIELDS[6], f.von_mises.clone(), &shape)
+        .shaped(VOLUME_FIELDS[7], f.tresca.clone(), &shape);
+    for (o, name) in VOLUME_FIELDS[8..11].iter().enumerate() {
+        rec = rec.shaped(name, f.principal[o].clone(), &shape);
+    }
+    rec = rec.shaped(
+        VOLUME_FIELDS[11],
+        f.material.iter().map(|&m| f64::from(m)).collect(),
+        &shape,
+    );
+    let n = f.grid.len();
+    let mut eig: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; f.layers * n]);
+    if let Some(nested) = solver.nested() {
+        let set = nested.inclusions();
+        for (c, cell) in set.cells.iter().enumerate() {
+            let k = set.layers[cell.layer];
+            if k < f.layers {
+                for (o, field) in eig.iter_mut().enumerate() {
+                    field[k * n + cell.flat] = nested.eigenstrain()[c * 6 + o];
+                }
+            }
+        }
+    }
+    for (o, name) in VOLUME_FIELDS[12..].iter().enumerate() {
+        rec = rec.shaped(name, std::mem::take(&mut eig[o]), &shape);
+    }
+    rec.attr(
+        "volume_layout",
+        AttrValue::Text(format!(
+            "volume fields of shape (layers, N1, N2) = ({}, {}, {}): layer k at depth (2k+1)Δ = {:e}·(2k+1) m, cell (i, j) at the surface cell centres (x index i slow)",
+            f.layers, f.grid.n1, f.grid.n2, f.grid.half1
+        )),
+    )
+}
+
+/// The surface fields of one contact and the summary's keys as attributes.
+fn surface_record(problem: &ContactProblem, summary: &serde_json::Value) -> Record {
+    let g = problem.grid();
+    let s = problem.state();
+    let (x, y): (Vec<f64>, Vec<f64>) = (0..g.len()).map(|k| g.centre(k / g.n2, k % g.n2)).unzip();
+    // Without friction the problem holds no tangential fields: q = 0, no stick; the slip of a
+    // frictionless increment is not tracked (written as zeros).
+    let frictional = !s.shear[0].is_empty();
+    let or_zeros = |v: &Vec<f64>| {
+        if frictional {
+            v.clone()
+        } else {
+            vec![0.0; g.len()]
+        }
+    };
+    let stick = (0..g.len())
+        .map(|k| {
+            f64::from(u8::from(
+                frictional
+                    && crate::sam::tangential::is_stick(
+                        problem.friction() * s.pressure[k],
+                        s.shear[0][k],
+                        s.shear[1][k],
+                    ),
+            ))
+        })
+        .collect();
+    let mut rec = Record::default()
+        .array("x", x)
+        .array("y", y)
+        .array("pressure", s.pressure.clone())
+        .array("shear_x", or_zeros(&s.shear[0]))
+        .array("shear_y", or_zeros(&s.shear[1]))
+        .array("slip_x", or_zeros(&s.slip[0]))
+        .array("slip_y", or_zeros(&s.slip[1]))
+        .array("stick", stick);
+    for (k, v) in summary.as_object().expect("object") {
+        let value = match v {
+            serde_json::Value::Number(n) if n.is_i64() || n.is_u64() => {
+                AttrValue::Int(n.as_i64().unwrap_or_default())
+            }
+            serde_json::Value::Number(n) => AttrValue::Float(n.as_f64().unwrap_or(f64::NAN)),
+            other => AttrValue::Text(other.to_string()),
+        };
+        rec = rec.attr(k, value);
+    }
+    rec.attr(
+        "layout",
+        AttrValue::Text(format!(
+            "{} × {} cells, row-major (x index slow)",
+            g.n1, g.n2
+        )),
+    )
 }

@@ -19,19 +19,23 @@ import numpy as np
 
 from ._halfspace import HalfspaceError, _FrettingLoop
 from ._halfspace import axisym as _axisym
+from ._halfspace import contact3d as _contact3d
 from ._halfspace import fretting_wear as _fretting_wear
 
 __all__ = [
     "HalfspaceError",
     "Sphere",
+    "Ellipsoid",
     "Cone",
     "Flat",
     "PowerLaw",
+    "Table",
     "Homogeneous",
     "Graded",
     "Inhomogeneity",
     "Result",
     "axisym",
+    "contact3d",
     "fretting_wear",
     "FrettingLoop",
 ]
@@ -49,6 +53,17 @@ class Sphere:
 
     def spec(self) -> str:
         return f"sphere:R={_num(self.R)}"
+
+
+@dataclass(frozen=True)
+class Ellipsoid:
+    """3D indenter ``h(x, y) = x² / (2Rx) + y² / (2Ry)`` (m) (``contact3d`` only)."""
+
+    Rx: float
+    Ry: float
+
+    def spec(self) -> str:
+        return f"ellipsoid:Rx={_num(self.Rx)},Ry={_num(self.Ry)}"
 
 
 @dataclass(frozen=True)
@@ -80,6 +95,19 @@ class PowerLaw:
 
     def spec(self) -> str:
         return f"power:c={_num(self.c)},n={_num(self.n)}"
+
+
+class Table:
+    """A tabulated axisymmetric profile ``f(r)``: nodes ``r`` (m, increasing from 0) and heights
+    ``f`` (m), interpolated linearly (``axisym`` only; the CLI's ``table:FILE.npy`` without the
+    file)."""
+
+    def __init__(self, r: Any, f: Any) -> None:
+        self.r = np.ascontiguousarray(r, dtype=float).ravel()
+        self.f = np.ascontiguousarray(f, dtype=float).ravel()
+
+    def __repr__(self) -> str:
+        return f"Table(<{self.r.size} nodes>)"
 
 
 @dataclass(frozen=True)
@@ -182,9 +210,63 @@ def axisym(
     graded Eq. 23), the contact radius from the force or the depth, the pressure (Eq. 17; graded
     Eq. 29) and the surface displacement (Eqs. 12/13; graded 25/26) on ``n`` nodes, by FFT
     convolution (``method="fft"``) or the O(N²) products (``"mvm"``). As ``halfspace axisym``."""
-    return Result(
-        _axisym(_spec(profile), _spec(material), force=force, depth=depth, n=n, method=method)
+    if isinstance(profile, Table):
+        values = _axisym("table", _spec(material), force=force, depth=depth, n=n, method=method,
+                         table=(profile.r.tolist(), profile.f.tolist()))
+    else:
+        values = _axisym(_spec(profile), _spec(material), force=force, depth=depth, n=n, method=method)
+    return Result(values)
+
+
+def contact3d(
+    indenter: Any,
+    material: Any,
+    *,
+    force: float | None = None,
+    depth: float | None = None,
+    indenter_material: Any = "rigid",
+    shift_x: float | None = None,
+    tangential_force: float | None = None,
+    friction: float = 0.0,
+    grid: int = 128,
+    extent: float | None = None,
+    tol: float = 1e-10,
+    inhomogeneities: Any = (),
+    subsurface: float | None = None,
+) -> Result:
+    """One 3D contact by the semi-analytical method, as ``halfspace contact3d``: the normal contact
+    under ``force`` (N) or ``depth`` (m) by DC-FFT influence coefficients and a CG active set
+    (spec ``sam.md`` §3–4; Polonsky & Keer), then optionally a tangential step — a rigid-body
+    ``shift_x`` (m) or a ``tangential_force`` (N) — in stick–slip with Coulomb ``friction``
+    (§4.2–4.5, coupled when the bodies are dissimilar). With ``inhomogeneities`` (a list of
+    :class:`Inhomogeneity` or spec strings) the nested contact ↔ equivalent-inclusion loop
+    (Eshelby's EIM, §6–7; Leroux & Nélias 2011). ``subsurface`` (m): the stresses to that depth
+    (Love/Boussinesq–Cerruti plus the inclusions' fields, §8).
+
+    Returns a :class:`Result`: the CLI's JSON keys, the surface fields (``x``, ``y``, ``pressure``,
+    ``shear_x/y``, ``slip_x/y``, ``stick``) shaped (N₁, N₂), and with ``subsurface`` the volume
+    fields (``stress_xx`` … ``stress_xy``, ``von_mises``, ``tresca``, ``principal_1..3``,
+    ``material``, ``eigenstrain_*``) shaped (layers, N₁, N₂) — the arrays of ``contact3d --out``."""
+    if isinstance(inhomogeneities, (str, Inhomogeneity)):
+        inhomogeneities = [inhomogeneities]
+    summary, arrays = _contact3d(
+        _spec(indenter),
+        _spec(material),
+        force=force,
+        depth=depth,
+        indenter_material=_spec(indenter_material),
+        shift_x=shift_x,
+        tangential_force=tangential_force,
+        friction=friction,
+        grid=grid,
+        extent=extent,
+        tol=tol,
+        inhomogeneities=[_spec(i) for i in inhomogeneities],
+        subsurface=subsurface,
     )
+    values = json.loads(summary)
+    values.update(arrays)
+    return Result(values)
 
 
 def fretting_wear(

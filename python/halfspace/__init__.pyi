@@ -9,6 +9,12 @@ class Sphere:
     def __init__(self, R: float) -> None: ...
     def spec(self) -> str: ...
 
+class Ellipsoid:
+    Rx: float
+    Ry: float
+    def __init__(self, Rx: float, Ry: float) -> None: ...
+    def spec(self) -> str: ...
+
 class Cone:
     slope: float
     def __init__(self, slope: float) -> None: ...
@@ -24,6 +30,11 @@ class PowerLaw:
     n: float
     def __init__(self, c: float, n: float) -> None: ...
     def spec(self) -> str: ...
+
+class Table:
+    r: np.ndarray
+    f: np.ndarray
+    def __init__(self, r: Any, f: Any) -> None: ...
 
 class Homogeneous:
     E: float | None
@@ -60,13 +71,30 @@ class Result:
     def __getattr__(self, name: str) -> Any: ...
 
 def axisym(
-    profile: Sphere | Cone | Flat | PowerLaw | str,
+    profile: Sphere | Cone | Flat | PowerLaw | Table | str,
     material: Homogeneous | Graded | str,
     *,
     force: float | None = ...,
     depth: float | None = ...,
     n: int = ...,
     method: str = ...,
+) -> Result: ...
+
+def contact3d(
+    indenter: Sphere | Ellipsoid | Cone | Flat | str,
+    material: Homogeneous | str,
+    *,
+    force: float | None = ...,
+    depth: float | None = ...,
+    indenter_material: Homogeneous | str = ...,
+    shift_x: float | None = ...,
+    tangential_force: float | None = ...,
+    friction: float = ...,
+    grid: int = ...,
+    extent: float | None = ...,
+    tol: float = ...,
+    inhomogeneities: Inhomogeneity | str | list[Inhomogeneity | str] | tuple[Inhomogeneity | str, ...] = ...,
+    subsurface: float | None = ...,
 ) -> Result: ...
 
 def fretting_wear(

@@ -13,8 +13,8 @@ use pyo3::types::PyDict;
 
 use halfspace::config::LoopConfig;
 use halfspace::fretting::{FrettingParams, FrettingSimulation};
-use halfspace::mdr::{Backend, ContactParams, ContactSolver, Load};
-use halfspace::records::contact_summary;
+use halfspace::mdr::{Backend, ContactParams, ContactSolver, Load, Profile};
+use halfspace::records::{contact_record, contact_summary};
 use halfspace::sam::fretting_loop::{FrettingLoop, LoopRow, POINT_LABELS};
 use halfspace::sam::normal::NormalLoad;
 use halfspace::sam::single::{solve_contact, ContactCase, TangentialLoad};
@@ -38,7 +38,8 @@ fn err(e: impl std::fmt::Display) -> PyErr {
 /// as `halfspace axisym`. Returns a dict: the CLI's JSON keys and the arrays `r`, `pressure`,
 /// `displacement` (m, Pa, m).
 #[pyfunction]
-#[pyo3(signature = (profile, material, *, force=None, depth=None, n=2001, method="fft"))]
+#[pyo3(signature = (profile, material, *, force=None, depth=None, n=2001, method="fft", table=None))]
+#[allow(clippy::too_many_arguments)]
 fn axisym<'py>(
     py: Python<'py>,
     profile: &str,
@@ -47,8 +48,14 @@ fn axisym<'py>(
     depth: Option<f64>,
     n: usize,
     method: &str,
+    table: Option<(Vec<f64>, Vec<f64>)>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let profile = parse_profile(profile, "profile").map_err(err)?;
+    // A profile given as arrays `(r, f)` (the Python `Table`) is the `table:FILE.npy` profile
+    // without the file.
+    let profile = match table {
+        Some((r, f)) => Profile::tabulated(r, f).map_err(|e| err(format!("profile table: {e}")))?,
+        None => parse_profile(profile, "profile").map_err(err)?,
+    };
     let material = parse_material(material, "material").map_err(err)?;
     let load = match (force, depth) {
         (Some(f), None) => Load::Force(f),
@@ -166,10 +173,11 @@ fn fretting_wear<'py>(
 }
 
 /// `contact3d(indenter, material, ...)`: one 3D contact (`sam::single::solve_contact`), as
-/// `halfspace contact3d`: returns `(summary_json, arrays)` — the CLI's JSON keys, and the surface
-/// fields `pressure`, `shear_x`, `shear_y`, `slip_x`, `slip_y` shaped (N₁, N₂) with `x`, `y` (m),
-/// the eigen-displacements with inhomogeneities, the stress field (`von_mises`, `tresca`,
-/// `stress_xx` … `stress_xy`, shaped (layers, N₁, N₂)) with `subsurface`.
+/// `halfspace contact3d`: returns `(summary_json, arrays)` — the CLI's JSON keys, and the arrays of
+/// `halfspace::records::contact_record` (what `contact3d --out` writes): the surface fields `x`,
+/// `y`, `pressure`, `shear_x/y`, `slip_x/y`, `stick` shaped (N₁, N₂), with `subsurface` the volume
+/// fields (`stress_xx` … `von_mises`, `tresca`, principal stresses, material, eigenstrains) shaped
+/// (layers, N₁, N₂), and with inhomogeneities the eigen-displacements `eigen_displacement_1..3`.
 #[pyfunction]
 #[pyo3(signature = (indenter, material, *, force=None, depth=None, indenter_material="rigid",
     shift_x=None, tangential_force=None, friction=0.0, grid=128, extent=None, tol=1e-10,
@@ -223,57 +231,27 @@ fn contact3d<'py>(
         subsurface_depth: subsurface,
     };
     let outcome = py.detach(|| solve_contact(&case)).map_err(err)?;
-    let summary = contact_summary(&outcome, &case).to_string();
-    let problem = outcome.solver.problem();
-    let g = *problem.grid();
-    let (n1, n2) = (g.n1, g.n2);
-    let st = problem.state();
+    let summary = contact_summary(&outcome, &case);
+    let grid = *outcome.solver.problem().grid();
+    let rec = contact_record(&outcome, &summary);
     let d = PyDict::new(py);
-    let zeros = vec![0.0; g.len()];
-    let field = |v: &Vec<f64>| {
-        if v.is_empty() {
-            zeros.clone()
-        } else {
-            v.clone()
-        }
-    };
-    let put2 = |name: &str, v: Vec<f64>| -> PyResult<()> {
-        d.set_item(name, PyArray1::from_vec(py, v).reshape([n1, n2])?)
-    };
-    put2("pressure", st.pressure.clone())?;
-    put2("shear_x", field(&st.shear[0]))?;
-    put2("shear_y", field(&st.shear[1]))?;
-    put2("slip_x", field(&st.slip[0]))?;
-    put2("slip_y", field(&st.slip[1]))?;
-    d.set_item(
-        "x",
-        PyArray1::from_vec(py, (0..n1).map(|i| g.centre(i, 0).0).collect()),
-    )?;
-    d.set_item(
-        "y",
-        PyArray1::from_vec(py, (0..n2).map(|j| g.centre(0, j).1).collect()),
-    )?;
+    for (name, values) in &rec.arrays {
+        // The record's surface arrays are per cell (row-major): shaped (N₁, N₂) here.
+        let shape = match rec.shape_of(name) {
+            Some(s) if s.len() > 1 => s,
+            _ => vec![grid.n1, grid.n2],
+        };
+        d.set_item(name, PyArray1::from_vec(py, values.clone()).reshape(shape)?)?;
+    }
     if let Some(n) = outcome.solver.nested() {
         for (c, u) in n.eigen_displacements().iter().enumerate() {
-            put2(&format!("eigen_displacement_{}", c + 1), u.clone())?;
+            d.set_item(
+                format!("eigen_displacement_{}", c + 1),
+                PyArray1::from_vec(py, u.clone()).reshape([grid.n1, grid.n2])?,
+            )?;
         }
     }
-    if let Some(f) = &outcome.field {
-        let shape = [f.layers, n1, n2];
-        let put3 = |name: &str, v: &Vec<f64>| -> PyResult<()> {
-            d.set_item(name, PyArray1::from_vec(py, v.clone()).reshape(shape)?)
-        };
-        put3("von_mises", &f.von_mises)?;
-        put3("tresca", &f.tresca)?;
-        for (o, name) in ["xx", "yy", "zz", "yz", "xz", "xy"].iter().enumerate() {
-            put3(&format!("stress_{name}"), &f.stress[o])?;
-        }
-        d.set_item(
-            "depth_of_layers",
-            PyArray1::from_vec(py, (0..f.layers).map(|k| f.depth(k)).collect()),
-        )?;
-    }
-    Ok((summary, d))
+    Ok((summary.to_string(), d))
 }
 
 /// The fretting loop of [LN11] (`sam::fretting_loop::FrettingLoop`), increment by increment.

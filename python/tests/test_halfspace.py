@@ -65,6 +65,53 @@ def test_fretting_wear_equals_the_cli(tmp_path):
         hs.fretting_wear(chi=1.5)
 
 
+def test_contact3d_with_an_inhomogeneity_equals_the_cli_bit_for_bit(tmp_path):
+    """The spec §7.6 stiff sphere below a Hertz contact, coarse, with the subsurface field."""
+    out = tmp_path / "c.h5"
+    inc = "sphere:x=0,y=0,z=1.50554e-6,r=0.90332e-6,E=420e9,nu=0.3"
+    ref = cli("contact3d", "--indenter", "sphere:R=105e-6", "--material", "homogeneous:E=210e9,nu=0.3",
+              "--force", "0.08", "--grid", "32", "--inhomogeneity", inc, "--subsurface", "3e-6",
+              "--out", str(out))
+    got = hs.contact3d(hs.Sphere(R=105e-6), hs.Homogeneous(E=210e9, nu=0.3), force=0.08, grid=32,
+                       inhomogeneities=[hs.Inhomogeneity.sphere(x=0, y=0, z=1.50554e-6, r=0.90332e-6,
+                                                                E=420e9, nu=0.3)],
+                       subsurface=3e-6)
+    for key in ("contact_radius", "max_pressure", "force", "depth", "inclusion_cells", "eim_iterations",
+                "outer_iterations", "max_von_mises", "max_von_mises_at"):
+        assert getattr(got, key) == ref[key], key
+    assert got.pressure.shape == (32, 32)
+    assert got.von_mises.ndim == 3 and got.von_mises.shape[1:] == (32, 32)
+    assert got.eigen_displacement_3.shape == (32, 32)
+    with h5py.File(out) as f:
+        for name in ("x", "y", "pressure", "stick"):
+            assert np.array_equal(getattr(got, name).ravel(), f[name][:]), name
+        for name in ("von_mises", "stress_zz", "material", "eigenstrain_zz"):
+            assert np.array_equal(getattr(got, name), f[name][:]), name
+
+
+def test_contact3d_stick_slip_and_errors():
+    kw = dict(force=1.0, grid=32, friction=0.3, indenter_material=hs.Homogeneous(E=210e9, nu=0.3))
+    got = hs.contact3d(hs.Sphere(R=0.01), hs.Homogeneous(E=210e9, nu=0.3), tangential_force=0.15, **kw)
+    assert abs(got.tangential_force / 0.15 - 1.0) < 1e-6
+    # Cattaneo–Mindlin: stick radius c = a (1 − Q/μW)^{1/3}, to a cell on this coarse grid.
+    c = got.contact_radius * (1.0 - 0.15 / 0.3) ** (1.0 / 3.0)
+    assert abs(got.stick_radius - c) < 2.0 * got.extent / 32
+    with pytest.raises(hs.HalfspaceError, match=r"at most one of shift_x= and tangential_force="):
+        hs.contact3d(hs.Sphere(R=0.01), "homogeneous:E=210e9,nu=0.3", shift_x=1e-7, tangential_force=0.1, **kw)
+    with pytest.raises(hs.HalfspaceError, match=r"unknown indenter 'pyramid'"):
+        hs.contact3d("pyramid:a=1", "homogeneous:E=210e9,nu=0.3", force=1.0)
+
+
+def test_a_table_profile_equals_the_sphere_it_samples():
+    r = np.linspace(0.0, 2e-3, 4001)
+    table = hs.axisym(hs.Table(r, r**2 / 0.2), hs.Homogeneous(E=210e9, nu=0.3), force=10.0)
+    sphere = hs.axisym(hs.Sphere(R=0.1), hs.Homogeneous(E=210e9, nu=0.3), force=10.0)
+    # Linear interpolation of r²/2R on Δr = 0.5 µm: the radius to 1e-5.
+    assert abs(table.contact_radius / sphere.contact_radius - 1.0) < 1e-5
+    with pytest.raises(hs.HalfspaceError, match=r"profile table"):
+        hs.axisym(hs.Table([0.0, 1.0, 0.5], [0.0, 1.0, 2.0]), hs.Homogeneous(E=1e9, nu=0.3), force=1.0)
+
+
 def test_graded_and_mvm_paths():
     fft = hs.axisym(hs.Sphere(R=0.1), hs.Graded(E0=210e9, z0=1e-3, nu=0.3, k=0.5), depth=1e-6, n=401)
     mvm = hs.axisym(hs.Sphere(R=0.1), hs.Graded(E0=210e9, z0=1e-3, nu=0.3, k=0.5), depth=1e-6, n=401,

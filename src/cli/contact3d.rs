@@ -5,9 +5,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use halfspace::data::{write_record, AttrValue, Record};
-use halfspace::records::contact_summary;
-use halfspace::sam::coupled::ContactProblem;
+use halfspace::data::write_record;
+use halfspace::records::{contact_record, contact_summary, VOLUME_FIELDS};
 use halfspace::sam::fretting_loop::ContactSolver;
 use halfspace::sam::indenter::Indenter;
 use halfspace::sam::normal::NormalLoad;
@@ -187,23 +186,18 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
         field,
         e_star,
         ..
-    } = outcome;
+    } = &outcome;
     let state = solver.problem().state();
     let seconds = start.elapsed().as_secs_f64();
-    let problem = solver.problem();
     if let Some(path) = &args.plot {
         let hertz = match indenter {
-            Indenter::Ellipsoid { rx, ry } if rx == ry => Some((rx, state.force, e_star)),
+            Indenter::Ellipsoid { rx, ry } if rx == ry => Some((rx, state.force, *e_star)),
             _ => None,
         };
-        draw_figures(path, &solver, field.as_ref(), hertz)?;
+        draw_figures(path, solver, field.as_ref(), hertz)?;
     }
     if let Some(path) = &args.out {
-        let mut rec = fields_record(problem, &summary);
-        if let Some(f) = &field {
-            rec = volume_record(rec, f, &solver);
-        }
-        write_record(path, &rec)?;
+        write_record(path, &contact_record(&outcome, &summary))?;
         if let (Some(f), Ok(halfspace::data::Format::Hdf5)) =
             (&field, halfspace::data::Format::of(path))
         {
@@ -321,78 +315,6 @@ fn draw_figures(
     Ok(())
 }
 
-/// Names of the volume datasets (shape `(layers, N₁, N₂)`).
-const VOLUME_FIELDS: [&str; 14] = [
-    "stress_xx",
-    "stress_yy",
-    "stress_zz",
-    "stress_yz",
-    "stress_xz",
-    "stress_xy",
-    "von_mises",
-    "tresca",
-    "principal_1",
-    "principal_2",
-    "principal_3",
-    "material",
-    "eigenstrain_xx",
-    "eigenstrain_zz",
-];
-
-/// Adds the subsurface fields (and the eigenstrains on the same lattice) with their shape.
-fn volume_record(mut rec: Record, f: &StressField, solver: &ContactSolver) -> Record {
-    let shape = [f.layers, f.grid.n1, f.grid.n2];
-    for (o, name) in VOLUME_FIELDS[..6].iter().enumerate() {
-        rec = rec.shaped(name, f.stress[o].clone(), &shape);
-    }
-    rec = rec.shaped("von_mises", f.von_mises.clone(), &shape).shaped(
-        "tresca",
-        f.tresca.clone(),
-        &shape,
-    );
-    for (o, name) in VOLUME_FIELDS[8..11].iter().enumerate() {
-        rec = rec.shaped(name, f.principal[o].clone(), &shape);
-    }
-    rec = rec.shaped(
-        "material",
-        f.material.iter().map(|&m| f64::from(m)).collect(),
-        &shape,
-    );
-    let n = f.grid.len();
-    let mut eig: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; f.layers * n]);
-    if let Some(nested) = solver.nested() {
-        let set = nested.inclusions();
-        for (c, cell) in set.cells.iter().enumerate() {
-            let k = set.layers[cell.layer];
-            if k < f.layers {
-                for (o, field) in eig.iter_mut().enumerate() {
-                    field[k * n + cell.flat] = nested.eigenstrain()[c * 6 + o];
-                }
-            }
-        }
-    }
-    for (o, name) in [
-        "eigenstrain_xx",
-        "eigenstrain_yy",
-        "eigenstrain_zz",
-        "eigenstrain_yz",
-        "eigenstrain_xz",
-        "eigenstrain_xy",
-    ]
-    .iter()
-    .enumerate()
-    {
-        rec = rec.shaped(name, std::mem::take(&mut eig[o]), &shape);
-    }
-    rec.attr(
-        "volume_layout",
-        AttrValue::Text(format!(
-            "volume fields of shape (layers, N1, N2) = ({}, {}, {}): layer k at depth (2k+1)Δ = {:e}·(2k+1) m, cell (i, j) at the surface cell centres (x index i slow)",
-            f.layers, f.grid.n1, f.grid.n2, f.grid.half1
-        )),
-    )
-}
-
 /// `FILE.xdmf` beside `FILE.h5`: the volume fields on their lattice, for ParaView.
 fn write_volume_xdmf(h5: &std::path::Path, f: &StressField) -> Result<(), CliError> {
     let (x0, y0) = f.grid.centre(0, 0);
@@ -402,75 +324,12 @@ fn write_volume_xdmf(h5: &std::path::Path, f: &StressField) -> Result<(), CliErr
         origin: [f.grid.half1, x0, y0],
         spacing: [d, d, d],
     };
-    let mut names: Vec<&str> = VOLUME_FIELDS[..12].to_vec();
-    names.extend([
-        "eigenstrain_xx",
-        "eigenstrain_yy",
-        "eigenstrain_zz",
-        "eigenstrain_yz",
-        "eigenstrain_xz",
-        "eigenstrain_xy",
-    ]);
     halfspace::data::write_xdmf(
         &h5.with_extension("xdmf"),
         h5,
         &volume,
-        &names,
+        &VOLUME_FIELDS,
         "halfspace contact3d volume fields; XDMF axes Z Y X = depth (into the body), x, y (m)",
     )?;
     Ok(())
-}
-
-fn fields_record(problem: &ContactProblem, summary: &serde_json::Value) -> Record {
-    let g = problem.grid();
-    let s = problem.state();
-    let (x, y): (Vec<f64>, Vec<f64>) = (0..g.len()).map(|k| g.centre(k / g.n2, k % g.n2)).unzip();
-    // Without friction the problem holds no tangential fields: q = 0, no stick; the slip of a
-    // frictionless increment is not tracked (written as zeros).
-    let frictional = !s.shear[0].is_empty();
-    let or_zeros = |v: &Vec<f64>| {
-        if frictional {
-            v.clone()
-        } else {
-            vec![0.0; g.len()]
-        }
-    };
-    let stick = (0..g.len())
-        .map(|k| {
-            f64::from(u8::from(
-                frictional
-                    && halfspace::sam::tangential::is_stick(
-                        problem.friction() * s.pressure[k],
-                        s.shear[0][k],
-                        s.shear[1][k],
-                    ),
-            ))
-        })
-        .collect();
-    let mut rec = Record::default()
-        .array("x", x)
-        .array("y", y)
-        .array("pressure", s.pressure.clone())
-        .array("shear_x", or_zeros(&s.shear[0]))
-        .array("shear_y", or_zeros(&s.shear[1]))
-        .array("slip_x", or_zeros(&s.slip[0]))
-        .array("slip_y", or_zeros(&s.slip[1]))
-        .array("stick", stick);
-    for (k, v) in summary.as_object().expect("object") {
-        let value = match v {
-            serde_json::Value::Number(n) if n.is_i64() || n.is_u64() => {
-                AttrValue::Int(n.as_i64().unwrap_or_default())
-            }
-            serde_json::Value::Number(n) => AttrValue::Float(n.as_f64().unwrap_or(f64::NAN)),
-            other => AttrValue::Text(other.to_string()),
-        };
-        rec = rec.attr(k, value);
-    }
-    rec.attr(
-        "layout",
-        AttrValue::Text(format!(
-            "{} × {} cells, row-major (x index slow)",
-            g.n1, g.n2
-        )),
-    )
 }
