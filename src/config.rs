@@ -4,7 +4,7 @@
 use serde::Deserialize;
 
 use crate::sam::eim::{FibreLayout, Inhomogeneity};
-use crate::sam::fretting_loop::LoopCase;
+use crate::sam::fretting_loop::{FrettingMap, LoopCase};
 use crate::spec::{parse_inhomogeneity, SpecError};
 
 /// The fretting-loop configuration as read from TOML (`fretting-loop --config`) or from a Python
@@ -92,6 +92,60 @@ impl LoopConfig {
     /// `layout`, E_I = `fibre_e_ratio` E, at 4 cells per radius); `grid` overrides the grid.
     pub fn case(&self, case: &str, grid: Option<usize>) -> Result<LoopCase, SpecError> {
         loop_case(self, case, grid)
+    }
+}
+
+/// The axes of a fretting map: the `[map]` table of `fretting-map --config` (the other keys are
+/// the fretting loop's, [`LoopConfig`]).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MapAxes {
+    /// Normal loads W (N), the map's rows.
+    pub loads: Vec<f64>,
+    /// Shift amplitudes A (m), the map's columns.
+    pub amplitudes: Vec<f64>,
+    /// `homogeneous` (default) or `composite` (as `fretting-loop --case`).
+    #[serde(default)]
+    pub case: Option<String>,
+}
+
+/// Reads a fretting-map configuration: the fretting loop's keys and a `[map]` table
+/// (`loads`, `amplitudes`, optional `case`); `what` names the source in errors.
+pub fn map_config_from_toml(text: &str, what: &str) -> Result<(LoopConfig, MapAxes), SpecError> {
+    let mut table: toml::Table =
+        toml::from_str(text).map_err(|e| SpecError(format!("{what}: {}", e.message())))?;
+    let axes = table.remove("map").ok_or_else(|| {
+        SpecError(format!(
+            "{what}: a fretting map needs a [map] table with loads = [..] (N) and amplitudes = [..] (m)"
+        ))
+    })?;
+    let axes: MapAxes = axes
+        .try_into()
+        .map_err(|e: toml::de::Error| SpecError(format!("{what}: [map]: {}", e.message())))?;
+    let cfg: LoopConfig = toml::Value::Table(table)
+        .try_into()
+        .map_err(|e: toml::de::Error| SpecError(format!("{what}: {}", e.message())))?;
+    Ok((cfg, axes))
+}
+
+impl LoopConfig {
+    /// The fretting map of this configuration over `loads × amplitudes` ([`FrettingMap`]): the
+    /// case (`homogeneous` or `composite`, `grid` overriding) is built with `force` = the largest
+    /// load, so the domain (`extent_over_a · a(W_max)`) and any composite fibres serve every point.
+    pub fn map(
+        &self,
+        case: &str,
+        grid: Option<usize>,
+        loads: Vec<f64>,
+        amplitudes: Vec<f64>,
+    ) -> Result<FrettingMap, SpecError> {
+        let largest = loads.iter().copied().fold(f64::NAN, f64::max);
+        let mut cfg = self.clone();
+        if largest.is_finite() && largest > 0.0 {
+            cfg.force = largest;
+        }
+        let base = cfg.case(case, grid)?;
+        FrettingMap::new(base, loads, amplitudes).map_err(|e| SpecError(e.to_string()))
     }
 }
 

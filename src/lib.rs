@@ -8,5 +8,6 @@ pub use halfspace_numerics as numerics;
 pub use halfspace_sam as sam;
 
 pub mod config;
+pub mod fretting_map;
 pub mod records;
 pub mod spec;

@@ -4,6 +4,7 @@ mod axisym;
 mod contact3d;
 mod fretting;
 mod fretting_loop;
+mod fretting_map;
 mod plot;
 mod study;
 
@@ -29,6 +30,9 @@ enum Command {
     Contact3d(contact3d::Contact3dArgs),
     /// The fretting loop of Leroux & Nélias (2011): normal ramp, then cyclic tangential shift.
     FrettingLoop(fretting_loop::FrettingLoopArgs),
+    /// A fretting map (Vingsbo–Söderberg): the fretting loop over loads × amplitudes, its regime
+    /// and dissipated energy; points in parallel, checkpointed, resumable.
+    FrettingMap(fretting_map::FrettingMapArgs),
     /// Convergence studies against closed forms (the figures of docs/).
     Study(study::StudyArgs),
 }
@@ -99,6 +103,7 @@ pub fn run() -> ExitCode {
         Command::FrettingWear(args) => fretting::run(args),
         Command::Contact3d(args) => contact3d::run(args),
         Command::FrettingLoop(args) => fretting_loop::run_loop(args),
+        Command::FrettingMap(args) => fretting_map::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

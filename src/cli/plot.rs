@@ -443,3 +443,121 @@ where
     root.present()?;
     Ok(())
 }
+
+/// A fretting map (Vingsbo & Söderberg): two panels over the amplitude (columns, x) × load (rows,
+/// y) grid, drawn by cell index so that any spacing of the axes shows as equal cells — the regime
+/// (0 partial slip, 1 mixed, 2 gross slip, three colours) and the dissipated energy per cycle
+/// (colour, with its value in the cell). SVG or PNG by the extension.
+pub fn fretting_map(
+    path: &Path,
+    title: &str,
+    loads: &[f64],
+    amplitudes: &[f64],
+    regime: &[f64],
+    energy: &[f64],
+) -> PlotResult {
+    register_font()?;
+    if path.extension().and_then(|e| e.to_str()) == Some("png") {
+        let root = BitMapBackend::new(path, (1200, 520)).into_drawing_area();
+        draw_fretting_map(root, title, loads, amplitudes, regime, energy)
+    } else {
+        let root = SVGBackend::new(path, (1200, 520)).into_drawing_area();
+        draw_fretting_map(root, title, loads, amplitudes, regime, energy)
+    }
+}
+
+fn draw_fretting_map<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    loads: &[f64],
+    amplitudes: &[f64],
+    regime: &[f64],
+    energy: &[f64],
+) -> PlotResult
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let root = root.titled(title, ("sans-serif", 16))?;
+    let panels = root.split_evenly((1, 2));
+    let (nr, nc) = (loads.len(), amplitudes.len());
+    let regime_colour = |r: f64| match r as i64 {
+        0 => RGBColor(66, 133, 244),
+        1 => RGBColor(251, 188, 5),
+        _ => RGBColor(219, 68, 55),
+    };
+    let (emin, emax) = energy
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(lo, hi), &e| (lo.min(e), hi.max(e)));
+    let espan = (emax - emin).max(1e-300);
+    for (panel, name) in panels
+        .iter()
+        .zip(["regime", "dissipated energy per cycle (J)"])
+    {
+        let mut chart = ChartBuilder::on(panel)
+            .caption(name, ("sans-serif", 14))
+            .margin(14)
+            .x_label_area_size(40)
+            .y_label_area_size(64)
+            .build_cartesian_2d(-0.5..nc as f64 - 0.5, -0.5..nr as f64 - 0.5)?;
+        let amp_label = |v: &f64| {
+            let k = v.round();
+            if (v - k).abs() < 1e-9 && k >= 0.0 && (k as usize) < nc {
+                format!("{:.3}", amplitudes[k as usize] * 1e6)
+            } else {
+                String::new()
+            }
+        };
+        let load_label = |v: &f64| {
+            let k = v.round();
+            if (v - k).abs() < 1e-9 && k >= 0.0 && (k as usize) < nr {
+                format!("{:.1}", loads[k as usize] * 1e3)
+            } else {
+                String::new()
+            }
+        };
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_labels(nc.max(2) * 2 + 1)
+            .y_labels(nr.max(2) * 2 + 1)
+            .x_label_formatter(&amp_label)
+            .y_label_formatter(&load_label)
+            .x_desc("displacement amplitude A (μm)")
+            .y_desc("normal load W (mN)")
+            .draw()?;
+        let cells = (0..nr).flat_map(|i| (0..nc).map(move |j| (i, j)));
+        let is_regime = name == "regime";
+        chart.draw_series(cells.clone().map(|(i, j)| {
+            let k = i * nc + j;
+            let colour = if is_regime {
+                regime_colour(regime[k])
+            } else {
+                colormap((energy[k] - emin) / espan)
+            };
+            let (x, y) = (j as f64, i as f64);
+            Rectangle::new([(x - 0.5, y - 0.5), (x + 0.5, y + 0.5)], colour.filled())
+        }))?;
+        chart.draw_series(cells.map(|(i, j)| {
+            let k = i * nc + j;
+            let text = if is_regime {
+                ["PS", "mixed", "GS"][(regime[k] as usize).min(2)].to_string()
+            } else {
+                format!("{:.2e}", energy[k])
+            };
+            // Black on the regime colours and on the light end of the colour map.
+            let colour = if is_regime || (energy[k] - emin) / espan > 0.6 {
+                BLACK
+            } else {
+                WHITE
+            };
+            Text::new(
+                text,
+                (j as f64 - 0.3, i as f64),
+                ("sans-serif", 12).into_font().color(&colour),
+            )
+        }))?;
+    }
+    root.present()?;
+    Ok(())
+}

@@ -80,6 +80,14 @@ impl LoopCase {
         self.e / (1.0 - self.nu * self.nu)
     }
 
+    /// Mindlin's full-slip shift `K = 3μW(2 − ν) / (16 G a)`, `G = E / 2(1 + ν)` (rigid sphere;
+    /// spec §7.3, uncoupled): the loop is in partial slip for `A < K` and reaches gross slip beyond
+    /// (Mindlin–Deresiewicz, [`crate::coupled::mindlin`]).
+    pub fn mindlin_slip_shift(&self) -> f64 {
+        let g = self.e / (2.0 * (1.0 + self.nu));
+        3.0 * self.friction * self.force * (2.0 - self.nu) / (16.0 * g * self.hertz_radius())
+    }
+
     /// The grid's side length `extent_over_a · a` (m).
     pub fn extent(&self) -> f64 {
         self.extent_over_a * self.hertz_radius()

@@ -11,13 +11,17 @@
 //!   an observer ([`FrettingLoop::run`]); the rows of every increment, the fields at A–D
 //!   ([`PointFields`]), a [`LoopSnapshot`] to resume bit for bit, and the [`LoopMetrics`]
 //!   (dissipated energy, ratchet, regime).
+//! * [`FrettingMap`]: the loop over loads × amplitudes, one [`MapPoint`] (regime, dissipated
+//!   energy) per point (Vingsbo & Söderberg's fretting map).
 
 mod case;
+mod map;
 mod metrics;
 mod run;
 mod solver;
 
 pub use case::{LoadPath, LoopCase, POINT_LABELS};
+pub use map::{FrettingMap, MapPoint};
 pub use metrics::{FrettingRegime, LoopMetrics};
 pub use run::{FrettingLoop, LoopRow, LoopSeconds, LoopSnapshot, PointFields};
 pub use solver::ContactSolver;

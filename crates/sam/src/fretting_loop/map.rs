@@ -1,0 +1,281 @@
+//! Fretting maps (Vingsbo & Söderberg 1988): the fretting loop over a grid of normal loads ×
+//! shift amplitudes, the regime and the dissipated energy of each point.
+
+use std::time::Instant;
+
+use super::case::LoopCase;
+use super::metrics::FrettingRegime;
+use super::run::FrettingLoop;
+use crate::SamError;
+
+/// The points of a fretting map: the loop of `base` at every `(W_i, A_j)` of `loads × amplitudes`.
+///
+/// Every point keeps `base`'s physical set-up — the same cells (`base.grid²` over `base.extent()`),
+/// the same inhomogeneities, normal steps and steps per quarter cycle `q` (so every loop has the
+/// same increments) — and changes only `W` and `A` (shift step `A / q`). Size `base` for the
+/// largest load (the drivers build it with `force = max W`) so that every contact stays inside
+/// the domain; a smaller load has `a(W)/a(W_max) = (W/W_max)^{1/3}` as many cells per radius.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrettingMap {
+    base: LoopCase,
+    loads: Vec<f64>,
+    amplitudes: Vec<f64>,
+    quarter: usize,
+}
+
+/// One point of a map: the loop's [`super::LoopMetrics`] that classify it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MapPoint {
+    /// Normal load W (N).
+    pub load: f64,
+    /// Shift amplitude A (m).
+    pub amplitude: f64,
+    /// The regime ([`FrettingRegime`]).
+    pub regime: FrettingRegime,
+    /// Dissipated energy per cycle `|∮ Q₁ dδx|` (J).
+    pub dissipated_energy: f64,
+    /// Fouvry's energy ratio `E_d / (4 Q* δ*)`.
+    pub energy_ratio: f64,
+    /// Shift travelled without a stick cell over `4A`.
+    pub sliding_fraction: f64,
+    /// `Q₁/μW` at `δx = +A` (first reach).
+    pub tangential_force_over_mu_w_at_amplitude: f64,
+    /// `Q₁/μW` at the end of the loop minus at its start, both at `δx = +A`.
+    pub ratchet: f64,
+    /// Wall-clock seconds of the loop (not part of the result's identity).
+    pub seconds: f64,
+}
+
+impl MapPoint {
+    /// Names of [`MapPoint::values`], in order (the columns of the map's table).
+    pub const FIELDS: [&'static str; 9] = [
+        "load",
+        "amplitude",
+        "regime",
+        "dissipated_energy",
+        "energy_ratio",
+        "sliding_fraction",
+        "tangential_force_over_mu_w_at_amplitude",
+        "ratchet",
+        "seconds",
+    ];
+
+    /// The point as numbers in the order of [`MapPoint::FIELDS`] (regime 0, 1, 2).
+    pub fn values(&self) -> [f64; 9] {
+        [
+            self.load,
+            self.amplitude,
+            f64::from(self.regime as u8),
+            self.dissipated_energy,
+            self.energy_ratio,
+            self.sliding_fraction,
+            self.tangential_force_over_mu_w_at_amplitude,
+            self.ratchet,
+            self.seconds,
+        ]
+    }
+
+    /// The inverse of [`MapPoint::values`]; `None` for a regime other than 0, 1, 2.
+    pub fn from_values(v: [f64; 9]) -> Option<Self> {
+        let regime = [
+            FrettingRegime::PartialSlip,
+            FrettingRegime::Mixed,
+            FrettingRegime::GrossSlip,
+        ]
+        .into_iter()
+        .find(|&r| f64::from(r as u8) == v[2])?;
+        Some(Self {
+            load: v[0],
+            amplitude: v[1],
+            regime,
+            dissipated_energy: v[3],
+            energy_ratio: v[4],
+            sliding_fraction: v[5],
+            tangential_force_over_mu_w_at_amplitude: v[6],
+            ratchet: v[7],
+            seconds: v[8],
+        })
+    }
+}
+
+impl FrettingMap {
+    /// The map of `base` over `loads × amplitudes` (each finite, > 0, non-empty); `base` must be
+    /// a valid case (its `force` sizes the domain: give the largest load).
+    pub fn new(base: LoopCase, loads: Vec<f64>, amplitudes: Vec<f64>) -> Result<Self, SamError> {
+        base.validate()?;
+        for (what, values) in [("loads", &loads), ("amplitudes", &amplitudes)] {
+            if values.is_empty() {
+                return Err(SamError::InvalidInput(format!(
+                    "a fretting map needs at least one of its {what}"
+                )));
+            }
+            if let Some(v) = values.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+                return Err(SamError::InvalidInput(format!(
+                    "fretting map {what}: every value must be finite and > 0, got {v}"
+                )));
+            }
+        }
+        let quarter = base.path().quarter;
+        Ok(Self {
+            base,
+            loads,
+            amplitudes,
+            quarter,
+        })
+    }
+
+    /// The case every point derives from.
+    pub fn base(&self) -> &LoopCase {
+        &self.base
+    }
+
+    /// Normal loads W (N), the map's rows.
+    pub fn loads(&self) -> &[f64] {
+        &self.loads
+    }
+
+    /// Shift amplitudes A (m), the map's columns.
+    pub fn amplitudes(&self) -> &[f64] {
+        &self.amplitudes
+    }
+
+    /// `(rows, columns) = (loads, amplitudes)`.
+    pub fn shape(&self) -> (usize, usize) {
+        (self.loads.len(), self.amplitudes.len())
+    }
+
+    /// Points in the map.
+    pub fn len(&self) -> usize {
+        self.loads.len() * self.amplitudes.len()
+    }
+
+    /// Whether the map has no point (never, by construction).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The loop case of point `(i, j)`: `base` with `W = loads[i]`, `A = amplitudes[j]`, shift
+    /// step `A / q`, and `extent_over_a = base.extent() / a(W)` (the same physical domain and
+    /// cells); no subsurface fields.
+    pub fn point_case(&self, i: usize, j: usize) -> Result<LoopCase, SamError> {
+        let (Some(&load), Some(&amplitude)) = (self.loads.get(i), self.amplitudes.get(j)) else {
+            return Err(SamError::InvalidInput(format!(
+                "fretting map point ({i}, {j}) outside the {} × {} map",
+                self.loads.len(),
+                self.amplitudes.len()
+            )));
+        };
+        let extent = self.base.extent();
+        let mut case = LoopCase {
+            force: load,
+            amplitude,
+            shift_step: amplitude / self.quarter as f64,
+            subsurface_depth: None,
+            ..self.base.clone()
+        };
+        case.extent_over_a = extent / case.hertz_radius();
+        case.validate()?;
+        Ok(case)
+    }
+
+    /// Runs the loop of point `(i, j)` and classifies it.
+    pub fn run_point(&self, i: usize, j: usize) -> Result<MapPoint, SamError> {
+        let start = Instant::now();
+        let case = self.point_case(i, j)?;
+        let mut lp = FrettingLoop::new(case)?;
+        lp.run(|_| std::ops::ControlFlow::Continue(()))?;
+        let m = lp.metrics()?;
+        Ok(MapPoint {
+            load: self.loads[i],
+            amplitude: self.amplitudes[j],
+            regime: m.regime,
+            dissipated_energy: m.dissipated_energy,
+            energy_ratio: m.energy_ratio,
+            sliding_fraction: m.sliding_fraction,
+            tangential_force_over_mu_w_at_amplitude: m.tangential_force_over_mu_w_at_amplitude,
+            ratchet: m.ratchet,
+            seconds: start.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// The configuration of point `(i, j)` as text (a checkpointed point is reused only with the
+    /// same one).
+    pub fn point_fingerprint(&self, i: usize, j: usize) -> Result<String, SamError> {
+        Ok(format!("{:?}", self.point_case(i, j)?))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn small() -> LoopCase {
+        LoopCase {
+            grid: 16,
+            normal_steps: 2,
+            shift_step: 0.02e-6,
+            ..LoopCase::default()
+        }
+    }
+
+    #[test]
+    fn points_keep_the_cells_and_the_increments() {
+        let map = FrettingMap::new(small(), vec![0.04, 0.08], vec![0.02e-6, 0.06e-6]).unwrap();
+        let base = map.base();
+        for (i, j) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+            let c = map.point_case(i, j).unwrap();
+            approx::assert_relative_eq!(c.extent(), base.extent(), max_relative = 1e-14);
+            assert_eq!(c.path().len(), base.path().len());
+            assert_eq!(c.grid, base.grid);
+        }
+        // W = 0.08 N is the base: its case is the base's (up to the amplitude).
+        let c = map.point_case(1, 0).unwrap();
+        approx::assert_relative_eq!(c.extent_over_a, base.extent_over_a, max_relative = 1e-14);
+        assert!(map.point_case(2, 0).is_err());
+    }
+
+    #[test]
+    fn bad_axes_are_refused() {
+        for (loads, amps) in [
+            (vec![], vec![1e-8]),
+            (vec![0.08], vec![]),
+            (vec![0.08, -1.0], vec![1e-8]),
+            (vec![0.08], vec![f64::NAN]),
+        ] {
+            let e = FrettingMap::new(small(), loads, amps).unwrap_err();
+            assert!(e.to_string().contains("fretting map"), "{e}");
+        }
+    }
+
+    #[test]
+    fn values_round_trip() {
+        let p = MapPoint {
+            load: 0.08,
+            amplitude: 4e-8,
+            regime: FrettingRegime::Mixed,
+            dissipated_energy: 1.5e-9,
+            energy_ratio: 0.3,
+            sliding_fraction: 0.01,
+            tangential_force_over_mu_w_at_amplitude: 0.99,
+            ratchet: 0.001,
+            seconds: 2.0,
+        };
+        assert_eq!(MapPoint::from_values(p.values()), Some(p));
+        let mut v = p.values();
+        v[2] = 3.0;
+        assert_eq!(MapPoint::from_values(v), None);
+    }
+
+    #[test]
+    fn the_regime_follows_the_amplitude() {
+        // Mindlin: gross slip once A exceeds δ_s = 3μW/(2k) ≈ 0.031 μm at 80 mN (issue 11 note);
+        // well below it partial slip.
+        let map = FrettingMap::new(small(), vec![0.08], vec![0.01e-6, 0.08e-6]).unwrap();
+        let low = map.run_point(0, 0).unwrap();
+        let high = map.run_point(0, 1).unwrap();
+        assert_eq!(low.regime, FrettingRegime::PartialSlip);
+        assert_eq!(high.regime, FrettingRegime::GrossSlip);
+        assert!(high.dissipated_energy > low.dissipated_energy);
+        assert!(low.energy_ratio < 0.2 && high.energy_ratio > 0.2);
+    }
+}

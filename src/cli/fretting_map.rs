@@ -1,0 +1,139 @@
+//! `halfspace fretting-map`: the fretting loop over loads × amplitudes (parse →
+//! `halfspace::fretting_map::run_map` → write).
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+use halfspace::config::map_config_from_toml;
+use halfspace::data::{write_atomic, write_record, DataError};
+use halfspace::fretting_map::{has_checkpoints, map_csv, map_record, run_map};
+use serde_json::json;
+
+use super::{plot, CliError};
+
+#[derive(Debug, Args)]
+pub struct FrettingMapArgs {
+    /// TOML file: a [map] table with loads = [..] (N), amplitudes = [..] (m) and optionally
+    /// case = "homogeneous" | "composite"; the other keys are those of `fretting-loop --config`.
+    /// The domain (and any composite fibres) is sized for the largest load.
+    #[arg(long)]
+    config: PathBuf,
+    /// Output directory: results.h5, results.csv, fretting_map.svg/.png; points/ while running.
+    #[arg(long, default_value = "fretting-map-out")]
+    out: PathBuf,
+    /// Cells per side (overrides the config).
+    #[arg(long)]
+    grid: Option<usize>,
+    /// Continue a killed map from OUT/points (the same configuration): completed points are read
+    /// back, the others run.
+    #[arg(long)]
+    resume: bool,
+    /// Testing hook: stop (as if killed) after this many new points, leaving their checkpoints.
+    #[arg(long, hide = true)]
+    stop_after: Option<usize>,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(args: FrettingMapArgs) -> Result<(), CliError> {
+    let start = Instant::now();
+    let what = format!("--config {}", args.config.display());
+    let text = std::fs::read_to_string(&args.config)
+        .map_err(|e| CliError::Spec(format!("{what}: {e}")))?;
+    let (cfg, axes) = map_config_from_toml(&text, &what)?;
+    let case = axes.case.as_deref().unwrap_or("homogeneous");
+    let map = cfg.map(case, args.grid, axes.loads, axes.amplitudes)?;
+    let points_dir = args.out.join("points");
+    if has_checkpoints(&points_dir) && !args.resume {
+        return Err(CliError::Spec(format!(
+            "{} holds an interrupted map: --resume continues it (or remove it to start over)",
+            points_dir.display()
+        )));
+    }
+    if args.resume && !has_checkpoints(&points_dir) {
+        return Err(CliError::Spec(format!(
+            "--resume: {} has no checkpoints",
+            points_dir.display()
+        )));
+    }
+    std::fs::create_dir_all(&points_dir)
+        .map_err(|e| CliError::Spec(format!("--out {}: {e}", args.out.display())))?;
+    let bar = (std::io::stderr().is_terminal() && !args.json)
+        .then(|| indicatif::ProgressBar::new(map.len() as u64));
+    let result = run_map(&map, Some(&points_dir), args.stop_after, |done, _| {
+        if let Some(bar) = &bar {
+            bar.set_position(done as u64);
+        }
+    })
+    .map_err(|e| CliError::Spec(e.to_string()))?;
+    if let Some(bar) = &bar {
+        bar.finish_and_clear();
+    }
+    let Some(points) = result.complete() else {
+        return Ok(()); // --stop-after: the checkpoints stay for --resume.
+    };
+    write_record(&args.out.join("results.h5"), &map_record(&map, &points))?;
+    let csv_path = args.out.join("results.csv");
+    let csv = map_csv(&points);
+    write_atomic(&csv_path, |tmp| {
+        std::fs::write(tmp, &csv).map_err(|source| DataError::Io {
+            path: tmp.to_path_buf(),
+            source,
+        })
+    })?;
+    // Complete: the per-point checkpoints are no longer needed.
+    std::fs::remove_dir_all(&points_dir)
+        .map_err(|e| CliError::Spec(format!("removing {}: {e}", points_dir.display())))?;
+    let column = |f: usize| -> Vec<f64> { points.iter().map(|p| p.values()[f]).collect() };
+    let (regime, energy) = (column(2), column(3));
+    let base = map.base();
+    let title = format!(
+        "Fretting map: sphere R = {:.0} μm, E = {:.0} GPa, μ = {}, {}² cells{}",
+        base.radius * 1e6,
+        base.e * 1e-9,
+        base.friction,
+        base.grid,
+        if base.inhomogeneities.is_empty() {
+            String::new()
+        } else {
+            format!(", {} inhomogeneities", base.inhomogeneities.len())
+        }
+    );
+    for name in ["fretting_map.svg", "fretting_map.png"] {
+        plot::fretting_map(
+            &args.out.join(name),
+            &title,
+            map.loads(),
+            map.amplitudes(),
+            &regime,
+            &energy,
+        )
+        .map_err(|e| CliError::Plot(e.to_string()))?;
+    }
+    let (rows, cols) = map.shape();
+    let grid_of = |v: &[f64]| -> Vec<Vec<f64>> { v.chunks(cols).map(<[f64]>::to_vec).collect() };
+    let summary = json!({
+        "loads": map.loads(),
+        "amplitudes": map.amplitudes(),
+        "shape": [rows, cols],
+        "regime": grid_of(&regime).iter().map(|r| r.iter().map(|&v| v as i64).collect::<Vec<_>>()).collect::<Vec<_>>(),
+        "dissipated_energy": grid_of(&energy),
+        "energy_ratio": grid_of(&column(4)),
+        "points": map.len(),
+        "resumed_points": result.resumed,
+        "point_seconds": column(8).iter().sum::<f64>(),
+        "seconds": start.elapsed().as_secs_f64(),
+        "grid": base.grid,
+        "extent": base.extent(),
+        "inclusion_count": base.inhomogeneities.len(),
+    });
+    if args.json {
+        println!("{summary}");
+    } else {
+        println!("{summary:#}");
+    }
+    Ok(())
+}
