@@ -162,3 +162,22 @@ fn bad_maps_exit_2_with_the_reason() {
         "has no checkpoints",
     );
 }
+
+#[test]
+fn the_example_config_runs() {
+    // examples/fretting_map.toml (docs/fretting-map.md) on a coarse grid: it parses and maps.
+    let dir = tempfile::tempdir().unwrap();
+    let example = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/fretting_map.toml");
+    let v = ok_json(&run(&[
+        "fretting-map",
+        "--config",
+        example,
+        "--grid",
+        "12",
+        "--out",
+        dir.path().to_str().unwrap(),
+        "--json",
+    ]));
+    assert_eq!(v["shape"], serde_json::json!([5, 6]));
+    assert_eq!(v["grid"], 12);
+}

@@ -17,9 +17,13 @@ from typing import Any, Iterator
 
 import numpy as np
 
+from ._halfspace import MAP_FIELDS as _MAP_FIELDS
 from ._halfspace import HalfspaceError, _FrettingLoop
 from ._halfspace import axisym as _axisym
 from ._halfspace import contact3d as _contact3d
+from ._halfspace import fretting_map as _fretting_map
+from ._halfspace import fretting_map_point as _fretting_map_point
+from ._halfspace import fretting_map_shape as _fretting_map_shape
 from ._halfspace import fretting_wear as _fretting_wear
 
 __all__ = [
@@ -38,6 +42,7 @@ __all__ = [
     "contact3d",
     "fretting_wear",
     "FrettingLoop",
+    "fretting_map",
 ]
 
 
@@ -279,6 +284,27 @@ def fretting_wear(
     return Result(_fretting_wear(chi=chi, n=n, dtau=dtau, tau_end=tau_end, method=method))
 
 
+def _config_json(config: dict[str, Any] | None) -> str | None:
+    """The fretting-loop config dict as the JSON the library reads (``inhomogeneity`` items may be
+    tables, :class:`Inhomogeneity` objects or spec strings; the spec key ``E`` is the table's ``e``)."""
+    cfg = dict(config or {})
+    tables = []
+    for item in cfg.pop("inhomogeneity", []) or []:
+        if isinstance(item, dict):
+            tables.append(item)
+        else:
+            kind, _, rest = _spec(item).partition(":")
+            table: dict[str, Any] = {"kind": kind}
+            for pair in filter(None, rest.split(",")):
+                key, _, value = pair.partition("=")
+                key = "e" if key == "E" else key
+                table[key] = value if key == "axis" else float(value)
+            tables.append(table)
+    if tables:
+        cfg["inhomogeneity"] = tables
+    return json.dumps(cfg) if cfg else None
+
+
 class FrettingLoop:
     """The fretting loop of Leroux & Nélias (2011): normal load ramped in steps, then the shift
     cycled 0 → +A → −A → +A, each increment the coupled stick–slip contact (spec §4.5) or, with
@@ -293,22 +319,7 @@ class FrettingLoop:
     """
 
     def __init__(self, config: dict[str, Any] | None = None, *, case: str = "homogeneous", grid: int | None = None):
-        cfg = dict(config or {})
-        tables = []
-        for item in cfg.pop("inhomogeneity", []) or []:
-            if isinstance(item, dict):
-                tables.append(item)
-            else:
-                kind, _, rest = _spec(item).partition(":")
-                table: dict[str, Any] = {"kind": kind}
-                for pair in filter(None, rest.split(",")):
-                    key, _, value = pair.partition("=")
-                    key = "e" if key == "E" else key
-                    table[key] = value if key == "axis" else float(value)
-                tables.append(table)
-        if tables:
-            cfg["inhomogeneity"] = tables
-        self._inner = _FrettingLoop(json.dumps(cfg) if cfg else None, case=case, grid=grid)
+        self._inner = _FrettingLoop(_config_json(config), case=case, grid=grid)
 
     def __len__(self) -> int:
         return len(self._inner)
@@ -343,3 +354,65 @@ class FrettingLoop:
         """Dissipated energy, ratchet, regime (0 partial slip, 1 mixed, 2 gross slip), … of the
         completed loop."""
         return Result(self._inner.metrics())
+
+
+
+
+def _map_point(config_json: str | None, case: str, grid: int | None, loads: list[float],
+               amplitudes: list[float], i: int, j: int) -> list[float]:
+    """One point of a fretting map (a task on a Dask worker; the GIL is released while it runs)."""
+    return _fretting_map_point(config_json, case, grid, loads, amplitudes, i, j)
+
+
+def fretting_map(
+    loads: Any,
+    amplitudes: Any,
+    *,
+    config: dict[str, Any] | None = None,
+    case: str = "homogeneous",
+    grid: int | None = None,
+    client: Any = None,
+) -> Result:
+    """A fretting map (Vingsbo & Söderberg 1988): the fretting loop of :class:`FrettingLoop` at every
+    normal load ``W`` in ``loads`` (N) × shift amplitude ``A`` in ``amplitudes`` (m), as
+    ``halfspace fretting-map``. ``config`` holds the fretting-loop keys (``grid``, ``normal_steps``,
+    ``shift_step`` — its ratio to ``amplitude`` fixes the steps per quarter cycle of every point —,
+    ``inhomogeneity``, …); the domain (and any composite fibres) is sized for the largest load,
+    and every point keeps those cells and the same increments.
+
+    Returns a :class:`Result` with ``loads``, ``amplitudes`` and, shaped (len(loads),
+    len(amplitudes)), ``regime`` (int: 0 partial slip, 1 mixed, 2 gross slip — a stick zone
+    throughout, sliding ≤ 5 % of the travel 4A, more), ``dissipated_energy`` (J per cycle,
+    ``|∮ Q dδ|``), ``energy_ratio`` (Fouvry's ``E_d / 4Q*δ*``), ``sliding_fraction``,
+    ``tangential_force_over_mu_w_at_amplitude``, ``ratchet`` and ``seconds`` (per point).
+
+    Without ``client`` the points run in parallel on this machine's cores (GIL released). With a
+    ``dask.distributed.Client`` each point is one task on its cluster (the workers need this package
+    installed); the numbers are the same bit for bit (every loop is deterministic)."""
+    loads = [float(w) for w in np.atleast_1d(np.asarray(loads, dtype=float))]
+    amplitudes = [float(a) for a in np.atleast_1d(np.asarray(amplitudes, dtype=float))]
+    cfg = _config_json(config)
+    if client is None:
+        values = _fretting_map(cfg, case, grid, loads, amplitudes)
+    else:
+        # A bad map is refused here, with the library's message, before any task is sent.
+        shape = _fretting_map_shape(cfg, case, grid, loads, amplitudes)
+        tasks = [(i, j) for i in range(shape[0]) for j in range(shape[1])]
+        futures = client.map(
+            _map_point,
+            [cfg] * len(tasks),
+            [case] * len(tasks),
+            [grid] * len(tasks),
+            [loads] * len(tasks),
+            [amplitudes] * len(tasks),
+            [i for i, _ in tasks],
+            [j for _, j in tasks],
+            pure=False,
+        )
+        points = np.asarray(client.gather(futures), dtype=float).reshape(*shape, -1)
+        values = {"loads": np.asarray(loads), "amplitudes": np.asarray(amplitudes)}
+        # The columns of MapPoint::FIELDS after load and amplitude.
+        for f, name in enumerate(_MAP_FIELDS[2:], start=2):
+            values[name] = points[:, :, f].copy()
+    values["regime"] = np.asarray(values["regime"]).astype(np.int64)
+    return Result(values)

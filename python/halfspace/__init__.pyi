@@ -111,3 +111,13 @@ class FrettingLoop:
     def rows(self) -> dict[str, np.ndarray]: ...
     def points(self) -> dict[str, dict[str, Any]]: ...
     def metrics(self) -> Result: ...
+
+def fretting_map(
+    loads: Any,
+    amplitudes: Any,
+    *,
+    config: dict[str, Any] | None = ...,
+    case: str = ...,
+    grid: int | None = ...,
+    client: Any = ...,
+) -> Result: ...

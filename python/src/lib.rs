@@ -13,9 +13,10 @@ use pyo3::types::PyDict;
 
 use halfspace::config::LoopConfig;
 use halfspace::fretting::{FrettingParams, FrettingSimulation};
+use halfspace::fretting_map::run_map;
 use halfspace::mdr::{Backend, ContactParams, ContactSolver, Load, Profile};
 use halfspace::records::{contact_record, contact_summary};
-use halfspace::sam::fretting_loop::{FrettingLoop, LoopRow, POINT_LABELS};
+use halfspace::sam::fretting_loop::{FrettingLoop, FrettingMap, LoopRow, MapPoint, POINT_LABELS};
 use halfspace::sam::normal::NormalLoad;
 use halfspace::sam::single::{solve_contact, ContactCase, TangentialLoad};
 use halfspace::spec::{
@@ -266,11 +267,7 @@ impl PyFrettingLoop {
     #[new]
     #[pyo3(signature = (config_json=None, case="homogeneous", grid=None))]
     fn new(config_json: Option<&str>, case: &str, grid: Option<usize>) -> PyResult<Self> {
-        let cfg: LoopConfig = match config_json {
-            Some(text) => serde_json::from_str(text).map_err(|e| err(format!("config: {e}")))?,
-            None => LoopConfig::default(),
-        };
-        let case = cfg.case(case, grid).map_err(err)?;
+        let case = loop_config(config_json)?.case(case, grid).map_err(err)?;
         Ok(Self {
             inner: FrettingLoop::new(case).map_err(err)?,
         })
@@ -391,6 +388,95 @@ impl PyFrettingLoop {
     }
 }
 
+/// The fretting-loop configuration from its JSON text (the Python dict), or the default.
+fn loop_config(config_json: Option<&str>) -> PyResult<LoopConfig> {
+    match config_json {
+        Some(text) => serde_json::from_str(text).map_err(|e| err(format!("config: {e}"))),
+        None => Ok(LoopConfig::default()),
+    }
+}
+
+/// The fretting map of the config over `loads × amplitudes` (`LoopConfig::map`).
+fn build_map(
+    config_json: Option<&str>,
+    case: &str,
+    grid: Option<usize>,
+    loads: Vec<f64>,
+    amplitudes: Vec<f64>,
+) -> PyResult<FrettingMap> {
+    loop_config(config_json)?
+        .map(case, grid, loads, amplitudes)
+        .map_err(err)
+}
+
+/// `_fretting_map(config_json, case, grid, loads, amplitudes)`: every point of the fretting map
+/// (`halfspace::fretting_map::run_map` on the local cores, GIL released), as
+/// `halfspace fretting-map`: a dict of `loads`, `amplitudes` and the fields of
+/// `MapPoint::FIELDS` shaped (len(loads), len(amplitudes)).
+#[pyfunction]
+#[pyo3(signature = (config_json, case, grid, loads, amplitudes))]
+fn fretting_map<'py>(
+    py: Python<'py>,
+    config_json: Option<&str>,
+    case: &str,
+    grid: Option<usize>,
+    loads: Vec<f64>,
+    amplitudes: Vec<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let map = build_map(config_json, case, grid, loads, amplitudes)?;
+    let run = py
+        .detach(|| run_map(&map, None, None, |_, _| {}))
+        .map_err(err)?;
+    let points = run.complete().ok_or_else(|| err("the map is incomplete"))?;
+    let (rows, cols) = map.shape();
+    let d = PyDict::new(py);
+    d.set_item("loads", PyArray1::from_vec(py, map.loads().to_vec()))?;
+    d.set_item(
+        "amplitudes",
+        PyArray1::from_vec(py, map.amplitudes().to_vec()),
+    )?;
+    for (f, name) in MapPoint::FIELDS.iter().enumerate().skip(2) {
+        let v: Vec<f64> = points.iter().map(|p| p.values()[f]).collect();
+        d.set_item(*name, PyArray1::from_vec(py, v).reshape([rows, cols])?)?;
+    }
+    Ok(d)
+}
+
+/// `_fretting_map_shape(config_json, case, grid, loads, amplitudes)`: builds the map (every check
+/// of the configuration and the axes, no loop run) and returns its shape.
+#[pyfunction]
+#[pyo3(signature = (config_json, case, grid, loads, amplitudes))]
+fn fretting_map_shape(
+    config_json: Option<&str>,
+    case: &str,
+    grid: Option<usize>,
+    loads: Vec<f64>,
+    amplitudes: Vec<f64>,
+) -> PyResult<(usize, usize)> {
+    let map = build_map(config_json, case, grid, loads, amplitudes)?;
+    Ok(map.shape())
+}
+
+/// `_fretting_map_point(config_json, case, grid, loads, amplitudes, i, j)`: point `(i, j)` of the
+/// same map (one task of a distributed map; GIL released): the values of `MapPoint::FIELDS`.
+#[pyfunction]
+#[pyo3(signature = (config_json, case, grid, loads, amplitudes, i, j))]
+#[allow(clippy::too_many_arguments)]
+fn fretting_map_point(
+    py: Python<'_>,
+    config_json: Option<&str>,
+    case: &str,
+    grid: Option<usize>,
+    loads: Vec<f64>,
+    amplitudes: Vec<f64>,
+    i: usize,
+    j: usize,
+) -> PyResult<Vec<f64>> {
+    let map = build_map(config_json, case, grid, loads, amplitudes)?;
+    let point = py.detach(|| map.run_point(i, j)).map_err(err)?;
+    Ok(point.values().to_vec())
+}
+
 fn row_dict<'py>(py: Python<'py>, r: &LoopRow) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     for (name, v) in LoopRow::FIELDS.iter().zip(r.values()) {
@@ -405,6 +491,10 @@ fn _halfspace(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(axisym, m)?)?;
     m.add_function(wrap_pyfunction!(fretting_wear, m)?)?;
     m.add_function(wrap_pyfunction!(contact3d, m)?)?;
+    m.add_function(wrap_pyfunction!(fretting_map, m)?)?;
+    m.add_function(wrap_pyfunction!(fretting_map_point, m)?)?;
+    m.add_function(wrap_pyfunction!(fretting_map_shape, m)?)?;
+    m.add("MAP_FIELDS", MapPoint::FIELDS.to_vec())?;
     m.add_class::<PyFrettingLoop>()?;
     Ok(())
 }

@@ -194,3 +194,54 @@ def test_the_worked_examples_of_docs_python_md_run():
     scope: dict = {}
     for block in blocks:
         exec(compile(block, "docs/python.md", "exec"), scope)
+
+
+MAP = {"grid": 32, "nu": 0.49, "normal_steps": 10, "shift_step": 0.004e-6, "subsurface_over_a": 0.0}
+LOADS, AMPLITUDES = [0.04, 0.08], [0.01e-6, 0.02e-6, 0.04e-6, 0.08e-6]
+
+
+def test_fretting_map_equals_the_cli_bit_for_bit(tmp_path):
+    text = toml(MAP) + f"\n[map]\nloads = {LOADS!r}\namplitudes = {AMPLITUDES!r}\n"
+    (tmp_path / "map.toml").write_text(text)
+    ref = cli("fretting-map", "--config", str(tmp_path / "map.toml"), "--out", str(tmp_path / "out"))
+    got = hs.fretting_map(LOADS, AMPLITUDES, config=MAP)
+    assert got.regime.dtype == np.int64 and got.regime.shape == (2, 4)
+    assert got.regime.tolist() == ref["regime"]
+    with h5py.File(tmp_path / "out" / "results.h5") as f:
+        for name in ("regime", "dissipated_energy", "energy_ratio", "sliding_fraction", "ratchet",
+                     "tangential_force_over_mu_w_at_amplitude"):
+            assert np.array_equal(getattr(got, name), f[name][:]), name
+        assert np.array_equal(got.loads, f["loads"][:])
+    # Mindlin (ν = 0.49: nearly uncoupled): partial slip below A/K = 1, gross slip above.
+    assert got.regime[1].tolist() == [0, 0, 2, 2]
+
+
+def test_fretting_map_on_a_local_dask_cluster_equals_the_serial_map():
+    distributed = pytest.importorskip("distributed")
+    serial = hs.fretting_map(LOADS, AMPLITUDES, config=MAP)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        dist = hs.fretting_map(LOADS, AMPLITUDES, config=MAP, client=client)
+        with pytest.raises(hs.HalfspaceError, match=r"every value must be finite and > 0"):
+            hs.fretting_map([0.08, -1.0], AMPLITUDES, config=MAP, client=client)
+    for name in ("regime", "dissipated_energy", "energy_ratio", "sliding_fraction", "ratchet",
+                 "tangential_force_over_mu_w_at_amplitude", "loads", "amplitudes"):
+        assert np.array_equal(getattr(dist, name), getattr(serial, name)), name
+    assert dist.regime.dtype == serial.regime.dtype
+
+
+def test_fretting_map_errors():
+    with pytest.raises(hs.HalfspaceError, match=r"at least one of its amplitudes"):
+        hs.fretting_map([0.08], [], config=MAP)
+    with pytest.raises(hs.HalfspaceError, match=r"unknown field `gird`"):
+        hs.fretting_map([0.08], [1e-8], config={"gird": 32})
+
+
+@pytest.mark.parametrize("example", sorted(p.name for p in (ROOT / "examples").glob("*.py")))
+def test_the_examples_run(example):
+    """Every script under examples/ runs to the end (each asserts its own numbers)."""
+    import sys
+
+    out = subprocess.run([sys.executable, str(ROOT / "examples" / example)], capture_output=True,
+                         text=True, timeout=600)
+    assert out.returncode == 0, out.stderr[-2000:]
