@@ -181,7 +181,7 @@ fn bad_input_exits_2() {
             "--extent",
             "4e-6",
         ],
-        "enlarge --extent",
+        "enlarge the domain extent (--extent)",
     );
     bad(
         &[

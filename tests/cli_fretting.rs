@@ -209,7 +209,7 @@ fn configs_and_bad_input() {
             "--out",
             u.to_str().unwrap(),
         ],
-        "smaller --dtau",
+        "time step dtau (--dtau)",
     );
     assert!(u.join("checkpoint.npz").is_file());
 }

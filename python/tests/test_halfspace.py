@@ -129,6 +129,10 @@ def test_errors_are_halfspace_errors_with_the_librarys_message():
         hs.axisym(hs.Sphere(R=0.1), hs.Homogeneous(E=1e9, nu=0.3))
     with pytest.raises(hs.HalfspaceError, match=r"grading exponent k"):
         hs.axisym(hs.Sphere(R=0.1), hs.Graded(E0=1e9, z0=1.0, nu=0.3, k=1.0), force=1.0)
+    # Library messages name parameters, not CLI flags (the CLI adds those).
+    with pytest.raises(hs.HalfspaceError, match=r"the MVM backend") as info:
+        hs.axisym(hs.PowerLaw(c=1.0, n=1.5), hs.Graded(E0=1.0, z0=1.0, nu=0.3, k=0.5), depth=0.01)
+    assert "--" not in str(info.value)
     with pytest.raises(hs.HalfspaceError, match=r"unknown field `bogus`"):
         hs.FrettingLoop({"bogus": 1})
     with pytest.raises(hs.HalfspaceError, match=r"need all 180 increments, 0 done"):

@@ -48,7 +48,7 @@ pub enum CliError {
     Mdr(#[from] halfspace::mdr::MdrError),
     /// The 3D contact solvers refused the input or did not converge.
     #[error(transparent)]
-    Sam(halfspace::sam::SamError),
+    Sam(#[from] halfspace::sam::SamError),
     /// Reading or writing data failed.
     #[error(transparent)]
     Data(#[from] halfspace::data::DataError),
@@ -63,18 +63,6 @@ impl From<halfspace::spec::SpecError> for CliError {
     }
 }
 
-/// The library's errors name no flag; the CLI adds the flag that fixes the input.
-impl From<halfspace::sam::SamError> for CliError {
-    fn from(e: halfspace::sam::SamError) -> Self {
-        match e {
-            halfspace::sam::SamError::ContactAtDomainEdge => {
-                CliError::Spec(format!("{e}: enlarge --extent"))
-            }
-            other => CliError::Sam(other),
-        }
-    }
-}
-
 /// A TOML config (unknown keys refused by the type), or the defaults without one.
 pub fn read_config<T: serde::de::DeserializeOwned + Default>(
     path: Option<&std::path::Path>,
@@ -86,6 +74,27 @@ pub fn read_config<T: serde::de::DeserializeOwned + Default>(
         .map_err(|e| CliError::Spec(format!("--config {}: {e}", path.display())))?;
     toml::from_str(&text)
         .map_err(|e| CliError::Spec(format!("--config {}: {}", path.display(), e.message())))
+}
+
+/// The library's errors name parameters, not flags (the Python package shows them too); on the
+/// command line each remedy is followed by the flag that applies it.
+fn with_flag_hints(message: &str) -> String {
+    const HINTS: [(&str, &str); 6] = [
+        ("the MVM backend", "--method mvm"),
+        ("the FFT backend", "--method fft"),
+        ("time step dtau", "--dtau"),
+        ("domain length L", "--length"),
+        ("the domain extent", "--extent"),
+        ("subsurface depth", "--subsurface"),
+    ];
+    let mut out = message.to_string();
+    for (phrase, flag) in HINTS {
+        if let Some(at) = out.find(phrase) {
+            let end = at + phrase.len();
+            out.insert_str(end, &format!(" ({flag})"));
+        }
+    }
+    out
 }
 
 pub fn run() -> ExitCode {
@@ -108,7 +117,7 @@ pub fn run() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {}", with_flag_hints(&e.to_string()));
             ExitCode::from(2)
         }
     }

@@ -18,7 +18,7 @@ pub enum FrettingError {
     /// (that only raises f) can approach but never cross.
     #[error(
         "the explicit wear step is unstable or inaccurate: a/a0 = {contact_radius:.5} passed the \
-         limit r*/a0 = {limit:.5} at tau = {tau:.4}; use a smaller --dtau (at most {suggested:.1e})"
+         limit r*/a0 = {limit:.5} at tau = {tau:.4}; use a smaller time step dtau (at most {suggested:.1e})"
     )]
     Unstable {
         /// τ at detection.
@@ -31,7 +31,9 @@ pub enum FrettingError {
         suggested: f64,
     },
     /// The contact reached the end of the grid.
-    #[error("the contact reached the end of the grid (L/a0 = {length}); use a larger --length")]
+    #[error(
+        "the contact reached the end of the grid (L/a0 = {length}); use a larger domain length L"
+    )]
     ContactOutsideGrid {
         /// Domain size `L/a₀`.
         length: f64,

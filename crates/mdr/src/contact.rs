@@ -215,7 +215,8 @@ impl ContactSolver {
             // g − κ₂c₀x² − κ₁s₀x starts like xⁿ: Eq. 13/26 needs n ∉ (1, 5/2) \ {2} (spec §7 P11).
             if *n > 1.0 && *n < 2.5 && *n != 2.0 {
                 return Err(MdrError::InvalidParameter {
-                    name: "power-law exponent n for the Eq. 13/26 displacement (use --method mvm: \
+                    name:
+                        "power-law exponent n for the Eq. 13/26 displacement (use the MVM backend: \
                            Eq. 12/25)",
                     value: *n,
                     allowed: "1, 2 or ≥ 5/2 (spec §7 P11)",

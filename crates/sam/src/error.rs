@@ -25,7 +25,7 @@ pub enum SamError {
         residual: f64,
     },
     /// The contact reaches the edge of the computational domain.
-    #[error("the contact reaches the edge of the domain (pressure on the boundary cells); enlarge the domain (its extent)")]
+    #[error("the contact reaches the edge of the domain (pressure on the boundary cells); enlarge the domain extent")]
     ContactAtDomainEdge,
     /// No contact at all (the indenter does not touch).
     #[error("no contact: the indenter does not reach the surface at this load")]

@@ -152,7 +152,7 @@ pub fn subsurface_stress(
         return Err(SamError::InvalidParameter {
             name: "memory for the subsurface stress field (bytes)",
             value: need,
-            allowed: "≤ 8 GiB: a shallower --subsurface depth or a coarser grid",
+            allowed: "≤ 8 GiB: a shallower subsurface depth or a coarser grid",
         });
     }
     let targets: Vec<i64> = (0..layers).map(|k| (2 * k + 1) as i64).collect();

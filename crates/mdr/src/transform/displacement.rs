@@ -98,7 +98,7 @@ impl DisplacementTransform {
                 return Err(MdrError::InvalidParameter {
                     name: "grid nodes N for the Eq. 25 kernel (N²/2 entries)",
                     value: capacity as f64,
-                    allowed: "≤ 8193; use Eq. 26 (--method fft) for larger grids",
+                    allowed: "≤ 8193; use Eq. 26 (the FFT backend) for larger grids",
                 });
             }
             tabulate_kernel(capacity, k)?
@@ -377,9 +377,9 @@ fn check_eq26_applicability(
     if m < 2.5 {
         return Err(MdrError::InvalidParameter {
             name: if k == 0.0 {
-                "leading exponent of U − U(0) − L₁x − c₂x² for Eq. 13 (use Eq. 12: --method mvm)"
+                "leading exponent of U − U(0) − L₁x − c₂x² for Eq. 13 (use Eq. 12: the MVM backend)"
             } else {
-                "leading exponent of U − U(0) − L₁x − c₂x² for Eq. 26 (use Eq. 25: --method mvm)"
+                "leading exponent of U − U(0) − L₁x − c₂x² for Eq. 26 (use Eq. 25: the MVM backend)"
             },
             value: m,
             allowed: "≥ 5/2 (no terms between x² and x^{5/2} at the origin, spec §7 P11)",

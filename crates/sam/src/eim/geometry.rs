@@ -384,7 +384,7 @@ impl InclusionSet {
                     .filter(|v| v.is_finite())
                     .fold(0.0f64, f64::max);
                 return Err(invalid(
-                    "inhomogeneity extent beyond the domain edge (m; enlarge --extent)",
+                    "inhomogeneity extent beyond the domain edge (m; enlarge the domain extent)",
                     worst,
                     "≤ 0 (inside the domain)",
                 ));
