@@ -183,6 +183,64 @@ pub fn parse_material(spec: &str, what: &str) -> Result<Material, SpecError> {
     }
 }
 
+/// The medium of a normalized fretting-wear run (docs/fretting-wear.md, "Graded media"): the
+/// grading exponent `k` (0 homogeneous) and, when given, `ν`, which does not enter the normalized
+/// run but fixes the physical amplitude scale `u_max = μ (c_N/c_T) d`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WearMedium {
+    /// Grading exponent `k ∈ (−1, 1)`.
+    pub k: f64,
+    /// Poisson ratio `ν ∈ (−1, 1/2]`, if given.
+    pub nu: Option<f64>,
+}
+
+impl WearMedium {
+    /// `c_T / c_N` (graded tangential MDR constant over the normal one), when `ν` is given.
+    pub fn tangential_ratio(&self) -> Option<f64> {
+        self.nu
+            .and_then(|nu| crate::mdr::tangential::tangential_constant_ratio(self.k, nu).ok())
+    }
+}
+
+/// `homogeneous` (or `homogeneous:nu=..`) or `graded:k=..,nu=..` for `fretting-wear`: `k ∈ (−1, 1)`,
+/// `ν ∈ (−1, 1/2]` (where the graded tangential constant `c_T(k, ν)` is defined).
+pub fn parse_wear_medium(spec: &str, what: &str) -> Result<WearMedium, SpecError> {
+    if spec.trim() == "homogeneous" {
+        return Ok(WearMedium { k: 0.0, nu: None });
+    }
+    let (kind, pairs) = split(spec, what)?;
+    let mut keys = Keys { spec, what, pairs };
+    let (k, nu) = match kind.as_str() {
+        "homogeneous" => {
+            let nu = keys.number("nu")?;
+            keys.finish("nu")?;
+            (0.0, nu)
+        }
+        "graded" => {
+            let k = keys.number("k")?;
+            let nu = keys.number("nu")?;
+            keys.finish("k, nu (the normalized run needs no E0, z0)")?;
+            if !(k.is_finite() && k > -1.0 && k < 1.0) {
+                return Err(SpecError(format!(
+                    "{what} '{spec}': k = {k} must be in (−1, 1) (E ∝ z^k)"
+                )));
+            }
+            (k, nu)
+        }
+        other => {
+            return Err(SpecError(format!(
+                "{what} '{spec}': unknown medium '{other}' (homogeneous, graded)"
+            )))
+        }
+    };
+    if !(nu.is_finite() && nu > -1.0 && nu <= 0.5) {
+        return Err(SpecError(format!(
+            "{what} '{spec}': nu = {nu} must be in (−1, 0.5] (the range of the tangential constant c_T(k, ν))"
+        )));
+    }
+    Ok(WearMedium { k, nu: Some(nu) })
+}
+
 /// `sphere:x=..,y=..,z=..,r=..,E=..,nu=..`, `cylinder:axis=y,x=..,z=..,r=..,E=..,nu=..` (or
 /// `axis=x,y=..`), `cuboid:x=..,y=..,z=..,hx=..,hy=..,hz=..,E=..,nu=..`; `z` is the depth of the
 /// centre (m, positive into the body), `hx..` half sizes. Values are checked by the library.

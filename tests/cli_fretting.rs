@@ -213,3 +213,96 @@ fn configs_and_bad_input() {
     );
     assert!(u.join("checkpoint.npz").is_file());
 }
+
+#[test]
+fn graded_runs_report_k_the_wear_volume_and_the_tangential_constant() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let common = [
+        "--n",
+        "501",
+        "--dtau",
+        "0.002",
+        "--tau-end",
+        "2",
+        "--chi",
+        "0.5",
+    ];
+    let graded = |m: &str, name: &str| {
+        let o = out(name);
+        let mut args = vec!["fretting-wear", "--material", m, "--out", &o, "--json"];
+        args.extend(common);
+        ok_json(&run(&args))
+    };
+    let k05 = graded("graded:k=0.5,nu=0.3", "k05");
+    assert_eq!(k05["k"], 0.5);
+    assert_eq!(k05["nu"], 0.3);
+    // c_T/c_N from the P–SV integration (docs/fretting-wear.md table: 0.474486 at k = 0.5, ν = 0.3).
+    assert!((k05["tangential_constant_ratio"].as_f64().unwrap() - 0.474486).abs() < 1e-6);
+    let (v, v_inf) = (
+        k05["wear_volume"].as_f64().unwrap(),
+        k05["limit_wear_volume"].as_f64().unwrap(),
+    );
+    assert!(v > 0.0 && v < v_inf, "V {v} V∞ {v_inf}");
+    // r*(χ = 0.5, k = 0.5) of the quadrature fixture.
+    assert!((k05["limit_contact_radius_over_a0"].as_f64().unwrap() - 1.0657470764).abs() < 1e-9);
+    // k = 0 is the homogeneous run bit for bit (also named as a material).
+    let k0 = graded("graded:k=0,nu=0.3", "k0");
+    let o = out("plain");
+    let mut args = vec!["fretting-wear", "--out", &o, "--json"];
+    args.extend(common);
+    let plain = ok_json(&run(&args));
+    assert_eq!(k0["wear_volume"], plain["wear_volume"]);
+    assert_eq!(plain["k"], 0.0);
+    arrays_equal(
+        &dir.path().join("k0/results.h5"),
+        &dir.path().join("plain/results.h5"),
+    );
+    // Homogeneous: c_T/c_N = G*/E* = 2(1 − ν)/(2 − ν).
+    assert!((k0["tangential_constant_ratio"].as_f64().unwrap() - 1.4 / 1.7).abs() < 1e-15);
+}
+
+#[test]
+fn bad_media_exit_2_with_the_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("bad");
+    let o = o.to_str().unwrap();
+    for (m, needle) in [
+        ("graded:k=1.2,nu=0.3", "k = 1.2 must be in (−1, 1)"),
+        ("graded:k=-1,nu=0.3", "must be in (−1, 1)"),
+        ("graded:k=0.5,nu=0.7", "nu = 0.7 must be in (−1, 0.5]"),
+        ("graded:k=0.5,nu=-1", "must be in (−1, 0.5]"),
+        ("graded:k=0.5", "missing key 'nu'"),
+        ("graded:k=0.5,nu=0.3,E0=1", "unknown key 'E0'"),
+        ("foam:k=0.5", "unknown medium 'foam'"),
+    ] {
+        bad(&["fretting-wear", "--material", m, "--out", o], needle);
+    }
+    // A domain too small for the graded contact's growth, and a step too large for k < 0.
+    bad(
+        &[
+            "fretting-wear",
+            "--material",
+            "graded:k=-0.5,nu=0.3",
+            "--chi",
+            "0.9",
+            "--length",
+            "1.5",
+            "--out",
+            o,
+        ],
+        "the contact grows to r* = 1.5501",
+    );
+    bad(
+        &[
+            "fretting-wear",
+            "--material",
+            "graded:k=-0.5,nu=0.3",
+            "--dtau",
+            "0.002",
+            "--out",
+            o,
+        ],
+        "explicit wear step stability",
+    );
+}

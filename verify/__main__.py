@@ -1,4 +1,4 @@
-"""python -m verify {quad,fe,fe-inclusion,hyp2f1,subsurface,all,check}
+"""python -m verify {quad,fe,fe-inclusion,hyp2f1,subsurface,graded-wear,all,check}
 
 quad    scipy-quadrature references  -> datasets/quadrature.h5 + datasets/npy/quad_*
 subsurface  Hertz subsurface stresses by cubature of Boussinesq/Cerruti
@@ -7,8 +7,10 @@ fe      scikit-fem axisymmetric FE   -> datasets/fe.h5 + datasets/npy/fe_*   (mi
 fe-inclusion  scikit-fem FE, spherical inhomogeneity under a Hertz pressure
                                      -> datasets/fe_inclusion.h5 + datasets/npy/fe_inclusion_*  (minutes)
 hyp2f1  mpmath 2F1 values            -> datasets/hyp2f1_mpmath.npy
+graded-wear  limiting worn profiles of graded media by quadrature
+                                     -> datasets/graded_wear.h5 + datasets/npy/graded_wear__*
 all     all of the above
-check   regenerate quad, hyp2f1 and subsurface in a temporary directory and compare with the committed files
+check   regenerate quad, hyp2f1, subsurface and graded-wear in a temporary directory and compare with the committed files
         (values to 1e-12 relative); exit 1 on a difference
 """
 import json
@@ -67,6 +69,15 @@ def run_subsurface(root):
     print(f"subsurface: {len(cases)} cases in {time.time() - t:.1f} s")
 
 
+def run_graded_wear(root):
+    from . import graded_wear, store
+    t = time.time()
+    cases = graded_wear.generate()
+    entries = store.write_cases("graded_wear", "scipy-quad-graded-wear", cases, versions(), root)
+    store.update_manifest("scipy-quad-graded-wear", entries, root)
+    print(f"graded-wear: {len(cases)} cases in {time.time() - t:.1f} s")
+
+
 def run_fe_inclusion(root):
     from . import fe_inclusion, store
     t = time.time()
@@ -95,7 +106,8 @@ def check():
         run_quad(tmp)
         run_hyp2f1(tmp)
         run_subsurface(tmp)
-        for name in ["quadrature.h5", "subsurface.h5"]:
+        run_graded_wear(tmp)
+        for name in ["quadrature.h5", "subsurface.h5", "graded_wear.h5"]:
             with h5py.File(store.DATASETS / name) as a, h5py.File(tmp / name) as b:
                 def visit(path, obj):
                     nonlocal ok
@@ -111,7 +123,7 @@ def check():
         if x.shape != y.shape or np.max(np.abs(x - y) / np.maximum(np.abs(x), 1e-300)) > 1e-12:
             ok = False
             print("MISMATCH hyp2f1_mpmath.npy")
-    print("check: the committed quadrature, 2F1 and subsurface fixtures reproduce to 1e-12" if ok
+    print("check: the committed quadrature, 2F1, subsurface and graded-wear fixtures reproduce to 1e-12" if ok
           else "check: FAILED")
     return ok
 
@@ -126,13 +138,15 @@ def main(argv):
         run_hyp2f1(root)
     if what in ("subsurface", "all"):
         run_subsurface(root)
+    if what in ("graded-wear", "all"):
+        run_graded_wear(root)
     if what in ("fe", "all"):
         run_fe(root)
     if what in ("fe-inclusion", "all"):
         run_fe_inclusion(root)
     if what == "check":
         return 0 if check() else 1
-    if what not in ("quad", "fe", "fe-inclusion", "hyp2f1", "subsurface", "all", "check"):
+    if what not in ("quad", "fe", "fe-inclusion", "hyp2f1", "subsurface", "graded-wear", "all", "check"):
         print(__doc__)
         return 2
     return 0

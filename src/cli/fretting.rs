@@ -8,6 +8,7 @@ use clap::Args;
 use halfspace::data::{read_record, write_record, AttrValue, Record};
 use halfspace::fretting::{FrettingParams, FrettingSimulation, FrettingState, Snapshot};
 use halfspace::mdr::Backend;
+use halfspace::spec::{parse_wear_medium, WearMedium};
 use serde::Deserialize;
 use serde_json::json;
 
@@ -16,7 +17,7 @@ use super::{plot, CliError};
 
 #[derive(Debug, Args)]
 pub struct FrettingArgs {
-    /// TOML file with any of: chi, n, dtau, tau_end, length, snapshots, method.
+    /// TOML file with any of: chi, n, dtau, tau_end, length, snapshots, method, material.
     #[arg(long)]
     config: Option<PathBuf>,
     /// Output directory (results.h5, results.npz, worn_profiles.png/.svg, checkpoint.npz).
@@ -37,6 +38,10 @@ pub struct FrettingArgs {
     /// u_A / u_max, 0 < χ < 1.
     #[arg(long, allow_negative_numbers = true)]
     chi: Option<f64>,
+    /// The medium: homogeneous (default), homogeneous:nu=.., or graded:k=..,nu=.. (E ∝ z^k,
+    /// −1 < k < 1; the normalized run depends on k alone, ν sets u_max = μ (c_N/c_T) d).
+    #[arg(long)]
+    material: Option<String>,
     /// Grid nodes N.
     #[arg(long)]
     n: Option<usize>,
@@ -46,7 +51,7 @@ pub struct FrettingArgs {
     /// Final τ = N/N0.
     #[arg(long, allow_negative_numbers = true)]
     tau_end: Option<f64>,
-    /// Domain size L/a0 (≥ 1.45).
+    /// Domain size L/a0 (≥ 1.45 and ≥ 1.02 r*/a0; default 1.6, graded max(1.6, 1.15 r*/a0)).
     #[arg(long, allow_negative_numbers = true)]
     length: Option<f64>,
     /// Seconds of work between checkpoints.
@@ -68,10 +73,16 @@ struct Config {
     length: Option<f64>,
     snapshots: Option<Vec<f64>>,
     method: Option<String>,
+    material: Option<String>,
 }
 
-fn params_of(args: &FrettingArgs) -> Result<FrettingParams, CliError> {
+fn params_of(args: &FrettingArgs) -> Result<(FrettingParams, WearMedium), CliError> {
     let config: Config = super::read_config(args.config.as_deref())?;
+    let medium = match (&args.material, &config.material) {
+        (Some(spec), _) => parse_wear_medium(spec, "--material")?,
+        (None, Some(spec)) => parse_wear_medium(spec, "config material")?,
+        (None, None) => WearMedium { k: 0.0, nu: None },
+    };
     let mut p = FrettingParams::default();
     let backend = |name: &str| match name {
         "fft" => Ok(Backend::Fft),
@@ -93,13 +104,17 @@ fn params_of(args: &FrettingArgs) -> Result<FrettingParams, CliError> {
     p.nodes = args.n.or(config.n).unwrap_or(p.nodes);
     p.dtau = args.dtau.or(config.dtau).unwrap_or(p.dtau);
     p.tau_end = args.tau_end.or(config.tau_end).unwrap_or(p.tau_end);
-    p.length = args.length.or(config.length).unwrap_or(p.length);
+    p.k = medium.k;
+    p.length = args
+        .length
+        .or(config.length)
+        .unwrap_or_else(|| FrettingParams::default_length(p.chi, p.k));
     if let Some(s) = config.snapshots {
         p.snapshots = s;
     }
     p.snapshots.retain(|t| *t <= p.tau_end + 1e-12);
     p.validate().map_err(fretting_error)?;
-    Ok(p)
+    Ok((p, medium))
 }
 
 fn fretting_error(e: halfspace::fretting::FrettingError) -> CliError {
@@ -109,6 +124,7 @@ fn fretting_error(e: halfspace::fretting::FrettingError) -> CliError {
 fn params_attrs(p: &FrettingParams) -> Vec<(&'static str, AttrValue)> {
     vec![
         ("chi", AttrValue::Float(p.chi)),
+        ("k", AttrValue::Float(p.k)),
         ("n", AttrValue::Int(p.nodes as i64)),
         ("dtau", AttrValue::Float(p.dtau)),
         ("tau_end", AttrValue::Float(p.tau_end)),
@@ -192,7 +208,7 @@ fn state_from_checkpoint(path: &Path, params: &FrettingParams) -> Result<Frettin
 }
 
 pub fn run(args: FrettingArgs) -> Result<(), CliError> {
-    let params = params_of(&args)?;
+    let (params, medium) = params_of(&args)?;
     if !(args.checkpoint_seconds.is_finite() && args.checkpoint_seconds > 0.0) {
         return Err(CliError::Spec(format!(
             "--checkpoint-seconds must be finite and > 0, got {}",
@@ -299,8 +315,18 @@ pub fn run(args: FrettingArgs) -> Result<(), CliError> {
         "n": params.nodes,
         "chi": params.chi,
         "dtau": params.dtau,
+        "k": params.k,
+        "wear_volume": sim.wear_volume(),
+        "limit_wear_volume": sim.limit_wear_volume(),
+        "wear_volume_definition": "V / (π a0² d): worn volume 2π∫(f − f0) r dr over the contact's a0² d",
         "out": dir.display().to_string(),
     });
+    let mut summary = summary;
+    if let (Some(nu), Some(ratio)) = (medium.nu, medium.tangential_ratio()) {
+        summary["nu"] = json!(nu);
+        summary["tangential_constant_ratio"] = json!(ratio);
+        summary["u_max_over_mu_d"] = json!(1.0 / ratio);
+    }
     if args.json {
         println!("{summary}");
     } else {

@@ -179,7 +179,16 @@ where
             RGBColor(140, 170, 255),
         ]
     } else {
-        vec![RED, BLACK, BLUE, GREEN, MAGENTA, CYAN]
+        vec![
+            RED,
+            BLACK,
+            BLUE,
+            GREEN,
+            MAGENTA,
+            CYAN,
+            RGBColor(230, 140, 0),
+            RGBColor(120, 60, 160),
+        ]
     };
     for (area, (ylabel, lines)) in panels {
         let xmax = lines

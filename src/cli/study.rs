@@ -25,6 +25,9 @@ pub enum Study {
     FeComparison,
     /// Fretting wear: a/a0 against τ for χ = 0.3, 0.5, 0.9 and their limits r*/a0 (spec §5).
     FrettingLimit,
+    /// Fretting wear of graded media E ∝ z^k: the limiting worn profiles (χ = 0.5) for k = −0.5 … 0.9
+    /// and the final wear volume against the amplitude u_A/(μd) (ν = 0.3), the optimal grading.
+    GradedWear,
     /// Timing of one application of the EIM volume operator (eigenstrain on every layer → strain on
     /// every layer, half-space) on --grid² cells × --layers layers: build and apply seconds.
     EimOperator,
@@ -61,6 +64,9 @@ pub fn run(args: StudyArgs) -> Result<(), CliError> {
     }
     if let Study::FrettingLimit = args.study {
         return fretting_limit(&args);
+    }
+    if let Study::GradedWear = args.study {
+        return graded_wear(&args);
     }
     if let Study::EimOperator = args.study {
         return eim_operator(&args);
@@ -129,7 +135,11 @@ pub fn run(args: StudyArgs) -> Result<(), CliError> {
             }
             ("Eq. 27, U = x⁴ (L = 1): mean relative error", ns, series)
         }
-        Study::GradedHertz | Study::FeComparison | Study::FrettingLimit | Study::EimOperator => {
+        Study::GradedHertz
+        | Study::FeComparison
+        | Study::FrettingLimit
+        | Study::GradedWear
+        | Study::EimOperator => {
             unreachable!("handled above")
         }
     };
@@ -350,6 +360,117 @@ fn fretting_limit(args: &StudyArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::Plot(format!("{}: {e}", path.display())))?;
     }
     println!("{}", json!({"study": "fretting limit", "cases": rows}));
+    Ok(())
+}
+
+/// The graded limiting profiles and final wear volumes (docs/fretting-wear.md, "Graded media"):
+/// `--plot FILE.svg` draws the profiles there and the volumes in `FILE-volume.svg`.
+fn graded_wear(args: &StudyArgs) -> Result<(), CliError> {
+    use halfspace::fretting::limit::{
+        initial_profile, limit_contact_radius, limit_wear_volume, limit_wear_volume_at_amplitude,
+        limiting_profile, stick_radius,
+    };
+    use halfspace::mdr::tangential::tangential_constant_ratio;
+    let ks = [-0.5, -0.25, 0.0, 0.25, 0.5, 0.75, 0.9];
+    let nu = 0.3;
+    let err = |e: halfspace::mdr::MdrError| CliError::Spec(e.to_string());
+    let chi = 0.5;
+    let mut profiles = Vec::new();
+    let mut volumes = Vec::new();
+    let mut rows = Vec::new();
+    // Amplitudes u_A/(μd), logarithmic from 0.002 to 2.
+    let amplitudes: Vec<f64> = (0..=120)
+        .map(|i| 0.002 * 10f64.powf(i as f64 / 40.0))
+        .collect();
+    for &k in &ks {
+        let r_star = limit_contact_radius(chi, k);
+        let c = stick_radius(chi);
+        let pts: Vec<(f64, f64)> = (0..=300)
+            .map(|i| {
+                let r = 1.6 * i as f64 / 300.0;
+                let depth = if r <= c || r >= r_star {
+                    0.0
+                } else {
+                    limiting_profile(r, chi, k) - initial_profile(r, k)
+                };
+                (r, depth)
+            })
+            .collect();
+        profiles.push((format!("k = {k:+.2}, r*/a0 = {r_star:.4}"), pts));
+        let mut curve = Vec::new();
+        for &u in &amplitudes {
+            if let Some(v) = limit_wear_volume_at_amplitude(u, k, nu).map_err(err)? {
+                curve.push((u.log10(), v.log10()));
+            }
+        }
+        volumes.push((format!("k = {k:+.2}"), curve));
+        let ratio = tangential_constant_ratio(k, nu).map_err(err)?;
+        let at_chi: Vec<f64> = [0.1, 0.3, 0.5, 0.7, 0.9]
+            .iter()
+            .map(|&x| limit_wear_volume(x, k))
+            .collect();
+        rows.push(
+            json!({"k": k, "r_star_chi_0.5": r_star, "tangential_constant_ratio_nu_0.3": ratio,
+            "limit_wear_volume_at_chi_0.1_0.3_0.5_0.7_0.9": at_chi}),
+        );
+    }
+    // The best grading per amplitude over k ∈ [−0.9, 0.95] in steps of 0.05.
+    let grid: Vec<f64> = (0..=37).map(|i| -0.9 + 0.05 * i as f64).collect();
+    let mut optimum = Vec::new();
+    for u in [0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5] {
+        let mut best: Option<(f64, f64)> = None;
+        for &k in &grid {
+            if let Some(v) = limit_wear_volume_at_amplitude(u, k, nu).map_err(err)? {
+                if best.is_none_or(|(_, b)| v < b) {
+                    best = Some((k, v));
+                }
+            }
+        }
+        if let Some((k, v)) = best {
+            optimum.push(json!({"amplitude_over_mu_d": u, "best_k": (k * 100.0).round() / 100.0, "limit_wear_volume": v}));
+        }
+    }
+    // Towards the Gibson medium (k → 1): c_T/c_N, hence χ at a given amplitude.
+    let gibson: Vec<_> = [0.9, 0.99, 0.999]
+        .iter()
+        .flat_map(|&k| {
+            [0.3, 0.5].map(|nu| {
+                json!({"k": k, "nu": nu, "tangential_constant_ratio": tangential_constant_ratio(k, nu).ok()})
+            })
+        })
+        .collect();
+    if let Some(path) = &args.plot {
+        plot::curves(
+            path,
+            "Graded fretting wear: limiting wear depth (f∞ − f0)/d at χ = 0.5 (E ∝ z^k)",
+            "r / a0",
+            ("(f∞ − f0) / d", &profiles),
+            ("", &[]),
+            false,
+        )
+        .map_err(|e| CliError::Plot(format!("{}: {e}", path.display())))?;
+        let stem = path
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or("graded-wear");
+        let ext = path.extension().and_then(|s| s.to_str()).unwrap_or("svg");
+        let volume_path = path.with_file_name(format!("{stem}-volume.{ext}"));
+        plot::curves(
+            &volume_path,
+            "Final wear volume log10 V∞/(π a0² d) against log10 u_A/(μ d) (ν = 0.3; curves end at gross slip)",
+            "log10 u_A / (μ d)",
+            ("log10 V∞ / (π a0² d)", &volumes),
+            ("", &[]),
+            false,
+        )
+        .map_err(|e| CliError::Plot(format!("{}: {e}", volume_path.display())))?;
+    }
+    println!(
+        "{}",
+        json!({"study": "graded wear", "chi_profiles": chi, "nu": nu, "cases": rows,
+            "optimum": optimum, "towards_gibson": gibson,
+            "wear_volume_definition": "V/(π a0² d), a0 and d of the same medium"})
+    );
     Ok(())
 }
 

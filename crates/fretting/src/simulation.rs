@@ -1,12 +1,18 @@
 use halfspace_mdr::{Material, MdrError, ProfileTransform, StressTransform};
 use halfspace_numerics::{diff::derivative_uniform, SquaredGrid};
 
-use crate::limit::{initial_profile, limit_contact_radius, limiting_profile, stick_radius};
+use crate::limit::{
+    annulus_response, initial_profile, limit_contact_radius, limit_wear_volume, limiting_profile,
+    stick_radius,
+};
 use crate::{FrettingError, FrettingParams};
 
-/// `E*` of the normalized problem: with `q̃ = E*(1 − g̃)`, Eq. 17 gives `p̃ = p a₀²/F₀`
-/// (`p̃ = (3/4π) ∫ g̃'/√(x̃² − r̃²)`, spec §5).
-const NORMALIZED_MODULUS: f64 = 0.75;
+/// `c_N` of the normalized problem: with `q̃ = c̃_N (1 − g̃)`, Eq. 29 (Eq. 17 at `k = 0`) gives
+/// `p̃ = p a₀²/F₀`, `p̃ = (c̃_N/π) ∫ g̃'/(x̃² − r̃²)^{(1−k)/2}` with `c̃_N = (1+k)(3+k)/4` (graded Hertz,
+/// spec §4.5: `F₀ = 4 c_N a₀^{3+k} / ((1+k)²(3+k)R)`, `a₀² = (1+k)Rd`); `3/4` homogeneous (spec §5).
+pub fn normalized_modulus(k: f64) -> f64 {
+    0.25 * (1.0 + k) * (3.0 + k)
+}
 
 /// The state at one recorded `τ`.
 #[derive(Debug, Clone, PartialEq)]
@@ -65,7 +71,7 @@ impl FrettingSimulation {
         let profile = grid
             .coordinates()
             .iter()
-            .map(|&r| initial_profile(r))
+            .map(|&r| initial_profile(r, params.k))
             .collect();
         let state = FrettingState {
             step: 0,
@@ -104,18 +110,23 @@ impl FrettingSimulation {
         state: FrettingState,
     ) -> Result<Self, FrettingError> {
         let n = params.nodes;
-        let material = Material::from_e_star(NORMALIZED_MODULUS)?;
+        // The transforms need only k (the stress transform takes q̃ with c̃_N in it).
+        let material = if params.k == 0.0 {
+            Material::from_e_star(normalized_modulus(0.0))?
+        } else {
+            Material::power_law(1.0, 1.0, 0.0, params.k)?
+        };
         let limit = grid
             .coordinates()
             .iter()
-            .map(|&r| limiting_profile(r, params.chi))
+            .map(|&r| limiting_profile(r, params.chi, params.k))
             .collect();
         Ok(Self {
             profile_tf: ProfileTransform::new(n, &material, params.backend)?,
             stress_tf: StressTransform::new(n, &material, params.backend)?,
             limit,
             stick: stick_radius(params.chi),
-            r_star: limit_contact_radius(params.chi),
+            r_star: limit_contact_radius(params.chi, params.k),
             slope: vec![0.0; n],
             g: vec![0.0; n],
             q: vec![0.0; n],
@@ -152,6 +163,25 @@ impl FrettingSimulation {
     /// Popov's limiting profile `f̃∞` on the grid nodes.
     pub fn limiting_profile(&self) -> &[f64] {
         &self.limit
+    }
+
+    /// The final wear volume over `π a₀² d` ([`limit_wear_volume`]).
+    pub fn limit_wear_volume(&self) -> f64 {
+        limit_wear_volume(self.params.chi, self.params.k)
+    }
+
+    /// The wear volume so far over `π a₀² d`: `Ṽ = 2 ∫ (f̃ − f̃₀) r̃ dr̃ = ∫ (f̃ − f̃₀) dξ`, by the
+    /// trapezoid rule on the grid (uniform in `ξ = r̃²`).
+    pub fn wear_volume(&self) -> f64 {
+        let k = self.params.k;
+        let worn: Vec<f64> = self
+            .grid
+            .coordinates()
+            .iter()
+            .zip(&self.state.profile)
+            .map(|(&r, &f)| f - initial_profile(r, k))
+            .collect();
+        halfspace_numerics::quad::trapezoid_uniform(&worn, self.grid.step())
     }
 
     /// Whether all steps are done.
@@ -234,8 +264,9 @@ impl FrettingSimulation {
                 length: self.params.length,
             });
         }
+        let modulus = normalized_modulus(self.params.k);
         for i in 0..=edge {
-            self.q[i] = NORMALIZED_MODULUS * (1.0 - self.g[i]).max(0.0);
+            self.q[i] = modulus * (1.0 - self.g[i]).max(0.0);
         }
         let m = edge + 1;
         self.stress_tf
@@ -243,13 +274,14 @@ impl FrettingSimulation {
         self.p[..m].iter_mut().for_each(|v| *v = v.max(0.0));
         self.p[m..].fill(0.0);
         self.p[edge] = 0.0;
-        let chi = self.params.chi;
+        let (chi, k) = (self.params.chi, self.params.k);
         for i in 0..n {
             let r = self.grid.coordinate(i);
             self.slip[i] = if i < edge && r > self.stick {
+                // slip_per_cycle with the stored f̃∞ (same operations).
                 let s = 4.0
                     * ((self.state.profile[i] - self.limit[i]) / chi
-                        + 2.0 / std::f64::consts::PI * (self.stick / r).min(1.0).acos());
+                        + annulus_response(r, self.stick, k));
                 s.max(0.0)
             } else {
                 0.0

@@ -19,6 +19,7 @@ mod error;
 pub mod material;
 pub mod profile;
 pub mod studies;
+pub mod tangential;
 pub mod transform;
 
 pub use contact::{ContactParams, ContactSolution, ContactSolver, Load};
