@@ -483,3 +483,37 @@ fn surface_record(problem: &ContactProblem, summary: &serde_json::Value) -> Reco
         )),
     )
 }
+
+/// The summary of a fretting-wear run (`halfspace fretting-wear --json`, the Python
+/// `fretting_wear`): the contact radius and its limit, `f̃(a₀)`, the wear volume and its limit
+/// over `π a₀² d`, the parameters, and with `ν` the graded tangential constant `c_T/c_N` and
+/// `u_max/(μ d) = c_N/c_T`.
+pub fn wear_summary(
+    sim: &crate::fretting::FrettingSimulation,
+    medium: &crate::spec::WearMedium,
+) -> serde_json::Value {
+    let p = sim.params();
+    let state = sim.state();
+    let mut summary = json!({
+        "tau_final": state.step as f64 * p.dtau,
+        "cycles": state.step,
+        "contact_radius_over_a0": state.contact_radius_history.last().copied().unwrap_or(1.0),
+        "profile_at_a0_over_d": sim.profile_at_a0(),
+        "limit_contact_radius_over_a0": sim.limit_contact_radius(),
+        "method": p.backend.name(),
+        "n": p.nodes,
+        "chi": p.chi,
+        "dtau": p.dtau,
+        "length": p.length,
+        "k": p.k,
+        "wear_volume": sim.wear_volume(),
+        "limit_wear_volume": sim.limit_wear_volume(),
+        "wear_volume_definition": "V / (π a0² d): worn volume 2π∫(f − f0) r dr over the contact's a0² d",
+    });
+    if let (Some(nu), Some(ratio)) = (medium.nu, medium.tangential_ratio()) {
+        summary["nu"] = json!(nu);
+        summary["tangential_constant_ratio"] = json!(ratio);
+        summary["u_max_over_mu_d"] = json!(1.0 / ratio);
+    }
+    summary
+}

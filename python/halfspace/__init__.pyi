@@ -98,7 +98,14 @@ def contact3d(
 ) -> Result: ...
 
 def fretting_wear(
-    *, chi: float = ..., n: int = ..., dtau: float = ..., tau_end: float = ..., method: str = ...
+    *,
+    chi: float = ...,
+    n: int = ...,
+    dtau: float = ...,
+    tau_end: float = ...,
+    method: str = ...,
+    material: str | None = ...,
+    length: float | None = ...,
 ) -> Result: ...
 
 class FrettingLoop:

@@ -15,12 +15,13 @@ use halfspace::config::LoopConfig;
 use halfspace::fretting::{FrettingParams, FrettingSimulation};
 use halfspace::fretting_map::run_map;
 use halfspace::mdr::{Backend, ContactParams, ContactSolver, Load, Profile};
-use halfspace::records::{contact_record, contact_summary};
+use halfspace::records::{contact_record, contact_summary, wear_summary};
 use halfspace::sam::fretting_loop::{FrettingLoop, FrettingMap, LoopRow, MapPoint, POINT_LABELS};
 use halfspace::sam::normal::NormalLoad;
 use halfspace::sam::single::{solve_contact, ContactCase, TangentialLoad};
 use halfspace::spec::{
     parse_body, parse_indenter, parse_inhomogeneity, parse_material, parse_profile,
+    parse_wear_medium, WearMedium,
 };
 
 create_exception!(
@@ -32,6 +33,23 @@ create_exception!(
 
 fn err(e: impl std::fmt::Display) -> PyErr {
     HalfspaceError::new_err(e.to_string())
+}
+
+/// A flat JSON object of numbers and strings as a dict (the CLI's summary keys).
+fn json_dict<'py>(py: Python<'py>, value: &serde_json::Value) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (key, v) in value.as_object().into_iter().flatten() {
+        match v {
+            serde_json::Value::Number(n) if n.is_u64() || n.is_i64() => {
+                d.set_item(key, n.as_i64().unwrap_or_default())?
+            }
+            serde_json::Value::Number(n) => d.set_item(key, n.as_f64().unwrap_or(f64::NAN))?,
+            serde_json::Value::String(s) => d.set_item(key, s)?,
+            serde_json::Value::Bool(b) => d.set_item(key, b)?,
+            other => d.set_item(key, other.to_string())?,
+        }
+    }
+    Ok(d)
 }
 
 /// `axisym(profile, material, *, force=None, depth=None, n=2001, method="fft")`: axisymmetric
@@ -107,7 +125,8 @@ fn axisym<'py>(
 /// CLI's JSON keys and `r`, `profile` (final worn profile), `limiting_profile`, `tau_history`,
 /// `contact_radius_history` (a/a₀ per cycle).
 #[pyfunction]
-#[pyo3(signature = (*, chi=0.5, n=2001, dtau=1e-3, tau_end=30.0, method="fft"))]
+#[pyo3(signature = (*, chi=0.5, n=2001, dtau=1e-3, tau_end=30.0, method="fft", material=None, length=None))]
+#[allow(clippy::too_many_arguments)]
 fn fretting_wear<'py>(
     py: Python<'py>,
     chi: f64,
@@ -115,18 +134,26 @@ fn fretting_wear<'py>(
     dtau: f64,
     tau_end: f64,
     method: &str,
+    material: Option<&str>,
+    length: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let backend = match method {
         "fft" => Backend::Fft,
         "mvm" => Backend::Mvm,
         other => return Err(err(format!("method '{other}': fft or mvm"))),
     };
+    let medium = match material {
+        Some(spec) => parse_wear_medium(spec, "material").map_err(err)?,
+        None => WearMedium { k: 0.0, nu: None },
+    };
     let mut params = FrettingParams {
         chi,
+        k: medium.k,
         nodes: n,
         dtau,
         tau_end,
         backend,
+        length: length.unwrap_or_else(|| FrettingParams::default_length(chi, medium.k)),
         ..FrettingParams::default()
     };
     params.snapshots.retain(|t| *t <= tau_end + 1e-12);
@@ -138,19 +165,7 @@ fn fretting_wear<'py>(
         })
         .map_err(err)?;
     let state = sim.state();
-    let d = PyDict::new(py);
-    d.set_item("tau_final", state.step as f64 * sim.params().dtau)?;
-    d.set_item("cycles", state.step)?;
-    d.set_item(
-        "contact_radius_over_a0",
-        state.contact_radius_history.last().copied().unwrap_or(1.0),
-    )?;
-    d.set_item("profile_at_a0_over_d", sim.profile_at_a0())?;
-    d.set_item("limit_contact_radius_over_a0", sim.limit_contact_radius())?;
-    d.set_item("method", backend.name())?;
-    d.set_item("n", n)?;
-    d.set_item("chi", chi)?;
-    d.set_item("dtau", dtau)?;
+    let d = json_dict(py, &wear_summary(&sim, &medium))?;
     d.set_item("r", PyArray1::from_vec(py, sim.grid().coordinates()))?;
     d.set_item("profile", PyArray1::from_vec(py, state.profile.clone()))?;
     d.set_item(

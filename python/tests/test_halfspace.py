@@ -112,6 +112,24 @@ def test_a_table_profile_equals_the_sphere_it_samples():
         hs.axisym(hs.Table([0.0, 1.0, 0.5], [0.0, 1.0, 2.0]), hs.Homogeneous(E=1e9, nu=0.3), force=1.0)
 
 
+def test_graded_fretting_wear_equals_the_cli(tmp_path):
+    out = tmp_path / "graded"
+    ref = cli("fretting-wear", "--material", "graded:k=0.5,nu=0.3", "--chi", "0.5", "--n", "301",
+              "--dtau", "0.005", "--tau-end", "1.0", "--out", str(out))
+    got = hs.fretting_wear(chi=0.5, n=301, dtau=0.005, tau_end=1.0, material="graded:k=0.5,nu=0.3")
+    typed = hs.fretting_wear(chi=0.5, n=301, dtau=0.005, tau_end=1.0,
+                             material=hs.Graded(E0=1e9, z0=1e-3, nu=0.3, k=0.5))
+    for key in ("k", "nu", "wear_volume", "limit_wear_volume", "tangential_constant_ratio",
+                "u_max_over_mu_d", "contact_radius_over_a0", "limit_contact_radius_over_a0", "length"):
+        assert getattr(got, key) == ref[key], key
+        assert getattr(typed, key) == ref[key], key
+    with h5py.File(out / "results.h5") as f:
+        assert np.array_equal(got.contact_radius_history, f["contact_radius_history"][:])
+        assert np.array_equal(got.limiting_profile, f["limiting_profile"][:])
+    with pytest.raises(hs.HalfspaceError, match=r"nu = 0.7 must be in"):
+        hs.fretting_wear(material="graded:k=0.5,nu=0.7")
+
+
 def test_graded_and_mvm_paths():
     fft = hs.axisym(hs.Sphere(R=0.1), hs.Graded(E0=210e9, z0=1e-3, nu=0.3, k=0.5), depth=1e-6, n=401)
     mvm = hs.axisym(hs.Sphere(R=0.1), hs.Graded(E0=210e9, z0=1e-3, nu=0.3, k=0.5), depth=1e-6, n=401,

@@ -8,6 +8,7 @@ use clap::Args;
 use halfspace::data::{read_record, write_record, AttrValue, Record};
 use halfspace::fretting::{FrettingParams, FrettingSimulation, FrettingState, Snapshot};
 use halfspace::mdr::Backend;
+use halfspace::records::wear_summary;
 use halfspace::spec::{parse_wear_medium, WearMedium};
 use serde::Deserialize;
 use serde_json::json;
@@ -304,29 +305,9 @@ pub fn run(args: FrettingArgs) -> Result<(), CliError> {
             .map_err(|e| CliError::Plot(format!("{}: {e}", path.display())))?;
     }
     let state = sim.state();
-    let summary = json!({
-        "tau_final": state.step as f64 * params.dtau,
-        "cycles": state.step,
-        "contact_radius_over_a0": state.contact_radius_history.last().copied().unwrap_or(1.0),
-        "profile_at_a0_over_d": sim.profile_at_a0(),
-        "limit_contact_radius_over_a0": sim.limit_contact_radius(),
-        "seconds": seconds,
-        "method": params.backend.name(),
-        "n": params.nodes,
-        "chi": params.chi,
-        "dtau": params.dtau,
-        "k": params.k,
-        "wear_volume": sim.wear_volume(),
-        "limit_wear_volume": sim.limit_wear_volume(),
-        "wear_volume_definition": "V / (π a0² d): worn volume 2π∫(f − f0) r dr over the contact's a0² d",
-        "out": dir.display().to_string(),
-    });
-    let mut summary = summary;
-    if let (Some(nu), Some(ratio)) = (medium.nu, medium.tangential_ratio()) {
-        summary["nu"] = json!(nu);
-        summary["tangential_constant_ratio"] = json!(ratio);
-        summary["u_max_over_mu_d"] = json!(1.0 / ratio);
-    }
+    let mut summary = wear_summary(&sim, &medium);
+    summary["seconds"] = json!(seconds);
+    summary["out"] = json!(dir.display().to_string());
     if args.json {
         println!("{summary}");
     } else {
