@@ -18,7 +18,9 @@ pub enum FrettingError {
     /// (that only raises f) can approach but never cross.
     #[error(
         "the explicit wear step is unstable or inaccurate: a/a0 = {contact_radius:.5} passed the \
-         limit r*/a0 = {limit:.5} at tau = {tau:.4}; use a smaller time step dtau (at most {suggested:.1e})"
+         limit r*/a0 = {limit:.5} at tau = {tau:.4}; use a smaller time step dtau (at most {suggested:.1e}); \
+         if a smaller step fails at the same tau, it is the wear spike at the stick edge (graded k > 0, large chi \
+         on fine grids: use fewer nodes n; docs/fretting-wear.md)"
     )]
     Unstable {
         /// τ at detection.

@@ -310,6 +310,21 @@ mod tests {
     }
 
     #[test]
+    fn ratios_match_an_independent_integration() {
+        // scipy's DOP853 on the same system in Python (rtol 1e-13; docs/fretting-wear.md table).
+        for (k, nu, want) in [
+            (-0.75, 0.3, 3.346902),
+            (-0.5, 0.3, 1.738627),
+            (0.25, 0.0, 0.817954),
+            (0.5, 0.3, 0.474486),
+            (0.9, 0.45, 0.133543),
+        ] {
+            let got = tangential_constant_ratio(k, nu).unwrap();
+            assert!((got - want).abs() < 1e-6, "k {k} ν {nu}: {got} vs {want}");
+        }
+    }
+
+    #[test]
     fn bad_parameters_are_refused() {
         assert!(GradedCompliances::new(1.0, 0.3).is_err());
         assert!(GradedCompliances::new(0.5, 0.6).is_err());
