@@ -363,86 +363,40 @@ fn fretting_limit(args: &StudyArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The graded limiting profiles and final wear volumes (docs/fretting-wear.md, "Graded media"):
+/// The graded limiting profiles and final wear volumes (`halfspace_fretting::studies`):
 /// `--plot FILE.svg` draws the profiles there and the volumes in `FILE-volume.svg`.
 fn graded_wear(args: &StudyArgs) -> Result<(), CliError> {
-    use halfspace::fretting::limit::{
-        initial_profile, limit_contact_radius, limit_wear_volume, limit_wear_volume_at_amplitude,
-        limiting_profile, stick_radius,
-    };
-    use halfspace::mdr::tangential::tangential_constant_ratio;
-    let ks = [-0.5, -0.25, 0.0, 0.25, 0.5, 0.75, 0.9];
-    let nu = 0.3;
-    let err = |e: halfspace::mdr::MdrError| CliError::Spec(e.to_string());
-    let chi = 0.5;
-    let mut profiles = Vec::new();
-    let mut volumes = Vec::new();
-    let mut rows = Vec::new();
-    // Amplitudes u_A/(μd), logarithmic from 0.002 to 2.
-    let amplitudes: Vec<f64> = (0..=120)
-        .map(|i| 0.002 * 10f64.powf(i as f64 / 40.0))
-        .collect();
-    for &k in &ks {
-        let r_star = limit_contact_radius(chi, k);
-        let c = stick_radius(chi);
-        let pts: Vec<(f64, f64)> = (0..=300)
-            .map(|i| {
-                let r = 1.6 * i as f64 / 300.0;
-                let depth = if r <= c || r >= r_star {
-                    0.0
-                } else {
-                    limiting_profile(r, chi, k) - initial_profile(r, k)
-                };
-                (r, depth)
-            })
-            .collect();
-        profiles.push((format!("k = {k:+.2}, r*/a0 = {r_star:.4}"), pts));
-        let mut curve = Vec::new();
-        for &u in &amplitudes {
-            if let Some(v) = limit_wear_volume_at_amplitude(u, k, nu).map_err(err)? {
-                curve.push((u.log10(), v.log10()));
-            }
-        }
-        volumes.push((format!("k = {k:+.2}"), curve));
-        let ratio = tangential_constant_ratio(k, nu).map_err(err)?;
-        let at_chi: Vec<f64> = [0.1, 0.3, 0.5, 0.7, 0.9]
-            .iter()
-            .map(|&x| limit_wear_volume(x, k))
-            .collect();
-        rows.push(
-            json!({"k": k, "r_star_chi_0.5": r_star, "tangential_constant_ratio_nu_0.3": ratio,
-            "limit_wear_volume_at_chi_0.1_0.3_0.5_0.7_0.9": at_chi}),
-        );
-    }
-    // The best grading per amplitude over k ∈ [−0.9, 0.95] in steps of 0.05.
-    let grid: Vec<f64> = (0..=37).map(|i| -0.9 + 0.05 * i as f64).collect();
-    let mut optimum = Vec::new();
-    for u in [0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5] {
-        let mut best: Option<(f64, f64)> = None;
-        for &k in &grid {
-            if let Some(v) = limit_wear_volume_at_amplitude(u, k, nu).map_err(err)? {
-                if best.is_none_or(|(_, b)| v < b) {
-                    best = Some((k, v));
-                }
-            }
-        }
-        if let Some((k, v)) = best {
-            optimum.push(json!({"amplitude_over_mu_d": u, "best_k": (k * 100.0).round() / 100.0, "limit_wear_volume": v}));
-        }
-    }
-    // Towards the Gibson medium (k → 1): c_T/c_N, hence χ at a given amplitude.
-    let gibson: Vec<_> = [0.9, 0.99, 0.999]
-        .iter()
-        .flat_map(|&k| {
-            [0.3, 0.5].map(|nu| {
-                json!({"k": k, "nu": nu, "tangential_constant_ratio": tangential_constant_ratio(k, nu).ok()})
-            })
-        })
-        .collect();
+    let s = halfspace::fretting::studies::graded_wear_study()
+        .map_err(|e| CliError::Spec(e.to_string()))?;
     if let Some(path) = &args.plot {
+        let profiles: Vec<(String, Vec<(f64, f64)>)> = s
+            .curves
+            .iter()
+            .map(|c| {
+                (
+                    format!("k = {:+.2}, r*/a0 = {:.4}", c.k, c.r_star),
+                    c.wear_depth.clone(),
+                )
+            })
+            .collect();
+        let volumes: Vec<(String, Vec<(f64, f64)>)> = s
+            .curves
+            .iter()
+            .map(|c| {
+                let pts = c
+                    .volume_against_amplitude
+                    .iter()
+                    .map(|(u, v)| (u.log10(), v.log10()))
+                    .collect();
+                (format!("k = {:+.2}", c.k), pts)
+            })
+            .collect();
         plot::curves(
             path,
-            "Graded fretting wear: limiting wear depth (f∞ − f0)/d at χ = 0.5 (E ∝ z^k)",
+            &format!(
+                "Graded fretting wear: limiting wear depth (f∞ − f0)/d at χ = {} (E ∝ z^k)",
+                s.chi
+            ),
             "r / a0",
             ("(f∞ − f0) / d", &profiles),
             ("", &[]),
@@ -457,7 +411,10 @@ fn graded_wear(args: &StudyArgs) -> Result<(), CliError> {
         let volume_path = path.with_file_name(format!("{stem}-volume.{ext}"));
         plot::curves(
             &volume_path,
-            "Final wear volume log10 V∞/(π a0² d) against log10 u_A/(μ d) (ν = 0.3; curves end at gross slip)",
+            &format!(
+                "Final wear volume log10 V∞/(π a0² d) against log10 u_A/(μ d) (ν = {}; curves end at gross slip)",
+                s.nu
+            ),
             "log10 u_A / (μ d)",
             ("log10 V∞ / (π a0² d)", &volumes),
             ("", &[]),
@@ -465,9 +422,28 @@ fn graded_wear(args: &StudyArgs) -> Result<(), CliError> {
         )
         .map_err(|e| CliError::Plot(format!("{}: {e}", volume_path.display())))?;
     }
+    let cases: Vec<_> = s
+        .curves
+        .iter()
+        .map(|c| {
+            json!({"k": c.k, "r_star_chi_0.5": c.r_star,
+                "tangential_constant_ratio_nu_0.3": c.tangential_ratio,
+                "limit_wear_volume_at_chi_0.1_0.3_0.5_0.7_0.9": c.volume_at_chi})
+        })
+        .collect();
+    let optimum: Vec<_> = s
+        .optimum
+        .iter()
+        .map(|o| json!({"amplitude_over_mu_d": o.amplitude_over_mu_d, "best_k": o.k, "limit_wear_volume": o.volume}))
+        .collect();
+    let gibson: Vec<_> = s
+        .towards_gibson
+        .iter()
+        .map(|(k, nu, r)| json!({"k": k, "nu": nu, "tangential_constant_ratio": r}))
+        .collect();
     println!(
         "{}",
-        json!({"study": "graded wear", "chi_profiles": chi, "nu": nu, "cases": rows,
+        json!({"study": "graded wear", "chi_profiles": s.chi, "nu": s.nu, "cases": cases,
             "optimum": optimum, "towards_gibson": gibson,
             "wear_volume_definition": "V/(π a0² d), a0 and d of the same medium"})
     );

@@ -14,6 +14,7 @@ mod error;
 pub mod limit;
 mod params;
 mod simulation;
+pub mod studies;
 
 pub use error::FrettingError;
 pub use params::FrettingParams;
