@@ -364,7 +364,8 @@ fn fretting_limit(args: &StudyArgs) -> Result<(), CliError> {
 }
 
 /// The graded limiting profiles and final wear volumes (`halfspace_fretting::studies`):
-/// `--plot FILE.svg` draws the profiles there and the volumes in `FILE-volume.svg`.
+/// `--plot FILE.svg` draws the profiles there, the volumes against the physical amplitude in
+/// `FILE-volume.svg` and against χ in `FILE-volume-chi.svg`.
 fn graded_wear(args: &StudyArgs) -> Result<(), CliError> {
     let s = halfspace::fretting::studies::graded_wear_study()
         .map_err(|e| CliError::Spec(e.to_string()))?;
@@ -421,6 +422,21 @@ fn graded_wear(args: &StudyArgs) -> Result<(), CliError> {
             false,
         )
         .map_err(|e| CliError::Plot(format!("{}: {e}", volume_path.display())))?;
+        let by_chi: Vec<(String, Vec<(f64, f64)>)> = s
+            .curves
+            .iter()
+            .map(|c| (format!("k = {:+.2}", c.k), c.volume_against_chi.clone()))
+            .collect();
+        let chi_path = path.with_file_name(format!("{stem}-volume-chi.{ext}"));
+        plot::curves(
+            &chi_path,
+            "Final wear volume V∞/(π a0² d) against χ = u_A/u_max (u_max = μ (c_N/c_T) d depends on k, ν)",
+            "χ",
+            ("V∞ / (π a0² d)", &by_chi),
+            ("", &[]),
+            false,
+        )
+        .map_err(|e| CliError::Plot(format!("{}: {e}", chi_path.display())))?;
     }
     let cases: Vec<_> = s
         .curves

@@ -28,6 +28,8 @@ pub struct GradingCurves {
     pub wear_depth: Vec<(f64, f64)>,
     /// `(u_A/(μd), Ṽ∞)` up to gross slip.
     pub volume_against_amplitude: Vec<(f64, f64)>,
+    /// `(χ, Ṽ∞)` for χ = 0.01 … 0.99.
+    pub volume_against_chi: Vec<(f64, f64)>,
     /// `c_T/c_N` at the study's ν.
     pub tangential_ratio: f64,
     /// `Ṽ∞` at χ = 0.1, 0.3, 0.5, 0.7, 0.9.
@@ -94,11 +96,18 @@ pub fn graded_wear_study() -> Result<GradedWearStudy, MdrError> {
             .iter()
             .filter_map(|&u| volume_at(u, k, ratio).map(|v| (u, v)))
             .collect();
+        let volume_against_chi = (1..=99)
+            .map(|i| {
+                let x = i as f64 / 100.0;
+                (x, limit_wear_volume(x, k))
+            })
+            .collect();
         curves.push(GradingCurves {
             k,
             r_star,
             wear_depth,
             volume_against_amplitude,
+            volume_against_chi,
             tangential_ratio: ratio,
             volume_at_chi: [0.1, 0.3, 0.5, 0.7, 0.9].map(|x| limit_wear_volume(x, k)),
         });
