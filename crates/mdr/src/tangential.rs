@@ -179,15 +179,6 @@ fn integrate_dp45(
             11.0 / 84.0,
         ],
     ];
-    const B5: [f64; 7] = [
-        35.0 / 384.0,
-        0.0,
-        500.0 / 1113.0,
-        125.0 / 192.0,
-        -2187.0 / 6784.0,
-        11.0 / 84.0,
-        0.0,
-    ];
     const B4: [f64; 7] = [
         5179.0 / 57600.0,
         0.0,
@@ -222,8 +213,9 @@ fn integrate_dp45(
         let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-300);
         for i in 0..4 {
             let (mut d5, mut d4) = (0.0, 0.0);
+            // The 5th-order weights are the last stage's row (FSAL): A[6], and 0 for stage 7.
             for s in 0..7 {
-                d5 += B5[s] * k[s][i];
+                d5 += A[6].get(s).copied().unwrap_or(0.0) * k[s][i];
                 d4 += B4[s] * k[s][i];
             }
             x5[i] += h * d5;
