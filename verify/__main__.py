@@ -37,15 +37,21 @@ def versions():
     return out
 
 
+def write_generated(label, file_name, generator, cases, root, started):
+    """Writes the cases of one generator (HDF5 + NPY), records them in the manifest, reports."""
+    from . import store
+    entries = store.write_cases(file_name, generator, cases, versions(), root)
+    store.update_manifest(generator, entries, root)
+    print(f"{label}: {len(cases)} cases in {time.time() - started:.1f} s")
+
+
 def run_quad(root):
-    from . import quadrature, store
+    from . import quadrature
     t = time.time()
     cases = quadrature.generate()
     for c in cases:
         c["case"] = "quad_" + c["case"]
-    entries = store.write_cases("quadrature", "scipy-quad", cases, versions(), root)
-    store.update_manifest("scipy-quad", entries, root)
-    print(f"quad: {len(cases)} cases in {time.time() - t:.1f} s")
+    write_generated("quad", "quadrature", "scipy-quad", cases, root, t)
 
 
 def run_hyp2f1(root):
@@ -61,39 +67,27 @@ def run_hyp2f1(root):
 
 
 def run_subsurface(root):
-    from . import store, subsurface
+    from . import subsurface
     t = time.time()
-    cases = subsurface.generate()
-    entries = store.write_cases("subsurface", "scipy-cubature-subsurface", cases, versions(), root)
-    store.update_manifest("scipy-cubature-subsurface", entries, root)
-    print(f"subsurface: {len(cases)} cases in {time.time() - t:.1f} s")
+    write_generated("subsurface", "subsurface", "scipy-cubature-subsurface", subsurface.generate(), root, t)
 
 
 def run_graded_wear(root):
-    from . import graded_wear, store
+    from . import graded_wear
     t = time.time()
-    cases = graded_wear.generate()
-    entries = store.write_cases("graded_wear", "scipy-quad-graded-wear", cases, versions(), root)
-    store.update_manifest("scipy-quad-graded-wear", entries, root)
-    print(f"graded-wear: {len(cases)} cases in {time.time() - t:.1f} s")
+    write_generated("graded-wear", "graded_wear", "scipy-quad-graded-wear", graded_wear.generate(), root, t)
 
 
 def run_fe_inclusion(root):
-    from . import fe_inclusion, store
+    from . import fe_inclusion
     t = time.time()
-    cases = fe_inclusion.generate()
-    entries = store.write_cases("fe_inclusion", "scikit-fem-inclusion", cases, versions(), root)
-    store.update_manifest("scikit-fem-inclusion", entries, root)
-    print(f"fe-inclusion: {len(cases)} cases in {time.time() - t:.1f} s")
+    write_generated("fe-inclusion", "fe_inclusion", "scikit-fem-inclusion", fe_inclusion.generate(), root, t)
 
 
 def run_fe(root):
-    from . import fe, store
+    from . import fe
     t = time.time()
-    cases = fe.generate()
-    entries = store.write_cases("fe", "scikit-fem", cases, versions(), root)
-    store.update_manifest("scikit-fem", entries, root)
-    print(f"fe: {len(cases)} cases in {time.time() - t:.1f} s")
+    write_generated("fe", "fe", "scikit-fem", fe.generate(), root, t)
 
 
 def check():
