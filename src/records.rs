@@ -498,6 +498,7 @@ pub fn wear_summary(
         "tau_final": state.step as f64 * p.dtau,
         "cycles": state.step,
         "contact_radius_over_a0": state.contact_radius_history.last().copied().unwrap_or(1.0),
+        "max_contact_radius_over_a0": state.contact_radius_history.iter().copied().fold(1.0, f64::max),
         "profile_at_a0_over_d": sim.profile_at_a0(),
         "limit_contact_radius_over_a0": sim.limit_contact_radius(),
         "method": p.backend.name(),
@@ -508,6 +509,8 @@ pub fn wear_summary(
         "k": p.k,
         "wear_volume": sim.wear_volume(),
         "limit_wear_volume": sim.limit_wear_volume(),
+        "limit_deviation": sim.limit_deviation(0.02),
+        "limit_deviation_definition": "max |f − f∞|/d over c + 0.02 a0 < r ≤ r*",
         "wear_volume_definition": "V / (π a0² d): worn volume 2π∫(f − f0) r dr over the contact's a0² d",
     });
     if let (Some(nu), Some(ratio)) = (medium.nu, medium.tangential_ratio()) {

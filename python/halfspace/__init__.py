@@ -278,7 +278,7 @@ def fretting_wear(
     *,
     chi: float = 0.5,
     n: int = 2001,
-    dtau: float = 1e-3,
+    dtau: float | None = None,
     tau_end: float = 30.0,
     method: str = "fft",
     material: Any = None,
@@ -286,7 +286,8 @@ def fretting_wear(
 ) -> Result:
     """Fretting wear of a parabolic indenter in partial slip by the MDR (Willert et al. 2021,
     Section 4; spec ``mdr.md`` §5), dimensionless: amplitude ratio ``chi = u_A/u_max``, ``n`` nodes,
-    wear time step ``dtau`` to ``tau_end``, domain ``length`` L/a₀. ``material``: ``None`` or
+    wear time step ``dtau`` (default 1e-3, or the explicit step's stability bound where that is
+    smaller: fine grids, k < 0) to ``tau_end``, domain ``length`` L/a₀. ``material``: ``None`` or
     ``"homogeneous"``, or a power-law graded medium ``"graded:k=..,nu=.."`` (E ∝ z^k; the
     normalized run depends on k alone, ν gives ``tangential_constant_ratio`` c_T/c_N and
     ``u_max_over_mu_d``; docs/fretting-wear.md, "Graded media"). The worn ``profile`` approaches the

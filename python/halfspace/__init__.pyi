@@ -101,7 +101,7 @@ def fretting_wear(
     *,
     chi: float = ...,
     n: int = ...,
-    dtau: float = ...,
+    dtau: float | None = ...,
     tau_end: float = ...,
     method: str = ...,
     material: str | None = ...,

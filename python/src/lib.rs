@@ -119,19 +119,19 @@ fn axisym<'py>(
     Ok(d)
 }
 
-/// `fretting_wear(*, chi=0.5, n=2001, dtau=1e-3, tau_end=30.0, method="fft")`: the MDR
+/// `fretting_wear(*, chi=0.5, n=2001, dtau=None, tau_end=30.0, method="fft")`: the MDR
 /// fretting-wear simulation of a parabolic indenter in partial slip (Willert et al. 2021,
 /// Section 4; spec `mdr.md` §5), dimensionless, as `halfspace fretting-wear`. Returns a dict: the
 /// CLI's JSON keys and `r`, `profile` (final worn profile), `limiting_profile`, `tau_history`,
 /// `contact_radius_history` (a/a₀ per cycle).
 #[pyfunction]
-#[pyo3(signature = (*, chi=0.5, n=2001, dtau=1e-3, tau_end=30.0, method="fft", material=None, length=None))]
+#[pyo3(signature = (*, chi=0.5, n=2001, dtau=None, tau_end=30.0, method="fft", material=None, length=None))]
 #[allow(clippy::too_many_arguments)]
 fn fretting_wear<'py>(
     py: Python<'py>,
     chi: f64,
     n: usize,
-    dtau: f64,
+    dtau: Option<f64>,
     tau_end: f64,
     method: &str,
     material: Option<&str>,
@@ -146,6 +146,8 @@ fn fretting_wear<'py>(
         Some(spec) => parse_wear_medium(spec, "material").map_err(err)?,
         None => WearMedium { k: 0.0, nu: None },
     };
+    let length = length.unwrap_or_else(|| FrettingParams::default_length(chi, medium.k));
+    let dtau = dtau.unwrap_or_else(|| FrettingParams::default_step(n, length, medium.k));
     let mut params = FrettingParams {
         chi,
         k: medium.k,
@@ -153,7 +155,7 @@ fn fretting_wear<'py>(
         dtau,
         tau_end,
         backend,
-        length: length.unwrap_or_else(|| FrettingParams::default_length(chi, medium.k)),
+        length,
         ..FrettingParams::default()
     };
     params.snapshots.retain(|t| *t <= tau_end + 1e-12);

@@ -46,7 +46,7 @@ pub struct FrettingArgs {
     /// Grid nodes N.
     #[arg(long)]
     n: Option<usize>,
-    /// Wear step Δτ.
+    /// Wear step Δτ (default 1e-3, or the stability bound where that is smaller: fine grids, k < 0).
     #[arg(long, allow_negative_numbers = true)]
     dtau: Option<f64>,
     /// Final τ = N/N0.
@@ -103,13 +103,16 @@ fn params_of(args: &FrettingArgs) -> Result<(FrettingParams, WearMedium), CliErr
     }
     p.chi = args.chi.or(config.chi).unwrap_or(p.chi);
     p.nodes = args.n.or(config.n).unwrap_or(p.nodes);
-    p.dtau = args.dtau.or(config.dtau).unwrap_or(p.dtau);
     p.tau_end = args.tau_end.or(config.tau_end).unwrap_or(p.tau_end);
     p.k = medium.k;
     p.length = args
         .length
         .or(config.length)
         .unwrap_or_else(|| FrettingParams::default_length(p.chi, p.k));
+    p.dtau = args
+        .dtau
+        .or(config.dtau)
+        .unwrap_or_else(|| FrettingParams::default_step(p.nodes, p.length, p.k));
     if let Some(s) = config.snapshots {
         p.snapshots = s;
     }

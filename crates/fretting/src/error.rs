@@ -18,9 +18,7 @@ pub enum FrettingError {
     /// (that only raises f) can approach but never cross.
     #[error(
         "the explicit wear step is unstable or inaccurate: a/a0 = {contact_radius:.5} passed the \
-         limit r*/a0 = {limit:.5} at tau = {tau:.4}; use a smaller time step dtau (at most {suggested:.1e}); \
-         if a smaller step fails at the same tau, the wear path itself overshoots the limiting profile (graded \
-         k > 0 at moderate or large chi; coarser grids delay it; docs/fretting-wear.md)"
+         limit r*/a0 = {limit:.5} at tau = {tau:.4}; use a smaller time step dtau (at most {suggested:.1e})"
     )]
     Unstable {
         /// τ at detection.

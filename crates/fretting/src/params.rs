@@ -111,8 +111,8 @@ impl FrettingParams {
         {
             return Err(bad("snapshots", t, "finite and > 0"));
         }
-        // Explicit Euler: the stable step scales with the smallest radial spacing near the edge,
-        // h/(2L) (spec §7 P10: N = 2001, L = 1.6: 2e-3 diverged, 1e-3 was stable).
+        // Explicit Euler: the stable step scales with the radial spacing near the edge
+        // (spec §7 P10; `step_limit`).
         let grid =
             SquaredGrid::new(self.nodes, self.length).map_err(halfspace_mdr::MdrError::from)?;
         let limit = Self::step_limit(&grid, self.k);
@@ -129,16 +129,30 @@ impl FrettingParams {
         Ok(())
     }
 
-    /// An a-priori bound on the explicit step: `3 h/(2L)` with `h = L²/(N−1)` — the observed
-    /// stability limit of spec §7 P10 lies between 1 and 2.5 times `h/(2L)`, so larger steps are
-    /// refused before the run; the run itself watches the contact radius (`FrettingError::Unstable`).
-    /// For `k < 0` the pressure rises more steeply at the edge (`(a² − r²)^{(1+k)/2}`) and the
-    /// stable step shrinks: measured at N = 1001, χ = 0.9 (L = 1.15 r*), between 1e-3 and 2e-3 at
-    /// k = −0.25 and between 4e-4 and 5e-4 at k = −0.5, fitted by the factor `(h/L)^{−k/2}`.
+    /// An a-priori bound on the explicit step, `Δτ ≤ 1.5 (h/L)` for `k ≥ 0` and
+    /// `Δτ ≤ 1.5 · 2^k (h/L)^{1−k}` for `k < 0`, with `h = L²/(N−1)`. The map `f → p` is of order
+    /// `1 − k` in the radius (`f → g` and `g → p` are each of order `(1−k)/2`, spec §4.1 and §4.4),
+    /// so the stable explicit step scales as `(h/L)^{1−k}`. Measured with the edge between nodes
+    /// (runs to τ = 3, χ = 0.5 and 0.9, N = 1001 and 2001): `k = 0` and `0.5` stable at
+    /// `1.5 h/L`; the largest stable steps at χ = 0.9 were 5.5e-4 / 2.5e-4 (k = −0.25, N = 1001 /
+    /// 2001) and 1.4e-4 / 4.2e-5 (k = −0.5), 1.4 to 1.7 times this bound (χ = 0.5 tolerates
+    /// more). Larger steps are refused before the run; the run itself watches the contact radius
+    /// (`FrettingError::Unstable`).
     pub fn step_limit(grid: &SquaredGrid, k: f64) -> f64 {
         let ratio = grid.step() / grid.length();
-        let graded = if k < 0.0 { ratio.powf(-0.5 * k) } else { 1.0 };
-        1.5 * ratio * graded
+        if k < 0.0 {
+            1.5 * 2f64.powf(k) * ratio.powf(1.0 - k)
+        } else {
+            1.5 * ratio
+        }
+    }
+
+    /// The step a run gets when none is given: the reference run's `Δτ = 10⁻³`, or
+    /// [`FrettingParams::step_limit`] where that is smaller (fine grids, `k < 0`).
+    pub fn default_step(nodes: usize, length: f64, k: f64) -> f64 {
+        SquaredGrid::new(nodes, length)
+            .map(|grid| Self::step_limit(&grid, k).min(1e-3))
+            .unwrap_or(1e-3)
     }
 
     /// Number of wear steps, `round(τ_end/Δτ)`.

@@ -1,4 +1,4 @@
-use halfspace_mdr::{Material, MdrError, ProfileTransform, StressTransform};
+use halfspace_mdr::{CellStressTransform, Material, MdrError, ProfileTransform};
 use halfspace_numerics::{diff::derivative_uniform, SquaredGrid};
 
 use crate::limit::{
@@ -48,7 +48,7 @@ pub struct FrettingSimulation {
     params: FrettingParams,
     grid: SquaredGrid,
     profile_tf: ProfileTransform,
-    stress_tf: StressTransform,
+    stress_tf: CellStressTransform,
     limit: Vec<f64>,
     stick: f64,
     r_star: f64,
@@ -61,6 +61,8 @@ pub struct FrettingSimulation {
     snapshot_steps: Vec<u64>,
     /// Edge node of the current profile when g, p and the slip are up to date with it.
     current_edge: Option<usize>,
+    /// `a/a₀` of the current profile (the edge between nodes), valid with `current_edge`.
+    contact_radius: f64,
 }
 
 impl FrettingSimulation {
@@ -123,7 +125,7 @@ impl FrettingSimulation {
             .collect();
         Ok(Self {
             profile_tf: ProfileTransform::new(n, &material, params.backend)?,
-            stress_tf: StressTransform::new(n, &material, params.backend)?,
+            stress_tf: CellStressTransform::new(n, &material, params.backend)?,
             limit,
             stick: stick_radius(params.chi),
             r_star: limit_contact_radius(params.chi, params.k),
@@ -137,6 +139,7 @@ impl FrettingSimulation {
             params,
             state,
             current_edge: None,
+            contact_radius: 1.0,
         })
     }
 
@@ -184,6 +187,20 @@ impl FrettingSimulation {
         halfspace_numerics::quad::trapezoid_uniform(&worn, self.grid.step())
     }
 
+    /// `max |f̃ − f̃∞|` over `c̃ + margin < r̃ ≤ r*`: how far the worn profile is from Popov's limit
+    /// away from the stick edge (where `f̃∞ − f̃₀ ~ (r − c)^{(1−k)/2}` is resolved by one node).
+    pub fn limit_deviation(&self, margin: f64) -> f64 {
+        let from = self.stick + margin;
+        self.grid
+            .coordinates()
+            .iter()
+            .zip(&self.state.profile)
+            .zip(&self.limit)
+            .filter(|((&r, _), _)| r > from && r <= self.r_star)
+            .map(|((_, f), fl)| (f - fl).abs())
+            .fold(0.0, f64::max)
+    }
+
     /// Whether all steps are done.
     pub fn is_finished(&self) -> bool {
         self.state.step >= self.params.total_steps()
@@ -197,16 +214,22 @@ impl FrettingSimulation {
         (1.0 - w) * self.state.profile[i] + w * self.state.profile[i + 1]
     }
 
-    /// One wear step (spec §5, per-cycle loop): `f → g` (Eq. 7), the contact edge as the outermost
-    /// node with `g < d` plus one (§7 P9), `q = E* max(d − g, 0)`, `q → p` (Eq. 17, clipped ≥ 0), the
-    /// slip `Δũ`, and `f̃ ← f̃ + Δτ p̃ Δũ`. Takes a snapshot first when this step is a snapshot step.
+    /// One wear step (spec §5, per-cycle loop, with the edge between nodes): `f → g` (Eq. 7 / 23),
+    /// the contact edge `a` where the linear interpolant of `g` beyond the outermost node with
+    /// `g < d` reaches `d`, `q = c̃_N max(d − g, 0)`, `q → p` by product integration with that
+    /// edge ([`CellStressTransform`], clipped ≥ 0), the slip `Δũ`, and `f̃ ← f̃ + Δτ p̃ Δũ`. Takes a
+    /// snapshot first when this step is a snapshot step.
+    ///
+    /// Spec §5 (and the paper) cut `q` at the first node outside and use Eq. 17/29; that pressure
+    /// jumps by `O(1)` each time the edge crosses a node and the run does not converge under grid
+    /// refinement (docs/fretting-wear.md, "The contact edge between nodes").
     pub fn step(&mut self) -> Result<(), FrettingError> {
         let edge = self.current()?;
         let step = self.state.step;
         if self.snapshot_steps.binary_search(&step).is_ok()
             && !self.state.snapshots.iter().any(|s| s.step == step)
         {
-            self.take_snapshot(edge);
+            self.take_snapshot();
         }
         if self.is_finished() {
             return Ok(());
@@ -217,8 +240,8 @@ impl FrettingSimulation {
         }
         self.state.step += 1;
         self.current_edge = None;
-        let edge = self.current()?;
-        let a = self.grid.coordinate(edge);
+        self.current()?;
+        let a = self.contact_radius;
         self.state.contact_radius_history.push(a);
         // Wear only raises f, so a/a₀ approaches r* from below; three cells of slack for the snapped
         // edge (spec §7 P10: an unstable step overshoots it).
@@ -232,7 +255,7 @@ impl FrettingSimulation {
             });
         }
         if self.is_finished() && self.snapshot_steps.binary_search(&self.state.step).is_ok() {
-            self.take_snapshot(edge);
+            self.take_snapshot();
         }
         Ok(())
     }
@@ -250,7 +273,8 @@ impl FrettingSimulation {
         }
     }
 
-    /// Computes g, p and the slip of the current profile; returns the edge node.
+    /// Computes g, p, the slip and `a/a₀` of the current profile; returns the first node outside
+    /// the contact.
     fn contact_state(&mut self) -> Result<usize, FrettingError> {
         let n = self.grid.len();
         let h = self.grid.step();
@@ -264,16 +288,21 @@ impl FrettingSimulation {
                 length: self.params.length,
             });
         }
+        // The edge between the last node with g < d and the next one, where the linear
+        // interpolant of g reaches d: a² = ξ_last + θh (θ ∈ (0, 1]).
+        let last = outermost;
+        let theta =
+            ((1.0 - self.g[last]) / (self.g[edge] - self.g[last])).clamp(f64::MIN_POSITIVE, 1.0);
+        self.contact_radius = (self.grid.squared(last) + theta * h).sqrt();
         let modulus = normalized_modulus(self.params.k);
-        for i in 0..=edge {
+        for i in 0..=last {
             self.q[i] = modulus * (1.0 - self.g[i]).max(0.0);
         }
-        let m = edge + 1;
+        let m = last + 1;
         self.stress_tf
-            .line_load_to_stress(&self.grid, &self.q[..m], 0.0, &mut self.p[..m])?;
+            .line_load_to_stress(&self.grid, &self.q[..m], theta, &mut self.p[..m])?;
         self.p[..m].iter_mut().for_each(|v| *v = v.max(0.0));
         self.p[m..].fill(0.0);
-        self.p[edge] = 0.0;
         let (chi, k) = (self.params.chi, self.params.k);
         for i in 0..n {
             let r = self.grid.coordinate(i);
@@ -290,13 +319,13 @@ impl FrettingSimulation {
         Ok(edge)
     }
 
-    fn take_snapshot(&mut self, edge: usize) {
+    fn take_snapshot(&mut self) {
         self.state.snapshots.push(Snapshot {
             step: self.state.step,
             profile: self.state.profile.clone(),
             pressure: self.p.clone(),
             slip: self.slip.clone(),
-            contact_radius: self.grid.coordinate(edge),
+            contact_radius: self.contact_radius,
         });
     }
 
@@ -315,8 +344,8 @@ impl FrettingSimulation {
             .iter()
             .any(|s| s.step == self.state.step)
         {
-            let edge = self.current()?;
-            self.take_snapshot(edge);
+            self.current()?;
+            self.take_snapshot();
         }
         Ok(())
     }

@@ -1,13 +1,13 @@
 //! Fretting wear of power-law graded media (docs/fretting-wear.md, "Graded media"): k = 0 is the
-//! homogeneous run of before the graded code bit for bit, graded runs approach their limiting
-//! contact radius from below, both backends agree, the closed forms are consistent.
+//! homogeneous run bit for bit, graded runs approach their limiting contact radius and profile
+//! from below, both backends agree, the closed forms are consistent.
 
 use halfspace_fretting::limit::{
     annulus_response, initial_profile, limit_contact_radius, limit_wear_volume, limiting_profile,
     stick_radius,
 };
 use halfspace_fretting::{FrettingParams, FrettingSimulation};
-use halfspace_numerics::{Backend, SquaredGrid};
+use halfspace_numerics::Backend;
 
 fn run(params: FrettingParams) -> FrettingSimulation {
     let mut sim = FrettingSimulation::new(params).unwrap();
@@ -16,9 +16,12 @@ fn run(params: FrettingParams) -> FrettingSimulation {
 }
 
 #[test]
-fn k0_reproduces_the_homogeneous_run_of_before_bit_for_bit() {
-    // `halfspace fretting-wear --n 301 --dtau 0.005 --tau-end 1 --chi 0.5` of commit 6c39993
-    // (before the graded code): profile at nodes 100 and 200, a/a0 and p at node 50, final state.
+fn k0_is_the_homogeneous_run_bit_for_bit() {
+    // `halfspace fretting-wear --n 301 --dtau 0.005 --tau-end 1 --chi 0.5` (homogeneous): profile at
+    // nodes 100 and 200, a/a0 and p at node 50. The graded code left these bits as they were
+    // (commit 6c39993); the edge between nodes changed them on purpose (node 100: 0.50029 →
+    // 0.51426; spec §5's edge rule does not converge, docs/fretting-wear.md), and they are pinned
+    // again here so that no later change moves the homogeneous run unnoticed.
     let sim = run(FrettingParams {
         nodes: 301,
         dtau: 0.005,
@@ -27,25 +30,24 @@ fn k0_reproduces_the_homogeneous_run_of_before_bit_for_bit() {
         ..FrettingParams::default()
     });
     let last = sim.state().snapshots.last().unwrap();
-    assert_eq!(last.profile[100].to_bits(), 0x3fe00515e36f8620);
+    assert_eq!(last.profile[100].to_bits(), 0x3fe074d65ca7532f);
     assert_eq!(last.profile[200].to_bits(), 0x3feb4e81b4e81b50);
     assert_eq!(
         sim.state().contact_radius_history.last().unwrap().to_bits(),
-        0x3ff18cebfb0391dc
+        0x3ff1b050254b5c47
     );
-    assert_eq!(last.pressure[50].to_bits(), 0x3fdbb973234d1c72);
+    assert_eq!(last.pressure[50].to_bits(), 0x3fe01795de440046);
 }
 
-/// A run of `k`, `chi` on N = 501 nodes with half the a-priori stable step, to `tau_end`.
-fn graded(k: f64, chi: f64, tau_end: f64, backend: Backend) -> FrettingSimulation {
+/// A run of `k`, `chi` on `nodes` nodes with the default step ([`FrettingParams::default_step`]).
+fn graded(k: f64, chi: f64, nodes: usize, tau_end: f64, backend: Backend) -> FrettingSimulation {
     let length = FrettingParams::default_length(chi, k);
-    let grid = SquaredGrid::new(501, length).unwrap();
     run(FrettingParams {
         chi,
         k,
-        nodes: 501,
+        nodes,
         length,
-        dtau: 0.5 * FrettingParams::step_limit(&grid, k),
+        dtau: FrettingParams::default_step(nodes, length, k),
         tau_end,
         snapshots: vec![],
         backend,
@@ -53,35 +55,36 @@ fn graded(k: f64, chi: f64, tau_end: f64, backend: Backend) -> FrettingSimulatio
 }
 
 #[test]
-fn graded_runs_approach_the_limiting_radius_from_below() {
-    for k in [-0.5, 0.5] {
+fn graded_runs_approach_the_limit_from_below() {
+    // k = 0.5 on N = 2001 (Δτ = 1e-3), k = −0.5 on N = 1001 (Δτ = 6.8e-5 / 8.0e-5, the stability
+    // bound); by τ = 5 / 8 every run has reached its limit (measured: docs/fretting-wear.md).
+    for (k, nodes) in [(0.5, 2001), (-0.5, 1001)] {
         for chi in [0.3, 0.9] {
-            let sim = graded(k, chi, 3.0, Backend::Fft);
+            let tau_end = if k < 0.0 && chi > 0.5 { 8.0 } else { 5.0 };
+            let sim = graded(k, chi, nodes, tau_end, Backend::Fft);
             let r_star = sim.limit_contact_radius();
-            let length = sim.grid().length();
             // One cell at the edge: Δr = h / (2 r*) on the grid uniform in r².
             let cell = sim.grid().step() / (2.0 * r_star);
             let history = &sim.state().contact_radius_history;
             let top = history.iter().copied().fold(0.0, f64::max);
+            // Measured (a_max − r*)/cell: −0.58, −1.16 (k = 0.5, χ = 0.3, 0.9); −0.58, +0.86
+            // (k = −0.5).
             assert!(
-                top <= r_star + cell,
-                "k {k} χ {chi}: a/a0 reached {top}, r* = {r_star} (cell {cell}, L {length})"
+                top <= r_star + cell && top >= r_star - 2.0 * cell,
+                "k {k} χ {chi}: a/a0 reached {top}, r* = {r_star} (cell {cell})"
             );
-            // It grows (monotonically up to the snapping of the edge to nodes) towards r*.
-            let drop = history.windows(2).map(|w| w[0] - w[1]).fold(0.0, f64::max);
+            // The worn volume ends at V∞ plus the stick-edge node's excess (measured +0.87 %,
+            // +0.05 %, +1.09 %, +1.02 %), and the profile is f∞ beyond c + 0.05 a0.
+            let excess = sim.wear_volume() / sim.limit_wear_volume() - 1.0;
             assert!(
-                drop <= 3.0 * cell,
-                "k {k} χ {chi}: a/a0 fell by {drop} (cell {cell})"
+                (0.0..0.015).contains(&excess),
+                "k {k} χ {chi}: V/V∞ − 1 = {excess}"
             );
-            let last = *history.last().unwrap();
-            assert!(last > 1.0 && last <= r_star + cell, "k {k} χ {chi}: {last}");
-            // The worn volume grows towards its limit.
-            assert!(sim.wear_volume() > 0.0);
+            let worst = sim.limit_deviation(0.05);
+            assert!(worst < 0.02, "k {k} χ {chi}: max |f − f∞| = {worst}");
             println!(
-                "k {k:+} χ {chi}: a/a0 {last:.4} → r* {r_star:.4} (largest fall {:.2} cells), V {:.4e} → V∞ {:.4e}",
-                drop / cell,
-                sim.wear_volume(),
-                sim.limit_wear_volume()
+                "k {k:+} χ {chi}: max a/a0 {top:.5} → r* {r_star:.5} ({:+.2} cells), V/V∞ − 1 = {excess:+.4}, max |f − f∞| {worst:.1e}",
+                (top - r_star) / cell
             );
         }
     }
@@ -91,8 +94,7 @@ fn graded_runs_approach_the_limiting_radius_from_below() {
 fn mvm_and_fft_agree_over_300_steps() {
     for k in [-0.5, 0.5] {
         let length = FrettingParams::default_length(0.5, k);
-        let grid = SquaredGrid::new(501, length).unwrap();
-        let dtau = 0.5 * FrettingParams::step_limit(&grid, k);
+        let dtau = FrettingParams::default_step(501, length, k);
         let params = |backend| FrettingParams {
             chi: 0.5,
             k,
@@ -114,10 +116,14 @@ fn mvm_and_fft_agree_over_300_steps() {
             .map(|(a, b)| (a - b).abs())
             .fold(0.0, f64::max);
         assert!(worst < 1e-10, "k {k}: {worst:e}");
-        assert_eq!(
-            fft.state().contact_radius_history,
-            mvm.state().contact_radius_history
-        );
+        let radii = fft
+            .state()
+            .contact_radius_history
+            .iter()
+            .zip(&mvm.state().contact_radius_history)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(radii < 1e-10, "k {k}: {radii:e}");
     }
 }
 

@@ -27,4 +27,7 @@ pub use error::MdrError;
 pub use halfspace_numerics::{Backend, SquaredGrid};
 pub use material::Material;
 pub use profile::{Profile, ProfileTable};
-pub use transform::{DisplacementMethod, DisplacementTransform, ProfileTransform, StressTransform};
+pub use transform::{
+    CellStressTransform, DisplacementMethod, DisplacementTransform, ProfileTransform,
+    StressTransform,
+};

@@ -6,6 +6,7 @@
 //! |---|---|---|---|
 //! | [`ProfileTransform`] `f → g` | Eq. 7 | causal, `γ = 1/2` | FFT, MVM |
 //! | [`StressTransform`] `q → σ` | Eq. 17 | anti-causal, `γ = 1/2` | FFT, MVM |
+//! | [`CellStressTransform`] `q → σ`, edge between nodes | Eq. 14, product integration | anti-causal, `(m+1)^γ − m^γ` | FFT, MVM |
 //! | [`DisplacementTransform`] `U → u` | Eq. 12 | dense kernel `arccos √(ξ/ρ)` | MVM only |
 //! | [`DisplacementTransform`] `U → u` | Eq. 13 | causal, `γ = 1/2` | FFT, MVM |
 //!
@@ -14,10 +15,12 @@
 mod displacement;
 mod profile_transform;
 mod stress;
+mod stress_cells;
 
 pub use displacement::{DisplacementMethod, DisplacementTransform};
 pub use profile_transform::{EquivalentSplit, ProfileTransform};
 pub use stress::StressTransform;
+pub use stress_cells::CellStressTransform;
 
 use halfspace_numerics::{NumericsError, SquaredGrid};
 

@@ -1,0 +1,123 @@
+use halfspace_numerics::{Backend, SquaredGrid, ToeplitzConvolution};
+
+use super::{check_fits, check_len};
+use crate::{Material, MdrError};
+
+/// Line load `q(x) → σ(r)` of the MDR (Eq. 14 / Eq. 28) by product integration, with the contact
+/// edge **between** grid nodes. In `ξ = x²` the pressure is
+///
+/// `σ(ρ) = −(1/π) ∫_ρ^{a²} q̂'(ξ) (ξ − ρ)^{γ−1} dξ`, `γ = (1+k)/2`, `q(a) = 0`
+///
+/// (spec §3 / §4.4 before their integration by parts). Here `q` is taken linear on every cell
+/// `[ξ_i, ξ_{i+1}]` of the contact nodes `0..M` and on the partial cell `[ξ_{M−1}, a²]`,
+/// `a² = ξ_{M−1} + θh`, `θ ∈ (0, 1]`, where it falls to `q(a) = 0`; each cell is integrated
+/// exactly:
+///
+/// `σ_j = (h^{γ−1}/(πγ)) [ −Σ_{i=j}^{M−2} (q_{i+1} − q_i) w_{i−j} + (q_{M−1}/θ) ((M−1−j+θ)^γ − (M−1−j)^γ) ]`,
+/// `w_m = (m+1)^γ − m^γ`, for `j = 0..M` (the sum is one anti-causal Toeplitz product).
+///
+/// Why a second discretization of Eq. 17/29: those take `q̂'` and `q̂''` by finite differences on
+/// an array cut at a node. When the edge moves between nodes (fretting wear), the load clipped at
+/// the edge node gives a one-sided `q̂'(a²)` off by up to `1.5|q̂'|`, which Eq. 17/29 spread over the
+/// whole contact as `q̂'(a²)(a² − ρ)^γ`: an `O(1)` pressure error, not `O(h)`, that comes back
+/// every time the edge crosses a cell (docs/fretting-wear.md, "The contact edge between nodes").
+/// Here `σ` is continuous in `θ` and exact for a load linear in `ξ` (Hertz: `q ∝ a² − ξ`).
+pub struct CellStressTransform {
+    gamma: f64,
+    /// `m^γ`, `m = 0..capacity` (for the partial cell).
+    powers: Vec<f64>,
+    conv: ToeplitzConvolution,
+    reversed: Vec<f64>,
+    sums: Vec<f64>,
+}
+
+/// Beyond this distance (in cells) from the edge `(n + θ)^γ − n^γ` is summed as a series.
+const SERIES_FROM: usize = 64;
+
+impl CellStressTransform {
+    /// Builds the transform for contacts of up to `capacity` nodes.
+    pub fn new(capacity: usize, material: &Material, backend: Backend) -> Result<Self, MdrError> {
+        let gamma = 0.5 * (1.0 + material.grading_exponent());
+        let powers: Vec<f64> = (0..=capacity).map(|m| (m as f64).powf(gamma)).collect();
+        let weights = powers.windows(2).map(|w| w[1] - w[0]).collect();
+        Ok(Self {
+            gamma,
+            conv: ToeplitzConvolution::new(weights, backend)?,
+            powers,
+            reversed: vec![0.0; capacity],
+            sums: vec![0.0; capacity],
+        })
+    }
+
+    /// Largest contact accepted (nodes `0..M`).
+    pub fn capacity(&self) -> usize {
+        self.conv.capacity()
+    }
+
+    /// `(n + θ)^γ − n^γ` for `θ ∈ (0, 1]`: `n^γ [(1 + θ/n)^γ − 1]` by its binomial series when
+    /// `n ≥ 64` (ten terms, `θ/n ≤ 1/64`: below one ulp), `powf` closer to the edge.
+    fn partial_cell_power(&self, n: usize, theta: f64) -> f64 {
+        if n < SERIES_FROM {
+            return (n as f64 + theta).powf(self.gamma) - self.powers[n];
+        }
+        let x = theta / n as f64;
+        let (mut term, mut sum) = (1.0, 0.0);
+        for m in 0..10 {
+            term *= (self.gamma - m as f64) / (m as f64 + 1.0) * x;
+            sum += term;
+        }
+        self.powers[n] * sum
+    }
+
+    /// `σ` on the contact nodes `0..M` (`M = q.len() ≥ 2`) from `q` on the same nodes and the edge
+    /// `a² = ξ_{M−1} + θh`, `θ ∈ (0, 1]`, where `q(a) = 0` (see the type's docs for the formula).
+    pub fn line_load_to_stress(
+        &mut self,
+        grid: &SquaredGrid,
+        q: &[f64],
+        theta: f64,
+        sigma: &mut [f64],
+    ) -> Result<(), MdrError> {
+        check_fits("cell stress transform grid", grid, self.capacity())?;
+        let m = q.len();
+        check_len("stress output", m, sigma.len())?;
+        if m < 2 || m > grid.len() {
+            return Err(MdrError::Numerics(
+                halfspace_numerics::NumericsError::TooFewNodes {
+                    what: "the cell stress transform (contact nodes, at most the grid)",
+                    min: 2,
+                    n: m,
+                },
+            ));
+        }
+        if !(theta > 0.0 && theta <= 1.0) {
+            return Err(MdrError::Numerics(
+                halfspace_numerics::NumericsError::InvalidParameter {
+                    name: "edge position θ in its cell",
+                    value: theta,
+                    allowed: "in (0, 1]",
+                },
+            ));
+        }
+        let cells = m - 1;
+        // Anti-causal Σ_{i≥j} Δq_i w_{i−j}: reverse, convolve causally, read back reversed.
+        for (l, v) in self.reversed[..cells].iter_mut().enumerate() {
+            let i = cells - 1 - l;
+            *v = q[i + 1] - q[i];
+        }
+        self.conv
+            .apply(&self.reversed[..cells], &mut self.sums[..cells])?;
+        let h = grid.step();
+        let scale = h.powf(self.gamma - 1.0) / (std::f64::consts::PI * self.gamma);
+        let edge_slope = q[m - 1] / theta;
+        for (j, s) in sigma.iter_mut().enumerate() {
+            let cell_sum = if j < cells {
+                self.sums[cells - 1 - j]
+            } else {
+                0.0
+            };
+            *s = scale * (edge_slope * self.partial_cell_power(cells - j, theta) - cell_sum);
+        }
+        Ok(())
+    }
+}
