@@ -315,3 +315,33 @@ fn bad_media_exit_2_with_the_reason() {
         "explicit wear step stability",
     );
 }
+
+#[test]
+fn the_fretting_limit_study_reaches_every_limit_from_below() {
+    // `halfspace study fretting-limit` (docs/fretting-wear.md, "Approach to the limiting contact
+    // radius"): χ = 0.3, 0.5, 0.9, N = 2001, Δτ = 1e-3, τ ≤ 5.
+    let dir = tempfile::tempdir().unwrap();
+    let plot = dir.path().join("limit.svg");
+    let v = ok_json(&run(&[
+        "study",
+        "fretting-limit",
+        "--plot",
+        plot.to_str().unwrap(),
+    ]));
+    let cases = v["cases"].as_array().unwrap();
+    assert_eq!(cases.len(), 3);
+    let mut previous = 0.0;
+    for c in cases {
+        let (top, r_star) = (c["max_a"].as_f64().unwrap(), c["r_star"].as_f64().unwrap());
+        // Measured r* − largest a/a0: 3.5e-4, 4.4e-4, 9.3e-4.
+        assert!(top <= r_star && r_star - top < 1.5e-3, "{c}");
+        // 95 % of the final volume by τ = 1.47, 1.97, 2.94 (the independent solver: 0.949 V∞ at
+        // τ = 2 for χ = 0.5); wider amplitudes take longer.
+        let t95 = c["tau_95_volume"].as_f64().unwrap();
+        assert!(t95 > previous && t95 < 3.5, "{c}");
+        previous = t95;
+        let ratio = c["wear_volume"].as_f64().unwrap() / c["limit_wear_volume"].as_f64().unwrap();
+        assert!((0.99..1.015).contains(&ratio), "{c}");
+    }
+    assert!(plot.is_file());
+}

@@ -326,8 +326,20 @@ fn fretting_limit(args: &StudyArgs) -> Result<(), CliError> {
             ..FrettingParams::default()
         };
         let mut sim = FrettingSimulation::new(params).map_err(|e| CliError::Spec(e.to_string()))?;
-        sim.run(|_| false)
-            .map_err(|e| CliError::Spec(e.to_string()))?;
+        // τ at which the worn volume first reaches 50 % and 95 % of V∞ (the observer sees every step).
+        let limit = sim.limit_wear_volume();
+        let mut reached = [None::<f64>; 2];
+        sim.run(|s| {
+            let v = s.wear_volume() / limit;
+            let tau = s.state().step as f64 * s.params().dtau;
+            for (slot, share) in reached.iter_mut().zip([0.5, 0.95]) {
+                if slot.is_none() && v >= share {
+                    *slot = Some(tau);
+                }
+            }
+            false
+        })
+        .map_err(|e| CliError::Spec(e.to_string()))?;
         let h = &sim.state().contact_radius_history;
         // Every 10th point keeps the figure light.
         let pts: Vec<(f64, f64)> = h
@@ -345,6 +357,7 @@ fn fretting_limit(args: &StudyArgs) -> Result<(), CliError> {
         let at = |tau: f64| h[((tau / dtau).round() as usize).min(h.len()) - 1];
         let top = h.iter().copied().fold(1.0, f64::max);
         rows.push(json!({"chi": chi, "dtau": dtau, "r_star": r_star, "max_a": top,
+            "tau_half_volume": reached[0], "tau_95_volume": reached[1],
             "wear_volume": sim.wear_volume(), "limit_wear_volume": sim.limit_wear_volume(),
             "a_at_tau": {"0.1": at(0.1), "0.5": at(0.5), "1": at(1.0), "2": at(2.0), "3": at(3.0), "5": at(5.0)}}));
     }
