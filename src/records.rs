@@ -192,10 +192,12 @@ pub fn snapshot_from_record(rec: &Record, path: &Path) -> Result<LoopSnapshot, D
         }),
         None => None,
     };
-    let max_transverse_slip = match rec.get_attr("max_transverse_slip") {
-        Some(AttrValue::Float(v)) => *v,
-        other => return Err(bad(format!("max_transverse_slip is {other:?}"))),
-    };
+    let max_transverse_slip = rec.float_attr("max_transverse_slip").ok_or_else(|| {
+        bad(format!(
+            "max_transverse_slip is {:?}",
+            rec.get_attr("max_transverse_slip")
+        ))
+    })?;
     Ok(LoopSnapshot {
         fingerprint,
         rows,

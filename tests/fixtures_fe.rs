@@ -4,14 +4,12 @@
 
 use std::path::Path;
 
-use halfspace::data::{read_h5_group, read_npy_1d, AttrValue, Manifest, Record};
+use halfspace::data::{read_h5_group, read_npy_1d, Manifest, Record};
 use halfspace::mdr::{ContactParams, ContactSolution, ContactSolver, Load, Material, Profile};
 
 fn attr(rec: &Record, name: &str) -> f64 {
-    match rec.get_attr(name) {
-        Some(AttrValue::Float(v)) => *v,
-        other => panic!("attribute {name}: {other:?}"),
-    }
+    rec.float_attr(name)
+        .unwrap_or_else(|| panic!("attribute {name}: {:?}", rec.get_attr(name)))
 }
 
 /// Linear interpolation in ξ = r² of a field on the MDR grid.

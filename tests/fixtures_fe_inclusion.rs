@@ -8,7 +8,7 @@
 
 use std::path::Path;
 
-use halfspace::data::{read_h5_group, AttrValue, Manifest, Record};
+use halfspace::data::{read_h5_group, Manifest, Record};
 use halfspace::sam::eim::{solve_under_tractions, EimParams, Inhomogeneity, Shape};
 use halfspace::sam::normal::NormalSolver;
 use halfspace::sam::subsurface::stress_at_points;
@@ -21,10 +21,8 @@ fn root() -> &'static Path {
 }
 
 fn attr(rec: &Record, name: &str) -> f64 {
-    match rec.get_attr(name) {
-        Some(AttrValue::Float(v)) => *v,
-        other => panic!("attribute {name}: {other:?}"),
-    }
+    rec.float_attr(name)
+        .unwrap_or_else(|| panic!("attribute {name}: {:?}", rec.get_attr(name)))
 }
 
 /// (u₃ at the surface radii, [σ_rr, σ_θθ, σ_zz, σ_rz] at the points) with 2Δ = a/c.

@@ -7,14 +7,12 @@
 
 use std::path::Path;
 
-use halfspace::data::{read_h5_group, read_npy_1d, AttrValue, Manifest, Record};
+use halfspace::data::{read_h5_group, read_npy_1d, Manifest, Record};
 use halfspace::fretting::limit::{limit_contact_radius, limit_wear_volume, limiting_profile};
 
 fn attr(rec: &Record, name: &str) -> f64 {
-    match rec.get_attr(name) {
-        Some(AttrValue::Float(v)) => *v,
-        other => panic!("attribute {name}: {other:?}"),
-    }
+    rec.float_attr(name)
+        .unwrap_or_else(|| panic!("attribute {name}: {:?}", rec.get_attr(name)))
 }
 
 #[test]

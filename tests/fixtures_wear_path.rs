@@ -8,15 +8,13 @@
 
 use std::path::Path;
 
-use halfspace::data::{read_h5_group, read_npy_1d, AttrValue, Manifest, Record};
+use halfspace::data::{read_h5_group, read_npy_1d, Manifest, Record};
 use halfspace::fretting::limit::initial_profile;
 use halfspace::fretting::{FrettingParams, FrettingSimulation};
 
 fn attr(rec: &Record, name: &str) -> f64 {
-    match rec.get_attr(name) {
-        Some(AttrValue::Float(v)) => *v,
-        other => panic!("attribute {name}: {other:?}"),
-    }
+    rec.float_attr(name)
+        .unwrap_or_else(|| panic!("attribute {name}: {:?}", rec.get_attr(name)))
 }
 
 #[test]

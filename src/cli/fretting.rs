@@ -197,9 +197,14 @@ fn state_from_checkpoint(path: &Path, params: &FrettingParams) -> Result<Frettin
             profile: array(&format!("snapshot{k}_profile"))?,
             pressure: array(&format!("snapshot{k}_pressure"))?,
             slip: array(&format!("snapshot{k}_slip"))?,
-            contact_radius: match rec.get_attr(&format!("snapshot{k}_contact_radius")) {
-                Some(AttrValue::Float(v)) => *v,
-                other => return Err(bad(format!("snapshot {k} contact radius is {other:?}"))),
+            contact_radius: {
+                let name = format!("snapshot{k}_contact_radius");
+                rec.float_attr(&name).ok_or_else(|| {
+                    bad(format!(
+                        "snapshot {k} contact radius is {:?}",
+                        rec.get_attr(&name)
+                    ))
+                })?
             },
         });
     }

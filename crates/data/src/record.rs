@@ -84,6 +84,14 @@ impl Record {
             .map(|(_, v)| v)
     }
 
+    /// The metadata entry called `name` when it is a real number.
+    pub fn float_attr(&self, name: &str) -> Option<f64> {
+        match self.get_attr(name) {
+            Some(AttrValue::Float(v)) => Some(*v),
+            _ => None,
+        }
+    }
+
     /// Metadata as one JSON object.
     pub fn metadata_json(&self) -> serde_json::Value {
         serde_json::Value::Object(

@@ -1,6 +1,9 @@
 //! The fretting-wear loop against spec §5: the reference run, the limit r*, backends, resume,
 //! the slip field, and bad parameters.
 
+mod common;
+
+use common::max_abs_diff;
 use halfspace_fretting::{limit, FrettingError, FrettingParams, FrettingSimulation};
 use halfspace_mdr::{DisplacementMethod, DisplacementTransform, Material};
 use halfspace_numerics::Backend;
@@ -101,20 +104,12 @@ fn fft_and_mvm_runs_agree() {
         backend: Backend::Mvm,
         ..base
     });
-    let (a, b) = (&fft.state().profile, &mvm.state().profile);
-    let diff = a
-        .iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max);
+    let diff = max_abs_diff(&fft.state().profile, &mvm.state().profile);
     assert!(diff < 1e-10, "max |f_fft − f_mvm| = {diff:e}");
-    let radii = fft
-        .state()
-        .contact_radius_history
-        .iter()
-        .zip(&mvm.state().contact_radius_history)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max);
+    let radii = max_abs_diff(
+        &fft.state().contact_radius_history,
+        &mvm.state().contact_radius_history,
+    );
     assert!(radii < 1e-10, "max |a_fft − a_mvm| = {radii:e}");
 }
 

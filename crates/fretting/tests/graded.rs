@@ -2,6 +2,9 @@
 //! homogeneous run bit for bit, graded runs approach their limiting contact radius and profile
 //! from below, both backends agree, the closed forms are consistent.
 
+mod common;
+
+use common::max_abs_diff;
 use halfspace_fretting::limit::{
     annulus_response, initial_profile, limit_contact_radius, limit_wear_volume, limiting_profile,
     stick_radius,
@@ -108,21 +111,12 @@ fn mvm_and_fft_agree_over_300_steps() {
         let fft = run(params(Backend::Fft));
         let mvm = run(params(Backend::Mvm));
         assert_eq!(fft.state().step, 300);
-        let worst = fft
-            .state()
-            .profile
-            .iter()
-            .zip(&mvm.state().profile)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
+        let worst = max_abs_diff(&fft.state().profile, &mvm.state().profile);
         assert!(worst < 1e-10, "k {k}: {worst:e}");
-        let radii = fft
-            .state()
-            .contact_radius_history
-            .iter()
-            .zip(&mvm.state().contact_radius_history)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
+        let radii = max_abs_diff(
+            &fft.state().contact_radius_history,
+            &mvm.state().contact_radius_history,
+        );
         assert!(radii < 1e-10, "k {k}: {radii:e}");
     }
 }
