@@ -13,15 +13,19 @@ docs/theory-mdr.md or docs/theory-sam.md, written as
     spec `mdr.md` §0.3     -> docs/theory-mdr.md#power-sums
     spec §7 P3             -> docs/theory-mdr.md#p3-one-sided-differences-at-the-edge
     spec §5.3–5.5          -> docs/theory-sam.md#mirror-image-and-correction-pressure to #layered-operators
-    spec §1, §4.2          -> docs/theory-mdr.md#profile-transform, #graded-constant-cn
+    spec §1, §4.2          -> docs/theory-mdr.md#profile-transform, docs/theory-mdr.md#graded-constant-cn
+    spec §7 P4, P5         -> docs/theory-mdr.md#p4-the-origin, #p5-conical-profiles
     spec §5's edge rule    -> the edge rule of docs/theory-mdr.md#fretting-wear
+    spec `sam.md`          -> docs/theory-sam.md
 
 Which document an unqualified "§N" means is decided, in this order, by an explicit qualifier
 (`mdr.md`, `sam.md`), by the section existing in only one document (e.g. §0.2, §7 P9 → mdr;
 §5.4, §7.3, §8.11 → sam), by the crate (crates/mdr, crates/fretting → mdr; crates/sam → sam;
 crates/numerics by module: conv1d, power_sum, grid, diff, quad, special → mdr; fft*, conv2d,
 layered, circulant, krylov, anderson, linop, op* → sam), and in src/, python/, tests/ and unknown
-numerics modules by context words near the citation, then in the whole file.
+numerics modules (and unknown crates) by context words: the nearest before the citation in the same
+comment, then about 400 characters around it, then the whole file. `--list` shows how each citation
+was resolved.
 
 A bare "§N" (no "spec" before it in the same comment run) is rewritten in the same way unless it
 cites a paper or book (a year, "[LN11]", "paper", "Section" shortly before it, e.g. "Mura 1987 §11").
@@ -31,7 +35,9 @@ unless --include-strings is given.
 Usage (from a repository root):
     python3 verify/rewrite_citations.py            # rewrite in place, report, exit 1 if any unmapped
     python3 verify/rewrite_citations.py --dry-run  # report what would change
+    python3 verify/rewrite_citations.py --list     # also print every rewrite and how it was resolved
     python3 verify/rewrite_citations.py --check    # exit 1 if any "spec §" citation remains (CI)
+    python3 verify/rewrite_citations.py --prose    # list "the spec's …" prose left for a manual pass
 Also verifies that every target anchor exists as a heading in docs/ (exit 1 if not).
 """
 from __future__ import annotations
@@ -39,6 +45,7 @@ from __future__ import annotations
 import argparse
 import os
 import re
+import signal
 import sys
 import unicodedata
 
@@ -145,7 +152,7 @@ MDR_WORDS = re.compile(
 )
 SAM_WORDS = re.compile(
     r"\bsam\b|contact3d|fretting[-_ ]loop|fretting[-_ ]map|\bEIM\b|inhomogene|inclusion|p_c\b"
-    r"|Cattaneo|Mindlin|Deresiewicz|\[LN11\]|Leroux|Nélias|Polonsky|DC-FFT|σ₃₃|μW|μP|\bgrid \d+|\d+²"
+    r"|Cattaneo|Mindlin|Deresiewicz|\[LN11\]|Leroux|Nélias|Polonsky|DC-FFT|σ₃₃|μW|μP|\bgrid \d+|\b\d{2,4}²"
     r"|eigen|Eshelby|Love\b|composite|fibre",
     re.IGNORECASE,
 )
@@ -224,13 +231,15 @@ def default_doc(path: str) -> str | None:
         if crate == "sam":
             return "sam"
         if crate == "numerics":
-            stem = os.path.splitext(parts[-1])[0]
-            if stem in ("lib", "mod", "error", "memory"):
-                stem = parts[-2] if parts[-2] not in ("src", "tests", "benches") else stem
-            if stem.startswith(NUMERICS_MDR):
-                return "mdr"
-            if stem.startswith(NUMERICS_SAM):
-                return "sam"
+            # The module's own name first, then the folders it sits in (numerics/src/fft/plan.rs).
+            names = [os.path.splitext(parts[-1])[0]] + parts[-2:2:-1]
+            for name in names:
+                if name in ("lib", "mod", "error", "memory", "src", "tests", "benches"):
+                    continue
+                if name.startswith(NUMERICS_MDR):
+                    return "mdr"
+                if name.startswith(NUMERICS_SAM):
+                    return "sam"
     return None
 
 
@@ -263,6 +272,7 @@ class Result:
         self.unmapped: list[str] = []
         self.strings: list[str] = []
         self.targets: set[tuple[str, str]] = set()
+        self.log: list[str] = []
 
 
 def comment_spans(src: str) -> list[tuple[int, int, str]]:
@@ -302,13 +312,40 @@ def comment_spans(src: str) -> list[tuple[int, int, str]]:
     return spans
 
 
-def resolve(sec, pits, qual_doc, path_doc, ctx_near, ctx_file):
+def clause_doc(before: str, after: str) -> str | None:
+    """The document of the context word nearest before the citation (same comment, since the
+    previous citation); failing that, the nearest one after it."""
+    best = None
+    for doc, rx in (("mdr", MDR_WORDS), ("sam", SAM_WORDS)):
+        ms = list(rx.finditer(before))
+        if ms and (best is None or ms[-1].end() > best[1]):
+            best = (doc, ms[-1].end())
+    if best:
+        return best[0]
+    best = None
+    for doc, rx in (("mdr", MDR_WORDS), ("sam", SAM_WORDS)):
+        m = rx.search(after)
+        if m and (best is None or m.start() < best[1]):
+            best = (doc, m.start())
+    return best[0] if best else None
+
+
+def resolve(sec, pits, qual_doc, path_doc, ctx_near, ctx_file, ctx_clause=None):
+    """(document, how it was decided)."""
     if qual_doc:
-        return qual_doc
+        return qual_doc, "qualifier"
     only = only_in(sec, pits)
     if only:
-        return only
-    return path_doc or ctx_near or ctx_file
+        return only, "section"
+    if path_doc:
+        return path_doc, "crate"
+    if ctx_clause:
+        return ctx_clause, "clause"
+    if ctx_near:
+        return ctx_near, "context"
+    if ctx_file:
+        return ctx_file, "file"
+    return None, "none"
 
 
 def link(doc: str, sec: str, pits: list[str]) -> list[str] | None:
@@ -328,8 +365,11 @@ def link(doc: str, sec: str, pits: list[str]) -> list[str] | None:
 
 
 SPLIT_PITFALL = re.compile(
-    r"(§\s?7)[ \t]*(\n[ \t]*//[/!]?[ \t]*)(P\d+(?:(?:\s*(?:,|/|and)\s*)P\d+)*\)?)"
+    r"(§\s?7)[ \t]*(\n[ \t]*//[/!]?[ \t]*)(P\d+(?:(?:\s*(?:,|/|and)\s*)P\d+)*\)?[:;,.]?)[ \t]*"
 )
+
+
+SPLIT_SPEC = re.compile(r"([ \t(]?)\b([Ss]pec(?: `(?:mdr|sam)\.md`)?)[ \t]*(\n[ \t]*//[/!]?[ \t]*)§")
 
 
 def rewrite_file(path: str, root: str, res: Result, include_strings: bool, dry: bool) -> None:
@@ -342,6 +382,11 @@ def rewrite_file(path: str, root: str, res: Result, include_strings: bool, dry: 
     ctx_file = context_doc(src)
     # "spec §7\n    /// P4, P5)": pull the pitfall list up to the line of its "§7".
     src = SPLIT_PITFALL.sub(lambda m: f"{m.group(1)} {m.group(3)}{m.group(2)}", src)
+    # "… of spec\n    //! §7.6 …": the word "spec" ends one comment line and its § starts the
+    # next; move the word down so that the citation is seen whole.
+    src = SPLIT_SPEC.sub(
+        lambda m: f"{m.group(1).strip()}{m.group(3)}{m.group(2)} §", src
+    )
     spans = comment_spans(src)
     # Join consecutive // comment lines into runs so that "spec §7\n/// P5" and "spec §1, ...\n§4.2"
     # are seen together.
@@ -430,7 +475,7 @@ def rewrite_segment(seg, src, start, path, line0, path_doc, ctx_near, ctx_file, 
                 pos = after
                 continue
             rep, ok = render(item, seg, qual, path, line0, path_doc, ctx_near, ctx_file, res,
-                             spec_start=m_spec.start())
+                             spec_start=m_spec.start(), prev_end=pos)
             pieces.append(seg[pos:m_spec.start()])
             if ok:
                 prefix, rep = possessive(seg, item.end(), rep)
@@ -454,7 +499,7 @@ def rewrite_segment(seg, src, start, path, line0, path_doc, ctx_near, ctx_file, 
             pos = item.end()
             continue
         rep, ok = render(item, seg, spec_active_doc if spec_seen else None, path, line0, path_doc,
-                         ctx_near, ctx_file, res, spec_start=None)
+                         ctx_near, ctx_file, res, spec_start=None, prev_end=pos)
         pieces.append(seg[pos:item.start()])
         if ok:
             prefix, rep = possessive(seg, item.end(), rep)
@@ -485,12 +530,14 @@ def possessive(seg, end, rep):
     return f"the {m.group(1)} of ", rep
 
 
-def render(item, seg, qual, path, line0, path_doc, ctx_near, ctx_file, res, spec_start):
+def render(item, seg, qual, path, line0, path_doc, ctx_near, ctx_file, res, spec_start, prev_end=0):
     sec = item.group("sec")
     sec2 = item.group("sec2")
     pits = re.findall(PITFALL, item.group("pits") or "")
     line = line0 + seg.count("\n", 0, item.start())
-    doc = resolve(sec, bool(pits), qual, path_doc, ctx_near, ctx_file)
+    after = seg[item.end():item.end() + 60].split("§")[0]
+    ctx_clause = clause_doc(seg[prev_end:item.start()], after)
+    doc, how = resolve(sec, bool(pits), qual, path_doc, ctx_near, ctx_file, ctx_clause)
     text = seg[item.start():item.end()].replace("\n", " ")
     if doc is None:
         res.unmapped.append(f"{path}:{line}: {text} (mdr or sam? no crate, qualifier or context)")
@@ -514,6 +561,7 @@ def render(item, seg, qual, path, line0, path_doc, ctx_near, ctx_file, res, spec
             res.targets.add((page, a))
         else:
             res.targets.add((DOCS[doc][0], l.lstrip("#")))
+    res.log.append(f"{path}:{line}: [{how}] {seg[item.start():item.end()].strip()} -> {rep}")
     # Keep a newline that separated "§7" from "P5" out of the replacement: pitfalls on the next line
     # are consumed; the comment prefix of that line must survive.
     raw = item.group(0)
@@ -542,6 +590,16 @@ REMAINING = re.compile(r"\b[Ss]pec\b[^\n]{0,24}§|\b[Ss]pec `(?:mdr|sam)\.md`|sh
 
 
 def check(root: str) -> int:
+    """Exit status 1 if any citation of the external specs remains: a line that names "spec" and
+    "§" (or `mdr.md`/`sam.md`, shared/spec/), or any citation the rewrite would still change
+    (bare "§N" that is not a paper's section), comments and string literals alike."""
+    res = Result()
+    for path in walk(root):
+        rewrite_file(path, root, res, include_strings=True, dry=True)
+    for entry in res.log:
+        print(f"would rewrite {entry}")
+    for u in res.unmapped:
+        print(f"UNMAPPED {u}")
     bad = []
     for path in walk(root):
         with open(os.path.join(root, path), encoding="utf-8") as fh:
@@ -550,27 +608,64 @@ def check(root: str) -> int:
                     bad.append(f"{path}:{no}: {line.strip()[:110]}")
     for b in bad:
         print(b)
-    print(f"{len(bad)} line(s) still cite the external specs")
-    return 1 if bad else 0
+    print(f"{len(bad)} line(s) still cite the external specs; {len(res.log)} citation(s) would be "
+          f"rewritten, {len(res.unmapped)} unmapped")
+    return 1 if (bad or res.log or res.unmapped) else 0
+
+
+PROSE = re.compile(r"\b[Ss]pec(?:'s)?\b(?!::|\.rs|_)")
+
+
+def prose(root: str) -> int:
+    """List comments that still mention "the spec" without a § (reference numbers quoted from it,
+    "the spec's …"): not citations this script can map, for a manual pass. Report only."""
+    n = 0
+    for path in walk(root):
+        with open(os.path.join(root, path), encoding="utf-8") as fh:
+            src = fh.read()
+        for start, end, kind in comment_spans(src):
+            if kind != "c":
+                continue
+            seg = src[start:end]
+            if re.search(r"parser|IFFT|`spec`|\(spec\)|kind:key|spec's `E`", seg):
+                continue  # the CLI's `kind:key=value` specs and spectra, not the math specs
+            for m in PROSE.finditer(seg):
+                line = src.count("\n", 0, start + m.start()) + 1
+                print(f"{path}:{line}: {seg.strip()[:110]}")
+                n += 1
+                break
+    print(f"{n} comment(s) mention the spec without a § (report only)")
+    return 0
 
 
 def main() -> int:
+    if hasattr(signal, "SIGPIPE"):
+        signal.signal(signal.SIGPIPE, signal.SIG_DFL)
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--root", default=".")
     ap.add_argument("--check", action="store_true", help="exit 1 if any 'spec §' citation remains")
     ap.add_argument("--dry-run", action="store_true")
+    ap.add_argument("--list", action="store_true",
+                    help="print every rewrite with how mdr/sam was decided (qualifier, section, crate, context, file)")
+    ap.add_argument("--prose", action="store_true",
+                    help="list comments that mention the spec without a § (report only)")
     ap.add_argument("--include-strings", action="store_true",
                     help="also rewrite citations inside string literals (changes program output)")
     args = ap.parse_args()
     root = args.root
     if args.check:
         return check(root)
+    if args.prose:
+        return prose(root)
     res = Result()
     for path in walk(root):
         rewrite_file(path, root, res, args.include_strings, args.dry_run)
     anchors = doc_anchors(root)
     missing = sorted(f"{p}#{a}" for p, a in res.targets if a not in anchors.get(p, set()))
     verb = "would rewrite" if args.dry_run else "rewrote"
+    if args.list:
+        for entry in res.log:
+            print(entry)
     print(f"{verb} {res.rewritten} citation(s) in {res.files} file(s)")
     for u in res.unmapped:
         print(f"UNMAPPED {u}")
