@@ -374,7 +374,7 @@ SPLIT_SPEC = re.compile(r"([ \t(]?)\b([Ss]pec(?: `(?:mdr|sam)\.md`)?)[ \t]*(\n[ 
 
 def rewrite_file(path: str, root: str, res: Result, include_strings: bool, dry: bool) -> None:
     full = os.path.join(root, path)
-    with open(full, encoding="utf-8") as fh:
+    with open(full, encoding="utf-8", newline="") as fh:
         src = fh.read()
     if "§" not in src and not re.search(r"\b[Ss]pec `(?:mdr|sam)\.md`|\b[Ss]pec conventions", src):
         return
@@ -418,7 +418,7 @@ def rewrite_file(path: str, root: str, res: Result, include_strings: bool, dry: 
         res.rewritten += changed
         res.files += 1
         if not dry:
-            with open(full, "w", encoding="utf-8") as fh:
+            with open(full, "w", encoding="utf-8", newline="") as fh:
                 fh.write(new_src)
 
 
