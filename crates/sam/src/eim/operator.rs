@@ -224,7 +224,7 @@ impl Layered {
                     fft.inverse_rows(hat, rows_out.clone(), yo)?;
                 }
             }
-            Layered::Dense(dense) => dense.apply(x, y),
+            Layered::Dense(dense) => dense.direct_sum(x, y),
         }
         Ok(())
     }
