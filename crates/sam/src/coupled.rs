@@ -2,7 +2,8 @@
 //! coupled (dissimilar) bodies, the incremental (history-dependent) friction law, load paths and
 //! fretting loops.
 
-use halfspace_numerics::conv2d::{DcFft2d, GridOperator, KernelFn};
+use halfspace_numerics::fft2d::{Fft2d, KernelFn};
+use halfspace_numerics::op::{BlockConvolution, FftOperators, GridOperator, OperatorSet};
 
 use crate::normal::{NormalInfo, NormalLoad, NormalParams, NormalSolver};
 use crate::tangential::{is_stick, TangentialInfo, TangentialParams, TangentialSolver};
@@ -80,19 +81,21 @@ pub struct IncrementInfo {
     pub max_pressure: f64,
 }
 
-/// A contact problem on one grid: geometry, bodies, friction, solvers and the current state.
-pub struct ContactProblem {
+/// A contact problem on one grid: geometry, bodies, friction, solvers and the current state, on the
+/// operators of `S` (the DC-FFT ones by default, or their dense twins). Every operator of the
+/// problem uses one padded and one periodic FFT core of the grid.
+pub struct ContactProblem<S: OperatorSet = FftOperators> {
     grid: SurfaceGrid,
     params: ContactParams,
     coupled: bool,
-    normal: NormalSolver,
+    normal: NormalSolver<S>,
     /// The tangential operator and solver; `None` without friction (`μ = 0`: `q = 0`, and a
     /// frictionless problem allocates only the normal operator).
-    tangential: Option<TangentialSolver>,
+    tangential: Option<TangentialSolver<S>>,
     /// q → Δu₃: `κ ⟦P_B^{(α)}⟧ *` (1 × 2 blocks).
-    shear_to_normal: Option<DcFft2d>,
+    shear_to_normal: Option<S::Blocks>,
     /// p → Δu_α: `−κ ⟦P_B^{(α)}⟧ *` (2 × 1 blocks).
-    pressure_to_tangential: Option<DcFft2d>,
+    pressure_to_tangential: Option<S::Blocks>,
     geometry: Vec<f64>,
     state: ContactState,
     h: Vec<f64>,
@@ -112,8 +115,20 @@ pub struct ContactProblem {
 }
 
 impl ContactProblem {
-    /// A problem with initial separation `geometry` (per cell, m) on `grid`.
+    /// A problem with initial separation `geometry` (per cell, m) on `grid` (DC-FFT operators).
     pub fn new(
+        grid: SurfaceGrid,
+        compliance: Compliance,
+        geometry: Vec<f64>,
+        params: ContactParams,
+    ) -> Result<Self, SamError> {
+        Self::with_operators(grid, compliance, geometry, params)
+    }
+}
+
+impl<S: OperatorSet> ContactProblem<S> {
+    /// [`ContactProblem::new`] on the operators of `S`.
+    pub fn with_operators(
         grid: SurfaceGrid,
         compliance: Compliance,
         geometry: Vec<f64>,
@@ -145,12 +160,15 @@ impl ContactProblem {
             }
         };
         let (c1p, c2p, c1m, c2m) = (shape(0, 1.0), shape(1, 1.0), shape(0, -1.0), shape(1, -1.0));
+        // One padded and one periodic core for every operator of the problem.
+        let fft = Fft2d::new(grid.n1, grid.n2)?;
+        let periodic = Fft2d::periodic(grid.n1, grid.n2)?;
         let (shear_to_normal, pressure_to_tangential) = if coupled {
             let a: [Option<KernelFn>; 2] = [Some(&c1p), Some(&c2p)];
             let b: [Option<KernelFn>; 2] = [Some(&c1m), Some(&c2m)];
             (
-                Some(DcFft2d::new(grid.n1, grid.n2, 2, 1, &a)?),
-                Some(DcFft2d::new(grid.n1, grid.n2, 1, 2, &b)?),
+                Some(S::Blocks::build(&fft, 2, 1, &a)?),
+                Some(S::Blocks::build(&fft, 1, 2, &b)?),
             )
         } else {
             (None, None)
@@ -163,9 +181,14 @@ impl ContactProblem {
         let t = || if frictional { vec![0.0; n] } else { Vec::new() };
         let c_only = || if coupled { vec![0.0; n] } else { Vec::new() };
         Ok(Self {
-            normal: NormalSolver::new(grid, &compliance)?,
+            normal: NormalSolver::on_cores(grid, &compliance, &fft, &periodic)?,
             tangential: if params.friction > 0.0 {
-                Some(TangentialSolver::new(grid, &compliance)?)
+                Some(TangentialSolver::on_cores(
+                    grid,
+                    &compliance,
+                    &fft,
+                    &periodic,
+                )?)
             } else {
                 None
             },

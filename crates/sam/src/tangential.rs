@@ -17,7 +17,8 @@
 //! Cattaneo–Mindlin 128² it needs 84–117 block products where FISTA needs 451–514.
 
 use halfspace_numerics::circulant::Circulant2d;
-use halfspace_numerics::conv2d::{DcFft2d, GridOperator, KernelFn};
+use halfspace_numerics::fft2d::{Fft2d, KernelFn};
+use halfspace_numerics::op::{BlockConvolution, FftOperators, GridOperator, OperatorSet};
 
 use crate::{Compliance, SamError, SurfaceGrid};
 
@@ -125,10 +126,13 @@ impl TangentialInfo {
     }
 }
 
-/// The 2 × 2 block tangential compliance `T` as a DC-FFT operator, with the FISTA solver.
-pub struct TangentialSolver {
+/// The 2 × 2 block tangential compliance `T` as a block convolution of `S` (the DC-FFT operator by
+/// default, or its dense twin), with the active-set and FISTA solvers.
+pub struct TangentialSolver<S: OperatorSet = FftOperators> {
     grid: SurfaceGrid,
-    op: DcFft2d,
+    op: S::Blocks,
+    /// The periodic FFT core of the grid (the preconditioner's).
+    periodic: Fft2d,
     lipschitz: f64,
     self_term: f64,
     s: [Vec<f64>; 2],
@@ -144,22 +148,46 @@ pub struct TangentialSolver {
 }
 
 impl TangentialSolver {
-    /// Plans `T` for the pair's tangential compliance on `grid`.
+    /// Plans `T` for the pair's tangential compliance on `grid` (DC-FFT).
     pub fn new(grid: SurfaceGrid, compliance: &Compliance) -> Result<Self, SamError> {
+        Self::with_operators(grid, compliance)
+    }
+}
+
+impl<S: OperatorSet> TangentialSolver<S> {
+    /// [`TangentialSolver::new`] on the operators of `S`, with FFT cores of its own.
+    pub fn with_operators(grid: SurfaceGrid, compliance: &Compliance) -> Result<Self, SamError> {
+        let fft = Fft2d::new(grid.n1, grid.n2)?;
+        let periodic = Fft2d::periodic(grid.n1, grid.n2)?;
+        Self::on_cores(grid, compliance, &fft, &periodic)
+    }
+
+    /// [`TangentialSolver::with_operators`] on given padded and periodic cores of the grid's shape
+    /// (shared with the other operators of a contact problem).
+    pub fn on_cores(
+        grid: SurfaceGrid,
+        compliance: &Compliance,
+        fft: &Fft2d,
+        periodic: &Fft2d,
+    ) -> Result<Self, SamError> {
+        crate::grid::check_cores(&grid, fft, periodic)?;
         let (d1, d2) = (2.0 * grid.half1, 2.0 * grid.half2);
         let k = |a: usize, b: usize| {
             move |m: i64, n: i64| compliance.tangential(&grid, a, b, m as f64 * d1, n as f64 * d2)
         };
         let (k11, k12, k21, k22) = (k(0, 0), k(0, 1), k(1, 0), k(1, 1));
         let kernels: [Option<KernelFn>; 4] = [Some(&k11), Some(&k12), Some(&k21), Some(&k22)];
-        let op = DcFft2d::new(grid.n1, grid.n2, 2, 2, &kernels)?;
+        let op = S::Blocks::build(fft, 2, 2, &kernels)?;
         // L ≥ λ_max(T): the largest eigenvalue of the 2 × 2 symbol over the padded frequencies.
         let scale = (4 * grid.n1 * grid.n2) as f64;
-        let (s11, s12, s22) = (
-            op.spectrum(0, 0).expect("block"),
-            op.spectrum(0, 1).expect("block"),
-            op.spectrum(1, 1).expect("block"),
-        );
+        let block = |o: usize, i: usize| {
+            op.block_spectrum(o, i)?.ok_or(SamError::InvalidParameter {
+                name: "tangential compliance block (zero)",
+                value: 0.0,
+                allowed: "a nonzero kernel",
+            })
+        };
+        let (s11, s12, s22) = (block(0, 0)?, block(0, 1)?, block(1, 1)?);
         let mut lipschitz: f64 = 0.0;
         for k in 0..s11.len() {
             let (a, b, c) = (s11[k].re * scale, s12[k].norm() * scale, s22[k].re * scale);
@@ -168,9 +196,11 @@ impl TangentialSolver {
         }
         let n = grid.len();
         let z = || [vec![0.0; n], vec![0.0; n]];
+        drop((s11, s12, s22));
         Ok(Self {
             grid,
             op,
+            periodic: periodic.clone(),
             lipschitz,
             self_term: compliance.tangential(&grid, 0, 0, 0.0, 0.0),
             s: z(),
@@ -420,9 +450,8 @@ impl TangentialSolver {
         let [s0, s1] = slip;
         if self.preconditioner.is_none() {
             let (d1, d2) = (2.0 * self.grid.half1, 2.0 * self.grid.half2);
-            self.preconditioner = Some(Circulant2d::inverse_half_space(
-                self.grid.n1,
-                self.grid.n2,
+            self.preconditioner = Some(Circulant2d::inverse_half_space_on(
+                self.periodic.clone(),
                 d1,
                 d2,
             )?);
