@@ -24,7 +24,7 @@ struct Case {
 
 fn case() -> Case {
     let e_star = 210e9 / 0.91;
-    let a = (3.0 * W * R / (4.0 * e_star)).cbrt();
+    let a = halfspace_mdr::analytic::sphere_radius_for_force(W, R, e_star);
     let n = 128;
     let grid = SurfaceGrid::square(n, 4.0 * a).unwrap();
     let c = Compliance::pair(Body::Rigid, Body::elastic(210e9, 0.3).unwrap())
@@ -181,7 +181,7 @@ fn active_set_matches_fista_in_a_third_of_the_products() {
 #[test]
 fn the_tangential_solver_on_its_dense_twin_gives_the_same_shear() {
     let e_star = 210e9 / 0.91;
-    let a = (3.0 * W * R / (4.0 * e_star)).cbrt();
+    let a = halfspace_mdr::analytic::sphere_radius_for_force(W, R, e_star);
     let n = 32;
     let grid = SurfaceGrid::square(n, 4.0 * a).unwrap();
     let c = Compliance::pair(Body::Rigid, Body::elastic(210e9, 0.3).unwrap())

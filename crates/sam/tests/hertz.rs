@@ -14,7 +14,7 @@ fn e_star() -> f64 {
 }
 
 fn hertz_a() -> f64 {
-    (3.0 * W * R / (4.0 * e_star())).cbrt()
+    halfspace_mdr::analytic::sphere_radius_for_force(W, R, e_star())
 }
 
 struct Run {

@@ -2,7 +2,8 @@
 //! control (spec §7.2) and the coupled normal loading of the rigid sphere (spec §7.4).
 
 use halfspace_numerics::op::DenseOperators;
-use halfspace_sam::coupled::{mindlin, ContactParams, ContactProblem};
+use halfspace_sam::analytic::mindlin;
+use halfspace_sam::contact::{ContactParams, ContactProblem};
 use halfspace_sam::normal::NormalLoad;
 use halfspace_sam::{Body, Compliance, SurfaceGrid};
 
@@ -11,7 +12,7 @@ const W: f64 = 0.08;
 const MU: f64 = 0.3;
 
 fn a_hertz() -> f64 {
-    (3.0 * W * R / (4.0 * 210e9 / 0.91)).cbrt()
+    halfspace_mdr::analytic::sphere_radius_for_force(W, R, 210e9 / 0.91)
 }
 
 fn k_cm() -> f64 {
@@ -195,7 +196,7 @@ fn coupled_normal_loading_raises_the_peak_pressure() {
         last = Some((w, info));
     }
     let (w, info) = last.unwrap();
-    let a = (3.0 * w * R / (4.0 * 210e9 / 0.91)).cbrt();
+    let a = halfspace_mdr::analytic::sphere_radius_for_force(w, R, 210e9 / 0.91);
     let p0 = 3.0 * w / (2.0 * std::f64::consts::PI * a * a);
     let ratio = info.max_pressure / p0;
     let delta_ratio = prob.state().approach / (a * a / R);
