@@ -3,8 +3,9 @@
 
 use serde::Deserialize;
 
+use crate::sam::drivers::fretting_loop::LoopCase;
+use crate::sam::drivers::fretting_map::FrettingMap;
 use crate::sam::eim::{FibreLayout, Inhomogeneity};
-use crate::sam::fretting_loop::{FrettingMap, LoopCase};
 use crate::spec::{parse_inhomogeneity, SpecError};
 
 /// The fretting-loop configuration as read from TOML (`fretting-loop --config`) or from a Python

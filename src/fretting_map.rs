@@ -10,7 +10,7 @@ use rayon::prelude::*;
 use serde_json::json;
 
 use crate::data::{write_atomic, AttrValue, DataError, Record};
-use crate::sam::fretting_loop::{FrettingMap, MapPoint};
+use crate::sam::drivers::fretting_map::{FrettingMap, MapPoint};
 use crate::sam::SamError;
 
 /// Why a map could not run or resume.
@@ -229,7 +229,7 @@ pub fn map_csv(points: &[MapPoint]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sam::fretting_loop::LoopCase;
+    use crate::sam::drivers::fretting_loop::LoopCase;
 
     fn map() -> FrettingMap {
         let base = LoopCase {

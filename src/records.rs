@@ -4,12 +4,11 @@
 use std::path::Path;
 
 use crate::data::{AttrValue, DataError, Record};
-use crate::sam::coupled::{ContactProblem, ContactState};
-use crate::sam::fretting_loop::{
-    ContactSolver, FrettingLoop, LoopMetrics, LoopRow, LoopSnapshot, PointFields, POINT_LABELS,
+use crate::sam::contact::{ContactProblem, ContactSolver, ContactState, NestedWarmStart};
+use crate::sam::drivers::fretting_loop::{
+    FrettingLoop, LoopMetrics, LoopRow, LoopSnapshot, PointFields, POINT_LABELS,
 };
-use crate::sam::nested::NestedWarmStart;
-use crate::sam::single::{ContactCase, ContactOutcome};
+use crate::sam::drivers::one_contact::{ContactCase, ContactOutcome};
 use crate::sam::subsurface::StressField;
 use serde_json::json;
 

@@ -16,9 +16,10 @@ use halfspace::fretting::{FrettingParams, FrettingSimulation};
 use halfspace::fretting_map::run_map;
 use halfspace::mdr::{Backend, ContactParams, ContactSolver, Load, Profile};
 use halfspace::records::{contact_record, contact_summary, wear_summary};
-use halfspace::sam::fretting_loop::{FrettingLoop, FrettingMap, LoopRow, MapPoint, POINT_LABELS};
+use halfspace::sam::drivers::fretting_loop::{FrettingLoop, LoopRow, POINT_LABELS};
+use halfspace::sam::drivers::fretting_map::{FrettingMap, MapPoint};
+use halfspace::sam::drivers::one_contact::{solve_contact, ContactCase, TangentialLoad};
 use halfspace::sam::normal::NormalLoad;
-use halfspace::sam::single::{solve_contact, ContactCase, TangentialLoad};
 use halfspace::spec::{
     parse_body, parse_indenter, parse_inhomogeneity, parse_material, parse_profile,
     parse_wear_medium, WearMedium,
@@ -190,7 +191,7 @@ fn fretting_wear<'py>(
     Ok(d)
 }
 
-/// `contact3d(indenter, material, ...)`: one 3D contact (`sam::single::solve_contact`), as
+/// `contact3d(indenter, material, ...)`: one 3D contact (`sam::drivers::one_contact::solve_contact`), as
 /// `halfspace contact3d`: returns `(summary_json, arrays)` — the CLI's JSON keys, and the arrays of
 /// `halfspace::records::contact_record` (what `contact3d --out` writes): the surface fields `x`,
 /// `y`, `pressure`, `shear_x/y`, `slip_x/y`, `stick` shaped (N₁, N₂), with `subsurface` the volume
@@ -272,7 +273,7 @@ fn contact3d<'py>(
     Ok((summary.to_string(), d))
 }
 
-/// The fretting loop of [LN11] (`sam::fretting_loop::FrettingLoop`), increment by increment.
+/// The fretting loop of [LN11] (`sam::drivers::fretting_loop::FrettingLoop`), increment by increment.
 #[pyclass(name = "_FrettingLoop", module = "halfspace._halfspace")]
 struct PyFrettingLoop {
     inner: FrettingLoop,

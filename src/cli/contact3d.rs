@@ -7,10 +7,12 @@ use std::time::Instant;
 use clap::Args;
 use halfspace::data::write_record;
 use halfspace::records::{contact_record, contact_summary, VOLUME_FIELDS};
-use halfspace::sam::fretting_loop::ContactSolver;
+use halfspace::sam::contact::ContactSolver;
+use halfspace::sam::drivers::one_contact::{
+    solve_contact, ContactCase, ContactOutcome, TangentialLoad,
+};
 use halfspace::sam::indenter::Indenter;
 use halfspace::sam::normal::NormalLoad;
-use halfspace::sam::single::{solve_contact, ContactCase, ContactOutcome, TangentialLoad};
 use halfspace::sam::subsurface::StressField;
 use halfspace::sam::Body;
 use halfspace::sam::SamError;
@@ -242,7 +244,7 @@ fn draw_figures(
             .collect::<Vec<_>>(),
     )];
     if let Some((r, w, e_star)) = hertz {
-        let a = (3.0 * w * r / (4.0 * e_star)).cbrt();
+        let a = halfspace::mdr::analytic::sphere_radius_for_force(w, r, e_star);
         let p0 = 3.0 * w / (2.0 * std::f64::consts::PI * a * a);
         let y = g.centre(0, col).1;
         left.push((

@@ -1,4 +1,4 @@
-//! `halfspace fretting-loop`: the fretting loop of [LN11] (parse → `sam::fretting_loop` → write).
+//! `halfspace fretting-loop`: the fretting loop of [LN11] (parse → `sam::drivers::fretting_loop` → write).
 
 use std::io::IsTerminal;
 use std::ops::ControlFlow;
@@ -9,7 +9,7 @@ use clap::Args;
 use halfspace::config::LoopConfig;
 use halfspace::data::{read_record, write_record};
 use halfspace::records::{loop_results_record, snapshot_from_record, snapshot_record};
-use halfspace::sam::fretting_loop::{FrettingLoop, LoopMetrics, PointFields};
+use halfspace::sam::drivers::fretting_loop::{FrettingLoop, LoopMetrics, PointFields};
 use serde_json::{json, Value};
 
 use super::plot::Curves;
@@ -186,8 +186,9 @@ fn loop_summary(
 ) -> Value {
     let rows = lp.rows();
     let s = lp.seconds();
-    let sum =
-        |f: fn(&halfspace::sam::fretting_loop::LoopRow) -> usize| rows.iter().map(f).sum::<usize>();
+    let sum = |f: fn(&halfspace::sam::drivers::fretting_loop::LoopRow) -> usize| {
+        rows.iter().map(f).sum::<usize>()
+    };
     let mut summary = json!({
         "contact_area_over_hertz_end_of_normal_loading": m.contact_area_over_hertz_end_of_normal_loading,
         "max_transverse_slip": m.max_transverse_slip,

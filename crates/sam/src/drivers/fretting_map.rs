@@ -3,9 +3,7 @@
 
 use std::time::Instant;
 
-use super::case::LoopCase;
-use super::metrics::FrettingRegime;
-use super::run::FrettingLoop;
+use super::fretting_loop::{FrettingLoop, FrettingRegime, LoopCase};
 use crate::SamError;
 
 /// The points of a fretting map: the loop of `base` at every `(W_i, A_j)` of `loads × amplitudes`.

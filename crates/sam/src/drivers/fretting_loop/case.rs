@@ -66,7 +66,7 @@ impl Default for LoopCase {
 impl LoopCase {
     /// The Hertz contact radius `a = (3WR / 4E*)^{1/3}`, `E* = E/(1 − ν²)` (rigid sphere).
     pub fn hertz_radius(&self) -> f64 {
-        (3.0 * self.force * self.radius / (4.0 * self.e_star())).cbrt()
+        halfspace_mdr::analytic::sphere_radius_for_force(self.force, self.radius, self.e_star())
     }
 
     /// The Hertz peak pressure `p₀ = 3W / (2πa²)`.
@@ -82,7 +82,7 @@ impl LoopCase {
 
     /// Mindlin's full-slip shift `K = 3μW(2 − ν) / (16 G a)`, `G = E / 2(1 + ν)` (rigid sphere;
     /// spec §7.3, uncoupled): the loop is in partial slip for `A < K` and reaches gross slip beyond
-    /// (Mindlin–Deresiewicz, [`crate::coupled::mindlin`]).
+    /// (Mindlin–Deresiewicz, [`crate::analytic::mindlin`]).
     pub fn mindlin_slip_shift(&self) -> f64 {
         let g = self.e / (2.0 * (1.0 + self.nu));
         3.0 * self.friction * self.force * (2.0 - self.nu) / (16.0 * g * self.hertz_radius())

@@ -15,13 +15,11 @@
 //!   energy) per point (Vingsbo & Söderberg's fretting map).
 
 mod case;
-mod map;
 mod metrics;
+mod row;
 mod run;
-mod solver;
 
 pub use case::{LoadPath, LoopCase, POINT_LABELS};
-pub use map::{FrettingMap, MapPoint};
 pub use metrics::{FrettingRegime, LoopMetrics};
-pub use run::{FrettingLoop, LoopRow, LoopSeconds, LoopSnapshot, PointFields};
-pub use solver::ContactSolver;
+pub use row::LoopRow;
+pub use run::{FrettingLoop, LoopSeconds, LoopSnapshot, PointFields};
