@@ -20,7 +20,10 @@ mod metrics;
 mod run;
 mod solver;
 
-pub use case::{LoadPath, LoopCase, POINT_LABELS};
+pub use case::{
+    work_limit_hours, LoadPath, LoopCase, LoopEstimate, CELL_INCREMENTS_PER_SECOND, POINT_LABELS,
+    ROW_BYTES,
+};
 pub use map::{FrettingMap, MapPoint};
 pub use metrics::{FrettingRegime, LoopMetrics};
 pub use run::{FrettingLoop, LoopRow, LoopSeconds, LoopSnapshot, PointFields};
