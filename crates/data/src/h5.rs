@@ -150,3 +150,23 @@ fn check_dataset(
     *total += count as f64 * 8.0;
     crate::bounded::check_memory(*total, path, Some(name))
 }
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn a_dataset_declaring_more_than_it_stores_is_refused_before_reading() {
+        // A chunked dataset of 10¹¹ values with no chunk written: a few KB on disk; reading it
+        // would allocate 800 GB of fill values.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("crafted.h5");
+        let file = hdf5::File::create(&path).unwrap();
+        file.new_dataset::<f64>()
+            .chunk(1024)
+            .shape(100_000_000_000usize)
+            .create("huge")
+            .unwrap();
+        file.close().unwrap();
+        let e = super::read(&path, "/").unwrap_err().to_string();
+        assert!(e.contains("'huge'") && e.contains("stores"), "{e}");
+    }
+}
