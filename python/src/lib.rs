@@ -59,12 +59,10 @@ fn interruptible<T: Send>(
                 value
             });
             let mut interrupted = None;
-            loop {
-                match finished.recv_timeout(Duration::from_millis(50)) {
-                    Err(RecvTimeoutError::Timeout) => {}
-                    // Done, or the worker panicked (the join below re-raises it).
-                    _ => break,
-                }
+            // Until the worker is done (or panicked: the join below re-raises it).
+            while let Err(RecvTimeoutError::Timeout) =
+                finished.recv_timeout(Duration::from_millis(50))
+            {
                 if interrupted.is_none() {
                     if let Err(e) = Python::attach(|py| py.check_signals()) {
                         cancel.store(true, Ordering::Relaxed);

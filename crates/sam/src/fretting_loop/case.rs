@@ -366,7 +366,7 @@ impl LoopEstimate {
             )
         };
         if let Some(available) = halfspace_numerics::memory::available_bytes() {
-            if !(self.bytes <= available) {
+            if self.bytes.is_nan() || self.bytes > available {
                 return Err(SamError::InvalidInput(format!(
                     "{}; {:.3} GiB are available (HALFSPACE_MEMORY_LIMIT): refused before \
                      starting — use fewer increments (a larger shift_step, fewer normal_steps), \
@@ -377,7 +377,7 @@ impl LoopEstimate {
             }
         }
         let limit = work_limit_hours();
-        if !(hours <= limit) {
+        if hours.is_nan() || hours > limit {
             return Err(SamError::InvalidInput(format!(
                 "{}; more than the limit of {limit} hours (HALFSPACE_WORK_LIMIT): refused before \
                  starting — use fewer increments, fewer points or a coarser grid",
