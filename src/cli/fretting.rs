@@ -13,8 +13,17 @@ use halfspace::spec::{parse_wear_medium, WearMedium};
 use serde::Deserialize;
 use serde_json::json;
 
+use halfspace::run_dir::{RunDir, RunKind, Start};
+
 use super::axisym::Method;
 use super::{plot, CliError};
+
+/// What a fretting-wear run writes into its directory (`halfspace::run_dir`).
+const WEAR_RUN: RunKind = RunKind {
+    command: "fretting-wear",
+    files: &["checkpoint.npz", "results.h5", "results.npz"],
+    figure_extensions: &["svg", "png"],
+};
 
 #[derive(Debug, Args)]
 pub struct FrettingArgs {
@@ -37,29 +46,29 @@ pub struct FrettingArgs {
     #[arg(long)]
     json: bool,
     /// u_A / u_max, 0 < χ < 1.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     chi: Option<f64>,
     /// The medium: homogeneous (default), homogeneous:nu=.., or graded:k=..,nu=.. (E ∝ z^k,
     /// −1 < k < 1; the normalized run depends on k alone, ν sets u_max = μ (c_N/c_T) d).
     #[arg(long)]
     material: Option<String>,
     /// Grid nodes N.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     n: Option<usize>,
     /// Wear step Δτ (default 1e-3, or the stability bound where that is smaller: fine grids, k < 0).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     dtau: Option<f64>,
     /// Final τ = N/N0.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     tau_end: Option<f64>,
     /// Domain size L/a0 (≥ 1.45 and ≥ 1.02 r*/a0; default 1.6, graded max(1.6, 1.15 r*/a0)).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     length: Option<f64>,
     /// Seconds of work between checkpoints.
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, default_value_t = 2.0, allow_hyphen_values = true)]
     checkpoint_seconds: f64,
     /// Testing hook: stop (as if killed) after this many steps, leaving the checkpoint.
-    #[arg(long, hide = true)]
+    #[arg(long, hide = true, allow_hyphen_values = true)]
     stop_after: Option<u64>,
 }
 
@@ -224,20 +233,16 @@ pub fn run(args: FrettingArgs) -> Result<(), CliError> {
             args.checkpoint_seconds
         )));
     }
-    let dir = &args.out;
+    let start_mode = Start::of_flags(args.resume, args.force)?;
+    let mut manifest = serde_json::Map::new();
+    for (name, value) in params_attrs(&params) {
+        manifest.insert(name.into(), value.to_json());
+    }
+    manifest.insert("medium".into(), json!(format!("{medium:?}")));
+    let run_dir = RunDir::claim(&args.out, WEAR_RUN, manifest.into(), start_mode)?;
+    let dir = run_dir.path();
     let checkpoint = dir.join("checkpoint.npz");
     let results = dir.join("results.h5");
-    if args.resume && args.force {
-        return Err(CliError::Spec("give --resume or --force, not both".into()));
-    }
-    if dir.exists() && !args.resume && !args.force && (checkpoint.exists() || results.exists()) {
-        return Err(CliError::Spec(format!(
-            "{} holds another run's results; use --resume to continue it or --force to overwrite",
-            dir.display()
-        )));
-    }
-    std::fs::create_dir_all(dir)
-        .map_err(|e| CliError::Spec(format!("--out {}: {e}", dir.display())))?;
     let start = Instant::now();
     let mut sim = if args.resume {
         if !checkpoint.exists() {
@@ -247,7 +252,12 @@ pub fn run(args: FrettingArgs) -> Result<(), CliError> {
             )));
         }
         let state = state_from_checkpoint(&checkpoint, &params)?;
-        FrettingSimulation::resume(params.clone(), state).map_err(fretting_error)?
+        FrettingSimulation::resume(params.clone(), state).map_err(|e| {
+            CliError::Spec(format!(
+                "--resume {}: {e}; the checkpoint is left as it is (--force starts over)",
+                checkpoint.display()
+            ))
+        })?
     } else {
         FrettingSimulation::new(params.clone()).map_err(fretting_error)?
     };
@@ -312,6 +322,13 @@ pub fn run(args: FrettingArgs) -> Result<(), CliError> {
         plot::worn_profiles(&path, &sim)
             .map_err(|e| CliError::Plot(format!("{}: {e}", path.display())))?;
     }
+    run_dir.complete(&[
+        "checkpoint.npz",
+        "results.h5",
+        "results.npz",
+        "worn_profiles.svg",
+        "worn_profiles.png",
+    ])?;
     let state = sim.state();
     let mut summary = wear_summary(&sim, &medium);
     summary["seconds"] = json!(seconds);

@@ -84,25 +84,17 @@ impl FrettingSimulation {
         Self::with_state(params, grid, state)
     }
 
-    /// Continues a run from a saved state (`--resume`).
+    /// Continues a run from a saved state (`--resume`), checked for content first
+    /// (`checkpoint::check_state`: shapes, finite values, ranges, monotone history).
     pub fn resume(params: FrettingParams, state: FrettingState) -> Result<Self, FrettingError> {
         params.validate()?;
         let grid = SquaredGrid::new(params.nodes, params.length).map_err(MdrError::from)?;
-        if state.profile.len() != params.nodes
-            || state.contact_radius_history.len() as u64 != state.step
-            || state.step > params.total_steps()
-            || state.profile.iter().any(|v| !v.is_finite())
-        {
-            return Err(FrettingError::Checkpoint(format!(
-                "state does not match the parameters (N = {}, {} steps): profile of {} nodes, \
-                 step {}, {} history entries",
-                params.nodes,
-                params.total_steps(),
-                state.profile.len(),
-                state.step,
-                state.contact_radius_history.len()
-            )));
-        }
+        crate::checkpoint::check_state(
+            &state,
+            &params,
+            &grid,
+            limit_contact_radius(params.chi, params.k),
+        )?;
         Self::with_state(params, grid, state)
     }
 

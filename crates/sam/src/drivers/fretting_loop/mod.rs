@@ -19,7 +19,10 @@ mod metrics;
 mod row;
 mod run;
 
-pub use case::{LoadPath, LoopCase, POINT_LABELS};
+pub use case::{
+    work_limit_hours, LoadPath, LoopCase, LoopEstimate, CELL_INCREMENTS_PER_SECOND, POINT_LABELS,
+    ROW_BYTES,
+};
 pub use metrics::{FrettingRegime, LoopMetrics};
 pub use row::LoopRow;
 pub use run::{FrettingLoop, LoopSeconds, LoopSnapshot, PointFields};
