@@ -13,7 +13,10 @@
 
 pub mod ball;
 pub mod error;
+pub mod invariant;
+pub mod material;
 pub mod tensor;
 
 pub use error::FatigueError;
+pub use material::Material;
 pub use tensor::Voigt;

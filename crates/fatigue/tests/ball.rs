@@ -1,4 +1,5 @@
 //! The minimum enclosing ball against brute force and closed forms (docs/fatigue.md, "Checks").
+#![allow(clippy::needless_range_loop)]
 mod common;
 
 use common::Rng;

@@ -84,3 +84,23 @@ pub fn proportional_cycle(mean: Voigt, direction: Voigt, n: usize) -> Vec<Voigt>
         })
         .collect()
 }
+
+/// A steel-like material: f₋₁ = 400 MPa, t₋₁ = 280 MPa, E = 210 GPa, ν = 0.3, k = 0.5,
+/// σ_y = 600 MPa.
+pub fn steel() -> halfspace_fatigue::Material {
+    halfspace_fatigue::Material {
+        f_minus1: 400e6,
+        t_minus1: 280e6,
+        young: 210e9,
+        poisson: 0.3,
+        fs_k: 0.5,
+        yield_stress: 600e6,
+    }
+}
+
+/// `R σ Rᵀ` over a path.
+pub fn rotate_path(path: &[Voigt], r: &[[f64; 3]; 3]) -> Vec<Voigt> {
+    path.iter()
+        .map(|s| halfspace_fatigue::tensor::rotate(s, r))
+        .collect()
+}
