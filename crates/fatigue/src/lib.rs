@@ -12,6 +12,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod ball;
+pub mod critical_plane;
 pub mod error;
 pub mod invariant;
 pub mod material;

@@ -1,0 +1,656 @@
+//! Critical-plane criteria: Smith–Watson–Topper (1970) and Fatemi–Socie (1988), maximised over
+//! material planes by a coarse covering of the hemisphere and local refinement to a stated
+//! angular tolerance (docs/fatigue.md, Eqs. F5–F7 and "Critical-plane search").
+//!
+//! On the plane of unit normal `n` the normal stress is `σ_n(t) = n·σ(t)·n`, the shear traction
+//! along a unit in-plane direction `m` is `τ_nm(t) = m·σ(t)·n`; by isotropic Hooke's law
+//! `ε_n = ((1 + ν) σ_n − ν tr σ)/E` and the engineering shear strain is `γ_nm = 2 m·ε·n = τ_nm/G`.
+use crate::error::FatigueError;
+use crate::invariant::check_path;
+use crate::material::Material;
+use crate::tensor::{bilinear_weights, dot6, Voigt};
+
+/// Parameters of the critical-plane search.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CriticalPlaneParams {
+    /// Normals of the coarse covering of the hemisphere (Fibonacci lattice, mean spacing
+    /// `√(2π/N)`: 200 → 10°).
+    pub coarse_normals: usize,
+    /// In-plane directions over `[0, π)` of Fatemi–Socie's coarse stage (12 → 15°); the
+    /// refinement maximises over directions exactly.
+    pub coarse_directions: usize,
+    /// Best distinct coarse normals refined locally.
+    pub candidates: usize,
+    /// The compass refinement stops when its step is below this angle, rad.
+    pub angular_tolerance: f64,
+}
+
+impl Default for CriticalPlaneParams {
+    fn default() -> Self {
+        Self {
+            coarse_normals: 200,
+            coarse_directions: 12,
+            candidates: 3,
+            angular_tolerance: 1e-5,
+        }
+    }
+}
+
+impl CriticalPlaneParams {
+    /// Checks `8 ≤ coarse_normals ≤ 10⁶`, `2 ≤ coarse_directions ≤ 10⁴`,
+    /// `1 ≤ candidates ≤ coarse_normals`, `0 < angular_tolerance ≤ 0.1`.
+    pub fn validate(&self) -> Result<(), FatigueError> {
+        let bad = |name, value: usize, reason| {
+            Err(FatigueError::InvalidSearch {
+                name,
+                value: value as f64,
+                reason,
+            })
+        };
+        if !(8..=1_000_000).contains(&self.coarse_normals) {
+            return bad(
+                "coarse_normals",
+                self.coarse_normals,
+                "must lie in 8 ..= 1e6",
+            );
+        }
+        if !(2..=10_000).contains(&self.coarse_directions) {
+            return bad(
+                "coarse_directions",
+                self.coarse_directions,
+                "must lie in 2 ..= 1e4",
+            );
+        }
+        if self.candidates == 0 || self.candidates > self.coarse_normals {
+            return bad(
+                "candidates",
+                self.candidates,
+                "must lie in 1 ..= coarse_normals",
+            );
+        }
+        if !(self.angular_tolerance > 0.0 && self.angular_tolerance <= 0.1) {
+            return Err(FatigueError::InvalidSearch {
+                name: "angular_tolerance",
+                value: self.angular_tolerance,
+                reason: "must lie in (0, 0.1] rad",
+            });
+        }
+        Ok(())
+    }
+
+    /// Mean spacing of the coarse normals `√(2π/N)`, rad: the first compass step.
+    pub fn coarse_spacing(&self) -> f64 {
+        (2.0 * std::f64::consts::PI / self.coarse_normals as f64).sqrt()
+    }
+}
+
+/// Smith–Watson–Topper on the critical plane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Swt {
+    /// `σ_n,max · ε_a`, Pa.
+    pub value: f64,
+    /// The critical normal (unit; `n` and `−n` are the same plane).
+    pub normal: [f64; 3],
+    /// `σ_n,max` on that plane, Pa.
+    pub normal_stress_max: f64,
+    /// `ε_a = (max_t ε_n − min_t ε_n)/2` on that plane.
+    pub strain_amplitude: f64,
+    /// Planes evaluated.
+    pub evaluations: usize,
+}
+
+/// Fatemi–Socie on the critical plane and direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FatemiSocie {
+    /// `γ_a (1 + k σ_n,max/σ_y)` (dimensionless).
+    pub value: f64,
+    /// The critical normal (unit).
+    pub normal: [f64; 3],
+    /// The critical in-plane shear direction `m ⊥ n` (unit).
+    pub direction: [f64; 3],
+    /// `γ_a`: half the range of `γ_nm` along `direction`.
+    pub shear_strain_amplitude: f64,
+    /// `σ_n,max` on the plane, Pa.
+    pub normal_stress_max: f64,
+    /// Planes evaluated.
+    pub evaluations: usize,
+}
+
+/// Reusable buffers of the critical-plane search (no allocation once grown).
+#[derive(Clone, Debug, Default)]
+pub struct PlaneScratch {
+    coarse: Vec<[f64; 3]>,
+    directions: Vec<[f64; 2]>,
+    values: Vec<f64>,
+    chosen: Vec<usize>,
+    trace: Vec<f64>,
+    shear: Vec<[f64; 2]>,
+    hull: Vec<[f64; 2]>,
+}
+
+impl PlaneScratch {
+    fn prepare(&mut self, params: &CriticalPlaneParams, path: &[Voigt]) {
+        if self.coarse.len() != params.coarse_normals {
+            self.coarse.clear();
+            self.coarse.extend(
+                (0..params.coarse_normals).map(|i| fibonacci_normal(i, params.coarse_normals)),
+            );
+        }
+        if self.directions.len() != params.coarse_directions {
+            let m = params.coarse_directions;
+            self.directions.clear();
+            self.directions.extend((0..m).map(|j| {
+                let psi = std::f64::consts::PI * j as f64 / m as f64;
+                [psi.cos(), psi.sin()]
+            }));
+        }
+        self.trace.clear();
+        self.trace.extend(path.iter().map(|s| s[0] + s[1] + s[2]));
+    }
+}
+
+/// The `i`-th of `n` normals of the Fibonacci lattice on the upper hemisphere: `z = (i + ½)/n`
+/// (equal areas), azimuth `i·π(3 − √5)`.
+pub fn fibonacci_normal(i: usize, n: usize) -> [f64; 3] {
+    let z = (i as f64 + 0.5) / n as f64;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = i as f64 * std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    [r * phi.cos(), r * phi.sin(), z]
+}
+
+/// An orthonormal basis `(u, v)` of the plane normal to the unit vector `n`, `u × v = n`.
+pub fn tangent_basis(n: &[f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let k = (0..3)
+        .min_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs()))
+        .unwrap_or(0);
+    let mut e = [0.0; 3];
+    e[k] = 1.0;
+    let u = normalize(cross(&e, n));
+    let v = cross(n, &u);
+    (u, v)
+}
+
+fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn normalize(a: [f64; 3]) -> [f64; 3] {
+    let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    [a[0] / l, a[1] / l, a[2] / l]
+}
+
+/// SWT on the plane `n`: `σ_n,max · (max_t ε_n − min_t ε_n)/2` with
+/// `ε_n = ((1 + ν) σ_n − ν tr σ)/E` (Smith, Watson & Topper 1970; docs/fatigue.md, Eq. F5).
+/// Returns `(value, σ_n,max, ε_a)`.
+fn swt_plane(path: &[Voigt], trace: &[f64], n: &[f64; 3], young: f64, nu: f64) -> [f64; 3] {
+    let w = bilinear_weights(n, n);
+    let (mut smax, mut emin, mut emax) = (f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+    for (s, tr) in path.iter().zip(trace) {
+        let sn = dot6(&w, s);
+        let en = (1.0 + nu) * sn - nu * tr;
+        smax = smax.max(sn);
+        emin = emin.min(en);
+        emax = emax.max(en);
+    }
+    let ea = 0.5 * (emax - emin) / young;
+    [smax * ea, smax, ea]
+}
+
+/// SWT on the given plane (unit normal `n`), see [`swt`]; `evaluations = 1`.
+pub fn swt_on_plane(
+    path: &[Voigt],
+    material: &Material,
+    n: &[f64; 3],
+) -> Result<Swt, FatigueError> {
+    material.validate_elastic()?;
+    check_path(path)?;
+    let n = normalize(*n);
+    let trace: Vec<f64> = path.iter().map(|s| s[0] + s[1] + s[2]).collect();
+    let [value, smax, ea] = swt_plane(path, &trace, &n, material.young, material.poisson);
+    Ok(Swt {
+        value,
+        normal: n,
+        normal_stress_max: smax,
+        strain_amplitude: ea,
+        evaluations: 1,
+    })
+}
+
+/// Smith–Watson–Topper (1970) on the critical plane: `max_n σ_n,max(n) · ε_a(n)`, Pa, with
+/// `ε_a(n) = (max_t ε_n − min_t ε_n)/2` and `ε_n` from isotropic Hooke's law (docs/fatigue.md,
+/// Eq. F5). The value is not clipped: a plane always in compression gives a negative product.
+/// Search: the `coarse_normals` Fibonacci normals, then compass refinement of the best
+/// `candidates` to `angular_tolerance` ([`CriticalPlaneParams`]).
+pub fn swt(
+    path: &[Voigt],
+    material: &Material,
+    params: &CriticalPlaneParams,
+    scratch: &mut PlaneScratch,
+) -> Result<Swt, FatigueError> {
+    material.validate_elastic()?;
+    params.validate()?;
+    check_path(path)?;
+    scratch.prepare(params, path);
+    let (young, nu) = (material.young, material.poisson);
+    let trace = std::mem::take(&mut scratch.trace);
+    scratch.values.clear();
+    for n in &scratch.coarse {
+        scratch
+            .values
+            .push(swt_plane(path, &trace, n, young, nu)[0]);
+    }
+    let mut evaluations = scratch.coarse.len();
+    choose_candidates(scratch, params);
+    let mut best = (f64::NEG_INFINITY, [0.0, 0.0, 1.0]);
+    for c in 0..scratch.chosen.len() {
+        let i = scratch.chosen[c];
+        let (n, v, evals) = refine(
+            |n| swt_plane(path, &trace, n, young, nu)[0],
+            scratch.coarse[i],
+            scratch.values[i],
+            params.coarse_spacing(),
+            params.angular_tolerance,
+        );
+        evaluations += evals;
+        if v > best.0 {
+            best = (v, n);
+        }
+    }
+    let [value, smax, ea] = swt_plane(path, &trace, &best.1, young, nu);
+    scratch.trace = trace;
+    Ok(Swt {
+        value,
+        normal: best.1,
+        normal_stress_max: smax,
+        strain_amplitude: ea,
+        evaluations,
+    })
+}
+
+/// The shear traction components `(u·σ·n, v·σ·n)` over the path into `shear`; returns `σ_n,max`.
+fn shear_path(
+    path: &[Voigt],
+    n: &[f64; 3],
+    shear: &mut Vec<[f64; 2]>,
+) -> (f64, [f64; 3], [f64; 3]) {
+    let (u, v) = tangent_basis(n);
+    let (wn, wu, wv) = (
+        bilinear_weights(n, n),
+        bilinear_weights(&u, n),
+        bilinear_weights(&v, n),
+    );
+    shear.clear();
+    let mut smax = f64::NEG_INFINITY;
+    for s in path {
+        smax = smax.max(dot6(&wn, s));
+        shear.push([dot6(&wu, s), dot6(&wv, s)]);
+    }
+    (smax, u, v)
+}
+
+/// Fatemi–Socie on the plane `n` maximised exactly over in-plane directions: the half range of
+/// `τ_nm(t) = m·τ(t)` maximised over unit `m` is half the diameter of the planar shear path
+/// `{τ(t)}` (docs/fatigue.md, Eq. F7). Returns `(value, γ_a, σ_n,max, m)`.
+fn fs_plane_exact(
+    path: &[Voigt],
+    n: &[f64; 3],
+    g: f64,
+    k_over_sy: f64,
+    shear: &mut Vec<[f64; 2]>,
+    hull: &mut Vec<[f64; 2]>,
+) -> (f64, f64, f64, [f64; 3]) {
+    let (smax, u, v) = shear_path(path, n, shear);
+    let (d2, d) = diameter(shear, hull);
+    let gamma_a = 0.5 * d2.sqrt() / g;
+    let m = if d2 > 0.0 {
+        normalize([
+            d[0] * u[0] + d[1] * v[0],
+            d[0] * u[1] + d[1] * v[1],
+            d[0] * u[2] + d[1] * v[2],
+        ])
+    } else {
+        u
+    };
+    (gamma_a * (1.0 + k_over_sy * smax), gamma_a, smax, m)
+}
+
+/// Fatemi–Socie on the coarse in-plane directions `directions` (lower bound of the exact value).
+fn fs_plane_coarse(
+    path: &[Voigt],
+    n: &[f64; 3],
+    g: f64,
+    k_over_sy: f64,
+    directions: &[[f64; 2]],
+    shear: &mut Vec<[f64; 2]>,
+) -> f64 {
+    let (smax, _, _) = shear_path(path, n, shear);
+    let mut range: f64 = 0.0;
+    for m in directions {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for t in shear.iter() {
+            let x = t[0] * m[0] + t[1] * m[1];
+            lo = lo.min(x);
+            hi = hi.max(x);
+        }
+        range = range.max(hi - lo);
+    }
+    0.5 * range / g * (1.0 + k_over_sy * smax)
+}
+
+/// Fatemi–Socie on the given plane (unit normal `n`), exact over in-plane directions; see
+/// [`fatemi_socie`].
+pub fn fatemi_socie_on_plane(
+    path: &[Voigt],
+    material: &Material,
+    n: &[f64; 3],
+) -> Result<FatemiSocie, FatigueError> {
+    material.validate_fatemi_socie()?;
+    check_path(path)?;
+    let n = normalize(*n);
+    let (mut shear, mut hull) = (Vec::new(), Vec::new());
+    let (value, gamma_a, smax, m) = fs_plane_exact(
+        path,
+        &n,
+        material.shear_modulus(),
+        material.fs_k / material.yield_stress,
+        &mut shear,
+        &mut hull,
+    );
+    Ok(FatemiSocie {
+        value,
+        normal: n,
+        direction: m,
+        shear_strain_amplitude: gamma_a,
+        normal_stress_max: smax,
+        evaluations: 1,
+    })
+}
+
+/// Fatemi–Socie (1988) on the critical plane: `max_{n, m ⊥ n} γ_a(n, m) (1 + k σ_n,max(n)/σ_y)`
+/// with `γ_a(n, m) = (max_t γ_nm − min_t γ_nm)/2` the half range of the engineering shear strain
+/// `γ_nm = 2 m·ε·n = τ_nm/G` along the fixed direction `m` (docs/fatigue.md, Eqs. F6–F7). For
+/// each plane the maximum over `m` is exact (half the diameter of the shear-traction path); over
+/// planes: coarse covering (with `coarse_directions` in-plane directions), then compass
+/// refinement of the best `candidates` to `angular_tolerance`.
+pub fn fatemi_socie(
+    path: &[Voigt],
+    material: &Material,
+    params: &CriticalPlaneParams,
+    scratch: &mut PlaneScratch,
+) -> Result<FatemiSocie, FatigueError> {
+    material.validate_fatemi_socie()?;
+    params.validate()?;
+    check_path(path)?;
+    scratch.prepare(params, path);
+    let g = material.shear_modulus();
+    let kq = material.fs_k / material.yield_stress;
+    let mut shear = std::mem::take(&mut scratch.shear);
+    let mut hull = std::mem::take(&mut scratch.hull);
+    scratch.values.clear();
+    for n in &scratch.coarse {
+        let v = fs_plane_coarse(path, n, g, kq, &scratch.directions, &mut shear);
+        scratch.values.push(v);
+    }
+    let mut evaluations = scratch.coarse.len();
+    choose_candidates(scratch, params);
+    let mut best = (f64::NEG_INFINITY, [0.0, 0.0, 1.0]);
+    for c in 0..scratch.chosen.len() {
+        let i = scratch.chosen[c];
+        let n0 = scratch.coarse[i];
+        let v0 = fs_plane_exact(path, &n0, g, kq, &mut shear, &mut hull).0;
+        let (n, v, evals) = refine(
+            |n| fs_plane_exact(path, n, g, kq, &mut shear, &mut hull).0,
+            n0,
+            v0,
+            params.coarse_spacing(),
+            params.angular_tolerance,
+        );
+        evaluations += evals + 1;
+        if v > best.0 {
+            best = (v, n);
+        }
+    }
+    let (value, gamma_a, smax, m) = fs_plane_exact(path, &best.1, g, kq, &mut shear, &mut hull);
+    scratch.shear = shear;
+    scratch.hull = hull;
+    Ok(FatemiSocie {
+        value,
+        normal: best.1,
+        direction: m,
+        shear_strain_amplitude: gamma_a,
+        normal_stress_max: smax,
+        evaluations,
+    })
+}
+
+/// The best `candidates` coarse normals, greedily, each more than twice the coarse spacing away
+/// from those chosen before (as planes: `|n·n'| < cos 2h`).
+fn choose_candidates(scratch: &mut PlaneScratch, params: &CriticalPlaneParams) {
+    let cos_sep = (2.0 * params.coarse_spacing())
+        .min(std::f64::consts::FRAC_PI_2)
+        .cos();
+    scratch.chosen.clear();
+    for _ in 0..params.candidates {
+        let mut best: Option<usize> = None;
+        for (i, (&v, n)) in scratch.values.iter().zip(&scratch.coarse).enumerate() {
+            if best.is_some_and(|b| scratch.values[b] >= v) || v.is_nan() {
+                continue;
+            }
+            let near = scratch.chosen.iter().any(|&c| {
+                let m = &scratch.coarse[c];
+                (n[0] * m[0] + n[1] * m[1] + n[2] * m[2]).abs() > cos_sep
+            });
+            if !near {
+                best = Some(i);
+            }
+        }
+        match best {
+            Some(b) => scratch.chosen.push(b),
+            None => break,
+        }
+    }
+}
+
+/// Compass search on the unit sphere: from `n0` (value `v0`) try the 8 points at angle `h` in
+/// the directions `kπ/4` of the tangent plane, move to the best if it improves, else halve `h`;
+/// stop when `h < tol`. Returns the best normal, its value and the evaluations.
+fn refine<F: FnMut(&[f64; 3]) -> f64>(
+    mut f: F,
+    n0: [f64; 3],
+    v0: f64,
+    h0: f64,
+    tol: f64,
+) -> ([f64; 3], f64, usize) {
+    let (mut n, mut best, mut h) = (n0, v0, h0);
+    let mut evals = 0;
+    let dirs: [[f64; 2]; 8] = std::array::from_fn(|k| {
+        let b = std::f64::consts::FRAC_PI_4 * k as f64;
+        [b.cos(), b.sin()]
+    });
+    while h >= tol {
+        let (u, v) = tangent_basis(&n);
+        let t = h.tan();
+        let mut improved: Option<([f64; 3], f64)> = None;
+        for d in &dirs {
+            let cand = normalize(std::array::from_fn(|k| {
+                n[k] + t * (d[0] * u[k] + d[1] * v[k])
+            }));
+            let val = f(&cand);
+            evals += 1;
+            if val > improved.map_or(best, |x| x.1) {
+                improved = Some((cand, val));
+            }
+        }
+        match improved {
+            Some((c, v)) => {
+                n = c;
+                best = v;
+            }
+            None => h *= 0.5,
+        }
+    }
+    (n, best, evals)
+}
+
+/// The largest squared distance between two of `points` and the difference vector of that
+/// pair, by the convex hull (Andrew's monotone chain) and rotating calipers (Shamos 1978):
+/// `O(N log N)`. Sorts `points` in place. Its twin is [`diameter_brute_force`].
+///
+/// Hull vertices whose turn `|(b − a) × (c − a)|` is below `1e-12 L²` (`L` the extent of the
+/// points) are dropped as collinear, so the calipers see a strictly convex polygon (rounding
+/// on nearly collinear shear paths — proportional loading — would otherwise break the
+/// unimodality they rely on); this changes the diameter by at most a relative `1e-12`.
+pub fn diameter(points: &mut [[f64; 2]], hull: &mut Vec<[f64; 2]>) -> (f64, [f64; 2]) {
+    points.sort_unstable_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    let turn = |a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]| {
+        (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    };
+    let (mut ylo, mut yhi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for p in points.iter() {
+        ylo = ylo.min(p[1]);
+        yhi = yhi.max(p[1]);
+    }
+    let extent = match (points.first(), points.last()) {
+        (Some(a), Some(b)) => (b[0] - a[0]).max(yhi - ylo),
+        _ => 0.0,
+    };
+    let flat = 1e-12 * extent * extent;
+    hull.clear();
+    for p in points.iter() {
+        while hull.len() >= 2 && turn(&hull[hull.len() - 2], &hull[hull.len() - 1], p) <= flat {
+            hull.pop();
+        }
+        hull.push(*p);
+    }
+    let lower = hull.len() + 1;
+    for p in points.iter().rev().skip(1) {
+        while hull.len() >= lower && turn(&hull[hull.len() - 2], &hull[hull.len() - 1], p) <= flat {
+            hull.pop();
+        }
+        hull.push(*p);
+    }
+    hull.pop(); // the first point again
+    let h = hull.len();
+    if h <= 3 {
+        return diameter_brute_force(hull);
+    }
+    let d2 = |a: &[f64; 2], b: &[f64; 2]| (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2);
+    let mut best = (0.0, [0.0, 0.0]);
+    let mut consider = |a: &[f64; 2], b: &[f64; 2]| {
+        let d = d2(a, b);
+        if d > best.0 {
+            best = (d, [a[0] - b[0], a[1] - b[1]]);
+        }
+    };
+    let mut j = 1;
+    for i in 0..h {
+        let i1 = (i + 1) % h;
+        // Advance j to the vertex farthest from the edge (i, i1) (the area is unimodal).
+        for _ in 0..h {
+            let j1 = (j + 1) % h;
+            if turn(&hull[i], &hull[i1], &hull[j1]) > turn(&hull[i], &hull[i1], &hull[j]) {
+                j = j1;
+            } else {
+                break;
+            }
+        }
+        consider(&hull[i], &hull[j]);
+        consider(&hull[i1], &hull[j]);
+    }
+    best
+}
+
+/// The largest squared distance over all pairs, `O(N²)`: the twin of [`diameter`].
+pub fn diameter_brute_force(points: &[[f64; 2]]) -> (f64, [f64; 2]) {
+    let mut best = (0.0, [0.0, 0.0]);
+    for (i, a) in points.iter().enumerate() {
+        for b in &points[i + 1..] {
+            let d = (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2);
+            if d > best.0 {
+                best = (d, [a[0] - b[0], a[1] - b[1]]);
+            }
+        }
+    }
+    best
+}
+
+/// SWT by brute force on the grid `θ = i δ ∈ [0, π/2]`, `φ = j δ ∈ [0, 2π)` (the twin of
+/// [`swt`] for verification; `δ = step` rad).
+pub fn swt_brute_force(
+    path: &[Voigt],
+    material: &Material,
+    step: f64,
+) -> Result<Swt, FatigueError> {
+    material.validate_elastic()?;
+    check_path(path)?;
+    let trace: Vec<f64> = path.iter().map(|s| s[0] + s[1] + s[2]).collect();
+    let mut best = (f64::NEG_INFINITY, [0.0, 0.0, 1.0]);
+    let mut evaluations = 0;
+    for_each_grid_normal(step, |n| {
+        let v = swt_plane(path, &trace, n, material.young, material.poisson)[0];
+        evaluations += 1;
+        if v > best.0 {
+            best = (v, *n);
+        }
+    });
+    let [value, smax, ea] = swt_plane(path, &trace, &best.1, material.young, material.poisson);
+    Ok(Swt {
+        value,
+        normal: best.1,
+        normal_stress_max: smax,
+        strain_amplitude: ea,
+        evaluations,
+    })
+}
+
+/// Fatemi–Socie by brute force on the `(θ, φ)` grid of step `step` rad, exact over in-plane
+/// directions at each normal (the twin of [`fatemi_socie`] for verification).
+pub fn fatemi_socie_brute_force(
+    path: &[Voigt],
+    material: &Material,
+    step: f64,
+) -> Result<FatemiSocie, FatigueError> {
+    material.validate_fatemi_socie()?;
+    check_path(path)?;
+    let g = material.shear_modulus();
+    let kq = material.fs_k / material.yield_stress;
+    let (mut shear, mut hull) = (Vec::new(), Vec::new());
+    let mut best = (f64::NEG_INFINITY, [0.0, 0.0, 1.0]);
+    let mut evaluations = 0;
+    for_each_grid_normal(step, |n| {
+        let v = fs_plane_exact(path, n, g, kq, &mut shear, &mut hull).0;
+        evaluations += 1;
+        if v > best.0 {
+            best = (v, *n);
+        }
+    });
+    let (value, gamma_a, smax, m) = fs_plane_exact(path, &best.1, g, kq, &mut shear, &mut hull);
+    Ok(FatemiSocie {
+        value,
+        normal: best.1,
+        direction: m,
+        shear_strain_amplitude: gamma_a,
+        normal_stress_max: smax,
+        evaluations,
+    })
+}
+
+fn for_each_grid_normal<F: FnMut(&[f64; 3])>(step: f64, mut f: F) {
+    let step = step.clamp(1e-5, 1.0);
+    let nt = (std::f64::consts::FRAC_PI_2 / step).ceil() as usize;
+    let np = (2.0 * std::f64::consts::PI / step).ceil() as usize;
+    for i in 0..=nt {
+        let theta = std::f64::consts::FRAC_PI_2 * i as f64 / nt as f64;
+        let (st, ct) = theta.sin_cos();
+        let count = if i == 0 { 1 } else { np };
+        for j in 0..count {
+            let phi = 2.0 * std::f64::consts::PI * j as f64 / np as f64;
+            let (sp, cp) = phi.sin_cos();
+            f(&[st * cp, st * sp, ct]);
+        }
+    }
+}
