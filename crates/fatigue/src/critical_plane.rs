@@ -10,6 +10,19 @@ use crate::invariant::check_path;
 use crate::material::Material;
 use crate::tensor::{bilinear_weights, dot6, Voigt};
 
+/// Coarse normals whose value is more than this fraction of the best coarse value below it are
+/// not refined: refinement gains less than the coarse lattice's error (measured < 3 % at the
+/// default spacing on random paths).
+pub const CANDIDATE_WINDOW: f64 = 0.25;
+/// Most candidates refined per search.
+pub const MAX_CANDIDATES: usize = 16;
+/// Safety margin of the phase-2 pruning of Fatemi–Socie (covers the gain of refining below
+/// `FS_EXACT_BELOW`).
+const PRUNE_MARGIN: f64 = 0.05;
+/// Fatemi–Socie's refinement uses the coarse in-plane directions while its step is above this
+/// angle (rad), then the exact maximum over directions.
+pub const FS_EXACT_BELOW: f64 = 0.02;
+
 /// Parameters of the critical-plane search.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CriticalPlaneParams {
@@ -31,14 +44,14 @@ impl Default for CriticalPlaneParams {
             coarse_normals: 200,
             coarse_directions: 12,
             candidates: 3,
-            angular_tolerance: 1e-5,
+            angular_tolerance: 1e-4,
         }
     }
 }
 
 impl CriticalPlaneParams {
     /// Checks `8 ≤ coarse_normals ≤ 10⁶`, `2 ≤ coarse_directions ≤ 10⁴`,
-    /// `1 ≤ candidates ≤ coarse_normals`, `0 < angular_tolerance ≤ 0.1`.
+    /// `1 ≤ candidates ≤ 16`, `0 < angular_tolerance ≤ 0.1`.
     pub fn validate(&self) -> Result<(), FatigueError> {
         let bad = |name, value: usize, reason| {
             Err(FatigueError::InvalidSearch {
@@ -61,12 +74,8 @@ impl CriticalPlaneParams {
                 "must lie in 2 ..= 1e4",
             );
         }
-        if self.candidates == 0 || self.candidates > self.coarse_normals {
-            return bad(
-                "candidates",
-                self.candidates,
-                "must lie in 1 ..= coarse_normals",
-            );
+        if self.candidates == 0 || self.candidates > MAX_CANDIDATES {
+            return bad("candidates", self.candidates, "must lie in 1 ..= 16");
         }
         if !(self.angular_tolerance > 0.0 && self.angular_tolerance <= 0.1) {
             return Err(FatigueError::InvalidSearch {
@@ -189,12 +198,13 @@ fn normalize(a: [f64; 3]) -> [f64; 3] {
 fn swt_plane(path: &[Voigt], trace: &[f64], n: &[f64; 3], young: f64, nu: f64) -> [f64; 3] {
     let w = bilinear_weights(n, n);
     let (mut smax, mut emin, mut emax) = (f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+    // Plain comparisons (the path is finite): `f64::max` pays for NaN handling here.
     for (s, tr) in path.iter().zip(trace) {
         let sn = dot6(&w, s);
         let en = (1.0 + nu) * sn - nu * tr;
-        smax = smax.max(sn);
-        emin = emin.min(en);
-        emax = emax.max(en);
+        smax = if sn > smax { sn } else { smax };
+        emin = if en < emin { en } else { emin };
+        emax = if en > emax { en } else { emax };
     }
     let ea = 0.5 * (emax - emin) / young;
     [smax * ea, smax, ea]
@@ -252,7 +262,7 @@ pub fn swt(
             |n| swt_plane(path, &trace, n, young, nu)[0],
             scratch.coarse[i],
             scratch.values[i],
-            params.coarse_spacing(),
+            0.5 * params.coarse_spacing(),
             params.angular_tolerance,
         );
         evaluations += evals;
@@ -286,7 +296,8 @@ fn shear_path(
     shear.clear();
     let mut smax = f64::NEG_INFINITY;
     for s in path {
-        smax = smax.max(dot6(&wn, s));
+        let sn = dot6(&wn, s);
+        smax = if sn > smax { sn } else { smax };
         shear.push([dot6(&wu, s), dot6(&wv, s)]);
     }
     (smax, u, v)
@@ -329,14 +340,21 @@ fn fs_plane_coarse(
 ) -> f64 {
     let (smax, _, _) = shear_path(path, n, shear);
     let mut range: f64 = 0.0;
-    for m in directions {
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    // Directions in blocks of 8, the increments inside: plain comparisons, vectorisable.
+    for block in directions.chunks(8) {
+        let mut lo = [f64::INFINITY; 8];
+        let mut hi = [f64::NEG_INFINITY; 8];
         for t in shear.iter() {
-            let x = t[0] * m[0] + t[1] * m[1];
-            lo = lo.min(x);
-            hi = hi.max(x);
+            for (j, m) in block.iter().enumerate() {
+                let x = t[0] * m[0] + t[1] * m[1];
+                lo[j] = if x < lo[j] { x } else { lo[j] };
+                hi[j] = if x > hi[j] { x } else { hi[j] };
+            }
         }
-        range = range.max(hi - lo);
+        for j in 0..block.len() {
+            let r = hi[j] - lo[j];
+            range = if r > range { r } else { range };
+        }
     }
     0.5 * range / g * (1.0 + k_over_sy * smax)
 }
@@ -397,16 +415,43 @@ pub fn fatemi_socie(
     }
     let mut evaluations = scratch.coarse.len();
     choose_candidates(scratch, params);
-    let mut best = (f64::NEG_INFINITY, [0.0, 0.0, 1.0]);
-    for c in 0..scratch.chosen.len() {
+    // Phase 1: every candidate on the coarse in-plane directions down to FS_EXACT_BELOW; its
+    // value is a lower bound within the factor cos(π/2M) of the exact one (M directions).
+    let h0 = 0.5 * params.coarse_spacing();
+    let h1 = FS_EXACT_BELOW.min(h0);
+    let mut phase1 = [(f64::NEG_INFINITY, [0.0, 0.0, 1.0]); MAX_CANDIDATES];
+    let count = scratch.chosen.len().min(MAX_CANDIDATES);
+    for c in 0..count {
         let i = scratch.chosen[c];
-        let n0 = scratch.coarse[i];
-        let v0 = fs_plane_exact(path, &n0, g, kq, &mut shear, &mut hull).0;
+        let directions = &scratch.directions;
+        let (n1, v1, evals1) = refine(
+            |n| fs_plane_coarse(path, n, g, kq, directions, &mut shear),
+            scratch.coarse[i],
+            scratch.values[i],
+            h0,
+            h1,
+        );
+        evaluations += evals1;
+        phase1[c] = (v1, n1);
+    }
+    // Phase 2, exact over directions, for the candidates that can still win: exact ≤
+    // coarse / cos(π/2M), so a candidate below best·cos(π/2M) cannot.
+    let best1 = phase1[..count]
+        .iter()
+        .map(|p| p.0)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let factor = (std::f64::consts::FRAC_PI_2 / params.coarse_directions as f64).cos();
+    let mut best = (f64::NEG_INFINITY, [0.0, 0.0, 1.0]);
+    for &(v1, n1) in &phase1[..count] {
+        if count > 1 && v1 >= 0.0 && v1 < best1 * factor * (1.0 - PRUNE_MARGIN) {
+            continue;
+        }
+        let v1 = fs_plane_exact(path, &n1, g, kq, &mut shear, &mut hull).0;
         let (n, v, evals) = refine(
             |n| fs_plane_exact(path, n, g, kq, &mut shear, &mut hull).0,
-            n0,
-            v0,
-            params.coarse_spacing(),
+            n1,
+            v1,
+            h0,
             params.angular_tolerance,
         );
         evaluations += evals + 1;
@@ -428,16 +473,23 @@ pub fn fatemi_socie(
 }
 
 /// The best `candidates` coarse normals, greedily, each more than twice the coarse spacing away
-/// from those chosen before (as planes: `|n·n'| < cos 2h`).
+/// from those chosen before (as planes: `|n·n'| < cos 2h`) and within [`CANDIDATE_WINDOW`] of
+/// the best coarse value.
 fn choose_candidates(scratch: &mut PlaneScratch, params: &CriticalPlaneParams) {
     let cos_sep = (2.0 * params.coarse_spacing())
         .min(std::f64::consts::FRAC_PI_2)
         .cos();
     scratch.chosen.clear();
+    let top = scratch
+        .values
+        .iter()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max);
+    let floor = top - CANDIDATE_WINDOW * top.abs();
     for _ in 0..params.candidates {
         let mut best: Option<usize> = None;
         for (i, (&v, n)) in scratch.values.iter().zip(&scratch.coarse).enumerate() {
-            if best.is_some_and(|b| scratch.values[b] >= v) || v.is_nan() {
+            if best.is_some_and(|b| scratch.values[b] >= v) || v.is_nan() || v < floor {
                 continue;
             }
             let near = scratch.chosen.iter().any(|&c| {
@@ -456,8 +508,8 @@ fn choose_candidates(scratch: &mut PlaneScratch, params: &CriticalPlaneParams) {
 }
 
 /// Compass search on the unit sphere: from `n0` (value `v0`) try the 8 points at angle `h` in
-/// the directions `kπ/4` of the tangent plane, move to the best if it improves, else halve `h`;
-/// stop when `h < tol`. Returns the best normal, its value and the evaluations.
+/// the directions `kπ/4` (`π/8 + kπ/4` on every other iteration) of the tangent plane, move to
+/// the best if it improves, else halve `h`; stop when `h < tol`. Returns the best normal, its value and the evaluations.
 fn refine<F: FnMut(&[f64; 3]) -> f64>(
     mut f: F,
     n0: [f64; 3],
@@ -467,18 +519,22 @@ fn refine<F: FnMut(&[f64; 3]) -> f64>(
 ) -> ([f64; 3], f64, usize) {
     let (mut n, mut best, mut h) = (n0, v0, h0);
     let mut evals = 0;
-    let dirs: [[f64; 2]; 8] = std::array::from_fn(|k| {
-        let b = std::f64::consts::FRAC_PI_4 * k as f64;
-        [b.cos(), b.sin()]
-    });
+    let mut iteration = 0usize;
     while h >= tol {
         let (u, v) = tangent_basis(&n);
         let t = h.tan();
+        // The 8-point stencil, turned by π/8 on every other iteration (16 directions over two
+        // iterations: ridges of the max-over-time functions are followed, not stalled on).
+        let offset = if iteration % 2 == 1 {
+            std::f64::consts::FRAC_PI_8
+        } else {
+            0.0
+        };
+        iteration += 1;
         let mut improved: Option<([f64; 3], f64)> = None;
-        for d in &dirs {
-            let cand = normalize(std::array::from_fn(|k| {
-                n[k] + t * (d[0] * u[k] + d[1] * v[k])
-            }));
+        for k in 0..8 {
+            let (sb, cb) = (offset + std::f64::consts::FRAC_PI_4 * k as f64).sin_cos();
+            let cand = normalize(std::array::from_fn(|i| n[i] + t * (cb * u[i] + sb * v[i])));
             let val = f(&cand);
             evals += 1;
             if val > improved.map_or(best, |x| x.1) {
@@ -496,15 +552,27 @@ fn refine<F: FnMut(&[f64; 3]) -> f64>(
     (n, best, evals)
 }
 
+/// Up to this many points [`diameter`] compares all pairs (measured faster than the hull).
+pub const DIAMETER_PAIRS_UP_TO: usize = 64;
+
 /// The largest squared distance between two of `points` and the difference vector of that
 /// pair, by the convex hull (Andrew's monotone chain) and rotating calipers (Shamos 1978):
-/// `O(N log N)`. Sorts `points` in place. Its twin is [`diameter_brute_force`].
+/// `O(N log N)`; up to [`DIAMETER_PAIRS_UP_TO`] points all pairs are cheaper (no sort) and
+/// are used instead. Sorts `points` in place. Its twin is [`diameter_brute_force`].
 ///
 /// Hull vertices whose turn `|(b − a) × (c − a)|` is below `1e-12 L²` (`L` the extent of the
 /// points) are dropped as collinear, so the calipers see a strictly convex polygon (rounding
 /// on nearly collinear shear paths — proportional loading — would otherwise break the
 /// unimodality they rely on); this changes the diameter by at most a relative `1e-12`.
 pub fn diameter(points: &mut [[f64; 2]], hull: &mut Vec<[f64; 2]>) -> (f64, [f64; 2]) {
+    if points.len() <= DIAMETER_PAIRS_UP_TO {
+        return diameter_brute_force(points);
+    }
+    diameter_hull(points, hull)
+}
+
+/// The diameter of [`diameter`] by the hull and rotating calipers at any size.
+pub fn diameter_hull(points: &mut [[f64; 2]], hull: &mut Vec<[f64; 2]>) -> (f64, [f64; 2]) {
     points.sort_unstable_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
     let turn = |a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]| {
         (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])

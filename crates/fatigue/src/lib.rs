@@ -14,10 +14,12 @@
 pub mod ball;
 pub mod critical_plane;
 pub mod error;
+pub mod field;
 pub mod invariant;
 pub mod material;
 pub mod tensor;
 
 pub use error::FatigueError;
+pub use field::{evaluate_field, FieldIndices, FieldParams};
 pub use material::Material;
 pub use tensor::Voigt;

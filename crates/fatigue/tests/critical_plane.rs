@@ -18,7 +18,7 @@ fn fine_params() -> CriticalPlaneParams {
     CriticalPlaneParams {
         coarse_normals: 20_000,
         coarse_directions: 90,
-        candidates: 12,
+        candidates: 16,
         angular_tolerance: 1e-9,
     }
 }
@@ -169,8 +169,10 @@ fn closed_forms() {
         );
     }
     eprintln!("closed forms: worst relative value error {worst_value:.2e}, worst plane angle {worst_angle:.2e} rad");
-    assert!(worst_value < 1e-9, "{worst_value}");
-    assert!(worst_angle < 1e-4, "{worst_angle}");
+    // Smooth maxima 1 − 2θ² (cos⁴θ, cos 2θ): an angle error θ ≤ 1.5 × tolerance (1e-4 rad)
+    // costs at most 2θ² = 4.5e-8.
+    assert!(worst_value < 4.5e-8, "{worst_value}");
+    assert!(worst_angle < 2e-4, "{worst_angle}");
 }
 
 struct Comparison {
@@ -203,7 +205,7 @@ fn compare(path: &[Voigt], m: &Material, step: f64) -> (Comparison, Comparison) 
 }
 
 /// Random and proportional paths: the default search against a brute-force grid of 0.25° and a
-/// very fine search (20 000 normals, 12 candidates, 1e-9 rad).
+/// very fine search (20 000 normals, 16 candidates, 1e-9 rad); the reference is the larger.
 #[test]
 fn search_matches_brute_force() {
     let mut rng = Rng::new(2233);
@@ -230,7 +232,12 @@ fn search_matches_brute_force() {
          vs the 0.25° grid: SWT ≥ grid·(1 {:+.2e}), FS ≥ grid·(1 {:+.2e})",
         worst[0], worst[1], worst_grid[0], worst_grid[1]
     );
-    assert!(worst[0] < 1e-9 && worst[1] < 1e-9, "{worst:?}");
+    // SWT: a smooth local maximum, found to the angular tolerance (1e-4 rad ⇒ ~1e-8). FS is a
+    // maximum over increment pairs: nearby local maxima (0.03–0.07 rad apart, values within
+    // 5e-4) exist and the default search may stop on the lower one — 5.0e-4 worst over 120
+    // paths (docs/fatigue.md, "Accuracy of the critical-plane search"); not a tolerance knob.
+    assert!(worst[0] < 1e-7, "{worst:?}");
+    assert!(worst[1] < 1e-3, "{worst:?}");
     assert!(
         worst_grid[0] > -1e-12 && worst_grid[1] > -1e-12,
         "{worst_grid:?}"
@@ -318,9 +325,58 @@ proptest! {
         let mut s = PlaneScratch::default();
         let a = swt(&path, &m, &p, &mut s).unwrap();
         let b = swt(&rotated, &m, &p, &mut s).unwrap();
-        prop_assert!((a.value - b.value).abs() <= 1e-9 * a.value.abs(), "{} {}", a.value, b.value);
+        prop_assert!((a.value - b.value).abs() <= 1e-7 * a.value.abs(), "{} {}", a.value, b.value);
         let a = fatemi_socie(&path, &m, &p, &mut s).unwrap();
         let b = fatemi_socie(&rotated, &m, &p, &mut s).unwrap();
-        prop_assert!((a.value - b.value).abs() <= 1e-9 * a.value.abs(), "{} {}", a.value, b.value);
+        // The search's accuracy (see search_matches_brute_force), not exact invariance.
+        prop_assert!((a.value - b.value).abs() <= 1e-3 * a.value.abs(), "{} {}", a.value, b.value);
     }
+}
+
+/// The measurement behind docs/fatigue.md, "Accuracy of the critical-plane search": 120 paths
+/// (random two-harmonic cycles and, every fourth, proportional ones), the default search against
+/// the very fine one. Run with
+/// `cargo test --release -p halfspace-fatigue --test critical_plane -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn search_accuracy_survey() {
+    let mut rng = Rng::new(99);
+    let m = steel();
+    let mut s = PlaneScratch::default();
+    let d = CriticalPlaneParams::default();
+    let (mut ws, mut wf) = (0.0f64, 0.0f64);
+    let (mut misses, mut es, mut ef) = (0usize, 0usize, 0usize);
+    let n = 120;
+    for i in 0..n {
+        let path = if i % 4 == 3 {
+            let mean: Voigt = std::array::from_fn(|_| rng.range(-1e8, 1e8));
+            let a: Voigt = std::array::from_fn(|_| rng.range(-2e8, 2e8));
+            proportional_cycle(mean, a, 40)
+        } else {
+            random_cycle(&mut rng, 40, 1e8, 1e8)
+        };
+        let (rs, rf) = (
+            swt(&path, &m, &fine_params(), &mut s).unwrap().value,
+            fatemi_socie(&path, &m, &fine_params(), &mut s)
+                .unwrap()
+                .value,
+        );
+        let a = swt(&path, &m, &d, &mut s).unwrap();
+        let b = fatemi_socie(&path, &m, &d, &mut s).unwrap();
+        ws = ws.max((rs - a.value) / rs.abs());
+        let gap = (rf - b.value) / rf.abs();
+        if gap > 1e-7 {
+            misses += 1;
+        }
+        wf = wf.max(gap);
+        es += a.evaluations;
+        ef += b.evaluations;
+    }
+    eprintln!(
+        "{n} paths: SWT at most {ws:.1e} below the reference ({} planes per search); FS at most \
+         {wf:.1e} below ({misses} paths more than 1e-7 below; {} planes per search)",
+        es / n,
+        ef / n
+    );
+    assert!(ws < 1e-7 && wf < 1e-3);
 }
