@@ -14,6 +14,20 @@ use crate::tensor::{bilinear_weights, dot6, Voigt};
 /// not refined: refinement gains less than the coarse lattice's error (measured < 3 % at the
 /// default spacing on random paths).
 pub const CANDIDATE_WINDOW: f64 = 0.25;
+/// Above this many coarse normals the candidates are chosen greedily at least
+/// [`CANDIDATE_SEPARATION`] apart instead of as lattice local maxima (the neighbour lists cost
+/// `O(N²)` once per scratch).
+pub const NEIGHBOUR_LISTS_UP_TO: usize = 4000;
+/// Lattice neighbours are the normals within this many coarse spacings `h` (the Fibonacci
+/// lattice's nearest neighbours lie at 0.8–1.1 h).
+pub const NEIGHBOUR_RADIUS: f64 = 1.1;
+/// Candidates are at least this many coarse spacings apart (as planes).
+pub const CANDIDATE_SEPARATION: f64 = 1.0;
+/// Pair screening is used for compass steps up to this angle (rad); above, the radius `4h`
+/// would keep most pairs.
+const SCREEN_ABOVE_STEP: f64 = 0.005;
+/// Rounds of escape probes after Fatemi–Socie's exact refinement.
+const ESCAPE_ROUNDS: usize = 3;
 /// Most candidates refined per search.
 pub const MAX_CANDIDATES: usize = 16;
 /// Safety margin of the phase-2 pruning of Fatemi–Socie (covers the gain of refining below
@@ -27,23 +41,25 @@ pub const FS_EXACT_BELOW: f64 = 0.02;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CriticalPlaneParams {
     /// Normals of the coarse covering of the hemisphere (Fibonacci lattice, mean spacing
-    /// `√(2π/N)`: 200 → 10°).
+    /// `√(2π/N)`; default 400 → 7.2°).
     pub coarse_normals: usize,
-    /// In-plane directions over `[0, π)` of Fatemi–Socie's coarse stage (12 → 15°); the
-    /// refinement maximises over directions exactly.
+    /// In-plane directions over `[0, π)` of Fatemi–Socie's coarse stage (default 12 → 15°);
+    /// the refinement maximises over directions exactly.
     pub coarse_directions: usize,
-    /// Best distinct coarse normals refined locally.
+    /// Local maxima of the coarse lattice refined (default 4).
     pub candidates: usize,
-    /// The compass refinement stops when its step is below this angle, rad.
+    /// The compass refinement stops when its step is below this angle, rad (default 1e-4).
+    /// This bounds the error on the local maximum found (~1e-8 relative for smooth maxima), not
+    /// whether it is the global one (docs/fatigue.md, "Accuracy of the critical-plane search").
     pub angular_tolerance: f64,
 }
 
 impl Default for CriticalPlaneParams {
     fn default() -> Self {
         Self {
-            coarse_normals: 200,
+            coarse_normals: 400,
             coarse_directions: 12,
-            candidates: 3,
+            candidates: 4,
             angular_tolerance: 1e-4,
         }
     }
@@ -135,6 +151,10 @@ pub struct PlaneScratch {
     trace: Vec<f64>,
     shear: Vec<[f64; 2]>,
     hull: Vec<[f64; 2]>,
+    pair_norms: Vec<f64>,
+    active: Vec<(u32, u32)>,
+    neighbours: Vec<u32>,
+    neighbour_start: Vec<usize>,
 }
 
 impl PlaneScratch {
@@ -144,6 +164,21 @@ impl PlaneScratch {
             self.coarse.extend(
                 (0..params.coarse_normals).map(|i| fibonacci_normal(i, params.coarse_normals)),
             );
+            // Lattice neighbours (as planes, within NEIGHBOUR_RADIUS h) for the local-maximum test.
+            self.neighbour_start.clear();
+            self.neighbours.clear();
+            if self.coarse.len() <= NEIGHBOUR_LISTS_UP_TO {
+                let cos_r = (NEIGHBOUR_RADIUS * params.coarse_spacing()).cos();
+                for (i, a) in self.coarse.iter().enumerate() {
+                    self.neighbour_start.push(self.neighbours.len());
+                    for (j, b) in self.coarse.iter().enumerate() {
+                        if i != j && (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]).abs() > cos_r {
+                            self.neighbours.push(j as u32);
+                        }
+                    }
+                }
+                self.neighbour_start.push(self.neighbours.len());
+            }
         }
         if self.directions.len() != params.coarse_directions {
             let m = params.coarse_directions;
@@ -234,7 +269,8 @@ pub fn swt_on_plane(
 /// `ε_a(n) = (max_t ε_n − min_t ε_n)/2` and `ε_n` from isotropic Hooke's law (docs/fatigue.md,
 /// Eq. F5). The value is not clipped: a plane always in compression gives a negative product.
 /// Search: the `coarse_normals` Fibonacci normals, then compass refinement of the best
-/// `candidates` to `angular_tolerance` ([`CriticalPlaneParams`]).
+/// `candidates` lattice local maxima to `angular_tolerance` ([`CriticalPlaneParams`];
+/// docs/fatigue.md, "Critical-plane search" — a local search: see its accuracy there).
 pub fn swt(
     path: &[Voigt],
     material: &Material,
@@ -259,7 +295,7 @@ pub fn swt(
     for c in 0..scratch.chosen.len() {
         let i = scratch.chosen[c];
         let (n, v, evals) = refine(
-            |n| swt_plane(path, &trace, n, young, nu)[0],
+            |n, _| swt_plane(path, &trace, n, young, nu)[0],
             scratch.coarse[i],
             scratch.values[i],
             0.5 * params.coarse_spacing(),
@@ -393,7 +429,9 @@ pub fn fatemi_socie_on_plane(
 /// `γ_nm = 2 m·ε·n = τ_nm/G` along the fixed direction `m` (docs/fatigue.md, Eqs. F6–F7). For
 /// each plane the maximum over `m` is exact (half the diameter of the shear-traction path); over
 /// planes: coarse covering (with `coarse_directions` in-plane directions), then compass
-/// refinement of the best `candidates` to `angular_tolerance`.
+/// refinement of the best `candidates` lattice local maxima, on the coarse directions and then
+/// exact with pair screening, to `angular_tolerance`, and escape probes (docs/fatigue.md,
+/// "Critical-plane search" — a local search: see its accuracy there).
 pub fn fatemi_socie(
     path: &[Voigt],
     material: &Material,
@@ -425,7 +463,7 @@ pub fn fatemi_socie(
         let i = scratch.chosen[c];
         let directions = &scratch.directions;
         let (n1, v1, evals1) = refine(
-            |n| fs_plane_coarse(path, n, g, kq, directions, &mut shear),
+            |n, _| fs_plane_coarse(path, n, g, kq, directions, &mut shear),
             scratch.coarse[i],
             scratch.values[i],
             h0,
@@ -441,20 +479,44 @@ pub fn fatemi_socie(
         .map(|p| p.0)
         .fold(f64::NEG_INFINITY, f64::max);
     let factor = (std::f64::consts::FRAC_PI_2 / params.coarse_directions as f64).cos();
+    let screened = path.len() <= DIAMETER_PAIRS_UP_TO;
+    if screened {
+        pair_norms(path, &mut scratch.pair_norms);
+    }
     let mut best = (f64::NEG_INFINITY, [0.0, 0.0, 1.0]);
     for &(v1, n1) in &phase1[..count] {
         if count > 1 && v1 >= 0.0 && v1 < best1 * factor * (1.0 - PRUNE_MARGIN) {
             continue;
         }
         let v1 = fs_plane_exact(path, &n1, g, kq, &mut shear, &mut hull).0;
-        let (n, v, evals) = refine(
-            |n| fs_plane_exact(path, n, g, kq, &mut shear, &mut hull).0,
-            n1,
-            v1,
-            h0,
-            params.angular_tolerance,
-        );
+        let mut screen = Screen {
+            anchor: None,
+            radius: 0.0,
+            norms: &scratch.pair_norms,
+            active: &mut scratch.active,
+        };
+        let mut exact = |n: &[f64; 3], h: f64| {
+            if screened {
+                fs_plane_screened(path, n, h, g, kq, &mut shear, &mut screen)
+            } else {
+                fs_plane_exact(path, n, g, kq, &mut shear, &mut hull).0
+            }
+        };
+        let (mut n, mut v, evals) = refine(&mut exact, n1, v1, h1, params.angular_tolerance);
         evaluations += evals + 1;
+        // Escape probes: FS is a maximum over increment pairs and has nearby local maxima
+        // (0.03–0.07 rad apart); 16 probes at h0 and h0/2 around the converged normal, and a
+        // new compass search from the best probe if it is higher, at most ESCAPE_ROUNDS times.
+        for _ in 0..ESCAPE_ROUNDS {
+            let (probe, pv, pe) = probe_ring(&mut exact, &n, v, &[h0, 0.5 * h0]);
+            evaluations += pe;
+            if pv <= v {
+                break;
+            }
+            let (n2, v2, e2) = refine(&mut exact, probe, pv, h1, params.angular_tolerance);
+            evaluations += e2;
+            (n, v) = (n2, v2);
+        }
         if v > best.0 {
             best = (v, n);
         }
@@ -472,11 +534,131 @@ pub fn fatemi_socie(
     })
 }
 
-/// The best `candidates` coarse normals, greedily, each more than twice the coarse spacing away
-/// from those chosen before (as planes: `|n·n'| < cos 2h`) and within [`CANDIDATE_WINDOW`] of
-/// the best coarse value.
+/// The best of the 16 points at each angle of `steps` around `n` in the tangent directions
+/// `kπ/8`; returns it, its value (`v` and `n` itself if none is higher) and the evaluations.
+fn probe_ring<F: FnMut(&[f64; 3], f64) -> f64>(
+    f: &mut F,
+    n: &[f64; 3],
+    v: f64,
+    steps: &[f64],
+) -> ([f64; 3], f64, usize) {
+    let (u, w) = tangent_basis(n);
+    let mut best = (*n, v);
+    let mut evals = 0;
+    for &h in steps {
+        let t = h.tan();
+        for k in 0..16 {
+            let (sb, cb) = (std::f64::consts::FRAC_PI_8 * k as f64).sin_cos();
+            let cand = normalize(std::array::from_fn(|i| n[i] + t * (cb * u[i] + sb * w[i])));
+            let val = f(&cand, h);
+            evals += 1;
+            if val > best.1 {
+                best = (cand, val);
+            }
+        }
+    }
+    (best.0, best.1, evals)
+}
+
+/// `‖σ(i) − σ(j)‖_F` for the pairs `i < j` in the order `(0,1), (0,2), …, (1,2), …`.
+fn pair_norms(path: &[Voigt], out: &mut Vec<f64>) {
+    out.clear();
+    for (i, a) in path.iter().enumerate() {
+        for b in &path[i + 1..] {
+            let d: [f64; 6] = std::array::from_fn(|k| a[k] - b[k]);
+            out.push(
+                (d[0] * d[0]
+                    + d[1] * d[1]
+                    + d[2] * d[2]
+                    + 2.0 * (d[3] * d[3] + d[4] * d[4] + d[5] * d[5]))
+                    .sqrt(),
+            );
+        }
+    }
+}
+
+/// Pair screening of the exact in-plane maximum near an anchor normal `n_a`. The shear of a
+/// tensor `Δ` on the plane `n`, `τ_n(Δ) = Δn − (n·Δn) n`, is Lipschitz in `n`:
+/// `|τ_n'(Δ) − τ_n(Δ)| ≤ 4‖Δ‖_F |n' − n|`. So within the radius `r` of the anchor only the pairs
+/// with `D_ij(n_a) + 4 F_ij r ≥ D*(n_a) − 4 F* r` can attain the diameter (`D = |τ(t_i) − τ(t_j)|`,
+/// `F = ‖σ(t_i) − σ(t_j)‖_F`, `*` the anchor's maximising pair): the maximum over them is exact.
+struct Screen<'a> {
+    anchor: Option<[f64; 3]>,
+    radius: f64,
+    norms: &'a [f64],
+    active: &'a mut Vec<(u32, u32)>,
+}
+
+/// Fatemi–Socie on the plane `n`, exact over in-plane directions, with pair screening: a step
+/// `h ≤ SCREEN_ABOVE_STEP` farther than the screening radius from the anchor re-anchors at `n`
+/// with radius `4h`; larger steps scan all pairs.
+fn fs_plane_screened(
+    path: &[Voigt],
+    n: &[f64; 3],
+    h: f64,
+    g: f64,
+    k_over_sy: f64,
+    shear: &mut Vec<[f64; 2]>,
+    screen: &mut Screen,
+) -> f64 {
+    let (smax, _, _) = shear_path(path, n, shear);
+    let inside = screen.anchor.is_some_and(|a| {
+        let c = (a[0] - n[0]).powi(2) + (a[1] - n[1]).powi(2) + (a[2] - n[2]).powi(2);
+        c.sqrt() <= screen.radius
+    });
+    let d2 = |p: &[f64; 2], q: &[f64; 2]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
+    let mut best: f64 = 0.0;
+    if !inside && h > SCREEN_ABOVE_STEP {
+        // Large steps (probes, the first compass steps): the list would keep most pairs; one
+        // plain pass over all pairs.
+        for i in 0..shear.len() {
+            for j in i + 1..shear.len() {
+                let d = d2(&shear[i], &shear[j]);
+                best = if d > best { d } else { best };
+            }
+        }
+    } else if inside {
+        for &(i, j) in screen.active.iter() {
+            let d = d2(&shear[i as usize], &shear[j as usize]);
+            best = if d > best { d } else { best };
+        }
+    } else {
+        let r = 4.0 * h;
+        let (mut best_k, mut k) = (0usize, 0usize);
+        for i in 0..shear.len() {
+            for j in i + 1..shear.len() {
+                let d = d2(&shear[i], &shear[j]);
+                if d > best {
+                    best = d;
+                    best_k = k;
+                }
+                k += 1;
+            }
+        }
+        let threshold = best.sqrt() - 4.0 * screen.norms.get(best_k).copied().unwrap_or(0.0) * r;
+        screen.active.clear();
+        let mut k = 0usize;
+        for i in 0..shear.len() {
+            for j in i + 1..shear.len() {
+                let need = threshold - 4.0 * screen.norms[k] * r;
+                if need <= 0.0 || d2(&shear[i], &shear[j]) >= need * need {
+                    screen.active.push((i as u32, j as u32));
+                }
+                k += 1;
+            }
+        }
+        screen.anchor = Some(*n);
+        screen.radius = r;
+    }
+    0.5 * best.sqrt() / g * (1.0 + k_over_sy * smax)
+}
+
+/// The best `candidates` local maxima of the coarse lattice (value ≥ every lattice neighbour
+/// within [`NEIGHBOUR_RADIUS`] h, as planes) within [`CANDIDATE_WINDOW`] of the best coarse value; above
+/// [`NEIGHBOUR_LISTS_UP_TO`] normals, greedily the best normals more than
+/// [`CANDIDATE_SEPARATION`] `h` apart.
 fn choose_candidates(scratch: &mut PlaneScratch, params: &CriticalPlaneParams) {
-    let cos_sep = (2.0 * params.coarse_spacing())
+    let cos_sep = (CANDIDATE_SEPARATION * params.coarse_spacing())
         .min(std::f64::consts::FRAC_PI_2)
         .cos();
     scratch.chosen.clear();
@@ -486,6 +668,31 @@ fn choose_candidates(scratch: &mut PlaneScratch, params: &CriticalPlaneParams) {
         .copied()
         .fold(f64::NEG_INFINITY, f64::max);
     let floor = top - CANDIDATE_WINDOW * top.abs();
+    if !scratch.neighbour_start.is_empty() {
+        // The best local maxima of the lattice (each basin the lattice resolves, once).
+        for _ in 0..params.candidates {
+            let mut best: Option<usize> = None;
+            for (i, &v) in scratch.values.iter().enumerate() {
+                if best.is_some_and(|b| scratch.values[b] >= v)
+                    || v.is_nan()
+                    || v < floor
+                    || scratch.chosen.contains(&i)
+                {
+                    continue;
+                }
+                let nb =
+                    &scratch.neighbours[scratch.neighbour_start[i]..scratch.neighbour_start[i + 1]];
+                if nb.iter().all(|&j| scratch.values[j as usize] <= v) {
+                    best = Some(i);
+                }
+            }
+            match best {
+                Some(b) => scratch.chosen.push(b),
+                None => break,
+            }
+        }
+        return;
+    }
     for _ in 0..params.candidates {
         let mut best: Option<usize> = None;
         for (i, (&v, n)) in scratch.values.iter().zip(&scratch.coarse).enumerate() {
@@ -509,8 +716,8 @@ fn choose_candidates(scratch: &mut PlaneScratch, params: &CriticalPlaneParams) {
 
 /// Compass search on the unit sphere: from `n0` (value `v0`) try the 8 points at angle `h` in
 /// the directions `kπ/4` (`π/8 + kπ/4` on every other iteration) of the tangent plane, move to
-/// the best if it improves, else halve `h`; stop when `h < tol`. Returns the best normal, its value and the evaluations.
-fn refine<F: FnMut(&[f64; 3]) -> f64>(
+/// the best if it improves, else halve `h`; stop when `h < tol`. `f(n, h)` is told the step. Returns the best normal, its value and the evaluations.
+fn refine<F: FnMut(&[f64; 3], f64) -> f64>(
     mut f: F,
     n0: [f64; 3],
     v0: f64,
@@ -535,7 +742,7 @@ fn refine<F: FnMut(&[f64; 3]) -> f64>(
         for k in 0..8 {
             let (sb, cb) = (offset + std::f64::consts::FRAC_PI_4 * k as f64).sin_cos();
             let cand = normalize(std::array::from_fn(|i| n[i] + t * (cb * u[i] + sb * v[i])));
-            let val = f(&cand);
+            let val = f(&cand, h);
             evals += 1;
             if val > improved.map_or(best, |x| x.1) {
                 improved = Some((cand, val));
@@ -720,5 +927,59 @@ fn for_each_grid_normal<F: FnMut(&[f64; 3])>(step: f64, mut f: F) {
             let (sp, cp) = phi.sin_cos();
             f(&[st * cp, st * sp, ct]);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The screened maximum equals the full one at normals around the anchor, within and
+    /// beyond the screening radius (fixed seeds).
+    #[test]
+    fn screening_is_exact() {
+        let mut state = 7u64;
+        let mut uniform = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let (g, kq) = (80e9, 1e-9);
+        let (mut shear, mut hull, mut norms, mut active) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut checked = 0;
+        for _ in 0..50 {
+            let c: [[f64; 6]; 3] =
+                std::array::from_fn(|_| std::array::from_fn(|_| 1e8 * uniform()));
+            let path: Vec<Voigt> = (0..40)
+                .map(|i| {
+                    let w = 2.0 * std::f64::consts::PI * i as f64 / 40.0;
+                    std::array::from_fn(|k| c[0][k] + c[1][k] * w.cos() + c[2][k] * (2.0 * w).sin())
+                })
+                .collect();
+            pair_norms(&path, &mut norms);
+            let n0 = normalize([uniform(), uniform(), uniform()]);
+            for h in [0.05, 0.01, 1e-3, 1e-4] {
+                let mut screen = Screen {
+                    anchor: None,
+                    radius: 0.0,
+                    norms: &norms,
+                    active: &mut active,
+                };
+                let full = fs_plane_exact(&path, &n0, g, kq, &mut shear, &mut hull).0;
+                let anchored = fs_plane_screened(&path, &n0, h, g, kq, &mut shear, &mut screen);
+                assert_eq!(full, anchored);
+                for _ in 0..40 {
+                    let scale = 6.0 * h * uniform().abs();
+                    let n = normalize(std::array::from_fn(|k| n0[k] + scale * uniform()));
+                    let full = fs_plane_exact(&path, &n, g, kq, &mut shear, &mut hull).0;
+                    let s = fs_plane_screened(&path, &n, h, g, kq, &mut shear, &mut screen);
+                    assert!((s - full).abs() <= 1e-15 * full, "{s} vs {full}");
+                    checked += 1;
+                }
+            }
+        }
+        assert_eq!(checked, 50 * 4 * 40);
     }
 }

@@ -233,11 +233,11 @@ fn search_matches_brute_force() {
         worst[0], worst[1], worst_grid[0], worst_grid[1]
     );
     // SWT: a smooth local maximum, found to the angular tolerance (1e-4 rad ⇒ ~1e-8). FS is a
-    // maximum over increment pairs: nearby local maxima (0.03–0.07 rad apart, values within
-    // 5e-4) exist and the default search may stop on the lower one — 5.0e-4 worst over 120
-    // paths (docs/fatigue.md, "Accuracy of the critical-plane search"); not a tolerance knob.
+    // maximum over increment pairs: nearby local maxima (0.03–0.06 rad apart, values within
+    // 2e-4) exist and the default search may stop on the lower one — 1.4e-4 worst over 120
+    // paths (search_accuracy_survey; docs/fatigue.md, "Accuracy of the critical-plane search").
     assert!(worst[0] < 1e-7, "{worst:?}");
-    assert!(worst[1] < 1e-3, "{worst:?}");
+    assert!(worst[1] < 5e-4, "{worst:?}");
     assert!(
         worst_grid[0] > -1e-12 && worst_grid[1] > -1e-12,
         "{worst_grid:?}"
@@ -310,26 +310,31 @@ fn search_errors() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(48))]
-    /// SWT and Fatemi–Socie are invariant under a rotation of the stress path (to the search
-    /// tolerance), and the critical normal rotates with it.
+    #![proptest_config(ProptestConfig::with_cases(32))]
+    /// SWT and Fatemi–Socie are invariant under a rotation of the stress path. This checks the
+    /// criteria, so it runs a dense search (4000 normals, 8 candidates, 1e-7 rad): the default
+    /// search can stop on a nearby lower local maximum on some paths (proptest found SWT 1.7e-5
+    /// and FS 1.8e-3 below; docs/fatigue.md, "Accuracy of the critical-plane search").
     #[test]
     fn rotation_invariance(seed in 0u64..1_000_000, g in prop::array::uniform9(-1.0f64..1.0)) {
-        prop_assume!(g.iter().map(|x| x * x).sum::<f64>() > 0.1);
         let mut rng = Rng::new(seed);
         let path = random_cycle(&mut rng, 40, 1e8, 1e8);
         let r = common::rotation_from(g);
         let rotated = rotate_path(&path, &r);
         let m = steel();
-        let p = CriticalPlaneParams::default();
+        let p = CriticalPlaneParams {
+            coarse_normals: 4000,
+            coarse_directions: 24,
+            candidates: 8,
+            angular_tolerance: 1e-7,
+        };
         let mut s = PlaneScratch::default();
         let a = swt(&path, &m, &p, &mut s).unwrap();
         let b = swt(&rotated, &m, &p, &mut s).unwrap();
-        prop_assert!((a.value - b.value).abs() <= 1e-7 * a.value.abs(), "{} {}", a.value, b.value);
+        prop_assert!((a.value - b.value).abs() <= 1e-9 * a.value.abs(), "{} {}", a.value, b.value);
         let a = fatemi_socie(&path, &m, &p, &mut s).unwrap();
         let b = fatemi_socie(&rotated, &m, &p, &mut s).unwrap();
-        // The search's accuracy (see search_matches_brute_force), not exact invariance.
-        prop_assert!((a.value - b.value).abs() <= 1e-3 * a.value.abs(), "{} {}", a.value, b.value);
+        prop_assert!((a.value - b.value).abs() <= 1e-9 * a.value.abs(), "{} {}", a.value, b.value);
     }
 }
 
@@ -355,18 +360,19 @@ fn search_accuracy_survey() {
         } else {
             random_cycle(&mut rng, 40, 1e8, 1e8)
         };
-        let (rs, rf) = (
-            swt(&path, &m, &fine_params(), &mut s).unwrap().value,
-            fatemi_socie(&path, &m, &fine_params(), &mut s)
-                .unwrap()
-                .value,
-        );
+        let rs = swt(&path, &m, &fine_params(), &mut s).unwrap().value;
+        let reference = fatemi_socie(&path, &m, &fine_params(), &mut s).unwrap();
+        let rf = reference.value;
         let a = swt(&path, &m, &d, &mut s).unwrap();
         let b = fatemi_socie(&path, &m, &d, &mut s).unwrap();
         ws = ws.max((rs - a.value) / rs.abs());
         let gap = (rf - b.value) / rf.abs();
         if gap > 1e-7 {
             misses += 1;
+            eprintln!(
+                "path {i}: FS {gap:.1e} below the reference, {:.3} rad from its plane",
+                angle_between_planes(&b.normal, &reference.normal)
+            );
         }
         wf = wf.max(gap);
         es += a.evaluations;
@@ -378,5 +384,5 @@ fn search_accuracy_survey() {
         es / n,
         ef / n
     );
-    assert!(ws < 1e-7 && wf < 1e-3);
+    assert!(ws < 1e-7 && wf < 5e-4);
 }

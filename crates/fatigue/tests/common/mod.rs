@@ -39,16 +39,32 @@ impl Rng {
     }
 }
 
-/// A rotation from 9 numbers (rows Gram–Schmidt orthonormalised, last row the cross product).
+/// A rotation from 9 numbers (rows Gram–Schmidt orthonormalised, last row the cross product;
+/// degenerate rows are replaced by a coordinate axis).
 pub fn rotation_from(g: [f64; 9]) -> [[f64; 3]; 3] {
+    let len = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
     let norm = |v: [f64; 3]| {
-        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        let l = len(v);
         [v[0] / l, v[1] / l, v[2] / l]
     };
-    let a = norm([g[0], g[1], g[2]]);
-    let b0 = [g[3], g[4], g[5]];
-    let d = a[0] * b0[0] + a[1] * b0[1] + a[2] * b0[2];
-    let b = norm([b0[0] - d * a[0], b0[1] - d * a[1], b0[2] - d * a[2]]);
+    let a0 = [g[0], g[1], g[2]];
+    let a = if len(a0) > 1e-3 {
+        norm(a0)
+    } else {
+        [1.0, 0.0, 0.0]
+    };
+    let orth = |b0: [f64; 3]| {
+        let d = a[0] * b0[0] + a[1] * b0[1] + a[2] * b0[2];
+        [b0[0] - d * a[0], b0[1] - d * a[1], b0[2] - d * a[2]]
+    };
+    let mut b1 = orth([g[3], g[4], g[5]]);
+    for axis in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]] {
+        if len(b1) > 1e-3 {
+            break;
+        }
+        b1 = orth(axis);
+    }
+    let b = norm(b1);
     let c = [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],
