@@ -13,7 +13,7 @@ use crate::tensor::Voigt;
 pub struct FieldParams {
     /// The critical-plane search of SWT and Fatemi–Socie.
     pub plane: CriticalPlaneParams,
-    /// Evaluate the points in parallel (rayon): 1.98× on 2 cores (benches/criteria.rs,
+    /// Evaluate the points in parallel (rayon): 1.98× on 2 free cores (benches/criteria.rs,
     /// docs/fatigue.md "Cost").
     pub parallel: bool,
 }
