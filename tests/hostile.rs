@@ -1114,6 +1114,11 @@ fn messages_name_the_input_the_rule_and_the_value() {
             vec!["layout", "diagonal"],
             "composite",
         ),
+        (
+            "extent_over_a = 1e300\n",
+            vec!["fibres", "extent_over_a"],
+            "composite",
+        ),
         ("frictoin = 0.3\n", vec!["frictoin"], "homogeneous"),
         (
             "subsurface_over_a = -1\n",

@@ -231,7 +231,18 @@ pub fn fibres(
         FibreLayout::FibreCentred => 0.0,
         FibreLayout::GapCentred => 0.5 * spacing,
     };
-    let reach = ((half_width - r) / spacing).floor() as i64 + 1;
+    // Fibres on each side of the centre, counted before the list is allocated: a domain of 10¹²
+    // fibre spacings is refused, not allocated (and cannot overflow the index).
+    let reach = ((half_width - r) / spacing).floor() + 1.0;
+    if !(reach.is_finite() && reach <= MAX_FIBRES_PER_SIDE) {
+        return Err(SamError::InvalidInput(format!(
+            "the domain (half width {half_width:e} m) holds about {:e} fibres of spacing \
+             {spacing:e} m, more than {}: use a smaller domain (extent_over_a)",
+            2.0 * reach + 1.0,
+            2.0 * MAX_FIBRES_PER_SIDE + 1.0
+        )));
+    }
+    let reach = reach as i64;
     let mut list = Vec::new();
     for k in -reach..=reach {
         let x = offset + k as f64 * spacing;
@@ -373,6 +384,10 @@ pub struct InclusionSet {
     /// The bounding box of the cells (at least 2 × 2 cells).
     pub window: Window,
 }
+
+/// The most fibres on each side of the centre [`fibres`] lays out (a 10⁵-fibre row is far beyond
+/// any grid the EIM can hold).
+const MAX_FIBRES_PER_SIDE: f64 = 1e5;
 
 /// "number k (counting from 1)" of `inh` in `list`.
 fn position_of(list: &[Inhomogeneity], inh: &Inhomogeneity) -> usize {
