@@ -278,6 +278,7 @@ def fretting_wear(
     *,
     chi: float = 0.5,
     n: int = 2001,
+    tol: float | None = None,
     dtau: float | None = None,
     tau_end: float = 30.0,
     method: str = "fft",
@@ -286,19 +287,21 @@ def fretting_wear(
 ) -> Result:
     """Fretting wear of a parabolic indenter in partial slip by the MDR (Willert et al. 2021,
     Section 4; spec ``mdr.md`` §5), dimensionless: amplitude ratio ``chi = u_A/u_max``, ``n`` nodes,
-    wear time step ``dtau`` (default 1e-3, or the explicit step's stability bound where that is
-    smaller: fine grids, k < 0) to ``tau_end``, domain ``length`` L/a₀. ``material``: ``None`` or
+    adaptive wear steps (ROS2) at the local error tolerance ``tol`` (default 1e-4, units of d) or
+    a fixed step ``dtau``, to ``tau_end``, domain ``length`` L/a₀. ``material``: ``None`` or
     ``"homogeneous"``, or a power-law graded medium ``"graded:k=..,nu=.."`` (E ∝ z^k; the
     normalized run depends on k alone, ν gives ``tangential_constant_ratio`` c_T/c_N and
     ``u_max_over_mu_d``; docs/fretting-wear.md, "Graded media"). The worn ``profile`` approaches the
-    ``limiting_profile``; ``contact_radius_history`` is a/a₀ per cycle; ``wear_volume`` and
+    ``limiting_profile``; ``contact_radius_history`` is a/a₀ per step (the extent of the touching
+    region; ``loaded_radius_history``: where p > 1e-3 max p), at ``tau_history``; ``steps`` counts
+    the time steps; ``wear_volume`` and
     ``limit_wear_volume`` are V/(π a₀² d). As ``halfspace fretting-wear``."""
     # A typed medium: only k and ν enter (E0, z0, E set the scales a0, F0, N0, not the run).
     if isinstance(material, Graded):
         material = f"graded:k={_num(material.k)},nu={_num(material.nu)}"
     elif isinstance(material, Homogeneous):
         material = f"homogeneous:nu={_num(material.nu)}" if material.nu is not None else "homogeneous"
-    return Result(_fretting_wear(chi=chi, n=n, dtau=dtau, tau_end=tau_end, method=method,
+    return Result(_fretting_wear(chi=chi, n=n, tol=tol, dtau=dtau, tau_end=tau_end, method=method,
                                  material=material, length=length))
 
 
