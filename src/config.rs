@@ -3,8 +3,9 @@
 
 use serde::Deserialize;
 
+use crate::sam::drivers::fretting_loop::LoopCase;
+use crate::sam::drivers::fretting_map::FrettingMap;
 use crate::sam::eim::{FibreLayout, Inhomogeneity};
-use crate::sam::fretting_loop::{FrettingMap, LoopCase};
 use crate::spec::{parse_inhomogeneity, SpecError};
 
 /// The fretting-loop configuration as read from TOML (`fretting-loop --config`) or from a Python
@@ -26,10 +27,12 @@ pub struct LoopConfig {
     /// `[[inhomogeneity]]` tables: `kind = "sphere" | "cylinder" | "cuboid"` and the keys of the
     /// CLI's `--inhomogeneity` specs (`x, y, z, r, axis, hx, hy, hz, e, nu`).
     pub inhomogeneity: Vec<toml::Table>,
-    /// Composite preset: `"fibre-centred"` (a fibre axis at x = 0) or `"gap-centred"`.
-    pub layout: String,
-    /// Composite preset: E_I / E_m of the fibres (2 in [LN11]; 0.5 for soft fibres).
-    pub fibre_e_ratio: f64,
+    /// Composite preset only: `"fibre-centred"` (a fibre axis at x = 0, the default) or
+    /// `"gap-centred"`; refused without the preset (it would be ignored).
+    pub layout: Option<String>,
+    /// Composite preset only: E_I / E_m of the fibres (2 in [LN11], the default; 0.5 for soft
+    /// fibres); refused without the preset.
+    pub fibre_e_ratio: Option<f64>,
     /// Depth of the von Mises fields at the points A–D over a (0: none).
     pub subsurface_over_a: f64,
 }
@@ -50,8 +53,8 @@ impl Default for LoopConfig {
             grid: c.grid,
             extent_over_a: c.extent_over_a,
             inhomogeneity: Vec::new(),
-            layout: "fibre-centred".into(),
-            fibre_e_ratio: 2.0,
+            layout: None,
+            fibre_e_ratio: None,
             subsurface_over_a: 1.0,
         }
     }
@@ -109,11 +112,30 @@ pub struct MapAxes {
     pub case: Option<String>,
 }
 
+/// A TOML error as one line naming the source, the line and its text (serde's message alone does
+/// not name the key of a value of the wrong type: "invalid value: integer `-3`, expected usize").
+pub fn toml_message(what: &str, text: &str, e: &toml::de::Error) -> String {
+    let message = e.message().replace('\n', " ");
+    match toml_line(text, e) {
+        Some((line, content)) => format!("{what}: line {line} `{content}`: {message}"),
+        None => format!("{what}: {message}"),
+    }
+}
+
+/// The line (from 1) and the text of the line where a TOML error points.
+fn toml_line(text: &str, e: &toml::de::Error) -> Option<(usize, String)> {
+    let span = e.span()?;
+    let before = text.get(..span.start)?;
+    let line = before.matches('\n').count() + 1;
+    let content = text.lines().nth(line - 1).unwrap_or("").trim();
+    Some((line, content.chars().take(80).collect()))
+}
+
 /// Reads a fretting-map configuration: the fretting loop's keys and a `[map]` table
 /// (`loads`, `amplitudes`, optional `case`); `what` names the source in errors.
 pub fn map_config_from_toml(text: &str, what: &str) -> Result<(LoopConfig, MapAxes), SpecError> {
     let mut table: toml::Table =
-        toml::from_str(text).map_err(|e| SpecError(format!("{what}: {}", e.message())))?;
+        toml::from_str(text).map_err(|e| SpecError(toml_message(what, text, &e)))?;
     let axes = table.remove("map").ok_or_else(|| {
         SpecError(format!(
             "{what}: a fretting map needs a [map] table with loads = [..] (N) and amplitudes = [..] (m)"
@@ -122,9 +144,21 @@ pub fn map_config_from_toml(text: &str, what: &str) -> Result<(LoopConfig, MapAx
     let axes: MapAxes = axes
         .try_into()
         .map_err(|e: toml::de::Error| SpecError(format!("{what}: [map]: {}", e.message())))?;
-    let cfg: LoopConfig = toml::Value::Table(table)
-        .try_into()
-        .map_err(|e: toml::de::Error| SpecError(format!("{what}: {}", e.message())))?;
+    let cfg: LoopConfig =
+        toml::Value::Table(table.clone())
+            .try_into()
+            .map_err(|e: toml::de::Error| {
+                // Name the offending key: parse the same keys as text, which gives a position.
+                let retext = toml::to_string(&table).unwrap_or_default();
+                let message = e.message().replace('\n', " ");
+                match toml::from_str::<LoopConfig>(&retext)
+                    .err()
+                    .and_then(|e| toml_line(&retext, &e))
+                {
+                    Some((_, content)) => SpecError(format!("{what}: `{content}`: {message}")),
+                    None => SpecError(format!("{what}: {message}")),
+                }
+            })?;
     Ok((cfg, axes))
 }
 
@@ -180,9 +214,22 @@ fn loop_case(
         )));
     }
     match case_name {
-        "homogeneous" => {}
+        "homogeneous" => {
+            for (key, given) in [
+                ("layout", cfg.layout.is_some()),
+                ("fibre_e_ratio", cfg.fibre_e_ratio.is_some()),
+            ] {
+                if given {
+                    return Err(SpecError(format!(
+                        "fretting loop config: {key} is read only by the composite preset \
+                         (case = composite); without it the key would be ignored: remove it or \
+                         choose the composite case"
+                    )));
+                }
+            }
+        }
         "composite" => {
-            let layout = match cfg.layout.as_str() {
+            let layout = match cfg.layout.as_deref().unwrap_or("fibre-centred") {
                 "fibre-centred" => FibreLayout::FibreCentred,
                 "gap-centred" => FibreLayout::GapCentred,
                 other => {
@@ -192,7 +239,7 @@ fn loop_case(
                 }
             };
             case = case
-                .composite(layout, cfg.fibre_e_ratio)
+                .composite(layout, cfg.fibre_e_ratio.unwrap_or(2.0))
                 .map_err(|e| SpecError(format!("fretting loop config: {e}")))?;
         }
         other => {

@@ -10,7 +10,7 @@ use rayon::prelude::*;
 use serde_json::json;
 
 use crate::data::{write_atomic, AttrValue, DataError, Record};
-use crate::sam::fretting_loop::{FrettingMap, MapPoint};
+use crate::sam::drivers::fretting_map::{FrettingMap, MapPoint};
 use crate::sam::SamError;
 
 /// Why a map could not run or resume.
@@ -26,6 +26,9 @@ pub enum MapError {
         /// The loop's error.
         source: SamError,
     },
+    /// The caller stopped the map (Ctrl-C); completed points keep their checkpoints.
+    #[error("cancelled (interrupted)")]
+    Cancelled,
     /// The map itself was refused.
     #[error(transparent)]
     Sam(#[from] SamError),
@@ -73,7 +76,7 @@ fn read_checkpoint(
         path: path.to_path_buf(),
         reason,
     };
-    let text = std::fs::read_to_string(path).map_err(|e| bad(e.to_string()))?;
+    let text = crate::data::read_text_bounded(path, 1 << 20).map_err(|e| bad(e.to_string()))?;
     let value: serde_json::Value = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
     if value["fingerprint"].as_str() != Some(map.point_fingerprint(i, j)?.as_str()) {
         return Err(bad(
@@ -87,9 +90,40 @@ fn read_checkpoint(
     let values: [f64; 9] = values
         .try_into()
         .map_err(|_| bad(format!("expected {} values", MapPoint::FIELDS.len())))?;
-    MapPoint::from_values(values)
-        .map(Some)
-        .ok_or_else(|| bad("regime must be 0, 1 or 2".into()))
+    let point = MapPoint::from_values(values)
+        .ok_or_else(|| bad(format!("member regime = {}: must be 0, 1 or 2", values[2])))?;
+    check_point(map, &point, i, j).map_err(bad)?;
+    Ok(Some(point))
+}
+
+/// The content of a checkpointed point: its load and amplitude are the map's `(i, j)` (bit for
+/// bit), every number finite, the energy and the times ≥ 0, the sliding fraction in [0, 1] and
+/// `|Q/μW|` at most 1 (Coulomb) within the solver's tolerance. The message names the member.
+fn check_point(map: &FrettingMap, p: &MapPoint, i: usize, j: usize) -> Result<(), String> {
+    let (load, amplitude) = (map.loads()[i], map.amplitudes()[j]);
+    if p.load.to_bits() != load.to_bits() || p.amplitude.to_bits() != amplitude.to_bits() {
+        return Err(format!(
+            "members load, amplitude = ({}, {}): this map's point ({i}, {j}) is ({load}, {amplitude})",
+            p.load, p.amplitude
+        ));
+    }
+    let v = p.values();
+    for (f, name) in MapPoint::FIELDS.iter().enumerate() {
+        let x = v[f];
+        let ok = match *name {
+            "dissipated_energy" | "energy_ratio" | "seconds" => x.is_finite() && x >= 0.0,
+            "sliding_fraction" => (0.0..=1.0).contains(&x),
+            "tangential_force_over_mu_w_at_amplitude" => x.is_finite() && x.abs() <= 1.0 + 1e-3,
+            _ => x.is_finite(),
+        };
+        if !ok {
+            return Err(format!(
+                "member {name} = {x}: outside what the loop can produce (finite; energies and \
+                 times ≥ 0, sliding fraction in [0, 1], |Q/μW| ≤ 1)"
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn write_checkpoint(
@@ -143,6 +177,19 @@ pub fn run_map(
     max_new: Option<usize>,
     on_point: impl Fn(usize, usize) + Sync,
 ) -> Result<MapRun, MapError> {
+    run_map_until(map, checkpoints, max_new, on_point, &|| false)
+}
+
+/// [`run_map`], asking `cancelled` before each point and after every increment of the loops
+/// running: when it answers true the map stops with [`MapError::Cancelled`] (Ctrl-C in the front
+/// ends); the points completed before keep their checkpoints.
+pub fn run_map_until(
+    map: &FrettingMap,
+    checkpoints: Option<&Path>,
+    max_new: Option<usize>,
+    on_point: impl Fn(usize, usize) + Sync,
+    cancelled: &(dyn Fn() -> bool + Sync),
+) -> Result<MapRun, MapError> {
     let (rows, cols) = map.shape();
     let total = rows * cols;
     let mut points: Vec<Option<MapPoint>> = vec![None; total];
@@ -162,11 +209,19 @@ pub fn run_map(
         .par_iter()
         .map(|&k| {
             let (i, j) = (k / cols, k % cols);
-            let p = map.run_point(i, j).map_err(|source| MapError::Point {
-                load: map.loads()[i],
-                amplitude: map.amplitudes()[j],
-                source,
-            })?;
+            if cancelled() {
+                return Err(MapError::Cancelled);
+            }
+            let p = map
+                .run_point_until(i, j, cancelled)
+                .map_err(|source| match source {
+                    SamError::Cancelled => MapError::Cancelled,
+                    source => MapError::Point {
+                        load: map.loads()[i],
+                        amplitude: map.amplitudes()[j],
+                        source,
+                    },
+                })?;
             if let Some(dir) = checkpoints {
                 write_checkpoint(map, &point_checkpoint(dir, i, j), i, j, &p)?;
             }
@@ -229,7 +284,7 @@ pub fn map_csv(points: &[MapPoint]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sam::fretting_loop::LoopCase;
+    use crate::sam::drivers::fretting_loop::LoopCase;
 
     fn map() -> FrettingMap {
         let base = LoopCase {

@@ -10,4 +10,5 @@ pub use halfspace_sam as sam;
 pub mod config;
 pub mod fretting_map;
 pub mod records;
+pub mod run_dir;
 pub mod spec;

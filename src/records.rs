@@ -4,12 +4,11 @@
 use std::path::Path;
 
 use crate::data::{AttrValue, DataError, Record};
-use crate::sam::coupled::{ContactProblem, ContactState};
-use crate::sam::fretting_loop::{
-    ContactSolver, FrettingLoop, LoopMetrics, LoopRow, LoopSnapshot, PointFields, POINT_LABELS,
+use crate::sam::contact::{ContactProblem, ContactSolver, ContactState, NestedWarmStart};
+use crate::sam::drivers::fretting_loop::{
+    FrettingLoop, LoopCase, LoopMetrics, LoopRow, LoopSnapshot, PointFields, POINT_LABELS,
 };
-use crate::sam::nested::NestedWarmStart;
-use crate::sam::single::{ContactCase, ContactOutcome};
+use crate::sam::drivers::one_contact::{ContactCase, ContactOutcome};
 use crate::sam::subsurface::StressField;
 use serde_json::json;
 
@@ -55,6 +54,26 @@ fn point_record(mut rec: Record, prefix: &str, p: &PointFields, shape: (usize, u
         &format!("{prefix}increment_{l}"),
         AttrValue::Int(p.increment as i64),
     )
+}
+
+/// The parameters of a loop case as a flat JSON object (the keys of `fretting-loop --config`;
+/// the inhomogeneities as text): the identity of a run in its directory's manifest
+/// (`halfspace::run_dir`), so that a refusal names the keys that differ.
+pub fn case_parameters(case: &LoopCase) -> serde_json::Value {
+    json!({
+        "radius": case.radius,
+        "e": case.e,
+        "nu": case.nu,
+        "friction": case.friction,
+        "force": case.force,
+        "normal_steps": case.normal_steps,
+        "amplitude": case.amplitude,
+        "shift_step": case.shift_step,
+        "grid": case.grid,
+        "extent_over_a": case.extent_over_a,
+        "subsurface_depth": case.subsurface_depth,
+        "inhomogeneities": format!("{:?}", case.inhomogeneities),
+    })
 }
 
 /// Everything [`snapshot_from_record`] needs.
@@ -125,6 +144,28 @@ pub fn snapshot_from_record(rec: &Record, path: &Path) -> Result<LoopSnapshot, D
         .collect::<Result<Vec<_>, _>>()?;
     if columns.iter().any(|c| c.len() != next) {
         return Err(bad("the rows do not match the next increment".into()));
+    }
+    // Counts are stored as floats: whole and ≥ 0 (a NaN would otherwise read as 0).
+    for (f, c) in columns.iter().enumerate() {
+        let count = matches!(
+            LoopRow::FIELDS[f],
+            "alternations" | "outer_iterations" | "eim_iterations"
+        );
+        if let Some((k, v)) = c
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !v.is_finite() || (count && (**v < 0.0 || v.fract() != 0.0)))
+        {
+            return Err(bad(format!(
+                "member {} row {k} = {v}: {}",
+                LoopRow::FIELDS[f],
+                if count {
+                    "a whole count ≥ 0"
+                } else {
+                    "finite"
+                }
+            )));
+        }
     }
     let rows = (0..next)
         .map(|k| {

@@ -3,8 +3,8 @@
 mod common;
 
 use common::{arrays_equal, bad, ok_json, run};
-use halfspace::sam::coupled::mindlin;
-use halfspace::sam::fretting_loop::LoopCase;
+use halfspace::sam::analytic::mindlin;
+use halfspace::sam::drivers::fretting_loop::LoopCase;
 
 /// A small map of the [LN11] sphere with ν = 0.49, where the normal–tangential coupling of the
 /// rigid/elastic pair nearly vanishes (β = (1−2ν)/2(1−ν) = 0.02) and Mindlin's uncoupled loops apply.

@@ -130,8 +130,8 @@ fn spherical_inhomogeneity_under_hertz_pressure_matches_finite_elements() {
 /// (force, contact radius √(A/π), p(0)) of the frictionless contact of the rigid sphere R = 10 pressed
 /// to δ = 0.1 on the half-space (E = 1) with the inhomogeneity, 2Δ = a/c over 4a (c = cells per a).
 fn eim_contact(c: usize, ratio: f64) -> (f64, f64, f64) {
-    use halfspace::sam::coupled::{ContactParams, ContactProblem};
-    use halfspace::sam::nested::{InhomogeneousContact, NestedParams};
+    use halfspace::sam::contact::{ContactParams, ContactProblem};
+    use halfspace::sam::contact::{InhomogeneousContact, NestedParams};
     use halfspace::sam::normal::NormalLoad;
     let n = 4 * c;
     let grid = SurfaceGrid::square(n, 4.0).unwrap();

@@ -12,7 +12,8 @@ fretting loop with inhomogeneities (``FrettingLoop``); the equations are cited i
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+import numbers
+from dataclasses import dataclass, fields
 from typing import Any, Iterator
 
 import numpy as np
@@ -46,60 +47,123 @@ __all__ = [
 ]
 
 
-def _num(v: float) -> str:
-    return repr(float(v))
+def _real(v: Any, name: str) -> float:
+    """``v`` as a float, or TypeError naming the argument (a string, None, a bool, an array are not
+    real numbers here); the library checks the range."""
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, (numbers.Real, np.floating, np.integer)):
+        raise TypeError(f"{name} must be a real number, got {v!r} ({type(v).__name__})")
+    try:
+        return float(v)
+    except (OverflowError, ValueError) as e:
+        raise HalfspaceError(f"{name} = {v!r}: {e}") from None
+
+
+def _opt_real(v: Any, name: str) -> float | None:
+    return None if v is None else _real(v, name)
+
+
+def _count(v: Any, name: str, minimum: int = 0) -> int:
+    """``v`` as an integer ≥ ``minimum`` that the library can hold (< 2**63), or TypeError /
+    HalfspaceError naming the argument."""
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, (numbers.Integral, np.integer)):
+        raise TypeError(f"{name} must be an integer, got {v!r} ({type(v).__name__})")
+    v = int(v)
+    if v < minimum or v >= 2**63:
+        raise HalfspaceError(f"{name} must be an integer ≥ {minimum} (and < 2**63), got {v}")
+    return v
+
+
+def _opt_count(v: Any, name: str, minimum: int = 0) -> int | None:
+    return None if v is None else _count(v, name, minimum)
+
+
+def _text(v: Any, name: str) -> str:
+    if not isinstance(v, str):
+        raise TypeError(f"{name} must be a string, got {v!r} ({type(v).__name__})")
+    return v
+
+
+def _num(v: Any, name: str = "value") -> str:
+    return repr(_real(v, name))
+
+
+class _Checked:
+    """Dataclass inputs: every field a real number (``None`` where optional), checked at
+    construction so that the error names the class and the argument."""
+
+    _optional: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        for f in fields(self):  # type: ignore[arg-type]
+            value = getattr(self, f.name)
+            if value is None and f.name in self._optional:
+                continue
+            _real(value, f"{type(self).__name__}: {f.name}")
 
 
 @dataclass(frozen=True)
-class Sphere:
+class Sphere(_Checked):
     """Paraboloid ``f(r) = r² / (2R)`` (m)."""
 
     R: float
 
     def spec(self) -> str:
-        return f"sphere:R={_num(self.R)}"
+        return f"sphere:R={_num(self.R, 'R')}"
 
 
 @dataclass(frozen=True)
-class Ellipsoid:
+class Ellipsoid(_Checked):
     """3D indenter ``h(x, y) = x² / (2Rx) + y² / (2Ry)`` (m) (``contact3d`` only)."""
 
     Rx: float
     Ry: float
 
     def spec(self) -> str:
-        return f"ellipsoid:Rx={_num(self.Rx)},Ry={_num(self.Ry)}"
+        return f"ellipsoid:Rx={_num(self.Rx, 'Rx')},Ry={_num(self.Ry, 'Ry')}"
 
 
 @dataclass(frozen=True)
-class Cone:
+class Cone(_Checked):
     """Cone ``f(r) = slope · r``."""
 
     slope: float
 
     def spec(self) -> str:
-        return f"cone:slope={_num(self.slope)}"
+        return f"cone:slope={_num(self.slope, 'slope')}"
 
 
 @dataclass(frozen=True)
-class Flat:
+class Flat(_Checked):
     """Flat punch of radius ``a`` (m)."""
 
     a: float
 
     def spec(self) -> str:
-        return f"flat:a={_num(self.a)}"
+        return f"flat:a={_num(self.a, 'a')}"
 
 
 @dataclass(frozen=True)
-class PowerLaw:
+class PowerLaw(_Checked):
     """Power-law profile ``f(r) = c rⁿ``."""
 
     c: float
     n: float
 
     def spec(self) -> str:
-        return f"power:c={_num(self.c)},n={_num(self.n)}"
+        return f"power:c={_num(self.c, 'c')},n={_num(self.n, 'n')}"
+
+
+def _array(v: Any, name: str) -> np.ndarray:
+    """``v`` as a 1D float array, or TypeError naming the argument."""
+    if isinstance(v, (str, bytes)) or v is None:
+        raise TypeError(f"{name} must be an array of real numbers, got {v!r}")
+    try:
+        a = np.asarray(v)
+        if a.dtype.kind not in "fiu":
+            raise TypeError
+        return np.ascontiguousarray(a, dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be an array of real numbers, got {v!r}") from None
 
 
 class Table:
@@ -108,31 +172,46 @@ class Table:
     file)."""
 
     def __init__(self, r: Any, f: Any) -> None:
-        self.r = np.ascontiguousarray(r, dtype=float).ravel()
-        self.f = np.ascontiguousarray(f, dtype=float).ravel()
+        self.r = _array(r, "Table: r")
+        self.f = _array(f, "Table: f")
+        if self.r.size != self.f.size:
+            raise HalfspaceError(
+                f"Table: r and f must have the same length, got {self.r.size} and {self.f.size}"
+            )
 
     def __repr__(self) -> str:
         return f"Table(<{self.r.size} nodes>)"
 
 
 @dataclass(frozen=True)
-class Homogeneous:
-    """Homogeneous elastic half-space: ``E`` (Pa) and ``nu``, or the contact modulus ``Estar``."""
+class Homogeneous(_Checked):
+    """Homogeneous elastic half-space: ``E`` (Pa) and ``nu``, or the contact modulus ``Estar``
+    (not both: as the CLI, a spec with both is refused rather than one silently dropped)."""
 
     E: float | None = None
     nu: float | None = None
     Estar: float | None = None
 
+    _optional = ("E", "nu", "Estar")
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.Estar is not None and (self.E is not None or self.nu is not None):
+            raise HalfspaceError(
+                "Homogeneous: give E and nu, or Estar, not both (Estar = E/(1 − nu²) would "
+                "override them)"
+            )
+
     def spec(self) -> str:
         if self.Estar is not None:
-            return f"homogeneous:Estar={_num(self.Estar)}"
+            return f"homogeneous:Estar={_num(self.Estar, 'Estar')}"
         if self.E is None or self.nu is None:
             raise HalfspaceError("Homogeneous needs E and nu, or Estar")
-        return f"homogeneous:E={_num(self.E)},nu={_num(self.nu)}"
+        return f"homogeneous:E={_num(self.E, 'E')},nu={_num(self.nu, 'nu')}"
 
 
 @dataclass(frozen=True)
-class Graded:
+class Graded(_Checked):
     """Power-law graded half-space ``E(z) = E0 (z / z0)^k`` (Willert et al. 2021, Section 3)."""
 
     E0: float
@@ -142,7 +221,7 @@ class Graded:
 
     def spec(self) -> str:
         return (
-            f"graded:E0={_num(self.E0)},z0={_num(self.z0)},nu={_num(self.nu)},k={_num(self.k)}"
+            f"graded:E0={_num(self.E0, 'E0')},z0={_num(self.z0, 'z0')},nu={_num(self.nu, 'nu')},k={_num(self.k, 'k')}"
         )
 
 
@@ -151,7 +230,7 @@ class Inhomogeneity:
     of the centre, positive into the body; SI units)."""
 
     def __init__(self, spec: str) -> None:
-        self._spec = spec
+        self._spec = _text(spec, "Inhomogeneity: spec")
 
     def spec(self) -> str:
         return self._spec
@@ -161,31 +240,42 @@ class Inhomogeneity:
 
     @classmethod
     def sphere(cls, *, x: float, y: float, z: float, r: float, E: float, nu: float) -> "Inhomogeneity":
-        return cls(f"sphere:x={_num(x)},y={_num(y)},z={_num(z)},r={_num(r)},E={_num(E)},nu={_num(nu)}")
+        return cls(f"sphere:x={_num(x, 'x')},y={_num(y, 'y')},z={_num(z, 'z')},r={_num(r, 'r')},"
+                   f"E={_num(E, 'E')},nu={_num(nu, 'nu')}")
 
     @classmethod
     def cylinder(
         cls, *, axis: str, z: float, r: float, E: float, nu: float, x: float | None = None, y: float | None = None
     ) -> "Inhomogeneity":
-        pos = f"x={_num(x)}" if axis == "y" else f"y={_num(y if y is not None else float('nan'))}"
-        return cls(f"cylinder:axis={axis},{pos},z={_num(z)},r={_num(r)},E={_num(E)},nu={_num(nu)}")
+        _text(axis, "axis")
+        if axis == "y":
+            pos = f"x={_num(x, 'x')}"
+        elif axis == "x":
+            pos = f"y={_num(y, 'y')}"
+        else:
+            raise HalfspaceError(f"Inhomogeneity.cylinder: axis must be 'x' or 'y', got {axis!r}")
+        return cls(f"cylinder:axis={axis},{pos},z={_num(z, 'z')},r={_num(r, 'r')},E={_num(E, 'E')},"
+                   f"nu={_num(nu, 'nu')}")
 
     @classmethod
     def cuboid(
         cls, *, x: float, y: float, z: float, hx: float, hy: float, hz: float, E: float, nu: float
     ) -> "Inhomogeneity":
         return cls(
-            f"cuboid:x={_num(x)},y={_num(y)},z={_num(z)},hx={_num(hx)},hy={_num(hy)},hz={_num(hz)},"
-            f"E={_num(E)},nu={_num(nu)}"
+            f"cuboid:x={_num(x, 'x')},y={_num(y, 'y')},z={_num(z, 'z')},hx={_num(hx, 'hx')},"
+            f"hy={_num(hy, 'hy')},hz={_num(hz, 'hz')},E={_num(E, 'E')},nu={_num(nu, 'nu')}"
         )
 
 
-def _spec(value: Any) -> str:
+def _spec(value: Any, name: str = "input") -> str:
     if isinstance(value, str):
         return value
     if hasattr(value, "spec"):
         return value.spec()
-    raise HalfspaceError(f"expected a spec string or a halfspace input class, got {value!r}")
+    raise TypeError(
+        f"{name} must be a spec string or a halfspace input class, got {value!r} "
+        f"({type(value).__name__})"
+    )
 
 
 class Result:
@@ -215,11 +305,14 @@ def axisym(
     graded Eq. 23), the contact radius from the force or the depth, the pressure (Eq. 17; graded
     Eq. 29) and the surface displacement (Eqs. 12/13; graded 25/26) on ``n`` nodes, by FFT
     convolution (``method="fft"``) or the O(N²) products (``"mvm"``). As ``halfspace axisym``."""
+    force, depth = _opt_real(force, "force"), _opt_real(depth, "depth")
+    n, method = _count(n, "n"), _text(method, "method")
     if isinstance(profile, Table):
-        values = _axisym("table", _spec(material), force=force, depth=depth, n=n, method=method,
-                         table=(profile.r.tolist(), profile.f.tolist()))
+        values = _axisym("table", _spec(material, "material"), force=force, depth=depth, n=n,
+                         method=method, table=(profile.r.tolist(), profile.f.tolist()))
     else:
-        values = _axisym(_spec(profile), _spec(material), force=force, depth=depth, n=n, method=method)
+        values = _axisym(_spec(profile, "profile"), _spec(material, "material"), force=force,
+                         depth=depth, n=n, method=method)
     return Result(values)
 
 
@@ -254,20 +347,24 @@ def contact3d(
     ``material``, ``eigenstrain_*``) shaped (layers, N₁, N₂) — the arrays of ``contact3d --out``."""
     if isinstance(inhomogeneities, (str, Inhomogeneity)):
         inhomogeneities = [inhomogeneities]
+    if not isinstance(inhomogeneities, (list, tuple)):
+        raise TypeError(
+            f"inhomogeneities must be a list of Inhomogeneity or spec strings, got {inhomogeneities!r}"
+        )
     summary, arrays = _contact3d(
-        _spec(indenter),
-        _spec(material),
-        force=force,
-        depth=depth,
-        indenter_material=_spec(indenter_material),
-        shift_x=shift_x,
-        tangential_force=tangential_force,
-        friction=friction,
-        grid=grid,
-        extent=extent,
-        tol=tol,
-        inhomogeneities=[_spec(i) for i in inhomogeneities],
-        subsurface=subsurface,
+        _spec(indenter, "indenter"),
+        _spec(material, "material"),
+        force=_opt_real(force, "force"),
+        depth=_opt_real(depth, "depth"),
+        indenter_material=_spec(indenter_material, "indenter_material"),
+        shift_x=_opt_real(shift_x, "shift_x"),
+        tangential_force=_opt_real(tangential_force, "tangential_force"),
+        friction=_real(friction, "friction"),
+        grid=_count(grid, "grid"),
+        extent=_opt_real(extent, "extent"),
+        tol=_real(tol, "tol"),
+        inhomogeneities=[_spec(i, f"inhomogeneities[{k}]") for k, i in enumerate(inhomogeneities)],
+        subsurface=_opt_real(subsurface, "subsurface"),
     )
     values = json.loads(summary)
     values.update(arrays)
@@ -298,28 +395,65 @@ def fretting_wear(
     ``limit_wear_volume`` are V/(π a₀² d). As ``halfspace fretting-wear``."""
     # A typed medium: only k and ν enter (E0, z0, E set the scales a0, F0, N0, not the run).
     if isinstance(material, Graded):
-        material = f"graded:k={_num(material.k)},nu={_num(material.nu)}"
+        material = f"graded:k={_num(material.k, 'k')},nu={_num(material.nu, 'nu')}"
     elif isinstance(material, Homogeneous):
-        material = f"homogeneous:nu={_num(material.nu)}" if material.nu is not None else "homogeneous"
-    return Result(_fretting_wear(chi=chi, n=n, tol=tol, dtau=dtau, tau_end=tau_end, method=method,
-                                 material=material, length=length))
+        if material.Estar is not None:
+            raise HalfspaceError(
+                "fretting_wear: material Homogeneous(Estar=..) is not used by the normalized run; "
+                "give Homogeneous(nu=..) or None"
+            )
+        material = (f"homogeneous:nu={_num(material.nu, 'nu')}" if material.nu is not None
+                    else "homogeneous")
+    elif material is not None:
+        material = _text(material, "material")
+    return Result(_fretting_wear(chi=_real(chi, "chi"), n=_count(n, "n"), tol=_opt_real(tol, "tol"),
+                                 dtau=_opt_real(dtau, "dtau"), tau_end=_real(tau_end, "tau_end"),
+                                 method=_text(method, "method"), material=material,
+                                 length=_opt_real(length, "length")))
+
+
+_CONFIG_COUNTS = ("normal_steps", "grid")
+_CONFIG_REALS = ("radius", "e", "nu", "friction", "force", "amplitude", "shift_step", "extent_over_a",
+                 "fibre_e_ratio", "subsurface_over_a")
 
 
 def _config_json(config: dict[str, Any] | None) -> str | None:
     """The fretting-loop config dict as the JSON the library reads (``inhomogeneity`` items may be
     tables, :class:`Inhomogeneity` objects or spec strings; the spec key ``E`` is the table's ``e``)."""
+    if config is not None and not isinstance(config, dict):
+        raise TypeError(f"config must be a dict of the fretting-loop keys, got {config!r}")
     cfg = dict(config or {})
+    for key, value in cfg.items():
+        if not isinstance(key, str):
+            raise TypeError(f"config keys must be strings, got {key!r}")
+        if key in _CONFIG_COUNTS:
+            cfg[key] = _count(value, f"config['{key}']")
+        elif key in _CONFIG_REALS:
+            cfg[key] = _real(value, f"config['{key}']")
+        elif key == "layout":
+            _text(value, "config['layout']")
     tables = []
-    for item in cfg.pop("inhomogeneity", []) or []:
+    items = cfg.pop("inhomogeneity", []) or []
+    if not isinstance(items, (list, tuple)):
+        raise TypeError(f"config['inhomogeneity'] must be a list, got {items!r}")
+    for k, item in enumerate(items):
         if isinstance(item, dict):
             tables.append(item)
         else:
-            kind, _, rest = _spec(item).partition(":")
+            kind, _, rest = _spec(item, f"config['inhomogeneity'][{k}]").partition(":")
             table: dict[str, Any] = {"kind": kind}
             for pair in filter(None, rest.split(",")):
                 key, _, value = pair.partition("=")
                 key = "e" if key == "E" else key
-                table[key] = value if key == "axis" else float(value)
+                if key == "axis":
+                    table[key] = value
+                else:
+                    try:
+                        table[key] = float(value)
+                    except ValueError:
+                        raise HalfspaceError(
+                            f"config['inhomogeneity'][{k}] '{item}': {key}='{value}' is not a number"
+                        ) from None
             tables.append(table)
     if tables:
         cfg["inhomogeneity"] = tables
@@ -340,7 +474,8 @@ class FrettingLoop:
     """
 
     def __init__(self, config: dict[str, Any] | None = None, *, case: str = "homogeneous", grid: int | None = None):
-        self._inner = _FrettingLoop(_config_json(config), case=case, grid=grid)
+        self._inner = _FrettingLoop(_config_json(config), case=_text(case, "case"),
+                                    grid=_opt_count(grid, "grid"))
 
     def __len__(self) -> int:
         return len(self._inner)
@@ -385,6 +520,17 @@ def _map_point(config_json: str | None, case: str, grid: int | None, loads: list
     return _fretting_map_point(config_json, case, grid, loads, amplitudes, i, j)
 
 
+def _items(v: Any, name: str) -> list[Any]:
+    """A scalar or a sequence (list, tuple, 1D array) as a list, or TypeError naming it."""
+    if isinstance(v, (str, bytes)) or v is None or isinstance(v, dict):
+        raise TypeError(f"{name} must be a number or a sequence of numbers, got {v!r}")
+    if isinstance(v, np.ndarray):
+        return list(v.ravel())
+    if isinstance(v, (list, tuple)):
+        return list(v)
+    return [v]
+
+
 def fretting_map(
     loads: Any,
     amplitudes: Any,
@@ -410,9 +556,14 @@ def fretting_map(
     Without ``client`` the points run in parallel on this machine's cores (GIL released). With a
     ``dask.distributed.Client`` each point is one task on its cluster (the workers need this package
     installed); the numbers are the same bit for bit (every loop is deterministic)."""
-    loads = [float(w) for w in np.atleast_1d(np.asarray(loads, dtype=float))]
-    amplitudes = [float(a) for a in np.atleast_1d(np.asarray(amplitudes, dtype=float))]
+    loads = [_real(w, f"loads[{k}]") for k, w in enumerate(_items(loads, "loads"))]
+    amplitudes = [_real(a, f"amplitudes[{k}]") for k, a in enumerate(_items(amplitudes, "amplitudes"))]
     cfg = _config_json(config)
+    case, grid = _text(case, "case"), _opt_count(grid, "grid")
+    if client is not None and not all(callable(getattr(client, m, None)) for m in ("map", "gather")):
+        raise TypeError(
+            f"client must be a dask.distributed.Client (with map and gather), got {client!r}"
+        )
     if client is None:
         values = _fretting_map(cfg, case, grid, loads, amplitudes)
     else:

@@ -5,6 +5,10 @@
 //! `halfspace/__init__.py`. Errors are `halfspace.HalfspaceError` (a `ValueError`) carrying the
 //! library's message.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::RecvTimeoutError;
+use std::time::Duration;
+
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::create_exception;
 use pyo3::exceptions::PyValueError;
@@ -13,12 +17,13 @@ use pyo3::types::PyDict;
 
 use halfspace::config::LoopConfig;
 use halfspace::fretting::{FrettingParams, FrettingSimulation, TimeStepping};
-use halfspace::fretting_map::run_map;
+use halfspace::fretting_map::{run_map_until, MapError};
 use halfspace::mdr::{Backend, ContactParams, ContactSolver, Load, Profile};
 use halfspace::records::{contact_record, contact_summary, wear_summary};
-use halfspace::sam::fretting_loop::{FrettingLoop, FrettingMap, LoopRow, MapPoint, POINT_LABELS};
+use halfspace::sam::drivers::fretting_loop::{FrettingLoop, LoopRow, POINT_LABELS};
+use halfspace::sam::drivers::fretting_map::{FrettingMap, MapPoint};
+use halfspace::sam::drivers::one_contact::{solve_contact, ContactCase, TangentialLoad};
 use halfspace::sam::normal::NormalLoad;
-use halfspace::sam::single::{solve_contact, ContactCase, TangentialLoad};
 use halfspace::spec::{
     parse_body, parse_indenter, parse_inhomogeneity, parse_material, parse_profile,
     parse_wear_medium, WearMedium,
@@ -33,6 +38,50 @@ create_exception!(
 
 fn err(e: impl std::fmt::Display) -> PyErr {
     HalfspaceError::new_err(e.to_string())
+}
+
+/// Runs `work` on a worker thread with the GIL released while this (the calling, main) thread
+/// checks for signals every 50 ms: on Ctrl-C (or any signal handler raising) `cancel` is set, the
+/// work stops at its next check (after the increment or step it is in) and the Python error
+/// (`KeyboardInterrupt`) is raised; what the work had done stays intact. Python runs signal
+/// handlers only in the main thread, hence the worker.
+fn interruptible<T: Send>(
+    py: Python<'_>,
+    work: impl FnOnce(&AtomicBool) -> T + Send,
+) -> PyResult<T> {
+    let cancel = AtomicBool::new(false);
+    let (value, interrupted) = py.detach(|| {
+        std::thread::scope(|scope| {
+            let (done, finished) = std::sync::mpsc::channel::<()>();
+            let cancel = &cancel;
+            let handle = scope.spawn(move || {
+                let value = work(cancel);
+                let _ = done.send(());
+                value
+            });
+            let mut interrupted = None;
+            // Until the worker is done (or panicked: the join below re-raises it).
+            while let Err(RecvTimeoutError::Timeout) =
+                finished.recv_timeout(Duration::from_millis(50))
+            {
+                if interrupted.is_none() {
+                    if let Err(e) = Python::attach(|py| py.check_signals()) {
+                        cancel.store(true, Ordering::Relaxed);
+                        interrupted = Some(e);
+                    }
+                }
+            }
+            let value = match handle.join() {
+                Ok(v) => v,
+                Err(panic) => std::panic::resume_unwind(panic),
+            };
+            (value, interrupted)
+        })
+    });
+    match interrupted {
+        Some(e) => Err(e),
+        None => Ok(value),
+    }
 }
 
 /// A flat JSON object of numbers and strings as a dict (the CLI's summary keys).
@@ -91,12 +140,11 @@ fn axisym<'py>(
         backend,
         ..ContactParams::default()
     };
-    let sol = py
-        .detach(|| {
-            let mut solver = ContactSolver::new(material, params)?;
-            solver.solve(&profile, load)
-        })
-        .map_err(err)?;
+    let sol = interruptible(py, |_| {
+        let mut solver = ContactSolver::new(material, params)?;
+        solver.solve(&profile, load)
+    })?
+    .map_err(err)?;
     let d = PyDict::new(py);
     d.set_item("contact_radius", sol.contact_radius)?;
     d.set_item("depth", sol.depth)?;
@@ -171,13 +219,13 @@ fn fretting_wear<'py>(
         ..FrettingParams::default()
     };
     params.snapshots.retain(|t| *t <= tau_end + 1e-12);
-    let sim = py
-        .detach(|| {
-            let mut sim = FrettingSimulation::new(params)?;
-            sim.run(|_| false)?;
-            Ok::<_, halfspace::fretting::FrettingError>(sim)
-        })
-        .map_err(err)?;
+    // Ctrl-C: the run stops after the wear step it is in (KeyboardInterrupt).
+    let sim = interruptible(py, |cancel| {
+        let mut sim = FrettingSimulation::new(params)?;
+        sim.run(|_| cancel.load(Ordering::Relaxed))?;
+        Ok::<_, halfspace::fretting::FrettingError>(sim)
+    })?
+    .map_err(err)?;
     let state = sim.state();
     let d = json_dict(py, &wear_summary(&sim, &medium))?;
     d.set_item("r", PyArray1::from_vec(py, sim.grid().coordinates()))?;
@@ -201,7 +249,7 @@ fn fretting_wear<'py>(
     Ok(d)
 }
 
-/// `contact3d(indenter, material, ...)`: one 3D contact (`sam::single::solve_contact`), as
+/// `contact3d(indenter, material, ...)`: one 3D contact (`sam::drivers::one_contact::solve_contact`), as
 /// `halfspace contact3d`: returns `(summary_json, arrays)` — the CLI's JSON keys, and the arrays of
 /// `halfspace::records::contact_record` (what `contact3d --out` writes): the surface fields `x`,
 /// `y`, `pressure`, `shear_x/y`, `slip_x/y`, `stick` shaped (N₁, N₂), with `subsurface` the volume
@@ -259,7 +307,7 @@ fn contact3d<'py>(
             .map_err(err)?,
         subsurface_depth: subsurface,
     };
-    let outcome = py.detach(|| solve_contact(&case)).map_err(err)?;
+    let outcome = interruptible(py, |_| solve_contact(&case))?.map_err(err)?;
     let summary = contact_summary(&outcome, &case);
     let grid = *outcome.solver.problem().grid();
     let rec = contact_record(&outcome, &summary);
@@ -283,7 +331,7 @@ fn contact3d<'py>(
     Ok((summary.to_string(), d))
 }
 
-/// The fretting loop of [LN11] (`sam::fretting_loop::FrettingLoop`), increment by increment.
+/// The fretting loop of [LN11] (`sam::drivers::fretting_loop::FrettingLoop`), increment by increment.
 #[pyclass(name = "_FrettingLoop", module = "halfspace._halfspace")]
 struct PyFrettingLoop {
     inner: FrettingLoop,
@@ -315,17 +363,24 @@ impl PyFrettingLoop {
     /// One increment (GIL released); its row as a dict, or `None` when the loop is done.
     fn step<'py>(&mut self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         let inner = &mut self.inner;
-        let row = py
-            .detach(|| inner.step().map(|r| r.copied()))
-            .map_err(err)?;
+        let row = interruptible(py, |_| inner.step().map(|r| r.copied()))?.map_err(err)?;
         row.map(|r| row_dict(py, &r)).transpose()
     }
 
-    /// Every remaining increment (GIL released).
+    /// Every remaining increment (GIL released). Ctrl-C stops after the increment in progress
+    /// (KeyboardInterrupt); the loop keeps every increment done and can continue.
     fn run(&mut self, py: Python<'_>) -> PyResult<()> {
         let inner = &mut self.inner;
-        py.detach(|| inner.run(|_| std::ops::ControlFlow::Continue(())))
-            .map_err(err)?;
+        interruptible(py, |cancel| {
+            inner.run(|_| {
+                if cancel.load(Ordering::Relaxed) {
+                    std::ops::ControlFlow::Break(())
+                } else {
+                    std::ops::ControlFlow::Continue(())
+                }
+            })
+        })?
+        .map_err(err)?;
         Ok(())
     }
 
@@ -452,9 +507,15 @@ fn fretting_map<'py>(
     amplitudes: Vec<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let map = build_map(config_json, case, grid, loads, amplitudes)?;
-    let run = py
-        .detach(|| run_map(&map, None, None, |_, _| {}))
-        .map_err(err)?;
+    let run = interruptible(py, |cancel| {
+        run_map_until(&map, None, None, |_, _| {}, &|| {
+            cancel.load(Ordering::Relaxed)
+        })
+    })?
+    .map_err(|e| match e {
+        MapError::Cancelled => err("the map was cancelled"),
+        e => err(e),
+    })?;
     let points = run.complete().ok_or_else(|| err("the map is incomplete"))?;
     let (rows, cols) = map.shape();
     let d = PyDict::new(py);
@@ -501,7 +562,10 @@ fn fretting_map_point(
     j: usize,
 ) -> PyResult<Vec<f64>> {
     let map = build_map(config_json, case, grid, loads, amplitudes)?;
-    let point = py.detach(|| map.run_point(i, j)).map_err(err)?;
+    let point = interruptible(py, |cancel| {
+        map.run_point_until(i, j, &|| cancel.load(Ordering::Relaxed))
+    })?
+    .map_err(err)?;
     Ok(point.values().to_vec())
 }
 
@@ -515,6 +579,10 @@ fn row_dict<'py>(py: Python<'py>, r: &LoopRow) -> PyResult<Bound<'py, PyDict>> {
 
 #[pymodule]
 fn _halfspace(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // Import NumPy's C API now, while the GIL is held and no signal is pending: imported lazily at
+    // the first array, after a Ctrl-C in a first long call, the import fails and rust-numpy panics
+    // ("Failed to access NumPy array API capsule").
+    let _ = PyArray1::<f64>::zeros(m.py(), 0, false);
     m.add("HalfspaceError", m.py().get_type::<HalfspaceError>())?;
     m.add_function(wrap_pyfunction!(axisym, m)?)?;
     m.add_function(wrap_pyfunction!(fretting_wear, m)?)?;

@@ -31,19 +31,19 @@ pub struct AxisymArgs {
     #[arg(long)]
     material: String,
     /// Indentation depth δ in m.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     depth: Option<f64>,
     /// Normal force F in N.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     force: Option<f64>,
     /// Grid nodes N (≥ 8).
-    #[arg(long, default_value_t = 2001)]
+    #[arg(long, default_value_t = 2001, allow_hyphen_values = true)]
     n: usize,
     /// Backend of the transforms.
     #[arg(long, value_enum, default_value_t = Method::Fft)]
     method: Method,
     /// Domain size over contact radius, L/a ≥ 1.
-    #[arg(long, default_value_t = 1.5, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1.5, allow_hyphen_values = true)]
     domain_ratio: f64,
     /// Write r, pressure, displacement, x, g (and the inputs as metadata) to FILE.h5 or FILE.npz.
     #[arg(long)]
@@ -76,12 +76,7 @@ pub fn run(args: AxisymArgs) -> Result<(), CliError> {
         halfspace::data::Format::of(path)?;
     }
     if let Some(path) = &args.plot {
-        if path.extension().and_then(|e| e.to_str()) != Some("svg") {
-            return Err(CliError::Spec(format!(
-                "--plot {}: expected a .svg file",
-                path.display()
-            )));
-        }
+        plot::check_extension(path, "--plot", &["svg"])?;
     }
     let params = ContactParams {
         nodes: args.n,

@@ -7,10 +7,12 @@ use std::time::Instant;
 use clap::Args;
 use halfspace::data::write_record;
 use halfspace::records::{contact_record, contact_summary, VOLUME_FIELDS};
-use halfspace::sam::fretting_loop::ContactSolver;
+use halfspace::sam::contact::ContactSolver;
+use halfspace::sam::drivers::one_contact::{
+    solve_contact, ContactCase, ContactOutcome, TangentialLoad,
+};
 use halfspace::sam::indenter::Indenter;
 use halfspace::sam::normal::NormalLoad;
-use halfspace::sam::single::{solve_contact, ContactCase, ContactOutcome, TangentialLoad};
 use halfspace::sam::subsurface::StressField;
 use halfspace::sam::Body;
 use halfspace::sam::SamError;
@@ -32,24 +34,20 @@ pub struct Contact3dArgs {
     #[arg(long, default_value = "rigid")]
     indenter_material: String,
     /// Normal force W in N.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     force: Option<f64>,
     /// Rigid approach δ in m.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     depth: Option<f64>,
     /// Rigid tangential shift along x in m (after the normal load).
-    #[arg(
-        long,
-        allow_negative_numbers = true,
-        conflicts_with = "tangential_force"
-    )]
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "tangential_force")]
     shift_x: Option<f64>,
     /// Tangential force along x in N (after the normal load).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     tangential_force: Option<f64>,
     /// Coulomb friction coefficient μ (default 0: frictionless, as in other contact codes; a
     /// tangential load needs it).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     friction: Option<f64>,
     /// Inhomogeneity below the surface (repeatable): sphere:x=..,y=..,z=..,r=..,E=..,nu=.. |
     /// cylinder:axis=y,x=..,z=..,r=..,E=..,nu=.. (or axis=x,y=..) |
@@ -57,16 +55,16 @@ pub struct Contact3dArgs {
     #[arg(long = "inhomogeneity")]
     inhomogeneities: Vec<String>,
     /// Compute the stress field below the surface down to DEPTH (m).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     subsurface: Option<f64>,
     /// Cells per side.
-    #[arg(long, default_value_t = 128)]
+    #[arg(long, default_value_t = 128, allow_hyphen_values = true)]
     grid: usize,
     /// Side of the square domain in m (default: 4 estimated contact radii).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     extent: Option<f64>,
     /// Relative tolerance of the normal and tangential solvers.
-    #[arg(long, default_value_t = 1e-10, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1e-10, allow_hyphen_values = true)]
     tol: f64,
     /// Print one JSON object on stdout.
     #[arg(long)]
@@ -86,6 +84,9 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
         return Err(CliError::Spec(
             "--indenter table: give --extent (the side of the grid in m)".into(),
         ));
+    }
+    if let Some(path) = &args.plot {
+        plot::check_extension(path, "--plot", &["svg", "png"])?;
     }
     let indenter = parse_indenter(&args.indenter, "--indenter")?;
     let half = parse_body(&args.material, "--material")?;
@@ -242,7 +243,7 @@ fn draw_figures(
             .collect::<Vec<_>>(),
     )];
     if let Some((r, w, e_star)) = hertz {
-        let a = (3.0 * w * r / (4.0 * e_star)).cbrt();
+        let a = halfspace::mdr::analytic::sphere_radius_for_force(w, r, e_star);
         let p0 = 3.0 * w / (2.0 * std::f64::consts::PI * a * a);
         let y = g.centre(0, col).1;
         left.push((

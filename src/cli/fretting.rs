@@ -15,8 +15,17 @@ use halfspace::spec::{parse_wear_medium, WearMedium};
 use serde::Deserialize;
 use serde_json::json;
 
+use halfspace::run_dir::{RunDir, RunKind, Start};
+
 use super::axisym::Method;
 use super::{plot, CliError};
+
+/// What a fretting-wear run writes into its directory (`halfspace::run_dir`).
+const WEAR_RUN: RunKind = RunKind {
+    command: "fretting-wear",
+    files: &["checkpoint.npz", "results.h5", "results.npz"],
+    figure_extensions: &["svg", "png"],
+};
 
 #[derive(Debug, Args)]
 pub struct FrettingArgs {
@@ -39,33 +48,33 @@ pub struct FrettingArgs {
     #[arg(long)]
     json: bool,
     /// u_A / u_max, 0 < χ < 1.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     chi: Option<f64>,
     /// The medium: homogeneous (default), homogeneous:nu=.., or graded:k=..,nu=.. (E ∝ z^k,
     /// −1 < k < 1; the normalized run depends on k alone, ν sets u_max = μ (c_N/c_T) d).
     #[arg(long)]
     material: Option<String>,
     /// Grid nodes N.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     n: Option<usize>,
     /// Local error tolerance of the adaptive (ROS2) wear steps, max over the nodes in units of d
     /// (default 1e-4).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     tol: Option<f64>,
     /// Fixed wear step Δτ instead of adaptive steps (ROS2, stable at any step).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     dtau: Option<f64>,
     /// Final τ = N/N0.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     tau_end: Option<f64>,
     /// Domain size L/a0 (≥ 1.45 and ≥ 1.02 r*/a0; default 1.6, graded max(1.6, 1.15 r*/a0)).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     length: Option<f64>,
     /// Seconds of work between checkpoints.
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, default_value_t = 2.0, allow_hyphen_values = true)]
     checkpoint_seconds: f64,
     /// Testing hook: stop (as if killed) after this many steps, leaving the checkpoint.
-    #[arg(long, hide = true)]
+    #[arg(long, hide = true, allow_hyphen_values = true)]
     stop_after: Option<u64>,
 }
 
@@ -133,8 +142,26 @@ fn params_of(args: &FrettingArgs) -> Result<(FrettingParams, WearMedium), CliErr
         p.snapshots = s;
     }
     p.snapshots.retain(|t| *t <= p.tau_end + 1e-12);
-    p.validate().map_err(fretting_error)?;
+    p.validate().map_err(parameter_error)?;
     Ok((p, medium))
+}
+
+/// A parameter error naming the flag it came from (`--tol`, `--tau-end`, …; a config file's key
+/// is the flag's name with `_`); the others (`snapshots`, `k`, …) as the library names them.
+fn parameter_error(e: halfspace::fretting::FrettingError) -> CliError {
+    match e {
+        halfspace::fretting::FrettingError::InvalidParameter {
+            name,
+            value,
+            allowed,
+        } if ["chi", "n", "tol", "dtau", "tau_end", "length"].contains(&name) => {
+            CliError::Spec(format!(
+                "--{} must be {allowed}, got {value}",
+                name.replace('_', "-")
+            ))
+        }
+        e => fretting_error(e),
+    }
 }
 
 fn fretting_error(e: halfspace::fretting::FrettingError) -> CliError {
@@ -221,9 +248,12 @@ fn state_from_checkpoint(path: &Path, params: &FrettingParams) -> Result<Frettin
             )));
         }
     }
+    // Step counts: an integer ≥ 0 (a negative one would wrap as u64).
     let int = |name: &str| match rec.get_attr(name) {
-        Some(AttrValue::Int(v)) => Ok(*v),
-        other => Err(bad(format!("attribute {name} is {other:?}"))),
+        Some(AttrValue::Int(v)) if *v >= 0 => Ok(*v as u64),
+        other => Err(bad(format!(
+            "attribute {name} is {other:?}, not a count ≥ 0"
+        ))),
     };
     let array = |name: &str| {
         rec.get(name)
@@ -237,7 +267,7 @@ fn state_from_checkpoint(path: &Path, params: &FrettingParams) -> Result<Frettin
     let mut snapshots = Vec::new();
     for k in 0..int("snapshot_count")? {
         snapshots.push(Snapshot {
-            step: int(&format!("snapshot{k}_step"))? as u64,
+            step: int(&format!("snapshot{k}_step"))?,
             tau: float(&format!("snapshot{k}_tau"))?,
             loaded_radius: float(&format!("snapshot{k}_loaded_radius"))?,
             profile: array(&format!("snapshot{k}_profile"))?,
@@ -255,7 +285,7 @@ fn state_from_checkpoint(path: &Path, params: &FrettingParams) -> Result<Frettin
         });
     }
     Ok(FrettingState {
-        step: int("step")? as u64,
+        step: int("step")?,
         tau: float("tau")?,
         profile: array("profile")?,
         tau_history: array("tau_history")?,
@@ -263,7 +293,7 @@ fn state_from_checkpoint(path: &Path, params: &FrettingParams) -> Result<Frettin
         loaded_radius_history: array("loaded_radius_history")?,
         next_step: float("next_step")?,
         previous_error: float("previous_error")?,
-        rejected_steps: int("rejected_steps")? as u64,
+        rejected_steps: int("rejected_steps")?,
         snapshots,
     })
 }
@@ -276,20 +306,16 @@ pub fn run(args: FrettingArgs) -> Result<(), CliError> {
             args.checkpoint_seconds
         )));
     }
-    let dir = &args.out;
+    let start_mode = Start::of_flags(args.resume, args.force)?;
+    let mut manifest = serde_json::Map::new();
+    for (name, value) in params_attrs(&params) {
+        manifest.insert(name.into(), value.to_json());
+    }
+    manifest.insert("medium".into(), json!(format!("{medium:?}")));
+    let run_dir = RunDir::claim(&args.out, WEAR_RUN, manifest.into(), start_mode)?;
+    let dir = run_dir.path();
     let checkpoint = dir.join("checkpoint.npz");
     let results = dir.join("results.h5");
-    if args.resume && args.force {
-        return Err(CliError::Spec("give --resume or --force, not both".into()));
-    }
-    if dir.exists() && !args.resume && !args.force && (checkpoint.exists() || results.exists()) {
-        return Err(CliError::Spec(format!(
-            "{} holds another run's results; use --resume to continue it or --force to overwrite",
-            dir.display()
-        )));
-    }
-    std::fs::create_dir_all(dir)
-        .map_err(|e| CliError::Spec(format!("--out {}: {e}", dir.display())))?;
     let start = Instant::now();
     let mut sim = if args.resume {
         if !checkpoint.exists() {
@@ -299,7 +325,12 @@ pub fn run(args: FrettingArgs) -> Result<(), CliError> {
             )));
         }
         let state = state_from_checkpoint(&checkpoint, &params)?;
-        FrettingSimulation::resume(params.clone(), state).map_err(fretting_error)?
+        FrettingSimulation::resume(params.clone(), state).map_err(|e| {
+            CliError::Spec(format!(
+                "--resume {}: {e}; the checkpoint is left as it is (--force starts over)",
+                checkpoint.display()
+            ))
+        })?
     } else {
         FrettingSimulation::new(params.clone()).map_err(fretting_error)?
     };
@@ -363,6 +394,13 @@ pub fn run(args: FrettingArgs) -> Result<(), CliError> {
         plot::worn_profiles(&path, &sim)
             .map_err(|e| CliError::Plot(format!("{}: {e}", path.display())))?;
     }
+    run_dir.complete(&[
+        "checkpoint.npz",
+        "results.h5",
+        "results.npz",
+        "worn_profiles.svg",
+        "worn_profiles.png",
+    ])?;
     let state = sim.state();
     let mut summary = wear_summary(&sim, &medium);
     summary["seconds"] = json!(seconds);

@@ -1,4 +1,4 @@
-//! `halfspace fretting-loop`: the fretting loop of [LN11] (parse → `sam::fretting_loop` → write).
+//! `halfspace fretting-loop`: the fretting loop of [LN11] (parse → `sam::drivers::fretting_loop` → write).
 
 use std::io::IsTerminal;
 use std::ops::ControlFlow;
@@ -8,11 +8,22 @@ use std::time::{Duration, Instant};
 use clap::Args;
 use halfspace::config::LoopConfig;
 use halfspace::data::{read_record, write_record};
-use halfspace::records::{loop_results_record, snapshot_from_record, snapshot_record};
-use halfspace::sam::fretting_loop::{FrettingLoop, LoopMetrics, PointFields};
+use halfspace::records::{
+    case_parameters, loop_results_record, snapshot_from_record, snapshot_record,
+};
+use halfspace::sam::drivers::fretting_loop::{FrettingLoop, LoopMetrics, PointFields};
 use serde_json::{json, Value};
 
+use halfspace::run_dir::{RunDir, RunKind, Start};
+
 use super::plot::Curves;
+
+/// What a fretting-loop run writes into its directory (`halfspace::run_dir`).
+const LOOP_RUN: RunKind = RunKind {
+    command: "fretting-loop",
+    files: &["checkpoint.npz", "results.h5"],
+    figure_extensions: &["svg", "png"],
+};
 
 /// One labelled curve.
 type Labelled = (String, Vec<(f64, f64)>);
@@ -28,7 +39,7 @@ pub struct FrettingLoopArgs {
     #[arg(long, default_value = "fretting-loop-out")]
     out: PathBuf,
     /// Cells per side (overrides the config).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     grid: Option<usize>,
     /// Preset: `homogeneous` ([LN11]'s homogeneous half-space, the default) or `composite` (its
     /// unidirectional composite: fibres along y, r = 0.13a, spacing 3r, axes at depth 1.5r,
@@ -38,12 +49,15 @@ pub struct FrettingLoopArgs {
     /// Continue a killed run from OUT/checkpoint.npz (the same configuration), bit for bit.
     #[arg(long)]
     resume: bool,
+    /// Replace another run in OUT (its files are removed before this run starts).
+    #[arg(long)]
+    force: bool,
     /// Seconds of work between checkpoints (written atomically to OUT/checkpoint.npz; removed when
     /// the loop completes).
-    #[arg(long, default_value_t = 5.0)]
+    #[arg(long, default_value_t = 5.0, allow_hyphen_values = true)]
     checkpoint_seconds: f64,
     /// Testing hook: stop (as if killed) after this many increments, leaving the checkpoint.
-    #[arg(long, hide = true)]
+    #[arg(long, hide = true, allow_hyphen_values = true)]
     stop_after: Option<usize>,
     /// Print one JSON object on stdout.
     #[arg(long)]
@@ -66,15 +80,13 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
             args.checkpoint_seconds
         )));
     }
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| CliError::Spec(format!("--out {}: {e}", args.out.display())))?;
-    let checkpoint = args.out.join("checkpoint.npz");
-    if checkpoint.exists() && !args.resume {
-        return Err(CliError::Spec(format!(
-            "{} holds an interrupted run: --resume continues it (or remove it to start over)",
-            checkpoint.display()
-        )));
-    }
+    // Refused before the directory is touched: runaway work (the loop checks it again).
+    case.estimate().check("the fretting loop")?;
+    let start_mode = Start::of_flags(args.resume, args.force)?;
+    let mut manifest = case_parameters(&case);
+    manifest["preset"] = json!(args.case);
+    let run_dir = RunDir::claim(&args.out, LOOP_RUN, manifest, start_mode)?;
+    let checkpoint = run_dir.join("checkpoint.npz");
     if args.resume && !checkpoint.exists() {
         return Err(CliError::Spec(format!(
             "--resume: {} has no checkpoint.npz",
@@ -158,6 +170,7 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
             .map_err(|e| CliError::Spec(format!("removing {}: {e}", checkpoint.display())))?;
     }
     draw_loop_figures(&args.out, &lp, reference.as_ref().map(|(r, _)| r))?;
+    run_dir.complete_present()?;
     let summary = loop_summary(
         &lp,
         &metrics,
@@ -186,8 +199,9 @@ fn loop_summary(
 ) -> Value {
     let rows = lp.rows();
     let s = lp.seconds();
-    let sum =
-        |f: fn(&halfspace::sam::fretting_loop::LoopRow) -> usize| rows.iter().map(f).sum::<usize>();
+    let sum = |f: fn(&halfspace::sam::drivers::fretting_loop::LoopRow) -> usize| {
+        rows.iter().map(f).sum::<usize>()
+    };
     let mut summary = json!({
         "contact_area_over_hertz_end_of_normal_loading": m.contact_area_over_hertz_end_of_normal_loading,
         "max_transverse_slip": m.max_transverse_slip,

@@ -11,7 +11,16 @@ use halfspace::data::{write_atomic, write_record, DataError};
 use halfspace::fretting_map::{has_checkpoints, map_csv, map_record, run_map};
 use serde_json::json;
 
+use halfspace::run_dir::{RunDir, RunKind, Start};
+
 use super::{plot, CliError};
+
+/// What a fretting-map run writes into its directory (`halfspace::run_dir`).
+const MAP_RUN: RunKind = RunKind {
+    command: "fretting-map",
+    files: &["points", "results.h5", "results.csv"],
+    figure_extensions: &["svg", "png"],
+};
 
 #[derive(Debug, Args)]
 pub struct FrettingMapArgs {
@@ -24,14 +33,17 @@ pub struct FrettingMapArgs {
     #[arg(long, default_value = "fretting-map-out")]
     out: PathBuf,
     /// Cells per side (overrides the config).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     grid: Option<usize>,
     /// Continue a killed map from OUT/points (the same configuration): completed points are read
     /// back, the others run.
     #[arg(long)]
     resume: bool,
+    /// Replace another run in OUT (its files are removed before this map starts).
+    #[arg(long)]
+    force: bool,
     /// Testing hook: stop (as if killed) after this many new points, leaving their checkpoints.
-    #[arg(long, hide = true)]
+    #[arg(long, hide = true, allow_hyphen_values = true)]
     stop_after: Option<usize>,
     /// Print one JSON object on stdout.
     #[arg(long)]
@@ -41,18 +53,18 @@ pub struct FrettingMapArgs {
 pub fn run(args: FrettingMapArgs) -> Result<(), CliError> {
     let start = Instant::now();
     let what = format!("--config {}", args.config.display());
-    let text = std::fs::read_to_string(&args.config)
-        .map_err(|e| CliError::Spec(format!("{what}: {e}")))?;
+    let text = halfspace::data::read_text_bounded(&args.config, super::CONFIG_LIMIT)
+        .map_err(|e| CliError::Spec(format!("--config {e}")))?;
     let (cfg, axes) = map_config_from_toml(&text, &what)?;
     let case = axes.case.as_deref().unwrap_or("homogeneous");
     let map = cfg.map(case, args.grid, axes.loads, axes.amplitudes)?;
-    let points_dir = args.out.join("points");
-    if has_checkpoints(&points_dir) && !args.resume {
-        return Err(CliError::Spec(format!(
-            "{} holds an interrupted map: --resume continues it (or remove it to start over)",
-            points_dir.display()
-        )));
-    }
+    let start_mode = Start::of_flags(args.resume, args.force)?;
+    let mut manifest = halfspace::records::case_parameters(map.base());
+    manifest["preset"] = json!(case);
+    manifest["loads"] = json!(map.loads());
+    manifest["amplitudes"] = json!(map.amplitudes());
+    let run_dir = RunDir::claim(&args.out, MAP_RUN, manifest, start_mode)?;
+    let points_dir = run_dir.join("points");
     if args.resume && !has_checkpoints(&points_dir) {
         return Err(CliError::Spec(format!(
             "--resume: {} has no checkpoints",
@@ -113,6 +125,7 @@ pub fn run(args: FrettingMapArgs) -> Result<(), CliError> {
         )
         .map_err(|e| CliError::Plot(e.to_string()))?;
     }
+    run_dir.complete_present()?;
     let (rows, cols) = map.shape();
     let grid_of = |v: &[f64]| -> Vec<Vec<f64>> { v.chunks(cols).map(<[f64]>::to_vec).collect() };
     let summary = json!({

@@ -52,6 +52,9 @@ pub enum CliError {
     /// Reading or writing data failed.
     #[error(transparent)]
     Data(#[from] halfspace::data::DataError),
+    /// The output directory belongs to another run or process.
+    #[error(transparent)]
+    RunDir(#[from] halfspace::run_dir::RunDirError),
     /// Plotting failed.
     #[error("plot: {0}")]
     Plot(String),
@@ -63,6 +66,9 @@ impl From<halfspace::spec::SpecError> for CliError {
     }
 }
 
+/// The largest configuration file read (bytes): a TOML config is a few hundred bytes.
+pub const CONFIG_LIMIT: u64 = 16 << 20;
+
 /// A TOML config (unknown keys refused by the type), or the defaults without one.
 pub fn read_config<T: serde::de::DeserializeOwned + Default>(
     path: Option<&std::path::Path>,
@@ -70,15 +76,20 @@ pub fn read_config<T: serde::de::DeserializeOwned + Default>(
     let Some(path) = path else {
         return Ok(T::default());
     };
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| CliError::Spec(format!("--config {}: {e}", path.display())))?;
-    toml::from_str(&text)
-        .map_err(|e| CliError::Spec(format!("--config {}: {}", path.display(), e.message())))
+    let text = halfspace::data::read_text_bounded(path, CONFIG_LIMIT)
+        .map_err(|e| CliError::Spec(format!("--config {e}")))?;
+    toml::from_str(&text).map_err(|e| {
+        CliError::Spec(halfspace::config::toml_message(
+            &format!("--config {}", path.display()),
+            &text,
+            &e,
+        ))
+    })
 }
 
 /// The library's errors name parameters, not flags (the Python package shows them too); on the
-/// command line each remedy is followed by the flag that applies it.
-fn with_flag_hints(message: &str) -> String {
+/// command line each remedy is followed by the flag that applies it — only flags the command has.
+fn with_flag_hints(message: &str, flags: &[&str]) -> String {
     const HINTS: [(&str, &str); 6] = [
         ("the MVM backend", "--method mvm"),
         ("the FFT backend", "--method fft"),
@@ -89,6 +100,10 @@ fn with_flag_hints(message: &str) -> String {
     ];
     let mut out = message.to_string();
     for (phrase, flag) in HINTS {
+        let name = flag.split_whitespace().next().unwrap_or(flag);
+        if !flags.contains(&name) {
+            continue;
+        }
         if let Some(at) = out.find(phrase) {
             let end = at + phrase.len();
             out.insert_str(end, &format!(" ({flag})"));
@@ -101,10 +116,29 @@ pub fn run() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {
-            // clap prints help/version to stdout (exit 0) and usage errors to stderr (exit 2).
-            let _ = e.print();
+            // clap prints help/version to stdout (exit 0); a usage error is one line on stderr
+            // (exit 2), like every other refusal.
+            if e.use_stderr() {
+                let text = e.render().to_string();
+                let line: Vec<&str> = text
+                    .lines()
+                    .map(str::trim)
+                    .take_while(|l| !l.starts_with("Usage:") && !l.starts_with("For more"))
+                    .filter(|l| !l.is_empty())
+                    .collect();
+                eprintln!("{}", line.join(" "));
+            } else {
+                let _ = e.print();
+            }
             return ExitCode::from(e.exit_code() as u8);
         }
+    };
+    let flags: &[&str] = match &cli.command {
+        Command::Axisym(_) => &["--method"],
+        Command::FrettingWear(_) => &["--method", "--dtau", "--length"],
+        Command::Contact3d(_) => &["--extent", "--subsurface"],
+        Command::FrettingLoop(_) | Command::FrettingMap(_) => &[],
+        Command::Study(_) => &["--method", "--dtau", "--length", "--extent"],
     };
     let result = match cli.command {
         Command::Axisym(args) => axisym::run(args),
@@ -117,7 +151,7 @@ pub fn run() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {}", with_flag_hints(&e.to_string()));
+            eprintln!("error: {}", with_flag_hints(&e.to_string(), flags));
             ExitCode::from(2)
         }
     }

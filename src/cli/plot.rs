@@ -8,59 +8,103 @@ use plotters::prelude::*;
 
 type PlotResult = Result<(), Box<dyn std::error::Error>>;
 
+/// The figure formats, by extension: `.svg` and `.png` (anything else is refused, never written
+/// as SVG bytes under another name).
+pub fn check_extension(path: &Path, what: &str, allowed: &[&str]) -> Result<(), super::CliError> {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    if allowed.contains(&ext) {
+        Ok(())
+    } else {
+        Err(super::CliError::Spec(format!(
+            "{what} {}: a figure is written as {} (by its extension), not '.{ext}'",
+            path.display(),
+            allowed
+                .iter()
+                .map(|e| format!(".{e}"))
+                .collect::<Vec<_>>()
+                .join(" or ")
+        )))
+    }
+}
+
+/// Draws a figure atomically: into a temporary file of the same extension in the same directory,
+/// renamed over `path` when complete (a killed run leaves the old figure or the new one, never a
+/// partial one). Refuses extensions other than `.svg` and `.png`.
+fn atomic(path: &Path, draw: impl FnOnce(&Path) -> PlotResult) -> PlotResult {
+    check_extension(path, "figure", &["svg", "png"]).map_err(|e| e.to_string())?;
+    let mut failure = None;
+    let written = halfspace::data::write_atomic(path, |tmp| {
+        draw(tmp).map_err(|e| {
+            let message = e.to_string();
+            failure = Some(message.clone());
+            halfspace::data::DataError::Format {
+                path: path.to_path_buf(),
+                message,
+            }
+        })
+    });
+    match (written, failure) {
+        (Ok(()), _) => Ok(()),
+        (Err(_), Some(message)) => Err(message.into()),
+        (Err(e), None) => Err(e.to_string().into()),
+    }
+}
+
 /// Two panels: `p(r)/max p` and `u(r)/δ` against `r/a`.
 pub fn pressure_and_displacement(path: &Path, sol: &ContactSolution, title: &str) -> PlotResult {
-    let a = sol.contact_radius;
-    let pmax = sol.max_pressure();
-    let r: Vec<f64> = sol.radii().iter().map(|v| v / a).collect();
-    let rmax = r.last().copied().unwrap_or(1.0);
-    let p: Vec<(f64, f64)> = r
-        .iter()
-        .zip(&sol.pressure)
-        .filter(|(_, p)| p.is_finite())
-        .map(|(x, p)| (*x, p / pmax))
-        .collect();
-    let u: Vec<(f64, f64)> = r
-        .iter()
-        .zip(&sol.displacement)
-        .map(|(x, u)| (*x, u / sol.depth))
-        .collect();
-    register_font()?;
-    let root = SVGBackend::new(path, (900, 420)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (left, right) = root.split_horizontally(450);
-    let panels = [
-        (
-            left,
-            p,
-            format!("pressure, max {:.4e} Pa", pmax),
-            "p / max p",
-        ),
-        (
-            right,
-            u,
-            format!("displacement, δ = {:.4e} m", sol.depth),
-            "u / δ",
-        ),
-    ];
-    for (area, data, caption, ylabel) in panels {
-        let ymax = data.iter().map(|(_, y)| *y).fold(0.0, f64::max) * 1.05;
-        let mut chart = ChartBuilder::on(&area)
-            .caption(caption, ("sans-serif", 16))
-            .margin(12)
-            .x_label_area_size(36)
-            .y_label_area_size(48)
-            .build_cartesian_2d(0.0..rmax, 0.0..ymax.max(1e-300))?;
-        chart
-            .configure_mesh()
-            .x_desc("r / a")
-            .y_desc(ylabel)
-            .draw()?;
-        chart.draw_series(LineSeries::new(data, BLUE.stroke_width(2)))?;
-    }
-    root.titled(title, ("sans-serif", 12))?;
-    root.present()?;
-    Ok(())
+    atomic(path, |path| {
+        let a = sol.contact_radius;
+        let pmax = sol.max_pressure();
+        let r: Vec<f64> = sol.radii().iter().map(|v| v / a).collect();
+        let rmax = r.last().copied().unwrap_or(1.0);
+        let p: Vec<(f64, f64)> = r
+            .iter()
+            .zip(&sol.pressure)
+            .filter(|(_, p)| p.is_finite())
+            .map(|(x, p)| (*x, p / pmax))
+            .collect();
+        let u: Vec<(f64, f64)> = r
+            .iter()
+            .zip(&sol.displacement)
+            .map(|(x, u)| (*x, u / sol.depth))
+            .collect();
+        register_font()?;
+        let root = SVGBackend::new(path, (900, 420)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let (left, right) = root.split_horizontally(450);
+        let panels = [
+            (
+                left,
+                p,
+                format!("pressure, max {:.4e} Pa", pmax),
+                "p / max p",
+            ),
+            (
+                right,
+                u,
+                format!("displacement, δ = {:.4e} m", sol.depth),
+                "u / δ",
+            ),
+        ];
+        for (area, data, caption, ylabel) in panels {
+            let ymax = data.iter().map(|(_, y)| *y).fold(0.0, f64::max) * 1.05;
+            let mut chart = ChartBuilder::on(&area)
+                .caption(caption, ("sans-serif", 16))
+                .margin(12)
+                .x_label_area_size(36)
+                .y_label_area_size(48)
+                .build_cartesian_2d(0.0..rmax, 0.0..ymax.max(1e-300))?;
+            chart
+                .configure_mesh()
+                .x_desc("r / a")
+                .y_desc(ylabel)
+                .draw()?;
+            chart.draw_series(LineSeries::new(data, BLUE.stroke_width(2)))?;
+        }
+        root.titled(title, ("sans-serif", 12))?;
+        root.present()?;
+        Ok(())
+    })
 }
 
 /// Log–log errors against N, one line per series, with a reference line of slope `−order`.
@@ -84,63 +128,65 @@ pub fn loglog(
     series: &[(&str, Vec<f64>)],
     slopes: &[f64],
 ) -> PlotResult {
-    let xmin = *ns.first().unwrap_or(&1) as f64 * 0.8;
-    let xmax = *ns.last().unwrap_or(&10) as f64 * 1.25;
-    let all = series.iter().flat_map(|(_, e)| e.iter().copied());
-    let ymin = all.clone().fold(f64::INFINITY, f64::min) * 0.5;
-    let ymax = all.fold(0.0, f64::max) * 2.0;
-    register_font()?;
-    let root = SVGBackend::new(path, (640, 480)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 15))
-        .margin(14)
-        .x_label_area_size(40)
-        .y_label_area_size(64)
-        .build_cartesian_2d((xmin..xmax).log_scale(), (ymin..ymax).log_scale())?;
-    chart
-        .configure_mesh()
-        .x_desc("N (nodes)")
-        .y_desc(ylabel)
-        .x_label_formatter(&|v| format!("{v:.0}"))
-        .y_label_formatter(&|v| format!("{v:.0e}"))
-        .draw()?;
-    let colors = [BLUE, RED, GREEN, MAGENTA];
-    for (k, (name, errors)) in series.iter().enumerate() {
-        let color = colors[k % colors.len()];
-        let pts: Vec<(f64, f64)> = ns
-            .iter()
-            .map(|&n| n as f64)
-            .zip(errors.iter().copied())
-            .collect();
+    atomic(path, |path| {
+        let xmin = *ns.first().unwrap_or(&1) as f64 * 0.8;
+        let xmax = *ns.last().unwrap_or(&10) as f64 * 1.25;
+        let all = series.iter().flat_map(|(_, e)| e.iter().copied());
+        let ymin = all.clone().fold(f64::INFINITY, f64::min) * 0.5;
+        let ymax = all.fold(0.0, f64::max) * 2.0;
+        register_font()?;
+        let root = SVGBackend::new(path, (640, 480)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 15))
+            .margin(14)
+            .x_label_area_size(40)
+            .y_label_area_size(64)
+            .build_cartesian_2d((xmin..xmax).log_scale(), (ymin..ymax).log_scale())?;
         chart
-            .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?
-            .label(*name)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color));
-        chart.draw_series(pts.iter().map(|p| Circle::new(*p, 3, color.filled())))?;
-    }
-    // Reference slopes through the first point of the first series.
-    if let Some((_, e)) = series.first() {
-        let (n0, e0) = (ns[0] as f64, e[0]);
-        for (k, &slope) in slopes.iter().enumerate() {
-            let line: Vec<(f64, f64)> = ns
+            .configure_mesh()
+            .x_desc("N (nodes)")
+            .y_desc(ylabel)
+            .x_label_formatter(&|v| format!("{v:.0}"))
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .draw()?;
+        let colors = [BLUE, RED, GREEN, MAGENTA];
+        for (k, (name, errors)) in series.iter().enumerate() {
+            let color = colors[k % colors.len()];
+            let pts: Vec<(f64, f64)> = ns
                 .iter()
-                .map(|&n| (n as f64, e0 * (n as f64 / n0).powf(slope)))
+                .map(|&n| n as f64)
+                .zip(errors.iter().copied())
                 .collect();
-            let style = BLACK.mix(0.25 + 0.2 * k as f64);
             chart
-                .draw_series(LineSeries::new(line, style))?
-                .label(format!("slope {slope}"))
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], style));
+                .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?
+                .label(*name)
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color));
+            chart.draw_series(pts.iter().map(|p| Circle::new(*p, 3, color.filled())))?;
         }
-    }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()?;
-    root.present()?;
-    Ok(())
+        // Reference slopes through the first point of the first series.
+        if let Some((_, e)) = series.first() {
+            let (n0, e0) = (ns[0] as f64, e[0]);
+            for (k, &slope) in slopes.iter().enumerate() {
+                let line: Vec<(f64, f64)> = ns
+                    .iter()
+                    .map(|&n| (n as f64, e0 * (n as f64 / n0).powf(slope)))
+                    .collect();
+                let style = BLACK.mix(0.25 + 0.2 * k as f64);
+                chart
+                    .draw_series(LineSeries::new(line, style))?
+                    .label(format!("slope {slope}"))
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], style));
+            }
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()?;
+        root.present()?;
+        Ok(())
+    })
 }
 
 /// Labelled curves `(label, [(x, y)])`.
@@ -155,14 +201,16 @@ pub fn curves(
     right: (&str, &Curves),
     paired: bool,
 ) -> PlotResult {
-    register_font()?;
-    if path.extension().and_then(|e| e.to_str()) == Some("png") {
-        let root = BitMapBackend::new(path, (960, 440)).into_drawing_area();
-        draw_curves(root, title, xlabel, left, right, paired)
-    } else {
-        let root = SVGBackend::new(path, (960, 440)).into_drawing_area();
-        draw_curves(root, title, xlabel, left, right, paired)
-    }
+    atomic(path, |path| {
+        register_font()?;
+        if path.extension().and_then(|e| e.to_str()) == Some("png") {
+            let root = BitMapBackend::new(path, (960, 440)).into_drawing_area();
+            draw_curves(root, title, xlabel, left, right, paired)
+        } else {
+            let root = SVGBackend::new(path, (960, 440)).into_drawing_area();
+            draw_curves(root, title, xlabel, left, right, paired)
+        }
+    })
 }
 
 fn draw_curves<DB: DrawingBackend>(
@@ -268,14 +316,16 @@ fn register_font() -> PlotResult {
 /// Worn profiles `f/d` against `r/a₀` for every snapshot, the limiting profile dashed (the paper's
 /// Fig. 4). SVG or PNG by the extension.
 pub fn worn_profiles(path: &Path, sim: &halfspace::fretting::FrettingSimulation) -> PlotResult {
-    register_font()?;
-    if path.extension().and_then(|e| e.to_str()) == Some("png") {
-        let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
-        draw_worn(root, sim)
-    } else {
-        let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
-        draw_worn(root, sim)
-    }
+    atomic(path, |path| {
+        register_font()?;
+        if path.extension().and_then(|e| e.to_str()) == Some("png") {
+            let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
+            draw_worn(root, sim)
+        } else {
+            let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
+            draw_worn(root, sim)
+        }
+    })
 }
 
 fn draw_worn<DB: DrawingBackend>(
@@ -397,14 +447,16 @@ pub fn heatmap(
     zs: &[f64],
     values: &[Vec<f64>],
 ) -> PlotResult {
-    register_font()?;
-    if path.extension().and_then(|e| e.to_str()) == Some("png") {
-        let root = BitMapBackend::new(path, (960, 480)).into_drawing_area();
-        draw_heatmap(root, title, (xlabel, zlabel, unit), xs, zs, values)
-    } else {
-        let root = SVGBackend::new(path, (960, 480)).into_drawing_area();
-        draw_heatmap(root, title, (xlabel, zlabel, unit), xs, zs, values)
-    }
+    atomic(path, |path| {
+        register_font()?;
+        if path.extension().and_then(|e| e.to_str()) == Some("png") {
+            let root = BitMapBackend::new(path, (960, 480)).into_drawing_area();
+            draw_heatmap(root, title, (xlabel, zlabel, unit), xs, zs, values)
+        } else {
+            let root = SVGBackend::new(path, (960, 480)).into_drawing_area();
+            draw_heatmap(root, title, (xlabel, zlabel, unit), xs, zs, values)
+        }
+    })
 }
 
 fn draw_heatmap<DB: DrawingBackend>(
@@ -484,14 +536,16 @@ pub fn fretting_map(
     regime: &[f64],
     energy: &[f64],
 ) -> PlotResult {
-    register_font()?;
-    if path.extension().and_then(|e| e.to_str()) == Some("png") {
-        let root = BitMapBackend::new(path, (1200, 520)).into_drawing_area();
-        draw_fretting_map(root, title, loads, amplitudes, regime, energy)
-    } else {
-        let root = SVGBackend::new(path, (1200, 520)).into_drawing_area();
-        draw_fretting_map(root, title, loads, amplitudes, regime, energy)
-    }
+    atomic(path, |path| {
+        register_font()?;
+        if path.extension().and_then(|e| e.to_str()) == Some("png") {
+            let root = BitMapBackend::new(path, (1200, 520)).into_drawing_area();
+            draw_fretting_map(root, title, loads, amplitudes, regime, energy)
+        } else {
+            let root = SVGBackend::new(path, (1200, 520)).into_drawing_area();
+            draw_fretting_map(root, title, loads, amplitudes, regime, energy)
+        }
+    })
 }
 
 fn draw_fretting_map<DB: DrawingBackend>(

@@ -51,10 +51,10 @@ pub struct StudyArgs {
     #[arg(long, default_value = "datasets")]
     datasets: PathBuf,
     /// Cells per side (eim-operator).
-    #[arg(long, default_value_t = 128)]
+    #[arg(long, default_value_t = 128, allow_hyphen_values = true)]
     grid: usize,
     /// Layers (eim-operator).
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = 8, allow_hyphen_values = true)]
     layers: usize,
 }
 

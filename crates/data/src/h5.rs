@@ -70,6 +70,7 @@ pub(crate) fn read(path: &Path, group: &str) -> Result<Record, DataError> {
         })?
     };
     let mut record = Record::default();
+    let mut total = 0.0;
     for ds in file.datasets().map_err(&e)? {
         let name = ds.name().rsplit('/').next().unwrap_or_default().to_string();
         if ds.ndim() == 0 {
@@ -83,6 +84,7 @@ pub(crate) fn read(path: &Path, group: &str) -> Result<Record, DataError> {
         if ds.ndim() > 1 {
             record.shapes.push((name.clone(), ds.shape()));
         }
+        check_dataset(&ds, path, &name, &mut total)?;
         let values: Vec<f64> = ds.read_raw::<f64>().map_err(|err| DataError::Format {
             path: path.to_path_buf(),
             message: format!("dataset '{name}' is not readable as float64: {err}"),
@@ -113,4 +115,58 @@ pub(crate) fn read(path: &Path, group: &str) -> Result<Record, DataError> {
         record.attributes.push((name, value));
     }
     Ok(record)
+}
+
+/// Checks a dataset before it is read: its shape's product must be countable, an unfiltered
+/// dataset must store the bytes its shape announces (a crafted file cannot make the reader
+/// allocate what is not there), and all datasets read so far must fit in memory.
+fn check_dataset(
+    ds: &hdf5::Dataset,
+    path: &Path,
+    name: &str,
+    total: &mut f64,
+) -> Result<(), DataError> {
+    let bad = |message: String| DataError::Format {
+        path: path.to_path_buf(),
+        message: format!("dataset '{name}': {message}"),
+    };
+    let shape = ds.shape();
+    let count = shape
+        .iter()
+        .try_fold(1u64, |n, &d| n.checked_mul(d as u64))
+        .ok_or_else(|| {
+            bad(format!(
+                "shape {shape:?} has more values than can be counted"
+            ))
+        })?;
+    let element = ds.dtype().map(|t| t.size() as u64).unwrap_or(8);
+    let stored = ds.storage_size();
+    if ds.filters().is_empty() && stored < count.saturating_mul(element) {
+        return Err(bad(format!(
+            "shape {shape:?} announces {} bytes, the file stores {stored}",
+            count.saturating_mul(element)
+        )));
+    }
+    *total += count as f64 * 8.0;
+    crate::bounded::check_memory(*total, path, Some(name))
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn a_dataset_declaring_more_than_it_stores_is_refused_before_reading() {
+        // A chunked dataset of 10¹¹ values with no chunk written: a few KB on disk; reading it
+        // would allocate 800 GB of fill values.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("crafted.h5");
+        let file = hdf5::File::create(&path).unwrap();
+        file.new_dataset::<f64>()
+            .chunk(1024)
+            .shape(100_000_000_000usize)
+            .create("huge")
+            .unwrap();
+        file.close().unwrap();
+        let e = super::read(&path, "/").unwrap_err().to_string();
+        assert!(e.contains("'huge'") && e.contains("stores"), "{e}");
+    }
 }

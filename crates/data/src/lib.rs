@@ -6,6 +6,7 @@
 #![warn(missing_docs)]
 
 mod atomic;
+mod bounded;
 mod error;
 #[cfg(feature = "hdf5")]
 mod h5;
@@ -15,6 +16,7 @@ mod record;
 mod xdmf;
 
 pub use atomic::write_atomic;
+pub use bounded::read_text_bounded;
 pub use error::DataError;
 pub use manifest::Manifest;
 pub use npy::{read_npy_1d, read_npy_2d, read_profile_table};

@@ -95,6 +95,12 @@ impl FrettingParams {
     /// Smallest domain accepted (spec §7 P8).
     pub const MIN_LENGTH: f64 = 1.45;
 
+    /// The largest `τ_end`: the worn contact reaches Popov's limit by `τ ≈ 5` (k = 0) to
+    /// `τ ≈ 30` (graded, k = −0.5, χ = 0.9; docs/fretting-wear.md), so `τ_end ≤ 1e6` leaves four
+    /// decades and refuses an absurd request up front (adaptive steps have no step count to
+    /// bound it, and their smallest step, `1e-14 τ_end`, would grow with it).
+    pub const MAX_TAU_END: f64 = 1e6;
+
     /// The domain a run of `chi`, `k` gets when none is given: the reference run's `L = 1.6 a₀`
     /// (homogeneous, `r* < √2 a₀`), or `1.15 r*` when the graded contact grows further.
     pub fn default_length(chi: f64, k: f64) -> f64 {
@@ -125,8 +131,12 @@ impl FrettingParams {
         if self.nodes < 64 {
             return Err(bad("n", self.nodes as f64, "≥ 64"));
         }
-        if !(self.tau_end.is_finite() && self.tau_end > 0.0) {
-            return Err(bad("tau_end", self.tau_end, "finite and > 0"));
+        if !(self.tau_end.is_finite() && self.tau_end > 0.0 && self.tau_end <= Self::MAX_TAU_END) {
+            return Err(bad(
+                "tau_end",
+                self.tau_end,
+                "finite, > 0 and ≤ 1e6 (the contact reaches Popov's limit by τ ≈ 10–100)",
+            ));
         }
         match self.stepping {
             TimeStepping::Adaptive { tolerance } => {
@@ -242,6 +252,17 @@ impl FrettingParams {
         times.sort_by(f64::total_cmp);
         times.dedup();
         times
+    }
+
+    /// `τ` after `steps` fixed steps, `steps · Δτ`, landing exactly on [`Self::fixed_end`] at the
+    /// last step (`None` when adaptive).
+    pub fn fixed_tau(&self, steps: u64) -> Option<f64> {
+        let dtau = self.stepping.fixed_step()?;
+        Some(if Some(steps) == self.total_steps() {
+            self.fixed_end()
+        } else {
+            steps as f64 * dtau
+        })
     }
 
     /// The final `τ`: `τ_end`, or `round(τ_end/Δτ) Δτ` with a fixed step.

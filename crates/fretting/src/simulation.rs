@@ -159,32 +159,18 @@ impl FrettingSimulation {
         Self::with_state(params, grid, state)
     }
 
-    /// Continues a run from a saved state (`--resume`).
+    /// Continues a run from a saved state (`--resume`), checked for content first
+    /// (`checkpoint::check_state`: shapes, finite values, ranges, monotone histories, the step
+    /// controller's memory).
     pub fn resume(params: FrettingParams, state: FrettingState) -> Result<Self, FrettingError> {
         params.validate()?;
         let grid = SquaredGrid::new(params.nodes, params.length).map_err(MdrError::from)?;
-        let steps = state.step as usize;
-        if state.profile.len() != params.nodes
-            || state.contact_radius_history.len() != steps
-            || state.loaded_radius_history.len() != steps
-            || state.tau_history.len() != steps
-            || !(state.tau.is_finite() && state.tau >= 0.0 && state.tau <= params.fixed_end())
-            || !(state.next_step.is_finite() && state.next_step >= 0.0)
-            || !state.previous_error.is_finite()
-            || params.total_steps().is_some_and(|total| state.step > total)
-            || state.profile.iter().any(|v| !v.is_finite())
-        {
-            return Err(FrettingError::Checkpoint(format!(
-                "state does not match the parameters (N = {}, τ_end = {}): profile of {} nodes, \
-                 step {} at τ = {}, {} history entries",
-                params.nodes,
-                params.tau_end,
-                state.profile.len(),
-                state.step,
-                state.tau,
-                state.contact_radius_history.len()
-            )));
-        }
+        crate::checkpoint::check_state(
+            &state,
+            &params,
+            &grid,
+            limit_contact_radius(params.chi, params.k),
+        )?;
         Self::with_state(params, grid, state)
     }
 
@@ -426,13 +412,9 @@ impl FrettingSimulation {
         Ok(())
     }
 
-    /// `τ` after `steps` fixed steps, `steps · Δτ` (landing exactly on `round(τ_end/Δτ) Δτ`).
+    /// `τ` after `steps` fixed steps ([`FrettingParams::fixed_tau`]).
     fn fixed_tau(&self, steps: u64, dtau: f64) -> f64 {
-        if Some(steps) == self.params.total_steps() {
-            self.params.fixed_end()
-        } else {
-            steps as f64 * dtau
-        }
+        self.params.fixed_tau(steps).unwrap_or(steps as f64 * dtau)
     }
 
     /// `f̃ ← f̃ + Δτ p̃ Δũ` with the current pressure and slip (in this order of operations, which

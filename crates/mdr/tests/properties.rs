@@ -25,15 +25,7 @@ fn unit() -> Material {
 }
 
 fn lcg_vec(seed: u64, n: usize) -> Vec<f64> {
-    let mut s = seed.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    (0..n)
-        .map(|_| {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((s >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-        })
-        .collect()
+    halfspace_numerics::testkit::lcg(seed.wrapping_add(0x9E37_79B9_7F4A_7C15), n)
 }
 
 proptest! {

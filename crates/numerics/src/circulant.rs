@@ -1,43 +1,20 @@
 //! Circulant (periodic) operators on an `N₁ × N₂` grid with a real, even symbol:
-//! `y = IFFT₂(σ · FFT₂(x))` without padding. Used as preconditioners: the half-space compliance has
-//! the symbol `2/(E*|k|)` (spec `sam.md` §3.2), so the circulant with symbol `|k|` flattens its
-//! spectrum ([`Circulant2d::inverse_half_space`]; Vollebregt 2014, J. Comput. Phys. 257, §4).
-//!
-//! Rows are transformed real-to-complex (`N₂ → N₂/2 + 1`), columns complex; rows and columns run
-//! in parallel (rayon) from [`crate::fft2d::PARALLEL_CELLS`] cells on. Applying does not allocate.
+//! `y = IFFT₂(σ · FFT₂(x))` without padding, on the periodic mode of the one FFT core
+//! ([`crate::fft2d::Fft2d::periodic`]). Used as preconditioners: the half-space compliance has the
+//! symbol `2/(E*|k|)` (docs/sam.md), so the circulant with symbol `|k|` flattens its spectrum
+//! ([`Circulant2d::inverse_half_space`]; Vollebregt 2014, J. Comput. Phys. 257, §4).
+//! Applying does not allocate.
 
-use std::sync::Arc;
-
-use rayon::prelude::*;
-use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
-use rustfft::{Fft, FftPlanner};
-
-use crate::fft2d::{gather_block, C64, PARALLEL_CELLS, TRANSPOSE_BLOCK};
+use crate::fft2d::{multiply_real, Fft2d, Mode, C64};
+use crate::op::{GridOperator, OperatorShape};
 use crate::NumericsError;
 
-/// One thread's share of the forward rows: (chunk index, ((row spectra, real row), scratch)).
-type RowChunk<'a> = (usize, ((&'a mut [C64], &'a mut Vec<f64>), &'a mut Vec<C64>));
-/// One thread's share of the inverse rows: (chunk index, ((row spectra, output rows), scratch)).
-type InverseChunk<'a> = (usize, ((&'a mut [C64], &'a mut [f64]), &'a mut Vec<C64>));
-
-/// A periodic convolution with a real symbol, planned once.
+/// A periodic convolution with a real symbol on a (shared) periodic FFT core.
 pub struct Circulant2d {
-    n1: usize,
-    n2: usize,
-    row_fwd: Arc<dyn RealToComplex<f64>>,
-    row_inv: Arc<dyn ComplexToReal<f64>>,
-    col_fwd: Arc<dyn Fft<f64>>,
-    col_inv: Arc<dyn Fft<f64>>,
-    /// `σ(m, n) / (N₁N₂)`, row-major `N₁ × (N₂/2 + 1)`.
+    fft: Fft2d,
+    /// `σ(m, n) / (N₁N₂)` in the spectrum layout ([`Fft2d::symbol_spectrum`]).
     symbol: Vec<f64>,
-    /// Row spectra, row-major `N₁ × (N₂/2 + 1)`.
-    rows: Vec<C64>,
-    /// Column-major copy for the column transforms, `(N₂/2 + 1) × N₁`.
-    cols: Vec<C64>,
-    /// One real row per worker thread (the row transform overwrites its input).
-    row_real: Vec<Vec<f64>>,
-    scratch: Vec<Vec<C64>>,
-    parallel: bool,
+    hat: Vec<C64>,
 }
 
 impl Circulant2d {
@@ -49,60 +26,22 @@ impl Circulant2d {
         n2: usize,
         sigma: &dyn Fn(usize, usize) -> f64,
     ) -> Result<Self, NumericsError> {
-        if n1 < 2 || n2 < 2 {
-            return Err(NumericsError::TooFewNodes {
-                what: "a circulant grid side",
-                min: 2,
-                n: n1.min(n2),
+        Self::on(Fft2d::periodic(n1, n2)?, sigma)
+    }
+
+    /// [`Circulant2d::new`] on a given periodic core (shared with other operators of its shape).
+    pub fn on(fft: Fft2d, sigma: &dyn Fn(usize, usize) -> f64) -> Result<Self, NumericsError> {
+        if fft.mode() != Mode::Periodic {
+            return Err(NumericsError::InvalidParameter {
+                name: "FFT core mode of a circulant (padded given)",
+                value: 0.0,
+                allowed: "periodic",
             });
         }
-        let h2 = n2 / 2 + 1;
-        let mut rplanner = RealFftPlanner::<f64>::new();
-        let mut cplanner = FftPlanner::<f64>::new();
-        let row_fwd = rplanner.plan_fft_forward(n2);
-        let row_inv = rplanner.plan_fft_inverse(n2);
-        let col_fwd = cplanner.plan_fft_forward(n1);
-        let col_inv = cplanner.plan_fft_inverse(n1);
-        let scratch_len = row_fwd
-            .get_scratch_len()
-            .max(row_inv.get_scratch_len())
-            .max(col_fwd.get_inplace_scratch_len())
-            .max(col_inv.get_inplace_scratch_len())
-            .max(1);
-        let parallel = n1 * n2 >= PARALLEL_CELLS;
-        let threads = if parallel {
-            rayon::current_num_threads().max(1)
-        } else {
-            1
-        };
-        let scale = 1.0 / (n1 * n2) as f64;
-        let mut symbol = vec![0.0; n1 * h2];
-        for m in 0..n1 {
-            for n in 0..h2 {
-                let s = sigma(m, n);
-                if !s.is_finite() {
-                    return Err(NumericsError::InvalidParameter {
-                        name: "circulant symbol value",
-                        value: s,
-                        allowed: "finite",
-                    });
-                }
-                symbol[m * h2 + n] = s * scale;
-            }
-        }
         Ok(Self {
-            n1,
-            n2,
-            row_fwd,
-            row_inv,
-            col_fwd,
-            col_inv,
-            symbol,
-            rows: vec![C64::new(0.0, 0.0); n1 * h2],
-            cols: vec![C64::new(0.0, 0.0); n1 * h2],
-            row_real: vec![vec![0.0; n2]; threads],
-            scratch: vec![vec![C64::new(0.0, 0.0); scratch_len]; threads],
-            parallel,
+            symbol: fft.symbol_spectrum(sigma)?,
+            hat: fft.new_spectrum(),
+            fft,
         })
     }
 
@@ -116,6 +55,12 @@ impl Circulant2d {
         d1: f64,
         d2: f64,
     ) -> Result<Self, NumericsError> {
+        Self::inverse_half_space_on(Fft2d::periodic(n1, n2)?, d1, d2)
+    }
+
+    /// [`Circulant2d::inverse_half_space`] on a given periodic core.
+    pub fn inverse_half_space_on(fft: Fft2d, d1: f64, d2: f64) -> Result<Self, NumericsError> {
+        let (n1, n2) = fft.shape();
         let k1 = |m: usize| {
             let s = if m <= n1 / 2 {
                 m as f64
@@ -126,7 +71,7 @@ impl Circulant2d {
         };
         let k2 = |n: usize| 2.0 * std::f64::consts::PI * n as f64 / (n2 as f64 * d2);
         let k_min = k1(1).min(k2(1));
-        Self::new(n1, n2, &|m, n| {
+        Self::on(fft, &|m, n| {
             let k = k1(m).hypot(k2(n));
             if m == 0 && n == 0 {
                 k_min
@@ -138,12 +83,12 @@ impl Circulant2d {
 
     /// Grid shape `(N₁, N₂)`.
     pub fn shape(&self) -> (usize, usize) {
-        (self.n1, self.n2)
+        self.fft.shape()
     }
 
     /// `y = IFFT₂(σ · FFT₂(x))` (periodic). `x` and `y` may not alias.
     pub fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), NumericsError> {
-        let (n1, n2) = (self.n1, self.n2);
+        let (n1, n2) = self.fft.shape();
         for v in [x.len(), y.len()] {
             if v != n1 * n2 {
                 return Err(NumericsError::LengthMismatch {
@@ -153,97 +98,21 @@ impl Circulant2d {
                 });
             }
         }
-        let h2 = n2 / 2 + 1;
-        // Rows: real → complex.
-        let fwd = &self.row_fwd;
-        let threads = self.scratch.len();
-        let chunk = n1.div_ceil(threads);
-        let row_body = |(t, ((c, buf), s)): RowChunk<'_>| {
-            for (k, cc) in c.chunks_mut(h2).enumerate() {
-                let a = t * chunk + k;
-                buf.copy_from_slice(&x[a * n2..(a + 1) * n2]);
-                fwd.process_with_scratch(buf, cc, s)
-                    .expect("lengths from the plan");
-            }
-        };
-        if self.parallel {
-            self.rows
-                .par_chunks_mut(chunk * h2)
-                .zip(self.row_real.par_iter_mut())
-                .zip(self.scratch.par_iter_mut())
-                .enumerate()
-                .for_each(row_body);
-        } else {
-            row_body((
-                0,
-                (
-                    (&mut self.rows, &mut self.row_real[0]),
-                    &mut self.scratch[0],
-                ),
-            ));
-        }
-        // Columns: transpose, forward, multiply by the symbol, inverse, transpose back.
-        let (rows, symbol) = (&self.rows, &self.symbol);
-        let (cf, ci) = (&self.col_fwd, &self.col_inv);
-        let cchunk = h2.div_ceil(threads);
-        let col_body = |(t, (cols, s)): (usize, (&mut [C64], &mut Vec<C64>))| {
-            let first = t * cchunk;
-            let ncols = cols.len() / n1;
-            for g in (0..ncols).step_by(TRANSPOSE_BLOCK) {
-                let w = TRANSPOSE_BLOCK.min(ncols - g);
-                let block = &mut cols[g * n1..(g + w) * n1];
-                gather_block(rows, h2, first + g, n1, block);
-                for (c, column) in block.chunks_mut(n1).enumerate() {
-                    let b = first + g + c;
-                    cf.process_with_scratch(column, s);
-                    for (a, v) in column.iter_mut().enumerate() {
-                        *v *= symbol[a * h2 + b];
-                    }
-                    ci.process_with_scratch(column, s);
-                }
-            }
-        };
-        if self.parallel {
-            self.cols
-                .par_chunks_mut(cchunk * n1)
-                .zip(self.scratch.par_iter_mut())
-                .enumerate()
-                .for_each(col_body);
-        } else {
-            col_body((0, (&mut self.cols, &mut self.scratch[0])));
-        }
-        // Rows back: complex → real.
-        let cols = &self.cols;
-        let inv = &self.row_inv;
-        let inv_body = |(t, ((c, out), s)): InverseChunk<'_>| {
-            let nrows = c.len() / h2;
-            for g in (0..nrows).step_by(TRANSPOSE_BLOCK) {
-                let w = TRANSPOSE_BLOCK.min(nrows - g);
-                let a0 = t * chunk + g;
-                let block = &mut c[g * h2..(g + w) * h2];
-                gather_block(cols, n1, a0, h2, block);
-                let oblock = &mut out[g * n2..(g + w) * n2];
-                for (cc, yy) in block.chunks_mut(h2).zip(oblock.chunks_mut(n2)) {
-                    cc[0].im = 0.0;
-                    if n2 % 2 == 0 {
-                        cc[h2 - 1].im = 0.0;
-                    }
-                    inv.process_with_scratch(cc, yy, s)
-                        .expect("lengths from the plan");
-                }
-            }
-        };
-        if self.parallel {
-            self.rows
-                .par_chunks_mut(chunk * h2)
-                .zip(y.par_chunks_mut(chunk * n2))
-                .zip(self.scratch.par_iter_mut())
-                .enumerate()
-                .for_each(inv_body);
-        } else {
-            inv_body((0, ((&mut self.rows, y), &mut self.scratch[0])));
-        }
-        Ok(())
+        self.fft.forward(x, &mut self.hat)?;
+        multiply_real(&mut self.hat, &self.symbol);
+        self.fft.inverse(&mut self.hat, y)
+    }
+}
+
+impl GridOperator for Circulant2d {
+    fn shape(&self) -> OperatorShape {
+        let (n1, n2) = self.fft.shape();
+        OperatorShape::square(n1, n2, 1)
+    }
+
+    fn apply(&mut self, x: &[&[f64]], y: &mut [&mut [f64]]) -> Result<(), NumericsError> {
+        crate::op::check_fields(GridOperator::shape(self), x, y)?;
+        Circulant2d::apply(self, x[0], y[0])
     }
 }
 

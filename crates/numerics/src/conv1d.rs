@@ -232,23 +232,12 @@ fn toeplitz_lower_mvm(b: &[f64], x: &[f64], y: &mut [f64]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::testkit::lcg;
 
     /// The obviously-correct control: the defining double loop.
     fn naive(b: &[f64], x: &[f64]) -> Vec<f64> {
         (0..x.len())
             .map(|i| (0..=i).map(|j| x[j] * b[i - j]).sum())
-            .collect()
-    }
-
-    fn lcg(seed: u64, n: usize) -> Vec<f64> {
-        let mut s = seed;
-        (0..n)
-            .map(|_| {
-                s = s
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                ((s >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-            })
             .collect()
     }
 

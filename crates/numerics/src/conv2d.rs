@@ -5,20 +5,15 @@
 //! zero-padded, transformed, multiplied and summed per output, transformed back and cropped.
 //! [`DenseConvolution2d`] evaluates the same sum directly (O(N⁴)), as the control in tests.
 
+use std::borrow::Cow;
+
 pub use crate::fft2d::KernelFn;
 use crate::fft2d::{multiply_accumulate, Fft2d, C64};
+pub use crate::op::GridOperator;
+use crate::op::{check_fields, BlockConvolution, OperatorShape};
 use crate::NumericsError;
 
-/// A linear operator on `n_in` grids of `N₁ × N₂` values (row-major, index `i N₂ + j`), giving
-/// `n_out` grids. Applying does not allocate.
-pub trait GridOperator {
-    /// Grid shape `(N₁, N₂)`.
-    fn shape(&self) -> (usize, usize);
-    /// `y_o = Σ_i K_{oi} * x_i` for every output `o`.
-    fn apply(&mut self, x: &[&[f64]], y: &mut [&mut [f64]]) -> Result<(), NumericsError>;
-}
-
-/// The DC-FFT block operator: kernel spectra built once on one [`Fft2d`] plan.
+/// The DC-FFT block operator: kernel spectra built once on one (shared) padded [`Fft2d`] core.
 pub struct DcFft2d {
     fft: Fft2d,
     n_in: usize,
@@ -30,7 +25,8 @@ pub struct DcFft2d {
 }
 
 impl DcFft2d {
-    /// Plans the operator for kernels `kernels[o * n_in + i]` (`None` = zero block).
+    /// Plans the operator for kernels `kernels[o * n_in + i]` (`None` = zero block) on a core of
+    /// its own.
     pub fn new(
         n1: usize,
         n2: usize,
@@ -38,7 +34,16 @@ impl DcFft2d {
         n_out: usize,
         kernels: &[Option<KernelFn<'_>>],
     ) -> Result<Self, NumericsError> {
-        let mut fft = Fft2d::new(n1, n2)?;
+        Self::on(Fft2d::new(n1, n2)?, n_in, n_out, kernels)
+    }
+
+    /// [`DcFft2d::new`] on a given padded core (shared with the other operators of its shape).
+    pub fn on(
+        mut fft: Fft2d,
+        n_in: usize,
+        n_out: usize,
+        kernels: &[Option<KernelFn<'_>>],
+    ) -> Result<Self, NumericsError> {
         if kernels.len() != n_in * n_out {
             return Err(NumericsError::LengthMismatch {
                 what: "DC-FFT kernel blocks",
@@ -73,47 +78,19 @@ impl DcFft2d {
     }
 }
 
-fn check_io(
-    n_in: usize,
-    n_out: usize,
-    len: usize,
-    x: &[&[f64]],
-    y: &[&mut [f64]],
-) -> Result<(), NumericsError> {
-    if x.len() != n_in {
-        return Err(NumericsError::LengthMismatch {
-            what: "grid operator inputs (fields)",
-            expected: n_in,
-            got: x.len(),
-        });
-    }
-    if y.len() != n_out {
-        return Err(NumericsError::LengthMismatch {
-            what: "grid operator outputs (fields)",
-            expected: n_out,
-            got: y.len(),
-        });
-    }
-    for v in x.iter().map(|v| v.len()).chain(y.iter().map(|v| v.len())) {
-        if v != len {
-            return Err(NumericsError::LengthMismatch {
-                what: "grid operator field",
-                expected: len,
-                got: v,
-            });
-        }
-    }
-    Ok(())
-}
-
 impl GridOperator for DcFft2d {
-    fn shape(&self) -> (usize, usize) {
-        self.fft.shape()
+    fn shape(&self) -> OperatorShape {
+        let (n1, n2) = self.fft.shape();
+        OperatorShape {
+            n1,
+            n2,
+            inputs: self.n_in,
+            outputs: self.n_out,
+        }
     }
 
     fn apply(&mut self, x: &[&[f64]], y: &mut [&mut [f64]]) -> Result<(), NumericsError> {
-        let (n1, n2) = self.fft.shape();
-        check_io(self.n_in, self.n_out, n1 * n2, x, y)?;
+        check_fields(GridOperator::shape(self), x, y)?;
         for (xi, hat) in x.iter().zip(self.inputs_hat.iter_mut()) {
             self.fft.forward(xi, hat)?;
         }
@@ -189,13 +166,18 @@ impl DenseConvolution2d {
 }
 
 impl GridOperator for DenseConvolution2d {
-    fn shape(&self) -> (usize, usize) {
-        (self.n1, self.n2)
+    fn shape(&self) -> OperatorShape {
+        OperatorShape {
+            n1: self.n1,
+            n2: self.n2,
+            inputs: self.n_in,
+            outputs: self.n_out,
+        }
     }
 
     fn apply(&mut self, x: &[&[f64]], y: &mut [&mut [f64]]) -> Result<(), NumericsError> {
         let (n1, n2) = (self.n1, self.n2);
-        check_io(self.n_in, self.n_out, n1 * n2, x, y)?;
+        check_fields(GridOperator::shape(self), x, y)?;
         let w = 2 * n2 - 1;
         for (o, yo) in y.iter_mut().enumerate() {
             for i in 0..n1 {
@@ -220,21 +202,55 @@ impl GridOperator for DenseConvolution2d {
     }
 }
 
+impl BlockConvolution for DcFft2d {
+    fn build(
+        fft: &Fft2d,
+        n_in: usize,
+        n_out: usize,
+        kernels: &[Option<KernelFn<'_>>],
+    ) -> Result<Self, NumericsError> {
+        Self::on(fft.clone(), n_in, n_out, kernels)
+    }
+
+    fn block_spectrum(
+        &self,
+        out: usize,
+        input: usize,
+    ) -> Result<Option<Cow<'_, [C64]>>, NumericsError> {
+        Ok(self.spectrum(out, input).map(Cow::Borrowed))
+    }
+}
+
+impl BlockConvolution for DenseConvolution2d {
+    fn build(
+        fft: &Fft2d,
+        n_in: usize,
+        n_out: usize,
+        kernels: &[Option<KernelFn<'_>>],
+    ) -> Result<Self, NumericsError> {
+        let (n1, n2) = fft.shape();
+        Self::new(n1, n2, n_in, n_out, kernels)
+    }
+
+    fn block_spectrum(
+        &self,
+        out: usize,
+        input: usize,
+    ) -> Result<Option<Cow<'_, [C64]>>, NumericsError> {
+        let Some(table) = &self.tables[out * self.n_in + input] else {
+            return Ok(None);
+        };
+        let mut fft = Fft2d::new(self.n1, self.n2)?;
+        let mut spec = fft.new_spectrum();
+        fft.table_spectrum(table, &mut spec)?;
+        Ok(Some(Cow::Owned(spec)))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn lcg(seed: u64, n: usize) -> Vec<f64> {
-        let mut s = seed;
-        (0..n)
-            .map(|_| {
-                s = s
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                ((s >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-            })
-            .collect()
-    }
+    use crate::testkit::{lcg, twin_error};
 
     #[test]
     fn dcfft_equals_the_direct_sum_with_fixed_seeds() {
@@ -244,20 +260,49 @@ mod tests {
             let kernels: [Option<KernelFn>; 4] = [Some(&k1), Some(&k2), None, Some(&k1)];
             let mut fast = DcFft2d::new(n1, n2, 2, 2, &kernels).unwrap();
             let mut dense = DenseConvolution2d::new(n1, n2, 2, 2, &kernels).unwrap();
-            let (a, b) = (lcg(n1 as u64, n1 * n2), lcg(n2 as u64 + 9, n1 * n2));
-            let (mut f0, mut f1) = (vec![0.0; n1 * n2], vec![0.0; n1 * n2]);
-            let (mut d0, mut d1) = (vec![0.0; n1 * n2], vec![0.0; n1 * n2]);
-            fast.apply(&[&a, &b], &mut [&mut f0, &mut f1]).unwrap();
-            dense.apply(&[&a, &b], &mut [&mut d0, &mut d1]).unwrap();
-            let scale = d0.iter().chain(&d1).fold(0.0f64, |m, v| m.max(v.abs()));
-            let err = f0
-                .iter()
-                .zip(&d0)
-                .chain(f1.iter().zip(&d1))
-                .map(|(x, y)| (x - y).abs())
-                .fold(0.0, f64::max);
-            assert!(err <= 1e-13 * scale, "{n1}×{n2}: {err:e} of {scale:e}");
+            let err = twin_error(&mut fast, &mut dense, &[n1 as u64, 9]).unwrap();
+            assert!(err <= 1e-13, "{n1}×{n2}: {err:e}");
+            for (o, i) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                let (f, d) = (
+                    fast.block_spectrum(o, i).unwrap(),
+                    dense.block_spectrum(o, i).unwrap(),
+                );
+                assert_eq!(f, d, "block ({o}, {i}) spectrum");
+            }
         }
+    }
+
+    /// Operators built on one core share its work buffers and give what operators on cores of
+    /// their own give, bit for bit; the flat adapter stacks the fields.
+    #[test]
+    fn operators_on_a_shared_core_and_the_flat_view() {
+        use crate::linop::LinearOperator;
+        let k1 = |m: i64, n: i64| 1.0 / (1.0 + (m * m + 2 * n * n) as f64).sqrt();
+        let k2 = |m: i64, n: i64| (m as f64 * 0.3).sin() * (n as f64 * 0.7).cos();
+        let kernels: [Option<KernelFn>; 4] = [Some(&k1), Some(&k2), Some(&k2), Some(&k1)];
+        let core = Fft2d::new(13, 8).unwrap();
+        let mut a = DcFft2d::on(core.clone(), 2, 2, &kernels).unwrap();
+        let mut b = <DcFft2d as BlockConvolution>::build(&core, 2, 2, &kernels).unwrap();
+        assert!(a.fft.shares_work_with(&b.fft));
+        let mut own = DcFft2d::new(13, 8, 2, 2, &kernels).unwrap();
+        let x = lcg(4, 2 * 13 * 8);
+        let (mut ya, mut yb, mut yo) = (vec![0.0; x.len()], vec![0.0; x.len()], vec![0.0; x.len()]);
+        LinearOperator::apply(&mut a, &x, &mut ya).unwrap();
+        LinearOperator::apply(&mut own, &x, &mut yo).unwrap();
+        LinearOperator::apply(&mut b, &x, &mut yb).unwrap();
+        assert_eq!(ya, yo);
+        assert_eq!(yb, yo);
+        assert_eq!(LinearOperator::dim(&a), 2 * 13 * 8);
+        let mut split = [vec![0.0; 13 * 8], vec![0.0; 13 * 8]];
+        {
+            let [s0, s1] = &mut split;
+            GridOperator::apply(&mut a, &[&x[..104], &x[104..]], &mut [s0, s1]).unwrap();
+        }
+        assert_eq!([&ya[..104], &ya[104..]], [&split[0][..], &split[1][..]]);
+        // The flat view of a non-square operator is refused.
+        let one: [Option<KernelFn>; 2] = [Some(&k1), Some(&k2)];
+        let mut rect = DcFft2d::new(4, 4, 2, 1, &one).unwrap();
+        assert!(LinearOperator::apply(&mut rect, &[0.0; 32], &mut [0.0; 32]).is_err());
     }
 
     #[test]

@@ -1,15 +1,30 @@
-//! One padded 2D real-FFT plan (spec `sam.md` §2): fields of `N₁ × N₂` values are zero-padded to
-//! `2N₁ × 2N₂`, transformed (real-to-complex rows, complex columns) and stored as **spectra** of
-//! `2N₁ (N₂ + 1)` complex values, column-major (column `b` at `b · 2N₁`, the layout the column
-//! transforms produce). A DC-FFT product is then `IFFT₂(K̂ · X̂)` cropped to `N₁ × N₂`; every
-//! operator of the workspace (surface compliances, layered eigenstrain kernels, Love stresses) builds
-//! its kernel spectra with [`Fft2d::kernel_spectrum`] and multiplies spectra produced by
-//! [`Fft2d::forward`], so one input transformed once serves several operators.
+//! The one real 2D FFT core of the workspace, in two modes ([`Mode`]):
+//!
+//! * **padded** (DC-FFT, Liu, Wang & Liu 2000; docs/sam.md): fields of `N₁ × N₂` values are
+//!   zero-padded to `2N₁ × 2N₂`, transformed (real-to-complex rows, complex columns) and stored as
+//!   **spectra** of `2N₁ (N₂ + 1)` complex values. A DC-FFT product is then `IFFT₂(K̂ · X̂)` cropped
+//!   to `N₁ × N₂`, the linear (non-periodic) convolution;
+//! * **periodic**: no padding, spectra of `N₁ (⌊N₂/2⌋ + 1)` values; `IFFT₂(σ · X̂)` is the circulant
+//!   convolution with symbol `σ` ([`crate::circulant::Circulant2d`]).
+//!
+//! Spectra are column-major (column `b` at `b · P₁`, `P₁` = 2N₁ or N₁: the layout the column
+//! transforms produce). Every operator of the workspace (surface compliances, the even normal
+//! kernel, layered eigenstrain kernels, Love stresses, the `|k|` preconditioner) builds its kernel
+//! spectra and multiplies spectra produced by [`Fft2d::forward`], so one input transformed once
+//! serves several operators.
+//!
+//! **Plans are cached by transform shape** (`P₁ × P₂`) for the whole process: every core of one
+//! shape, padded or periodic, uses the same RustFFT/realfft plans. **A core is shared by cloning**:
+//! clones of one [`Fft2d`] use the same work buffers (behind a mutex), so the operators of one owner
+//! (a contact problem's normal, tangential and coupling operators) hold one core of their shape, not
+//! one each. The work buffers are allocated at the first transform.
 //!
 //! Rows and columns are transformed in parallel (rayon) on grids of at least 128² cells, each thread
-//! with its own preallocated scratch; below that, sequentially. Transforms do not allocate.
+//! with its own preallocated scratch; below that, sequentially. Transforms do not allocate (after
+//! the first).
 
-use std::sync::Arc;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
 
 use rayon::prelude::*;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
@@ -38,7 +53,7 @@ type InverseRowChunk<'a> = (
 );
 
 /// Columns (rows) gathered together in the transposes between the row and column transforms.
-pub(crate) const TRANSPOSE_BLOCK: usize = 8;
+const TRANSPOSE_BLOCK: usize = 8;
 
 /// Grids with at least this many cells are transformed with rayon.
 pub const PARALLEL_CELLS: usize = 128 * 128;
@@ -46,45 +61,98 @@ pub const PARALLEL_CELLS: usize = 128 * 128;
 /// Kernel of one block: `K(m, n)` for offsets `m ∈ (−N₁, N₁)`, `n ∈ (−N₂, N₂)`.
 pub type KernelFn<'a> = &'a dyn Fn(i64, i64) -> f64;
 
-/// The padded 2D FFT of `N₁ × N₂` fields, planned once.
-pub struct Fft2d {
-    n1: usize,
-    n2: usize,
+/// How fields are transformed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Mode {
+    /// Zero-padded to `2N₁ × 2N₂` (DC-FFT: linear convolution after cropping).
+    Padded,
+    /// Not padded (circulant: periodic convolution).
+    Periodic,
+}
+
+/// The RustFFT/realfft plans of one transform shape `P₁ × P₂` (rows of `P₂` real values, columns of
+/// `P₁` complex values), shared by every core of that shape.
+struct Plans {
     row_fwd: Arc<dyn RealToComplex<f64>>,
     row_inv: Arc<dyn ComplexToReal<f64>>,
     col_fwd: Arc<dyn Fft<f64>>,
     col_inv: Arc<dyn Fft<f64>>,
-    /// One padded real row (`2N₂` values) per worker thread: fields are padded row by row, so no
-    /// `2N₁ × 2N₂` real array is held.
+}
+
+/// The plans of transform shape `(p1, p2)`, planned at the first request of the process.
+fn plans(p1: usize, p2: usize) -> Arc<Plans> {
+    type Cache = Mutex<HashMap<(usize, usize), Arc<Plans>>>;
+    static CACHE: OnceLock<Cache> = OnceLock::new();
+    let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
+    let mut map = cache.lock().unwrap_or_else(|e| e.into_inner());
+    map.entry((p1, p2))
+        .or_insert_with(|| {
+            let mut rplanner = RealFftPlanner::<f64>::new();
+            let mut cplanner = FftPlanner::<f64>::new();
+            Arc::new(Plans {
+                row_fwd: rplanner.plan_fft_forward(p2),
+                row_inv: rplanner.plan_fft_inverse(p2),
+                col_fwd: cplanner.plan_fft_forward(p1),
+                col_inv: cplanner.plan_fft_inverse(p1),
+            })
+        })
+        .clone()
+}
+
+/// The work buffers of one core (allocated at the first transform).
+struct Work {
+    /// One real row (`P₂` values) per worker thread: fields are padded row by row, so no
+    /// `P₁ × P₂` real array is held.
     row_real: Vec<Vec<f64>>,
-    /// Row transforms, `2N₁ × (N₂+1)` row-major.
+    /// Row transforms, `P₁ × (P₂/2 + 1)` row-major.
     rows: Vec<C64>,
     /// One scratch buffer per worker thread.
     row_scratch: Vec<Scratch>,
     col_scratch: Vec<Scratch>,
 }
 
+/// A real 2D FFT of `N₁ × N₂` fields (padded or periodic), planned once; clones share it.
+#[derive(Clone)]
+pub struct Fft2d {
+    n1: usize,
+    n2: usize,
+    mode: Mode,
+    /// Transform shape `P₁ × P₂`.
+    p1: usize,
+    p2: usize,
+    threads: usize,
+    plans: Arc<Plans>,
+    work: Arc<Mutex<Option<Work>>>,
+}
+
 impl Fft2d {
-    /// Plans the transforms of `n1 × n2` fields (`n1, n2 ≥ 2`).
+    /// The padded (DC-FFT) core of `n1 × n2` fields (`n1, n2 ≥ 2`).
     pub fn new(n1: usize, n2: usize) -> Result<Self, NumericsError> {
+        Self::with_mode(n1, n2, Mode::Padded)
+    }
+
+    /// The periodic (circulant) core of `n1 × n2` fields (`n1, n2 ≥ 2`).
+    pub fn periodic(n1: usize, n2: usize) -> Result<Self, NumericsError> {
+        Self::with_mode(n1, n2, Mode::Periodic)
+    }
+
+    /// The core of `n1 × n2` fields in `mode`, with the cached plans of its transform shape; its
+    /// work buffers are allocated at the first transform.
+    pub fn with_mode(n1: usize, n2: usize, mode: Mode) -> Result<Self, NumericsError> {
         if n1 < 2 || n2 < 2 {
             return Err(NumericsError::TooFewNodes {
-                what: "a DC-FFT grid side",
+                what: match mode {
+                    Mode::Padded => "a DC-FFT grid side",
+                    Mode::Periodic => "a circulant grid side",
+                },
                 min: 2,
                 n: n1.min(n2),
             });
         }
-        let (p1, p2) = (2 * n1, 2 * n2);
-        let mut rplanner = RealFftPlanner::<f64>::new();
-        let mut cplanner = FftPlanner::<f64>::new();
-        let row_fwd = rplanner.plan_fft_forward(p2);
-        let row_inv = rplanner.plan_fft_inverse(p2);
-        let col_fwd = cplanner.plan_fft_forward(p1);
-        let col_inv = cplanner.plan_fft_inverse(p1);
-        let row_scratch_len = row_fwd.get_scratch_len().max(row_inv.get_scratch_len());
-        let col_scratch_len = col_fwd
-            .get_inplace_scratch_len()
-            .max(col_inv.get_inplace_scratch_len());
+        let (p1, p2) = match mode {
+            Mode::Padded => (2 * n1, 2 * n2),
+            Mode::Periodic => (n1, n2),
+        };
         // Threads pay only on large grids: below 128² the rayon hand-offs cost more than they save.
         let threads = if n1 * n2 >= PARALLEL_CELLS {
             rayon::current_num_threads().max(1)
@@ -94,14 +162,12 @@ impl Fft2d {
         Ok(Self {
             n1,
             n2,
-            row_fwd,
-            row_inv,
-            col_fwd,
-            col_inv,
-            row_real: vec![vec![0.0; p2]; threads],
-            rows: vec![C64::new(0.0, 0.0); p1 * (n2 + 1)],
-            row_scratch: vec![vec![C64::new(0.0, 0.0); row_scratch_len]; threads],
-            col_scratch: vec![vec![C64::new(0.0, 0.0); col_scratch_len.max(1)]; threads],
+            mode,
+            p1,
+            p2,
+            threads,
+            plans: plans(p1, p2),
+            work: Arc::new(Mutex::new(None)),
         })
     }
 
@@ -110,9 +176,19 @@ impl Fft2d {
         (self.n1, self.n2)
     }
 
-    /// Length of one spectrum, `2N₁ (N₂ + 1)`.
+    /// Padded or periodic.
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// Whether `other` is a clone of this core (the same work buffers).
+    pub fn shares_work_with(&self, other: &Fft2d) -> bool {
+        Arc::ptr_eq(&self.work, &other.work)
+    }
+
+    /// Length of one spectrum, `P₁ (P₂/2 + 1)`: `2N₁ (N₂ + 1)` padded, `N₁ (⌊N₂/2⌋ + 1)` periodic.
     pub fn spectrum_len(&self) -> usize {
-        2 * self.n1 * (self.n2 + 1)
+        self.p1 * (self.p2 / 2 + 1)
     }
 
     /// A zeroed spectrum buffer.
@@ -120,14 +196,26 @@ impl Fft2d {
         vec![C64::new(0.0, 0.0); self.spectrum_len()]
     }
 
-    /// The spectrum of the DC-FFT kernel layout of `k` (spec §2 step 1–2: offsets `−(N−1)..N−1`
-    /// wrapped, the `N`-th row and column zero), divided by `4N₁N₂` so that [`Fft2d::inverse`]
-    /// needs no normalisation. Non-finite kernel values are an error.
+    fn require_padded(&self) -> Result<(), NumericsError> {
+        match self.mode {
+            Mode::Padded => Ok(()),
+            Mode::Periodic => Err(NumericsError::InvalidParameter {
+                name: "FFT core mode for a DC-FFT kernel (periodic given)",
+                value: 0.0,
+                allowed: "padded",
+            }),
+        }
+    }
+
+    /// The spectrum of the DC-FFT kernel layout of `k` (offsets `−(N−1)..N−1` wrapped, the `N`-th
+    /// row and column zero; docs/sam.md), divided by `4N₁N₂` so that [`Fft2d::inverse`] needs no
+    /// normalisation. Padded cores only; non-finite kernel values are an error.
     pub fn kernel_spectrum(
         &mut self,
         k: KernelFn<'_>,
         out: &mut [C64],
     ) -> Result<(), NumericsError> {
+        self.require_padded()?;
         self.check_spectrum(out)?;
         let (n1, n2) = (self.n1, self.n2);
         let (p1, p2) = (2 * n1, 2 * n2);
@@ -161,12 +249,14 @@ impl Fft2d {
     /// The spectrum of a kernel even in both offsets, `K(m, n) = K(|m|, |n|)`, from its quadrant
     /// `quadrant[m N₂ + n] = K(m, n)` (`0 ≤ m < N₁`, `0 ≤ n < N₂`). The DFT of a real sequence even
     /// in both indices is real, so only the real part is stored (`out.len()` =
-    /// [`Fft2d::spectrum_len`]), divided by `4N₁N₂` as in [`Fft2d::kernel_spectrum`].
+    /// [`Fft2d::spectrum_len`]), divided by `4N₁N₂` as in [`Fft2d::kernel_spectrum`]. Padded cores
+    /// only.
     pub fn even_kernel_spectrum(
         &mut self,
         quadrant: &[f64],
         out: &mut [f64],
     ) -> Result<(), NumericsError> {
+        self.require_padded()?;
         let (n1, n2) = (self.n1, self.n2);
         if quadrant.len() != n1 * n2 || out.len() != self.spectrum_len() {
             return Err(NumericsError::LengthMismatch {
@@ -219,7 +309,43 @@ impl Fft2d {
         self.kernel_spectrum(&k, out)
     }
 
-    /// `out = FFT₂(x zero-padded)` for a field `x` of `N₁ × N₂` values (row-major).
+    /// The real symbol `σ(m, n) / (N₁N₂)` of a periodic core at the DFT indices `m ∈ [0, N₁)`,
+    /// `n ∈ [0, ⌊N₂/2⌋]`, in the spectrum layout (`[n N₁ + m]`), so that `IFFT₂(σ · FFT₂ x)` is
+    /// [`multiply_real`] between [`Fft2d::forward`] and [`Fft2d::inverse`]. Periodic cores only;
+    /// non-finite values are an error.
+    pub fn symbol_spectrum(
+        &self,
+        sigma: &dyn Fn(usize, usize) -> f64,
+    ) -> Result<Vec<f64>, NumericsError> {
+        if self.mode != Mode::Periodic {
+            return Err(NumericsError::InvalidParameter {
+                name: "FFT core mode for a circulant symbol (padded given)",
+                value: 0.0,
+                allowed: "periodic",
+            });
+        }
+        let (n1, n2) = (self.n1, self.n2);
+        let h2 = n2 / 2 + 1;
+        let scale = 1.0 / (n1 * n2) as f64;
+        let mut symbol = vec![0.0; n1 * h2];
+        for m in 0..n1 {
+            for n in 0..h2 {
+                let s = sigma(m, n);
+                if !s.is_finite() {
+                    return Err(NumericsError::InvalidParameter {
+                        name: "circulant symbol value",
+                        value: s,
+                        allowed: "finite",
+                    });
+                }
+                symbol[n * n1 + m] = s * scale;
+            }
+        }
+        Ok(symbol)
+    }
+
+    /// `out = FFT₂(x)` (zero-padded in the padded mode) for a field `x` of `N₁ × N₂` values
+    /// (row-major).
     pub fn forward(&mut self, x: &[f64], out: &mut [C64]) -> Result<(), NumericsError> {
         let (n1, n2) = (self.n1, self.n2);
         if x.len() != n1 * n2 {
@@ -304,7 +430,27 @@ impl Fft2d {
         Ok(())
     }
 
-    /// Spectrum (column-major) of the padded field whose row `a` (`2N₂` values) `fill(a, row)`
+    /// Runs `f` on the work buffers (allocated here at the first call).
+    fn with_work<R>(&self, f: impl FnOnce(&mut Work) -> R) -> R {
+        let mut guard = self.work.lock().unwrap_or_else(|e| e.into_inner());
+        let work = guard.get_or_insert_with(|| {
+            let p = &self.plans;
+            let row_scratch_len = p.row_fwd.get_scratch_len().max(p.row_inv.get_scratch_len());
+            let col_scratch_len = p
+                .col_fwd
+                .get_inplace_scratch_len()
+                .max(p.col_inv.get_inplace_scratch_len());
+            Work {
+                row_real: vec![vec![0.0; self.p2]; self.threads],
+                rows: vec![C64::new(0.0, 0.0); self.spectrum_len()],
+                row_scratch: vec![vec![C64::new(0.0, 0.0); row_scratch_len.max(1)]; self.threads],
+                col_scratch: vec![vec![C64::new(0.0, 0.0); col_scratch_len.max(1)]; self.threads],
+            }
+        });
+        f(work)
+    }
+
+    /// Spectrum (column-major) of the (padded) field whose row `a` (`P₂` values) `fill(a, row)`
     /// writes; only the rows `nonzero` may be nonzero (the row transforms of the others, and of
     /// the zero padding, are skipped).
     fn forward_padded(
@@ -313,118 +459,127 @@ impl Fft2d {
         spec: &mut [C64],
         nonzero: std::ops::Range<usize>,
     ) {
-        let (p1, h2) = (2 * self.n1, self.n2 + 1);
-        let threads = self.row_scratch.len();
-        let chunk = nonzero.len().div_ceil(threads).max(1);
-        let first = nonzero.start;
-        let fwd = &self.row_fwd;
-        let body = |(t, ((rows, real), scratch)): RowChunk<'_>| {
-            for (k, c) in rows.chunks_mut(h2).enumerate() {
-                fill(first + t * chunk + k, real);
-                fwd.process_with_scratch(real, c, scratch)
-                    .expect("lengths from the plan");
-            }
-        };
-        let rows = &mut self.rows[nonzero.start * h2..nonzero.end * h2];
-        if threads > 1 {
-            rows.par_chunks_mut(chunk * h2)
-                .zip(self.row_real.par_iter_mut())
-                .zip(self.row_scratch.par_iter_mut())
-                .enumerate()
-                .for_each(body);
-        } else {
-            body((0, ((rows, &mut self.row_real[0]), &mut self.row_scratch[0])));
-        }
-        self.rows[..nonzero.start * h2].fill(C64::new(0.0, 0.0));
-        self.rows[nonzero.end * h2..].fill(C64::new(0.0, 0.0));
-        // Transpose to columns and transform them.
-        let rows = &self.rows;
-        let col = &self.col_fwd;
-        let chunk = h2.div_ceil(threads).max(1);
-        let body = |(t, (cols, scratch)): ColChunk<'_>| {
-            // Gathered TRANSPOSE_BLOCK columns at a time: each row contributes a contiguous run
-            // (the column-by-column gather read one value per cache line).
-            let first = t * chunk;
-            let ncols = cols.len() / p1;
-            for g in (0..ncols).step_by(TRANSPOSE_BLOCK) {
-                let w = TRANSPOSE_BLOCK.min(ncols - g);
-                let block = &mut cols[g * p1..(g + w) * p1];
-                gather_block(rows, h2, first + g, p1, block);
-                for column in block.chunks_mut(p1) {
-                    col.process_with_scratch(column, scratch);
+        let (p1, h2) = (self.p1, self.p2 / 2 + 1);
+        let threads = self.threads;
+        let plans = &self.plans;
+        self.with_work(|work| {
+            let chunk = nonzero.len().div_ceil(threads).max(1);
+            let first = nonzero.start;
+            let fwd = &plans.row_fwd;
+            let body = |(t, ((rows, real), scratch)): RowChunk<'_>| {
+                for (k, c) in rows.chunks_mut(h2).enumerate() {
+                    fill(first + t * chunk + k, real);
+                    fwd.process_with_scratch(real, c, scratch)
+                        .expect("lengths from the plan");
                 }
+            };
+            let rows = &mut work.rows[nonzero.start * h2..nonzero.end * h2];
+            if threads > 1 {
+                rows.par_chunks_mut(chunk * h2)
+                    .zip(work.row_real.par_iter_mut())
+                    .zip(work.row_scratch.par_iter_mut())
+                    .enumerate()
+                    .for_each(body);
+            } else {
+                body((0, ((rows, &mut work.row_real[0]), &mut work.row_scratch[0])));
             }
-        };
-        if threads > 1 {
-            spec.par_chunks_mut(chunk * p1)
-                .zip(self.col_scratch.par_iter_mut())
-                .enumerate()
-                .for_each(body);
-        } else {
-            body((0, (spec, &mut self.col_scratch[0])));
-        }
+            work.rows[..nonzero.start * h2].fill(C64::new(0.0, 0.0));
+            work.rows[nonzero.end * h2..].fill(C64::new(0.0, 0.0));
+            // Transpose to columns and transform them.
+            let rows = &work.rows;
+            let col = &plans.col_fwd;
+            let chunk = h2.div_ceil(threads).max(1);
+            let body = |(t, (cols, scratch)): ColChunk<'_>| {
+                // Gathered TRANSPOSE_BLOCK columns at a time: each row contributes a contiguous run
+                // (the column-by-column gather read one value per cache line).
+                let first = t * chunk;
+                let ncols = cols.len() / p1;
+                for g in (0..ncols).step_by(TRANSPOSE_BLOCK) {
+                    let w = TRANSPOSE_BLOCK.min(ncols - g);
+                    let block = &mut cols[g * p1..(g + w) * p1];
+                    gather_block(rows, h2, first + g, p1, block);
+                    for column in block.chunks_mut(p1) {
+                        col.process_with_scratch(column, scratch);
+                    }
+                }
+            };
+            if threads > 1 {
+                spec.par_chunks_mut(chunk * p1)
+                    .zip(work.col_scratch.par_iter_mut())
+                    .enumerate()
+                    .for_each(body);
+            } else {
+                body((0, (spec, &mut work.col_scratch[0])));
+            }
+        });
     }
 
     /// Writes the rows `keep` (within the first `N₁`) of the inverse transform of `spec`
     /// (column-major, overwritten), cropped to `N₂` columns, into `y`.
     fn inverse_cropped(&mut self, spec: &mut [C64], keep: std::ops::Range<usize>, y: &mut [f64]) {
-        let (p1, n2, h2) = (2 * self.n1, self.n2, self.n2 + 1);
-        let threads = self.col_scratch.len();
-        let inv = &self.col_inv;
-        let chunk = h2.div_ceil(threads).max(1);
-        let body = |(cols, scratch): (&mut [C64], &mut Scratch)| {
-            for column in cols.chunks_mut(p1) {
-                inv.process_with_scratch(column, scratch);
-            }
-        };
-        if threads > 1 {
-            spec.par_chunks_mut(chunk * p1)
-                .zip(self.col_scratch.par_iter_mut())
-                .for_each(body);
-        } else {
-            body((spec, &mut self.col_scratch[0]));
-        }
-        let out = &*spec;
-        let rinv = &self.row_inv;
-        let chunk = keep.len().div_ceil(threads).max(1);
-        let first = keep.start;
-        let body = |(t, (((rows, ys), real), scratch)): InverseRowChunk<'_>| {
-            let nrows = rows.len() / h2;
-            for g in (0..nrows).step_by(TRANSPOSE_BLOCK) {
-                let w = TRANSPOSE_BLOCK.min(nrows - g);
-                let a0 = first + t * chunk + g;
-                let block = &mut rows[g * h2..(g + w) * h2];
-                gather_block(out, p1, a0, h2, block);
-                let yblock = &mut ys[g * n2..(g + w) * n2];
-                for (row, yrow) in block.chunks_mut(h2).zip(yblock.chunks_mut(n2)) {
-                    row[0].im = 0.0;
-                    row[h2 - 1].im = 0.0;
-                    rinv.process_with_scratch(row, real, scratch)
-                        .expect("lengths from the plan");
-                    yrow.copy_from_slice(&real[..n2]);
+        let (p1, p2, n2) = (self.p1, self.p2, self.n2);
+        let h2 = p2 / 2 + 1;
+        let threads = self.threads;
+        let plans = &self.plans;
+        self.with_work(|work| {
+            let inv = &plans.col_inv;
+            let chunk = h2.div_ceil(threads).max(1);
+            let body = |(cols, scratch): (&mut [C64], &mut Scratch)| {
+                for column in cols.chunks_mut(p1) {
+                    inv.process_with_scratch(column, scratch);
                 }
+            };
+            if threads > 1 {
+                spec.par_chunks_mut(chunk * p1)
+                    .zip(work.col_scratch.par_iter_mut())
+                    .for_each(body);
+            } else {
+                body((spec, &mut work.col_scratch[0]));
             }
-        };
-        let (rows, ys) = (
-            &mut self.rows[keep.start * h2..keep.end * h2],
-            &mut y[keep.start * n2..keep.end * n2],
-        );
-        if threads > 1 {
-            rows.par_chunks_mut(chunk * h2)
-                .zip(ys.par_chunks_mut(chunk * n2))
-                .zip(self.row_real.par_iter_mut())
-                .zip(self.row_scratch.par_iter_mut())
-                .enumerate()
-                .for_each(body);
-        } else {
-            body((
-                0,
-                (
-                    ((rows, ys), &mut self.row_real[0]),
-                    &mut self.row_scratch[0],
-                ),
-            ));
-        }
+            let out = &*spec;
+            let rinv = &plans.row_inv;
+            let chunk = keep.len().div_ceil(threads).max(1);
+            let first = keep.start;
+            let body = |(t, (((rows, ys), real), scratch)): InverseRowChunk<'_>| {
+                let nrows = rows.len() / h2;
+                for g in (0..nrows).step_by(TRANSPOSE_BLOCK) {
+                    let w = TRANSPOSE_BLOCK.min(nrows - g);
+                    let a0 = first + t * chunk + g;
+                    let block = &mut rows[g * h2..(g + w) * h2];
+                    gather_block(out, p1, a0, h2, block);
+                    let yblock = &mut ys[g * n2..(g + w) * n2];
+                    for (row, yrow) in block.chunks_mut(h2).zip(yblock.chunks_mut(n2)) {
+                        row[0].im = 0.0;
+                        if p2 % 2 == 0 {
+                            row[h2 - 1].im = 0.0;
+                        }
+                        rinv.process_with_scratch(row, real, scratch)
+                            .expect("lengths from the plan");
+                        yrow.copy_from_slice(&real[..n2]);
+                    }
+                }
+            };
+            let (rows, ys) = (
+                &mut work.rows[keep.start * h2..keep.end * h2],
+                &mut y[keep.start * n2..keep.end * n2],
+            );
+            if threads > 1 {
+                rows.par_chunks_mut(chunk * h2)
+                    .zip(ys.par_chunks_mut(chunk * n2))
+                    .zip(work.row_real.par_iter_mut())
+                    .zip(work.row_scratch.par_iter_mut())
+                    .enumerate()
+                    .for_each(body);
+            } else {
+                body((
+                    0,
+                    (
+                        ((rows, ys), &mut work.row_real[0]),
+                        &mut work.row_scratch[0],
+                    ),
+                ));
+            }
+        });
     }
 }
 
@@ -432,7 +587,7 @@ impl Fft2d {
 /// `b < len` — the `w` consecutive values of each of `len` strided source lines are read together
 /// (one cache line), not one line at a time.
 #[inline]
-pub(crate) fn gather_block(src: &[C64], stride: usize, start: usize, len: usize, dst: &mut [C64]) {
+fn gather_block(src: &[C64], stride: usize, start: usize, len: usize, dst: &mut [C64]) {
     let w = dst.len() / len;
     for b in 0..len {
         let from = b * stride + start;

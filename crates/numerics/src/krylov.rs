@@ -332,14 +332,11 @@ mod tests {
 
     /// A nonsymmetric, diagonally dominant test matrix with a fixed seed.
     fn matrix(n: usize, seed: u64) -> DenseMatrix {
-        let mut s = seed;
+        let mut rng = crate::testkit::Lcg::new(seed);
         let mut a = vec![0.0; n * n];
         for i in 0..n {
             for j in 0..n {
-                s = s
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                let r = ((s >> 11) as f64 / (1u64 << 53) as f64) - 0.5;
+                let r = rng.unit() - 0.5;
                 a[i * n + j] = r / n as f64 + if i == j { 1.0 + 0.01 * i as f64 } else { 0.0 };
             }
         }

@@ -7,10 +7,14 @@
 //! * [`grid`]: the grid uniform in the square of the coordinate (spec §0.1, paper Eq. 6).
 //! * [`diff`]: second-order finite differences, one-sided at both ends (spec §0.2).
 //! * [`quad`]: trapezoid rules on uniform grids.
-//! * [`fft2d`], [`conv2d`], [`layered`]: one padded 2D real-FFT plan; DC-FFT block operators and the
-//!   layered 3D DC-FFT (kernels by layer difference and layer sum), each with a dense twin.
-//! * [`circulant`]: periodic operators with a real symbol (the `|k|` preconditioner of the
-//!   half-space compliance).
+//! * [`fft2d`]: the one real 2D FFT core (padded for DC-FFT, periodic for circulants), plans cached
+//!   by shape, one core shared by the operators of one owner.
+//! * [`op`]: the one operator trait ([`op::GridOperator`]; the flat [`linop::LinearOperator`] is a
+//!   blanket adapter), the even-kernel (normal) operator, and the operator sets solvers run on
+//!   (fast or dense twins). [`conv2d`] (DC-FFT block operators), [`layered`] (the layered 3D
+//!   DC-FFT, kernels by layer difference and layer sum) and [`circulant`] (periodic operators with
+//!   a real symbol: the `|k|` preconditioner) implement it, each fast operator with a dense twin.
+//! * [`testkit`]: fixed-seed inputs and the one check of a fast operator against its twin.
 //! * [`memory`]: footprint estimates checked before allocating.
 //! * [`anderson`]: Anderson acceleration of fixed-point iterations.
 //! * [`linop`], [`krylov`]: a flat linear-operator trait; restarted GMRES and the preconditioned
@@ -30,9 +34,11 @@ pub mod krylov;
 pub mod layered;
 pub mod linop;
 pub mod memory;
+pub mod op;
 pub mod power_sum;
 pub mod quad;
 pub mod special;
+pub mod testkit;
 
 pub use conv1d::{Backend, ToeplitzConvolution};
 pub use error::NumericsError;

@@ -4,9 +4,9 @@
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use halfspace_sam::coupled::{ContactParams, ContactProblem};
+use halfspace_sam::contact::{ContactParams, ContactProblem};
+use halfspace_sam::contact::{InhomogeneousContact, NestedParams};
 use halfspace_sam::eim::{Backend, EimFields, Inhomogeneity, Shape, Space, Window};
-use halfspace_sam::nested::{InhomogeneousContact, NestedParams};
 use halfspace_sam::normal::NormalLoad;
 use halfspace_sam::{Body, Compliance, SurfaceGrid};
 
@@ -39,7 +39,7 @@ fn operator(c: &mut Criterion) {
 
 fn stiff_sphere(c: &mut Criterion) {
     let (r, w, e, nu): (f64, f64, f64, f64) = (105e-6, 0.08, 210e9, 0.3);
-    let a = (3.0 * w * r / (4.0 * e / (1.0 - nu * nu))).cbrt();
+    let a = halfspace_mdr::analytic::sphere_radius_for_force(w, r, e / (1.0 - nu * nu));
     let mut group = c.benchmark_group("stiff_sphere_contact");
     for n in [64usize, 128] {
         group.bench_with_input(BenchmarkId::new("setup_and_solve", n), &n, |b, _| {

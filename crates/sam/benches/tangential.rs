@@ -10,7 +10,7 @@ use halfspace_sam::{Body, Compliance, SurfaceGrid};
 
 fn cattaneo(c: &mut Criterion) {
     let (r, w, mu): (f64, f64, f64) = (105e-6, 0.08, 0.3);
-    let a = (3.0 * w * r / (4.0 * 210e9 / 0.91)).cbrt();
+    let a = halfspace_mdr::analytic::sphere_radius_for_force(w, r, 210e9 / 0.91);
     let mut group = c.benchmark_group("cattaneo_tangential_solve");
     for n in [64usize, 128] {
         let grid = SurfaceGrid::square(n, 4.0 * a).unwrap();

@@ -23,7 +23,7 @@ fn main() {
     };
     let (r, w): (f64, f64) = (105e-6, 0.08);
     let e_star = 210e9 / 0.91;
-    let a = (3.0 * w * r / (4.0 * e_star)).cbrt();
+    let a = halfspace_mdr::analytic::sphere_radius_for_force(w, r, e_star);
     let p0 = 3.0 * w / (2.0 * std::f64::consts::PI * a * a);
     let compliance = Compliance::pair(Body::Rigid, Body::elastic(210e9, 0.3).unwrap()).unwrap();
     println!("| N² | variant | fine iterations | coarse iterations | solve | L2 vs Hertz |");

@@ -44,6 +44,9 @@ pub enum SamError {
     /// of an unfinished loop).
     #[error("{0}")]
     InvalidInput(String),
+    /// The caller asked the run to stop (Ctrl-C); what was done before is intact.
+    #[error("cancelled (interrupted)")]
+    Cancelled,
     /// Grid shape or array length problems.
     #[error(transparent)]
     Numerics(#[from] NumericsError),

@@ -65,3 +65,25 @@ impl SurfaceGrid {
         i == 0 || j == 0 || i == self.n1 - 1 || j == self.n2 - 1
     }
 }
+
+/// Checks that `padded` and `periodic` are FFT cores of `grid`'s shape in those modes (the cores a
+/// contact problem shares among its operators).
+pub(crate) fn check_cores(
+    grid: &SurfaceGrid,
+    padded: &halfspace_numerics::fft2d::Fft2d,
+    periodic: &halfspace_numerics::fft2d::Fft2d,
+) -> Result<(), SamError> {
+    use halfspace_numerics::fft2d::Mode;
+    for (core, mode) in [(padded, Mode::Padded), (periodic, Mode::Periodic)] {
+        if core.shape() != (grid.n1, grid.n2) || core.mode() != mode {
+            return Err(SamError::Numerics(
+                halfspace_numerics::NumericsError::LengthMismatch {
+                    what: "FFT core cells (or mode) for the surface grid",
+                    expected: grid.len(),
+                    got: core.shape().0 * core.shape().1,
+                },
+            ));
+        }
+    }
+    Ok(())
+}

@@ -76,9 +76,9 @@ impl Indenter {
     /// `a = √(2W/(πE*s))`, `a = 2δ/(πs)`; `0.75a` for a punch); `None` for a table.
     pub fn contact_radius_estimate(&self, e_star: f64, load: NormalLoad) -> Option<f64> {
         match (self, load) {
-            (Self::Ellipsoid { rx, ry }, NormalLoad::Force(w)) => {
-                Some((3.0 * w * (rx * ry).sqrt() / (4.0 * e_star)).cbrt())
-            }
+            (Self::Ellipsoid { rx, ry }, NormalLoad::Force(w)) => Some(
+                halfspace_mdr::analytic::sphere_radius_for_force(w, (rx * ry).sqrt(), e_star),
+            ),
             (Self::Ellipsoid { rx, ry }, NormalLoad::Approach(d)) => {
                 Some((d * (rx * ry).sqrt()).sqrt())
             }

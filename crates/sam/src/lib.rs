@@ -1,7 +1,10 @@
-//! 3D semi-analytical contact of elastic half-spaces (spec `sam.md`; Leroux & Nélias 2011):
-//! influence coefficients of uniform tractions on rectangles ([`influence`]), DC-FFT operators,
-//! the Polonsky–Keer normal solver ([`normal`]), the stick–slip tangential solver ([`tangential`])
-//! and their Panagiotopoulos coupling and load paths ([`coupled`]).
+//! 3D semi-analytical contact of elastic half-spaces (spec `sam.md`; Leroux & Nélias 2011), one
+//! module per family: influence coefficients and the volume kernels ([`kernels`]), the
+//! Polonsky–Keer normal solver ([`normal`]), the stick–slip tangential solver ([`tangential`]),
+//! the contact problem with its Panagiotopoulos coupling, force control and inhomogeneities
+//! ([`contact`]), the equivalent inclusion method ([`eim`]), subsurface stresses ([`subsurface`]),
+//! the drivers of the front ends ([`drivers`]) and the closed forms the tests compare with
+//! ([`analytic`]).
 //!
 //! Conventions (spec §0): body 2 is the half-space `x₃ ≥ 0` (depth), body 1 the indenter; tractions
 //! are those of body 1 on body 2 (`p ≥ 0` compressive, `q` along `+x_α`); displacements of body 2,
@@ -13,21 +16,18 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod analytic;
-pub mod coupled;
+pub mod contact;
+pub mod drivers;
 pub mod eim;
 mod error;
-pub mod fretting_loop;
 pub mod grid;
 pub mod indenter;
-pub mod influence;
 pub mod kernels;
 pub mod memory;
-pub mod nested;
 pub mod normal;
-pub mod single;
 pub mod subsurface;
 pub mod tangential;
 
 pub use error::SamError;
 pub use grid::SurfaceGrid;
-pub use influence::{Body, Compliance};
+pub use kernels::surface::{Body, Compliance};

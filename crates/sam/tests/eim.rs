@@ -16,16 +16,10 @@ use halfspace_sam::{SamError, SurfaceGrid};
 const E: f64 = 1.0;
 const NU: f64 = 0.3;
 
+/// `n` fixed-seed values uniform in `[−0.5, 0.5)`.
 fn lcg(seed: u64, n: usize) -> Vec<f64> {
-    let mut s = seed;
-    (0..n)
-        .map(|_| {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        })
-        .collect()
+    let mut rng = halfspace_numerics::testkit::Lcg::new(seed);
+    (0..n).map(|_| rng.unit() - 0.5).collect()
 }
 
 fn max_diff(a: &[Vec<f64>], b: &[Vec<f64>]) -> (f64, f64) {

@@ -2,9 +2,9 @@
 //! Leroux–Fulleringer–Nélias-2010-type case): rigid sphere R = 105 μm on E = 210 GPa, ν = 0.3,
 //! W = 80 mN; inhomogeneity radius 0.3a, centre depth 0.5a, same ν.
 
-use halfspace_sam::coupled::{ContactParams, ContactProblem};
+use halfspace_sam::contact::{ContactParams, ContactProblem};
+use halfspace_sam::contact::{InhomogeneousContact, NestedParams};
 use halfspace_sam::eim::{fibres, EimMethod, FibreLayout, Inhomogeneity, Shape};
-use halfspace_sam::nested::{InhomogeneousContact, NestedParams};
 use halfspace_sam::normal::{NormalLoad, NormalParams, NormalSolver};
 use halfspace_sam::{Body, Compliance, SurfaceGrid};
 
@@ -15,7 +15,7 @@ const NU: f64 = 0.3;
 
 fn hertz() -> (f64, f64, f64) {
     let e_star = E / (1.0 - NU * NU);
-    let a = (3.0 * W * R / (4.0 * e_star)).cbrt();
+    let a = halfspace_mdr::analytic::sphere_radius_for_force(W, R, e_star);
     (a, 3.0 * W / (2.0 * std::f64::consts::PI * a * a), a * a / R)
 }
 

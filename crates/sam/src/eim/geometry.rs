@@ -88,6 +88,23 @@ impl Inhomogeneity {
                 "in (−1, 0.5)",
             ));
         }
+        let coordinates: Vec<(&'static str, f64)> = match self.shape {
+            Shape::Sphere { x, y, .. } | Shape::Cuboid { x, y, .. } => {
+                vec![("inhomogeneity centre x", x), ("inhomogeneity centre y", y)]
+            }
+            Shape::Cylinder { position, axis, .. } => vec![(
+                match axis {
+                    Axis::X => "cylinder axis position y",
+                    Axis::Y => "cylinder axis position x",
+                },
+                position,
+            )],
+        };
+        for (name, v) in coordinates {
+            if !v.is_finite() {
+                return Err(invalid(name, v, "finite (m)"));
+            }
+        }
         let (z, top, sizes): (f64, f64, Vec<f64>) = match self.shape {
             Shape::Sphere { z, r, .. } | Shape::Cylinder { z, r, .. } => (z, z - r, vec![r]),
             Shape::Cuboid { z, half, .. } => (z, z - half[2], half.to_vec()),
@@ -95,24 +112,24 @@ impl Inhomogeneity {
         for s in sizes {
             if !(s.is_finite() && s > 0.0) {
                 return Err(invalid(
-                    "inhomogeneity size (r or hx, hy, hz)",
+                    "inhomogeneity size (r, or hx, hy, hz)",
                     s,
-                    "finite and > 0",
+                    "finite and > 0 (m)",
                 ));
             }
         }
         if !(z.is_finite() && z > 0.0) {
             return Err(invalid(
-                "inhomogeneity centre depth z (the centre is above the surface)",
+                "inhomogeneity centre depth z",
                 z,
-                "> 0 (depth, positive into the body)",
+                "finite and > 0 (m, positive into the body; not above the surface)",
             ));
         }
         if top < 0.0 {
             return Err(invalid(
-                "inhomogeneity top depth (z − r or z − hz; it cuts the surface)",
+                "inhomogeneity top depth z − r (or z − hz)",
                 top,
-                "≥ 0",
+                "≥ 0 (m; below 0 it cuts the surface)",
             ));
         }
         Ok(())
@@ -246,7 +263,7 @@ pub fn composite_fibres(
     e_ratio: f64,
 ) -> Result<Vec<Inhomogeneity>, SamError> {
     crate::error::positive("Hertz radius a", a)?;
-    crate::error::positive("fibre to matrix modulus ratio", e_ratio)?;
+    crate::error::positive("fibre_e_ratio (fibre to matrix modulus ratio)", e_ratio)?;
     let r = COMPOSITE_FIBRE_RADIUS * a;
     fibres(
         r,
@@ -357,17 +374,23 @@ pub struct InclusionSet {
     pub window: Window,
 }
 
+/// "number k (counting from 1)" of `inh` in `list`.
+fn position_of(list: &[Inhomogeneity], inh: &Inhomogeneity) -> usize {
+    list.iter()
+        .position(|i| std::ptr::eq(i, inh))
+        .map_or(0, |p| p + 1)
+}
+
 impl InclusionSet {
     /// Assigns cells to inhomogeneities. Errors: invalid inhomogeneities, a square-cell grid is
     /// required, an inhomogeneity outside the domain or without a cell, overlaps of different
     /// materials, cells in the first layer (an inhomogeneity within `2Δ` of the surface).
     pub fn new(grid: &SurfaceGrid, list: &[Inhomogeneity]) -> Result<Self, SamError> {
         if (grid.half1 - grid.half2).abs() > 1e-12 * grid.half1 {
-            return Err(invalid(
-                "cell aspect ratio Δ₂/Δ₁ (inhomogeneities need cubic cells)",
-                grid.half2 / grid.half1,
-                "1",
-            ));
+            return Err(SamError::InvalidInput(format!(
+                "inhomogeneities need cubic cells: the cell aspect ratio Δ₂/Δ₁ is {}, it must be 1",
+                grid.half2 / grid.half1
+            )));
         }
         let d = grid.half1;
         let (lx, ly) = (grid.n1 as f64 * grid.half1, grid.n2 as f64 * grid.half2);
@@ -383,11 +406,11 @@ impl InclusionSet {
                     .into_iter()
                     .filter(|v| v.is_finite())
                     .fold(0.0f64, f64::max);
-                return Err(invalid(
-                    "inhomogeneity extent beyond the domain edge (m; enlarge the domain extent)",
-                    worst,
-                    "≤ 0 (inside the domain)",
-                ));
+                return Err(SamError::InvalidInput(format!(
+                    "inhomogeneity {} reaches {worst:e} m beyond the domain edge: move it inside, \
+                     or enlarge the domain extent",
+                    position_of(list, inh)
+                )));
             }
             deepest = deepest.max(deep);
         }
@@ -410,22 +433,23 @@ impl InclusionSet {
                         owned[idx] = true;
                         match found {
                             Some(m) if m != (inh.e, inh.nu) => {
-                                return Err(invalid(
-                                    "overlapping inhomogeneities of different materials, at depth",
-                                    depth,
-                                    "disjoint (or the same E and nu)",
-                                ));
+                                return Err(SamError::InvalidInput(format!(
+                                    "overlapping inhomogeneities of different materials (at \
+                                     depth {depth:e} m): make them disjoint, or give them the \
+                                     same E and nu"
+                                )));
                             }
                             _ => found = Some((inh.e, inh.nu)),
                         }
                     }
                     let Some(m) = found else { continue };
                     if k == 0 {
-                        return Err(invalid(
-                            "inhomogeneity cell in the first layer below the surface (its top is within one cell, at depth)",
-                            depth,
-                            "deeper than 2Δ: refine the grid or move it down",
-                        ));
+                        return Err(SamError::InvalidInput(format!(
+                            "an inhomogeneity has cells in the first layer below the surface \
+                             (depth {depth:e} m, its top within 2Δ = {:e} m of the surface): \
+                             refine the grid or move it down",
+                            2.0 * d
+                        )));
                     }
                     let material = match materials.iter().position(|q| *q == m) {
                         Some(p) => p,
@@ -480,11 +504,12 @@ impl InclusionSet {
             c.local = (i - i0) * w2 + (j - j0);
         }
         if let Some(idx) = owned.iter().position(|o| !o) {
-            return Err(invalid(
-                "inhomogeneity (number, from 1) smaller than a cell: no cell centre inside",
-                (idx + 1) as f64,
-                "at least one cell: refine the grid",
-            ));
+            return Err(SamError::InvalidInput(format!(
+                "inhomogeneity {} (counting from 1) holds no cell centre: it is smaller than a \
+                 cell (Δ = {:e} m) — refine the grid or enlarge it",
+                idx + 1,
+                2.0 * d
+            )));
         }
         Ok(Self {
             layers,

@@ -22,9 +22,9 @@ use halfspace_numerics::layered::{DenseLayered, Family, LayerKernel, LayeredSpec
 use std::ops::Range;
 
 use super::geometry::Window;
-use crate::influence::{corner_sum, primitive_a, primitive_b};
 use crate::kernels::cuboid::{DisplacementPotentials, StrainPotentials};
 use crate::kernels::subsurface::{pressure_stress, shear_stress};
+use crate::kernels::surface::{corner_sum, primitive_a, primitive_b};
 use crate::kernels::{compliance, stiffness};
 use crate::{SamError, SurfaceGrid};
 
@@ -224,7 +224,7 @@ impl Layered {
                     fft.inverse_rows(hat, rows_out.clone(), yo)?;
                 }
             }
-            Layered::Dense(dense) => dense.apply(x, y),
+            Layered::Dense(dense) => dense.direct_sum(x, y),
         }
         Ok(())
     }
@@ -401,7 +401,7 @@ impl EimFields {
                 &sources,
                 &[(Family::Difference, &sk)],
             )?;
-            let body = crate::influence::Compliance::pair(
+            let body = crate::kernels::surface::Compliance::pair(
                 crate::Body::Rigid,
                 crate::Body::elastic(e, nu)?,
             )?;

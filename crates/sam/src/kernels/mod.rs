@@ -6,10 +6,11 @@
 //! * [`subsurface`]: Love's (1929) stresses below a uniformly loaded surface rectangle, for a pressure
 //!   and for both shears (Liu & Wang 2002).
 //!
-//! The surface influence coefficients of the same rectangles (spec §1) are in [`crate::influence`].
+//! The surface influence coefficients of the same rectangles (spec §1) are in [`crate::kernels::surface`].
 
 pub mod cuboid;
 pub mod subsurface;
+pub mod surface;
 
 /// Voigt order of symmetric tensors (spec §0): `(11, 22, 33, 23, 13, 12)`, tensor shear components.
 pub const VOIGT: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)];

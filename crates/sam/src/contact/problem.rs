@@ -2,8 +2,10 @@
 //! coupled (dissimilar) bodies, the incremental (history-dependent) friction law, load paths and
 //! fretting loops.
 
-use halfspace_numerics::conv2d::{DcFft2d, GridOperator, KernelFn};
+use halfspace_numerics::fft2d::{Fft2d, KernelFn};
+use halfspace_numerics::op::{BlockConvolution, FftOperators, GridOperator, OperatorSet};
 
+use super::force_control::shift_for_force;
 use crate::normal::{NormalInfo, NormalLoad, NormalParams, NormalSolver};
 use crate::tangential::{is_stick, TangentialInfo, TangentialParams, TangentialSolver};
 use crate::{Compliance, SamError, SurfaceGrid};
@@ -80,19 +82,21 @@ pub struct IncrementInfo {
     pub max_pressure: f64,
 }
 
-/// A contact problem on one grid: geometry, bodies, friction, solvers and the current state.
-pub struct ContactProblem {
+/// A contact problem on one grid: geometry, bodies, friction, solvers and the current state, on the
+/// operators of `S` (the DC-FFT ones by default, or their dense twins). Every operator of the
+/// problem uses one padded and one periodic FFT core of the grid.
+pub struct ContactProblem<S: OperatorSet = FftOperators> {
     grid: SurfaceGrid,
     params: ContactParams,
     coupled: bool,
-    normal: NormalSolver,
+    normal: NormalSolver<S>,
     /// The tangential operator and solver; `None` without friction (`μ = 0`: `q = 0`, and a
     /// frictionless problem allocates only the normal operator).
-    tangential: Option<TangentialSolver>,
+    tangential: Option<TangentialSolver<S>>,
     /// q → Δu₃: `κ ⟦P_B^{(α)}⟧ *` (1 × 2 blocks).
-    shear_to_normal: Option<DcFft2d>,
+    shear_to_normal: Option<S::Blocks>,
     /// p → Δu_α: `−κ ⟦P_B^{(α)}⟧ *` (2 × 1 blocks).
-    pressure_to_tangential: Option<DcFft2d>,
+    pressure_to_tangential: Option<S::Blocks>,
     geometry: Vec<f64>,
     state: ContactState,
     h: Vec<f64>,
@@ -112,8 +116,20 @@ pub struct ContactProblem {
 }
 
 impl ContactProblem {
-    /// A problem with initial separation `geometry` (per cell, m) on `grid`.
+    /// A problem with initial separation `geometry` (per cell, m) on `grid` (DC-FFT operators).
     pub fn new(
+        grid: SurfaceGrid,
+        compliance: Compliance,
+        geometry: Vec<f64>,
+        params: ContactParams,
+    ) -> Result<Self, SamError> {
+        Self::with_operators(grid, compliance, geometry, params)
+    }
+}
+
+impl<S: OperatorSet> ContactProblem<S> {
+    /// [`ContactProblem::new`] on the operators of `S`.
+    pub fn with_operators(
         grid: SurfaceGrid,
         compliance: Compliance,
         geometry: Vec<f64>,
@@ -145,12 +161,15 @@ impl ContactProblem {
             }
         };
         let (c1p, c2p, c1m, c2m) = (shape(0, 1.0), shape(1, 1.0), shape(0, -1.0), shape(1, -1.0));
+        // One padded and one periodic core for every operator of the problem.
+        let fft = Fft2d::new(grid.n1, grid.n2)?;
+        let periodic = Fft2d::periodic(grid.n1, grid.n2)?;
         let (shear_to_normal, pressure_to_tangential) = if coupled {
             let a: [Option<KernelFn>; 2] = [Some(&c1p), Some(&c2p)];
             let b: [Option<KernelFn>; 2] = [Some(&c1m), Some(&c2m)];
             (
-                Some(DcFft2d::new(grid.n1, grid.n2, 2, 1, &a)?),
-                Some(DcFft2d::new(grid.n1, grid.n2, 1, 2, &b)?),
+                Some(S::Blocks::build(&fft, 2, 1, &a)?),
+                Some(S::Blocks::build(&fft, 1, 2, &b)?),
             )
         } else {
             (None, None)
@@ -163,9 +182,14 @@ impl ContactProblem {
         let t = || if frictional { vec![0.0; n] } else { Vec::new() };
         let c_only = || if coupled { vec![0.0; n] } else { Vec::new() };
         Ok(Self {
-            normal: NormalSolver::new(grid, &compliance)?,
+            normal: NormalSolver::on_cores(grid, &compliance, &fft, &periodic)?,
             tangential: if params.friction > 0.0 {
-                Some(TangentialSolver::new(grid, &compliance)?)
+                Some(TangentialSolver::on_cores(
+                    grid,
+                    &compliance,
+                    &fft,
+                    &periodic,
+                )?)
             } else {
                 None
             },
@@ -598,156 +622,5 @@ impl ContactProblem {
         let (info, d) = shift_for_force(start_shift[0], bracket, tol_q, &mut eval)?;
         self.commit();
         Ok((info, d))
-    }
-}
-
-/// The shift `D₁` at which a monotone `D₁ ↦ Q₁(D₁)` reaches a target: `eval(D₁)` returns
-/// `(Q₁(D₁) − target, info)`; bracketed from `start` in steps of `bracket` (doubling) toward the
-/// target, then Brent's method to `|Q₁ − target| ≤ tol_q`. The last evaluation is at the returned
-/// shift (so the caller's state is that solution). One search for every force-controlled
-/// increment (with and without inhomogeneities).
-pub fn shift_for_force<I>(
-    start: f64,
-    bracket: f64,
-    tol_q: f64,
-    eval: &mut impl FnMut(f64) -> Result<(f64, I), SamError>,
-) -> Result<(I, f64), SamError> {
-    // Bracket: from the previous shift, step by `bracket` toward the target until the sign flips.
-    let (mut a, (mut fa, _)) = (start, eval(start)?);
-    let mut last;
-    let dir = if fa < 0.0 { 1.0 } else { -1.0 };
-    let mut step = bracket.abs().max(f64::MIN_POSITIVE);
-    let (mut b, (mut fb, mut info_b)) = (start + dir * step, eval(start + dir * step)?);
-    last = b;
-    let mut expansions = 0;
-    while fa * fb > 0.0 {
-        expansions += 1;
-        if expansions > 60 {
-            return Err(SamError::NoConvergence {
-                solver: "tangential force bracket",
-                iterations: expansions,
-                residual: fb,
-            });
-        }
-        a = b;
-        fa = fb;
-        step *= 2.0;
-        b = a + dir * step;
-        let r = eval(b)?;
-        last = b;
-        fb = r.0;
-        info_b = r.1;
-    }
-    // Brent's method.
-    let (mut c, mut fc) = (a, fa);
-    let mut d = b - a;
-    let mut e = d;
-    for _ in 0..100 {
-        if fb.abs() <= tol_q {
-            break;
-        }
-        if (fc > 0.0) == (fb > 0.0) {
-            c = a;
-            fc = fa;
-            d = b - a;
-            e = d;
-        }
-        if fc.abs() < fb.abs() {
-            a = b;
-            b = c;
-            c = a;
-            fa = fb;
-            fb = fc;
-            fc = fa;
-        }
-        let tol = 2.0 * f64::EPSILON * b.abs() + 1e-15;
-        let m = 0.5 * (c - b);
-        if m.abs() <= tol {
-            break;
-        }
-        if e.abs() >= tol && fa.abs() > fb.abs() {
-            let s = fb / fa;
-            let (mut p, mut q);
-            if a == c {
-                p = 2.0 * m * s;
-                q = 1.0 - s;
-            } else {
-                let qq = fa / fc;
-                let r = fb / fc;
-                p = s * (2.0 * m * qq * (qq - r) - (b - a) * (r - 1.0));
-                q = (qq - 1.0) * (r - 1.0) * (s - 1.0);
-            }
-            if p > 0.0 {
-                q = -q;
-            } else {
-                p = -p;
-            }
-            if 2.0 * p < (3.0 * m * q - (tol * q).abs()).min((e * q).abs()) {
-                e = d;
-                d = p / q;
-            } else {
-                d = m;
-                e = m;
-            }
-        } else {
-            d = m;
-            e = m;
-        }
-        a = b;
-        fa = fb;
-        b += if d.abs() > tol { d } else { tol * m.signum() };
-        let r = eval(b)?;
-        last = b;
-        fb = r.0;
-        info_b = r.1;
-    }
-    // The state must be the solution at the returned shift (Brent swaps b and c).
-    if last != b {
-        info_b = eval(b)?.1;
-    }
-    Ok((info_b, b))
-}
-
-/// The Mindlin–Deresiewicz closed forms for a Hertzian contact (spec §7.3), uncoupled.
-pub mod mindlin {
-    /// `Q(D)` on first loading: `μP[1 − (1 − D/K)^{3/2}]`, capped at `μP`.
-    pub fn loading(d: f64, k_cm: f64, mu_p: f64) -> f64 {
-        if d >= k_cm {
-            return mu_p;
-        }
-        mu_p * (1.0 - (1.0 - d / k_cm).powf(1.5))
-    }
-
-    /// Unloading from `(D*, Q*)`: `Q* − 2μP[1 − (1 − (D* − D)/(2K))^{3/2}]`, capped at `−μP`.
-    pub fn unloading(d: f64, d_star: f64, q_star: f64, k_cm: f64, mu_p: f64) -> f64 {
-        let x = (d_star - d) / (2.0 * k_cm);
-        if x >= 1.0 {
-            return -mu_p;
-        }
-        (q_star - 2.0 * mu_p * (1.0 - (1.0 - x).powf(1.5))).max(-mu_p)
-    }
-
-    /// Dissipated energy per partial-slip cycle, `r = Q*/μP`:
-    /// `(4/5) K μP {6[1 − (1−r)^{5/3}] − 5r[1 + (1−r)^{2/3}]}`.
-    pub fn dissipated_energy(r: f64, k_cm: f64, mu_p: f64) -> f64 {
-        0.8 * k_cm
-            * mu_p
-            * (6.0 * (1.0 - (1.0 - r).powf(5.0 / 3.0))
-                - 5.0 * r * (1.0 + (1.0 - r).powf(2.0 / 3.0)))
-    }
-
-    /// Dissipated energy per cycle of a loop driven by the shift between `±A` (`A = amplitude`):
-    /// with `x = A/K`, partial slip (`x ≤ 1`, `r = 1 − (1 − x)^{3/2}` in
-    /// [`dissipated_energy`]) or gross slip (`x > 1`: the `r = 1` loop plus two sliding plateaus,
-    /// `E = 4μPA − 3.2μPK`). At a fixed amplitude the sensitivity to the stiffness,
-    /// `−d ln E / d ln K = 3.2/(4x − 3.2)` in gross slip, is 4 at the transition `x = 1`: a 1 %
-    /// stiffer contact (`K` 1 % smaller) dissipates 4 % more; deep in gross slip it vanishes.
-    pub fn dissipated_energy_at_amplitude(amplitude: f64, k_cm: f64, mu_p: f64) -> f64 {
-        let x = amplitude / k_cm;
-        if x <= 1.0 {
-            dissipated_energy(1.0 - (1.0 - x).powf(1.5), k_cm, mu_p)
-        } else {
-            4.0 * mu_p * amplitude - 3.2 * mu_p * k_cm
-        }
     }
 }

@@ -1,8 +1,8 @@
 //! The contact solver with or without inhomogeneities behind one interface.
 
-use crate::coupled::{ContactProblem, IncrementInfo};
+use crate::contact::{ContactProblem, IncrementInfo};
+use crate::contact::{InhomogeneousContact, NestedInfo, NestedParams};
 use crate::eim::Inhomogeneity;
-use crate::nested::{InhomogeneousContact, NestedInfo, NestedParams};
 use crate::normal::NormalLoad;
 use crate::subsurface::{subsurface_stress, StressField};
 use crate::SamError;

@@ -3,9 +3,7 @@
 
 use std::time::Instant;
 
-use super::case::LoopCase;
-use super::metrics::FrettingRegime;
-use super::run::FrettingLoop;
+use super::fretting_loop::{FrettingLoop, FrettingRegime, LoopCase};
 use crate::SamError;
 
 /// The points of a fretting map: the loop of `base` at every `(W_i, A_j)` of `loads × amplitudes`.
@@ -115,6 +113,7 @@ impl FrettingMap {
                 )));
             }
         }
+        Self::estimate_of(&base, loads.len() * amplitudes.len()).check("the fretting map")?;
         let quarter = base.path().quarter;
         Ok(Self {
             base,
@@ -122,6 +121,25 @@ impl FrettingMap {
             amplitudes,
             quarter,
         })
+    }
+
+    /// The cost of the map ([`super::fretting_loop::LoopEstimate`]): `points` loops of `base`'s increments and
+    /// cells, as many at once as there are threads, plus the points' results.
+    pub fn estimate(&self) -> super::fretting_loop::LoopEstimate {
+        Self::estimate_of(&self.base, self.len())
+    }
+
+    fn estimate_of(base: &LoopCase, points: usize) -> super::fretting_loop::LoopEstimate {
+        let one = base.estimate();
+        let loops = points as f64;
+        let concurrent = loops.min(rayon::current_num_threads() as f64).max(1.0);
+        super::fretting_loop::LoopEstimate {
+            loops,
+            concurrent,
+            bytes: one.bytes * concurrent + loops * 2.0 * 9.0 * 8.0,
+            work: one.work * loops,
+            ..one
+        }
     }
 
     /// The case every point derives from.
@@ -180,10 +198,30 @@ impl FrettingMap {
 
     /// Runs the loop of point `(i, j)` and classifies it.
     pub fn run_point(&self, i: usize, j: usize) -> Result<MapPoint, SamError> {
+        self.run_point_until(i, j, &|| false)
+    }
+
+    /// [`FrettingMap::run_point`], asking `cancelled` after every increment: when it answers
+    /// true the loop stops and [`SamError::Cancelled`] is returned (Ctrl-C in the front ends).
+    pub fn run_point_until(
+        &self,
+        i: usize,
+        j: usize,
+        cancelled: &(dyn Fn() -> bool + Sync),
+    ) -> Result<MapPoint, SamError> {
         let start = Instant::now();
         let case = self.point_case(i, j)?;
         let mut lp = FrettingLoop::new(case)?;
-        lp.run(|_| std::ops::ControlFlow::Continue(()))?;
+        let done = lp.run(|_| {
+            if cancelled() {
+                std::ops::ControlFlow::Break(())
+            } else {
+                std::ops::ControlFlow::Continue(())
+            }
+        })?;
+        if !done {
+            return Err(SamError::Cancelled);
+        }
         let m = lp.metrics()?;
         Ok(MapPoint {
             load: self.loads[i],

@@ -5,12 +5,12 @@
 
 use std::time::Instant;
 
-use crate::coupled::{ContactParams, ContactProblem, IncrementInfo};
+use crate::contact::ContactSolver;
+use crate::contact::{ContactParams, ContactProblem, IncrementInfo};
+use crate::contact::{NestedInfo, NestedParams};
 use crate::eim::Inhomogeneity;
-use crate::fretting_loop::ContactSolver;
 use crate::indenter::Indenter;
-use crate::influence::{Body, Compliance};
-use crate::nested::{NestedInfo, NestedParams};
+use crate::kernels::surface::{Body, Compliance};
 use crate::normal::{NormalLoad, NormalParams};
 use crate::subsurface::StressField;
 use crate::tangential::TangentialParams;

@@ -15,13 +15,14 @@
 //!   energy) per point (Vingsbo & Söderberg's fretting map).
 
 mod case;
-mod map;
 mod metrics;
+mod row;
 mod run;
-mod solver;
 
-pub use case::{LoadPath, LoopCase, POINT_LABELS};
-pub use map::{FrettingMap, MapPoint};
+pub use case::{
+    work_limit_hours, LoadPath, LoopCase, LoopEstimate, CELL_INCREMENTS_PER_SECOND, POINT_LABELS,
+    ROW_BYTES,
+};
 pub use metrics::{FrettingRegime, LoopMetrics};
-pub use run::{FrettingLoop, LoopRow, LoopSeconds, LoopSnapshot, PointFields};
-pub use solver::ContactSolver;
+pub use row::LoopRow;
+pub use run::{FrettingLoop, LoopSeconds, LoopSnapshot, PointFields};

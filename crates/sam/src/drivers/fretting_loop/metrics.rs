@@ -1,7 +1,7 @@
 //! What a fretting loop measures: dissipated energy, ratchet, regime.
 
 use super::case::{LoadPath, LoopCase};
-use super::run::LoopRow;
+use super::row::LoopRow;
 
 /// The fretting regime of one loop (the running-condition classes of Vingsbo & Söderberg 1988),
 /// from the stick zone over the closed cycle:

@@ -5,103 +5,14 @@ use std::time::Instant;
 
 use super::case::{LoadPath, LoopCase, POINT_LABELS};
 use super::metrics::LoopMetrics;
-use super::solver::ContactSolver;
-use crate::coupled::{ContactParams, ContactProblem, ContactState, IncrementInfo};
-use crate::influence::{Body, Compliance};
-use crate::nested::{NestedInfo, NestedParams, NestedWarmStart};
+use super::row::LoopRow;
+use crate::contact::ContactSolver;
+use crate::contact::{ContactParams, ContactProblem, ContactState};
+use crate::contact::{NestedParams, NestedWarmStart};
+use crate::kernels::surface::{Body, Compliance};
 use crate::normal::NormalLoad;
 use crate::tangential::is_stick;
 use crate::{SamError, SurfaceGrid};
-
-/// One increment of the loop (deterministic: equal on a resumed and an uninterrupted run).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LoopRow {
-    /// Normal force W (N).
-    pub w: f64,
-    /// Shift δx (m).
-    pub d: f64,
-    /// Tangential force `(Q₁, Q₂)` (N).
-    pub q: [f64; 2],
-    /// Largest pressure (Pa).
-    pub max_pressure: f64,
-    /// Contact area (m²).
-    pub contact_area: f64,
-    /// Stick area (m²).
-    pub stick_area: f64,
-    /// Panagiotopoulos alternations (of the last contact solve).
-    pub alternations: usize,
-    /// Rigid approach δ (m).
-    pub approach: f64,
-    /// Outer contact ↔ EIM passes (0 without inhomogeneities).
-    pub outer_iterations: usize,
-    /// EIM operator applications summed over the outer passes (0 without inhomogeneities).
-    pub eim_iterations: usize,
-}
-
-impl LoopRow {
-    /// Names of [`LoopRow::values`], as stored in the results and checkpoints.
-    pub const FIELDS: [&'static str; 11] = [
-        "normal_force",
-        "shift_x",
-        "tangential_force",
-        "tangential_force_y",
-        "max_pressure",
-        "contact_area",
-        "stick_area",
-        "alternations",
-        "approach",
-        "outer_iterations",
-        "eim_iterations",
-    ];
-
-    fn of(w: f64, d: f64, info: &IncrementInfo, nested: Option<&NestedInfo>) -> Self {
-        Self {
-            w,
-            d,
-            q: info.tangential_force,
-            max_pressure: info.max_pressure,
-            contact_area: info.contact_area,
-            stick_area: info.stick_area,
-            alternations: info.alternations,
-            approach: info.normal.approach,
-            outer_iterations: nested.map_or(0, |n| n.outer_iterations),
-            eim_iterations: nested.map_or(0, |n| n.eim_iterations),
-        }
-    }
-
-    /// The row as numbers in the order of [`LoopRow::FIELDS`].
-    pub fn values(&self) -> [f64; 11] {
-        [
-            self.w,
-            self.d,
-            self.q[0],
-            self.q[1],
-            self.max_pressure,
-            self.contact_area,
-            self.stick_area,
-            self.alternations as f64,
-            self.approach,
-            self.outer_iterations as f64,
-            self.eim_iterations as f64,
-        ]
-    }
-
-    /// The inverse of [`LoopRow::values`].
-    pub fn from_values(v: [f64; 11]) -> Self {
-        Self {
-            w: v[0],
-            d: v[1],
-            q: [v[2], v[3]],
-            max_pressure: v[4],
-            contact_area: v[5],
-            stick_area: v[6],
-            alternations: v[7] as usize,
-            approach: v[8],
-            outer_iterations: v[9] as usize,
-            eim_iterations: v[10] as usize,
-        }
-    }
-}
 
 /// Wall time of the loop by part (s); not deterministic, so not part of the results' arrays.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -160,7 +71,7 @@ pub struct LoopSnapshot {
     pub eigen: Option<NestedWarmStart>,
 }
 
-/// The fretting loop of a [`LoopCase`] (module doc of [`crate::fretting_loop`]).
+/// The fretting loop of a [`LoopCase`] (module doc of [`crate::drivers::fretting_loop`]).
 pub struct FrettingLoop {
     case: LoopCase,
     path: LoadPath,
@@ -181,6 +92,7 @@ impl FrettingLoop {
     /// [`FrettingLoop::new`] with the outer-loop parameters `nested` (used with inhomogeneities).
     pub fn with_params(case: LoopCase, nested: NestedParams) -> Result<Self, SamError> {
         case.validate()?;
+        case.estimate().check("the fretting loop")?;
         let a = case.hertz_radius();
         let grid = SurfaceGrid::square(case.grid, case.extent_over_a * a)?;
         crate::memory::check_problem(&grid, true, false)?;
@@ -217,13 +129,7 @@ impl FrettingLoop {
                 "the checkpoint was made with another configuration".into(),
             ));
         }
-        if snapshot.rows.len() > lp.path.len() {
-            return Err(SamError::InvalidInput(format!(
-                "the checkpoint holds {} increments, the path has {}",
-                snapshot.rows.len(),
-                lp.path.len()
-            )));
-        }
+        lp.check_snapshot(&snapshot)?;
         lp.solver.problem_mut().restore_state(&snapshot.state)?;
         match (&mut lp.solver, &snapshot.eigen) {
             (ContactSolver::Nested(n), Some(w)) => n.set_warm_start(w)?,
@@ -238,6 +144,181 @@ impl FrettingLoop {
         lp.points = snapshot.points;
         lp.max_transverse_slip = snapshot.max_transverse_slip;
         Ok(lp)
+    }
+
+    /// The content of a snapshot against this loop (beyond its fingerprint): rows no more than
+    /// the path's, each at the path's load and shift bit for bit and finite, with a pressure,
+    /// areas and counts a contact can have (`0 ≤ stick ≤ contact ≤ domain`, `|Q| ≤ μW` within the
+    /// solver's tolerance); the points A–D at their marks with fields of the grid's size, finite
+    /// (pressure ≥ 0, stick 0 or 1); the contact state and the eigenstrains finite. Errors name
+    /// the checkpoint member (`normal_force`, `state_pressure`, `point_pressure_B`, …).
+    fn check_snapshot(&self, snapshot: &LoopSnapshot) -> Result<(), SamError> {
+        let bad = |member: String, rule: String| {
+            SamError::InvalidInput(format!("checkpoint member {member}: {rule}"))
+        };
+        let rows = &snapshot.rows;
+        if rows.len() > self.path.len() {
+            return Err(bad(
+                "normal_force".into(),
+                format!(
+                    "{} increments, the path has {}",
+                    rows.len(),
+                    self.path.len()
+                ),
+            ));
+        }
+        let grid = *self.solver.problem().grid();
+        let cells = grid.len();
+        let domain = grid.n1 as f64 * grid.n2 as f64 * grid.cell_area();
+        let mu = self.case.friction;
+        for (k, r) in rows.iter().enumerate() {
+            let v = r.values();
+            if let Some(f) = (0..v.len()).find(|&f| !v[f].is_finite()) {
+                return Err(bad(
+                    LoopRow::FIELDS[f].into(),
+                    format!("row {k} is {}: every value is finite", v[f]),
+                ));
+            }
+            let (w, shift) = self.path.increment(k).unwrap_or_default();
+            if r.w.to_bits() != w.to_bits() || r.d.to_bits() != shift[0].to_bits() {
+                return Err(bad(
+                    "normal_force, shift_x".into(),
+                    format!(
+                        "row {k} is (W, δx) = ({}, {}), this loop's increment {k} is ({w}, {})",
+                        r.w, r.d, shift[0]
+                    ),
+                ));
+            }
+            let checks: [(&str, bool); 4] = [
+                ("max_pressure", r.max_pressure >= 0.0),
+                (
+                    "contact_area",
+                    (0.0..=domain * (1.0 + 1e-12)).contains(&r.contact_area),
+                ),
+                (
+                    "stick_area",
+                    r.stick_area >= 0.0 && r.stick_area <= r.contact_area,
+                ),
+                (
+                    "tangential_force",
+                    r.q[0].hypot(r.q[1]) <= mu * r.w * (1.0 + 1e-3),
+                ),
+            ];
+            if let Some((member, _)) = checks.iter().find(|(_, ok)| !ok) {
+                return Err(bad(
+                    (*member).into(),
+                    format!(
+                        "row {k} = {:?}: outside what a contact can have (0 ≤ stick ≤ contact \
+                         area ≤ domain, pressure ≥ 0, |Q| ≤ μW)",
+                        v[LoopRow::FIELDS
+                            .iter()
+                            .position(|f| f == member)
+                            .unwrap_or(0)]
+                    ),
+                ));
+            }
+        }
+        let finite = |member: String, v: &[f64], len: Option<usize>| -> Result<(), SamError> {
+            if let Some(len) = len.filter(|&l| l != v.len()) {
+                return Err(bad(
+                    member,
+                    format!("{} values, the grid has {len} cells", v.len()),
+                ));
+            }
+            if let Some((i, x)) = v.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+                return Err(bad(member, format!("value [{i}] = {x} is not finite")));
+            }
+            Ok(())
+        };
+        let marks = self.path.marks();
+        if snapshot.points.len() > POINT_LABELS.len() {
+            return Err(bad(
+                "points".into(),
+                format!("{} points, the loop has 4", snapshot.points.len()),
+            ));
+        }
+        for (m, p) in snapshot.points.iter().enumerate() {
+            let l = POINT_LABELS[m];
+            if p.increment != marks[m] || p.increment > rows.len() {
+                return Err(bad(
+                    format!("point_increment_{l}"),
+                    format!(
+                        "{}: point {l} is reached at increment {} ({} done)",
+                        p.increment,
+                        marks[m],
+                        rows.len()
+                    ),
+                ));
+            }
+            finite(format!("point_pressure_{l}"), &p.pressure, Some(cells))?;
+            if let Some(x) = p.pressure.iter().find(|x| **x < 0.0) {
+                return Err(bad(
+                    format!("point_pressure_{l}"),
+                    format!("value {x}: a contact pressure is ≥ 0"),
+                ));
+            }
+            for (c, v) in p.shear.iter().enumerate() {
+                finite(format!("point_shear_{}_{l}", ["x", "y"][c]), v, Some(cells))?;
+            }
+            for (c, v) in p.slip.iter().enumerate() {
+                finite(format!("point_slip_{}_{l}", ["x", "y"][c]), v, Some(cells))?;
+            }
+            finite(format!("point_stick_{l}"), &p.stick, Some(cells))?;
+            if let Some(x) = p.stick.iter().find(|x| **x != 0.0 && **x != 1.0) {
+                return Err(bad(
+                    format!("point_stick_{l}"),
+                    format!("value {x}: 0 or 1"),
+                ));
+            }
+            for (c, v) in p.eigen_displacement.iter().flatten().enumerate() {
+                finite(
+                    format!("point_eigen_displacement_{}_{l}", c + 1),
+                    v,
+                    Some(cells),
+                )?;
+            }
+            if let Some(vm) = &p.von_mises {
+                finite(format!("point_von_mises_{l}"), vm, None)?;
+                if vm.is_empty() || vm.len() % cells != 0 || vm.iter().any(|x| *x < 0.0) {
+                    return Err(bad(
+                        format!("point_von_mises_{l}"),
+                        format!("{} values: layers of {cells} cells, each ≥ 0", vm.len()),
+                    ));
+                }
+            }
+        }
+        let st = &snapshot.state;
+        finite("state_pressure".into(), &st.pressure, Some(cells))?;
+        if let Some(x) = st.pressure.iter().find(|x| **x < 0.0) {
+            return Err(bad(
+                "state_pressure".into(),
+                format!("value {x}: a contact pressure is ≥ 0"),
+            ));
+        }
+        let s = snapshot.max_transverse_slip;
+        if !(s.is_finite() && s >= 0.0) {
+            return Err(bad(
+                "max_transverse_slip".into(),
+                format!("{s}: finite and ≥ 0"),
+            ));
+        }
+        if let Some(w) = &snapshot.eigen {
+            finite("eigenstrain".into(), &w.eigenstrain, None)?;
+            finite("eigenstrain_previous".into(), &w.previous.0, None)?;
+            for c in 0..3 {
+                finite(
+                    format!("eigen_displacement_{}", c + 1),
+                    &w.eigen_displacement[c],
+                    Some(cells),
+                )?;
+                finite(
+                    format!("eigen_displacement_previous_{}", c + 1),
+                    &w.previous.1[c],
+                    Some(cells),
+                )?;
+            }
+        }
+        Ok(())
     }
 
     /// The configuration as text (a checkpoint is resumed only with the same one).
@@ -288,7 +369,7 @@ impl FrettingLoop {
     /// The next increment: its row, or `None` when the loop is done.
     pub fn step(&mut self) -> Result<Option<&LoopRow>, SamError> {
         let k = self.rows.len();
-        let Some(&(w, shift)) = self.path.increments.get(k) else {
+        let Some((w, shift)) = self.path.increment(k) else {
             return Ok(None);
         };
         let start = Instant::now();

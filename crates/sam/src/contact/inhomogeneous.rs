@@ -10,7 +10,7 @@
 //!
 //! The friction history is committed only when the increment has converged (spec §8.11).
 
-use crate::coupled::{shift_for_force, ContactProblem, IncrementInfo};
+use crate::contact::{shift_for_force, ContactProblem, IncrementInfo};
 use crate::eim::{
     Backend, EimFields, EimInfo, EimParams, EimSystem, InclusionSet, Inhomogeneity, Space,
 };

@@ -1,0 +1,63 @@
+//! Typed errors of the fatigue criteria: every message names the offending parameter or entry.
+use thiserror::Error;
+
+/// What can go wrong when evaluating a fatigue criterion.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum FatigueError {
+    /// A stress path with no increment has no cycle.
+    #[error("empty stress path: a cycle needs at least one increment")]
+    EmptyPath,
+    /// A stress component of a path is NaN or infinite.
+    #[error("non-finite stress at increment {increment}, component {component}: {value}")]
+    NonFiniteStress {
+        increment: usize,
+        component: usize,
+        value: f64,
+    },
+    /// A stress component of a field is NaN or infinite.
+    #[error(
+        "non-finite stress at point {point}, increment {increment}, component {component}: {value}"
+    )]
+    NonFiniteField {
+        point: usize,
+        increment: usize,
+        component: usize,
+        value: f64,
+    },
+    /// A material constant is out of its admissible range.
+    #[error("invalid material parameter `{name}` = {value}: {reason}")]
+    InvalidMaterial {
+        name: &'static str,
+        value: f64,
+        reason: &'static str,
+    },
+    /// Crossland and Dang Van need `f₋₁/√3 < t₋₁ ≤ f₋₁` (docs/fatigue.md, "Material constants").
+    #[error(
+        "invalid material parameter `t_minus1` = {t_minus1} Pa: Crossland and Dang Van need \
+         f_minus1/√3 < t_minus1 <= f_minus1, here ({lower} Pa, {f_minus1} Pa]"
+    )]
+    TorsionBendingRatio {
+        f_minus1: f64,
+        t_minus1: f64,
+        lower: f64,
+    },
+    /// A parameter of the critical-plane search is out of range.
+    #[error("invalid search parameter `{name}` = {value}: {reason}")]
+    InvalidSearch {
+        name: &'static str,
+        value: f64,
+        reason: &'static str,
+    },
+    /// The minimum-ball pivoting did not terminate (cannot happen in exact arithmetic).
+    #[error("minimum enclosing ball: no convergence after {iterations} pivot iterations")]
+    NoConvergence { iterations: usize },
+    /// The flat stress slice of a field does not have `points × increments × 6` entries.
+    #[error(
+        "field shape: {len} values is not points × increments × 6 = {points} × {increments} × 6"
+    )]
+    FieldShape {
+        len: usize,
+        points: usize,
+        increments: usize,
+    },
+}

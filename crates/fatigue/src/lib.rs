@@ -1,0 +1,25 @@
+//! Multiaxial fatigue criteria of one steady stress cycle (docs/fatigue.md):
+//!
+//! - stress-invariant criteria on the minimum enclosing ball of the deviatoric path
+//!   ([`ball`]): Crossland (1956) and Dang Van (1989) in [`invariant`];
+//! - critical-plane criteria: Smith–Watson–Topper (1970) and Fatemi–Socie (1988) in
+//!   [`critical_plane`];
+//! - all four over the stress histories of many points in [`field`].
+//!
+//! A stress path is a slice of Voigt tensors `[σxx, σyy, σzz, σyz, σxz, σxy]` (Pa, tension
+//! positive), one per increment of the cycle. The crate knows nothing of the contact solver.
+// Index loops read like the formulas they implement (Σ_k over components).
+#![allow(clippy::needless_range_loop)]
+
+pub mod ball;
+pub mod critical_plane;
+pub mod error;
+pub mod field;
+pub mod invariant;
+pub mod material;
+pub mod tensor;
+
+pub use error::FatigueError;
+pub use field::{evaluate_field, FieldIndices, FieldParams};
+pub use material::Material;
+pub use tensor::Voigt;

@@ -1,0 +1,17 @@
+//! One contact problem on a surface grid: the problem with its history ([`problem`]: begin / solve
+//! / commit, the Panagiotopoulos alternation of the normal and tangential solvers), force control
+//! ([`force_control`]), the contact of a half-space with inhomogeneities ([`inhomogeneous`]: the
+//! contact ↔ EIM outer loop) and the solver that is either ([`solver`]).
+
+pub mod force_control;
+pub mod inhomogeneous;
+pub mod problem;
+pub mod solver;
+
+pub use force_control::shift_for_force;
+pub use inhomogeneous::{
+    ContactWork, InhomogeneousContact, NestedInfo, NestedParams, NestedSeconds, NestedWarmStart,
+    LOOSE_CONTACT_CEILING,
+};
+pub use problem::{ContactParams, ContactProblem, ContactState, IncrementInfo, INEXACT_CEILING};
+pub use solver::ContactSolver;

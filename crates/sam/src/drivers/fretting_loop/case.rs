@@ -1,0 +1,394 @@
+//! The fretting-loop configuration and its load path.
+
+use crate::eim::{
+    composite_fibres, FibreLayout, Inhomogeneity, COMPOSITE_CELLS_PER_RADIUS,
+    COMPOSITE_FIBRE_RADIUS,
+};
+use crate::SamError;
+
+/// The labels of the points of [LN11] Figs. 5–7: A end of the normal loading, B `δx = +A`, C
+/// `δx = 0` on the way back, D `δx = −A`.
+pub const POINT_LABELS: [&str; 4] = ["A", "B", "C", "D"];
+
+/// A fretting loop: rigid sphere of radius `radius` on a half-space `(e, nu)` with Coulomb
+/// friction `friction`, normal force ramped to `force` in `normal_steps` equal steps, then the
+/// shift cycled with amplitude `amplitude` in steps `shift_step`, on `grid²` cells over
+/// `extent_over_a · a` (`a` the Hertz radius). Defaults: [LN11]'s homogeneous case (R = 105 μm,
+/// E = 210 GPa, ν = 0.3, μ = 0.3, W = 80 mN in 80 steps, A = 0.04 μm in 0.002 μm steps, 64² over
+/// 4.16a).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoopCase {
+    /// Sphere radius R (m).
+    pub radius: f64,
+    /// Young's modulus of the half-space (matrix) (Pa).
+    pub e: f64,
+    /// Poisson ratio of the half-space.
+    pub nu: f64,
+    /// Coulomb friction coefficient μ > 0.
+    pub friction: f64,
+    /// Final normal force W (N).
+    pub force: f64,
+    /// Normal load steps.
+    pub normal_steps: usize,
+    /// Shift amplitude A (m).
+    pub amplitude: f64,
+    /// Shift step (m).
+    pub shift_step: f64,
+    /// Cells per side.
+    pub grid: usize,
+    /// Domain side over the Hertz radius.
+    pub extent_over_a: f64,
+    /// Inhomogeneities below the surface (none: the homogeneous loop).
+    pub inhomogeneities: Vec<Inhomogeneity>,
+    /// Depth (m) of the von Mises field stored at the points A–D (`None`: not computed).
+    pub subsurface_depth: Option<f64>,
+}
+
+impl Default for LoopCase {
+    fn default() -> Self {
+        Self {
+            radius: 105e-6,
+            e: 210e9,
+            nu: 0.3,
+            friction: 0.3,
+            force: 0.08,
+            normal_steps: 80,
+            amplitude: 0.04e-6,
+            shift_step: 0.002e-6,
+            grid: 64,
+            extent_over_a: 4.16,
+            inhomogeneities: Vec::new(),
+            subsurface_depth: None,
+        }
+    }
+}
+
+impl LoopCase {
+    /// The Hertz contact radius `a = (3WR / 4E*)^{1/3}`, `E* = E/(1 − ν²)` (rigid sphere).
+    pub fn hertz_radius(&self) -> f64 {
+        halfspace_mdr::analytic::sphere_radius_for_force(self.force, self.radius, self.e_star())
+    }
+
+    /// The Hertz peak pressure `p₀ = 3W / (2πa²)`.
+    pub fn hertz_pressure(&self) -> f64 {
+        let a = self.hertz_radius();
+        3.0 * self.force / (2.0 * std::f64::consts::PI * a * a)
+    }
+
+    /// `E* = E / (1 − ν²)` (rigid indenter).
+    pub fn e_star(&self) -> f64 {
+        self.e / (1.0 - self.nu * self.nu)
+    }
+
+    /// Mindlin's full-slip shift `K = 3μW(2 − ν) / (16 G a)`, `G = E / 2(1 + ν)` (rigid sphere;
+    /// spec §7.3, uncoupled): the loop is in partial slip for `A < K` and reaches gross slip beyond
+    /// (Mindlin–Deresiewicz, [`crate::analytic::mindlin`]).
+    pub fn mindlin_slip_shift(&self) -> f64 {
+        let g = self.e / (2.0 * (1.0 + self.nu));
+        3.0 * self.friction * self.force * (2.0 - self.nu) / (16.0 * g * self.hertz_radius())
+    }
+
+    /// The grid's side length `extent_over_a · a` (m).
+    pub fn extent(&self) -> f64 {
+        self.extent_over_a * self.hertz_radius()
+    }
+
+    /// [LN11]'s composite (§4): this case with the paper's fibres of `layout` (radius 0.13a,
+    /// spacing 3r, axes at depth 1.5r, `E_I = e_ratio · E`, `ν_I = ν`) across the whole domain, and
+    /// the grid of the paper's resolution (4 cells per fibre radius: 128² over 4.16a).
+    pub fn composite(mut self, layout: FibreLayout, e_ratio: f64) -> Result<Self, SamError> {
+        self.validate()?;
+        let cell = COMPOSITE_FIBRE_RADIUS / COMPOSITE_CELLS_PER_RADIUS;
+        self.grid = (self.extent_over_a / cell).round() as usize;
+        let a = self.hertz_radius();
+        self.inhomogeneities.extend(composite_fibres(
+            a,
+            0.5 * self.extent(),
+            layout,
+            self.e,
+            self.nu,
+            e_ratio,
+        )?);
+        Ok(self)
+    }
+
+    /// The same loop without inhomogeneities (the reference of [LN11] Figs. 5–10).
+    pub fn homogeneous(&self) -> Self {
+        Self {
+            inhomogeneities: Vec::new(),
+            ..self.clone()
+        }
+    }
+
+    /// Checks the configuration (every scalar finite and in range, at least one step of each
+    /// kind, a Hertz radius that is a normal number). Errors name the field as the configuration
+    /// spells it (`shift_step`, `normal_steps`, …: the keys of `fretting-loop --config` and of
+    /// the Python dict).
+    pub fn validate(&self) -> Result<(), SamError> {
+        for (name, v) in [
+            ("radius (sphere radius R, m)", self.radius),
+            ("e (Young's modulus, Pa)", self.e),
+            (
+                "friction (Coulomb μ; a fretting loop needs μ > 0)",
+                self.friction,
+            ),
+            ("force (normal force W, N)", self.force),
+            ("amplitude (shift amplitude A, m)", self.amplitude),
+            ("shift_step (m)", self.shift_step),
+            ("extent_over_a", self.extent_over_a),
+        ] {
+            crate::error::positive(name, v)?;
+        }
+        if !(self.nu > -1.0 && self.nu < 0.5) {
+            return Err(SamError::InvalidParameter {
+                name: "nu (Poisson ratio)",
+                value: self.nu,
+                allowed: "in (−1, 0.5)",
+            });
+        }
+        if self.normal_steps == 0 {
+            return Err(SamError::InvalidParameter {
+                name: "normal_steps",
+                value: 0.0,
+                allowed: "≥ 1",
+            });
+        }
+        if self.grid < 2 {
+            return Err(SamError::InvalidParameter {
+                name: "grid (cells per side)",
+                value: self.grid as f64,
+                allowed: "≥ 2",
+            });
+        }
+        // The scales of the loop (a, the cell, the Hertz pressure) must be normal numbers: a
+        // subnormal force or radius underflows them.
+        let a = self.hertz_radius();
+        let cell = self.extent() / self.grid as f64;
+        let p0 = self.hertz_pressure();
+        if !(a.is_normal() && cell.is_normal() && p0.is_normal() && a > 0.0) {
+            return Err(SamError::InvalidInput(format!(
+                "force = {:e} N, radius = {:e} m and e = {:e} Pa give a Hertz radius a = {a:e} m, \
+                 cells of {cell:e} m and p0 = {p0:e} Pa: not representable (give SI values of \
+                 a real contact)",
+                self.force, self.radius, self.e
+            )));
+        }
+        if let Some(d) = self.subsurface_depth {
+            crate::error::positive("subsurface depth", d)?;
+        }
+        Ok(())
+    }
+
+    /// The cost of this loop ([`LoopEstimate`]), from the configuration alone.
+    pub fn estimate(&self) -> LoopEstimate {
+        let increments =
+            self.normal_steps as f64 + 5.0 * quarter_steps(self.amplitude, self.shift_step);
+        let cells = (self.grid as f64).powi(2);
+        // The EIM loop weighs like a few more contact solves per inclusion layer; without a
+        // layer count before the geometry is built, count the inhomogeneities' cells as one
+        // layer each (an upper bound's shape, not a timing model).
+        let weight = 1.0 + 4.0 * self.inhomogeneities.len().min(64) as f64;
+        let frictional = crate::memory::NORMAL_BYTES_PER_CELL
+            + 3.0 * 8.0
+            + crate::memory::TANGENTIAL_BYTES_PER_CELL
+            + 19.0 * 8.0;
+        // The points A–D: eight surface fields each (and the von Mises layers, when asked).
+        let points = 4.0 * cells * 8.0 * 8.0;
+        LoopEstimate {
+            increments,
+            cells,
+            loops: 1.0,
+            concurrent: 1.0,
+            bytes: frictional * cells + points + increments * ROW_BYTES,
+            work: increments * cells * weight,
+        }
+    }
+
+    /// The load path of this case.
+    pub fn path(&self) -> LoadPath {
+        LoadPath::fretting(
+            self.force,
+            self.normal_steps,
+            self.amplitude,
+            self.shift_step,
+        )
+    }
+}
+
+/// The increments of a fretting loop: `W_i = W i / n` at `δx = 0` (`i = 1..n`), then `δx` from 0
+/// to `+A`, to `−A` and back to `+A` in `q = round(A / step)` steps per quarter. Generated on
+/// demand ([`LoadPath::increment`]), never stored: a path of 10¹³ increments costs nothing until
+/// it is run (and [`LoopCase::estimate`] refuses it before).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LoadPath {
+    /// Final normal force W.
+    pub force: f64,
+    /// Shift amplitude A.
+    pub amplitude: f64,
+    /// Normal steps `n`.
+    pub normal_steps: usize,
+    /// Shift steps per quarter cycle `q`.
+    pub quarter: usize,
+}
+
+impl LoadPath {
+    /// The [LN11] path (struct doc).
+    pub fn fretting(force: f64, normal_steps: usize, amplitude: f64, shift_step: f64) -> Self {
+        Self {
+            force,
+            amplitude,
+            normal_steps,
+            quarter: quarter_steps(amplitude, shift_step) as usize,
+        }
+    }
+
+    /// Increment `k` (0-based) as `(W, [δx, δy])`, `None` past the end; the same numbers, bit for
+    /// bit, as the stored path of earlier versions.
+    pub fn increment(&self, k: usize) -> Option<(f64, [f64; 2])> {
+        let (n, q) = (self.normal_steps, self.quarter);
+        let (w, a) = (self.force, self.amplitude);
+        let dd = a / q as f64;
+        if k < n {
+            return Some((w * (k + 1) as f64 / n as f64, [0.0, 0.0]));
+        }
+        let i = k - n + 1;
+        if i <= q {
+            Some((w, [i as f64 * dd, 0.0]))
+        } else if i <= 3 * q {
+            Some((w, [a - (i - q) as f64 * dd, 0.0]))
+        } else if i <= 5 * q {
+            Some((w, [-a + (i - 3 * q) as f64 * dd, 0.0]))
+        } else {
+            None
+        }
+    }
+
+    /// The increments in order.
+    pub fn increments(&self) -> impl Iterator<Item = (f64, [f64; 2])> + '_ {
+        (0..self.len()).map_while(|k| self.increment(k))
+    }
+
+    /// Increments done at the points A–D ([`POINT_LABELS`]).
+    pub fn marks(&self) -> [usize; 4] {
+        let (n, q) = (self.normal_steps, self.quarter);
+        [
+            n,
+            n.saturating_add(q),
+            n.saturating_add(q.saturating_mul(2)),
+            n.saturating_add(q.saturating_mul(3)),
+        ]
+    }
+
+    /// Index of the first row of the closed cycle (`δx = +A`, point B); the cycle runs from there
+    /// to the last increment (`δx = +A` again).
+    pub fn cycle_start(&self) -> usize {
+        self.normal_steps + self.quarter - 1
+    }
+
+    /// Number of increments `n + 5q` (saturating; [`LoopCase::estimate`] refuses paths anywhere
+    /// near that).
+    pub fn len(&self) -> usize {
+        self.normal_steps
+            .saturating_add(self.quarter.saturating_mul(5))
+    }
+
+    /// Whether the path has no increment.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// `q = round(A / step)`, at least 1, as a float (it may exceed any integer type).
+fn quarter_steps(amplitude: f64, shift_step: f64) -> f64 {
+    (amplitude / shift_step).round().max(1.0)
+}
+
+/// What a fretting loop (or a map of them) will cost, estimated before anything is allocated.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LoopEstimate {
+    /// Increments of one loop `n + 5q` (a float: it may exceed any integer type).
+    pub increments: f64,
+    /// Surface cells.
+    pub cells: f64,
+    /// Loops (points of a map; 1 for one loop).
+    pub loops: f64,
+    /// Loops run at once (the map's threads).
+    pub concurrent: f64,
+    /// Peak bytes: the contact problems running at once and the rows kept (one per increment,
+    /// with the checkpoint's and the results' copies).
+    pub bytes: f64,
+    /// Cell-increments of work (`loops · increments · cells`, times the EIM layers' weight with
+    /// inhomogeneities).
+    pub work: f64,
+}
+
+/// Bytes kept per increment: the row (11 numbers) and its copies in the checkpoint and in the
+/// results record.
+pub const ROW_BYTES: f64 = 3.0 * 11.0 * 8.0;
+
+/// Cell-increments per second of one core, the work estimate's scale: the 64² homogeneous loop of
+/// [LN11] (180 increments, 7.4e5 cell-increments, no subsurface fields) took 23.2 s on one thread
+/// and 21.3 s on two of the reference machine (`RAYON_NUM_THREADS=1 halfspace fretting-loop`),
+/// 3.2e4 per second; rounded up, so that the estimate errs towards accepting.
+pub const CELL_INCREMENTS_PER_SECOND: f64 = 4.0e4;
+
+/// The most work accepted, in hours of this machine (all its cores at
+/// [`CELL_INCREMENTS_PER_SECOND`] each): `HALFSPACE_WORK_LIMIT` (hours) when set, else 24.
+pub fn work_limit_hours() -> f64 {
+    std::env::var("HALFSPACE_WORK_LIMIT")
+        .ok()
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .filter(|v| !v.is_nan() && *v > 0.0)
+        .unwrap_or(24.0)
+}
+
+/// Cores of this machine (rayon's pool: `RAYON_NUM_THREADS` or the CPUs).
+fn cores() -> f64 {
+    rayon::current_num_threads().max(1) as f64
+}
+
+impl LoopEstimate {
+    /// Refuses an estimate beyond the machine: more memory than is available
+    /// ([`halfspace_numerics::memory::available_bytes`]) or more work than [`work_limit_hours`]; the
+    /// message gives the estimate and names the inputs that set it.
+    pub fn check(&self, what: &str) -> Result<(), SamError> {
+        const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+        let hours = self.hours();
+        let describe = || {
+            format!(
+                "{what}: {} loop(s) of {:.4e} increments (normal_steps + 5 · amplitude/shift_step) \
+                 on {} cells: about {:.3} GiB and {hours:.3e} hours of work on {} cores",
+                self.loops,
+                self.increments,
+                self.cells,
+                self.bytes / GIB,
+                cores()
+            )
+        };
+        if let Some(available) = halfspace_numerics::memory::available_bytes() {
+            if self.bytes.is_nan() || self.bytes > available {
+                return Err(SamError::InvalidInput(format!(
+                    "{}; {:.3} GiB are available (HALFSPACE_MEMORY_LIMIT): refused before \
+                     starting — use fewer increments (a larger shift_step, fewer normal_steps), \
+                     fewer points or a coarser grid",
+                    describe(),
+                    available / GIB
+                )));
+            }
+        }
+        let limit = work_limit_hours();
+        if hours.is_nan() || hours > limit {
+            return Err(SamError::InvalidInput(format!(
+                "{}; more than the limit of {limit} hours (HALFSPACE_WORK_LIMIT): refused before \
+                 starting — use fewer increments, fewer points or a coarser grid",
+                describe(),
+            )));
+        }
+        Ok(())
+    }
+
+    /// Estimated wall-clock hours on this machine (the loops spread over its cores).
+    pub fn hours(&self) -> f64 {
+        self.work / (CELL_INCREMENTS_PER_SECOND * cores()) / 3600.0
+    }
+}

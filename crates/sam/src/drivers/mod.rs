@@ -1,0 +1,8 @@
+//! What the front ends run: one contact ([`one_contact`]: normal load, then an optional tangential
+//! increment, with or without inhomogeneities), the fretting loop ([`fretting_loop`]: a load path
+//! with an observer, snapshots and metrics) and the fretting map ([`fretting_map`]: the loop per
+//! point of loads × amplitudes).
+
+pub mod fretting_loop;
+pub mod fretting_map;
+pub mod one_contact;
