@@ -538,16 +538,24 @@ pub fn wear_summary(
     let p = sim.params();
     let state = sim.state();
     let mut summary = json!({
-        "tau_final": state.step as f64 * p.dtau,
-        "cycles": state.step,
+        "tau_final": state.tau,
+        "steps": state.step,
+        "rejected_steps": state.rejected_steps,
+        "stepping": p.stepping.name(),
         "contact_radius_over_a0": state.contact_radius_history.last().copied().unwrap_or(1.0),
+        "loaded_radius_over_a0": state.loaded_radius_history.last().copied().unwrap_or(1.0),
         "max_contact_radius_over_a0": state.contact_radius_history.iter().copied().fold(1.0, f64::max),
+        "contact_radius_definition": format!(
+            "a/a0: extent of the touching region, where the MDR gap g closes to {} h d \
+             (h the grid step in r²/a0²); loaded radius: outermost node with p > {} max p",
+            crate::fretting::GAP_TOLERANCE,
+            crate::fretting::LOAD_THRESHOLD
+        ),
         "profile_at_a0_over_d": sim.profile_at_a0(),
         "limit_contact_radius_over_a0": sim.limit_contact_radius(),
         "method": p.backend.name(),
         "n": p.nodes,
         "chi": p.chi,
-        "dtau": p.dtau,
         "length": p.length,
         "k": p.k,
         "wear_volume": sim.wear_volume(),
@@ -556,6 +564,11 @@ pub fn wear_summary(
         "limit_deviation_definition": "max |f − f∞|/d over c + 0.02 a0 < r ≤ r*",
         "wear_volume_definition": "V / (π a0² d): worn volume 2π∫(f − f0) r dr over the contact's a0² d",
     });
+    match p.stepping {
+        crate::fretting::TimeStepping::Adaptive { tolerance } => summary["tol"] = json!(tolerance),
+        crate::fretting::TimeStepping::Fixed { dtau }
+        | crate::fretting::TimeStepping::ExplicitEuler { dtau } => summary["dtau"] = json!(dtau),
+    }
     if let (Some(nu), Some(ratio)) = (medium.nu, medium.tangential_ratio()) {
         summary["nu"] = json!(nu);
         summary["tangential_constant_ratio"] = json!(ratio);

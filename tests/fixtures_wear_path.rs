@@ -10,7 +10,7 @@ use std::path::Path;
 
 use halfspace::data::{read_h5_group, read_npy_1d, Manifest, Record};
 use halfspace::fretting::limit::initial_profile;
-use halfspace::fretting::{FrettingParams, FrettingSimulation};
+use halfspace::fretting::{FrettingParams, FrettingSimulation, TimeStepping};
 
 fn attr(rec: &Record, name: &str) -> f64 {
     rec.float_attr(name)
@@ -42,7 +42,9 @@ fn the_wear_path_matches_the_independent_solver() {
             k,
             nodes,
             length,
-            dtau: FrettingParams::default_step(nodes, length, k),
+            stepping: TimeStepping::ExplicitEuler {
+                dtau: FrettingParams::default_step(nodes, length, k),
+            },
             tau_end: *taus.last().unwrap(),
             snapshots: taus.clone(),
             ..FrettingParams::default()

@@ -541,6 +541,86 @@ fn wear_checkpoints_are_checked_for_sense_and_kept_when_refused() {
         |r| set_attr(r, "step", AttrValue::Int(10_000_000)),
         &["step"],
     );
+    // The members of the adaptive-stepping state (issue 20): τ and its history, the loaded
+    // radius, the step controller's memory, the snapshots' τ and loaded radius. (A non-finite
+    // attribute is stored as JSON null and refused when read, naming it; the library's own check
+    // of the values is for states passed to `FrettingSimulation::resume` directly.)
+    let attr =
+        |name: &'static str, value: AttrValue| move |r: &mut Record| set_attr(r, name, value);
+    type Edit = Box<dyn FnOnce(&mut Record)>;
+    let cases: Vec<(Edit, Vec<&str>)> = vec![
+        (
+            Box::new(|r| set(r, "tau_history", |v| v[4] = f64::NAN)),
+            vec!["tau_history", "NaN"],
+        ),
+        (
+            Box::new(|r| set(r, "tau_history", |v| v.swap(3, 4))),
+            vec!["tau_history", "increases"],
+        ),
+        (
+            Box::new(|r| set(r, "tau_history", |v| v[2] += 1e-3)),
+            vec!["tau_history", "fixed step"],
+        ),
+        (
+            Box::new(|r| {
+                set(r, "tau_history", |v| {
+                    v.pop();
+                })
+            }),
+            vec!["tau_history", "entries"],
+        ),
+        (
+            Box::new(|r| set(r, "loaded_radius_history", |v| v[5] = -0.5)),
+            vec!["loaded_radius_history", "-0.5"],
+        ),
+        (
+            Box::new(|r| set(r, "loaded_radius_history", |v| v[5] = f64::INFINITY)),
+            vec!["loaded_radius_history", "inf"],
+        ),
+        (
+            Box::new(|r| {
+                set(r, "loaded_radius_history", |v| {
+                    v.push(1.0);
+                })
+            }),
+            vec!["loaded_radius_history", "entries"],
+        ),
+        (
+            Box::new(attr("tau", AttrValue::Float(f64::NAN))),
+            vec!["tau", "null"],
+        ),
+        (
+            Box::new(attr("tau", AttrValue::Float(0.3))),
+            vec!["tau_history", "0.3"],
+        ),
+        (
+            Box::new(attr("next_step", AttrValue::Float(f64::NAN))),
+            vec!["next_step", "null"],
+        ),
+        (
+            Box::new(attr("next_step", AttrValue::Float(-1.0))),
+            vec!["next_step", "-1"],
+        ),
+        (
+            Box::new(attr("previous_error", AttrValue::Float(3.0))),
+            vec!["previous_error", "3"],
+        ),
+        (
+            Box::new(attr("rejected_steps", AttrValue::Int(-1))),
+            vec!["rejected_steps", "≥ 0"],
+        ),
+        (
+            Box::new(attr("snapshot0_tau", AttrValue::Float(0.37))),
+            vec!["snapshot0_tau", "0.37"],
+        ),
+        (
+            Box::new(attr("snapshot0_loaded_radius", AttrValue::Float(f64::NAN))),
+            vec!["snapshot0_loaded_radius", "null"],
+        ),
+    ];
+    for (edit, needles) in cases {
+        tampered_resume(fam, &out, &resume, &original, edit, &needles);
+    }
     // A crafted member header inside the checkpoint: refused, not an abort.
     let checkpoint = out.join("checkpoint.npz");
     let zipped = std::fs::read(&checkpoint).unwrap();
@@ -564,6 +644,60 @@ fn wear_checkpoints_are_checked_for_sense_and_kept_when_refused() {
     refused("A checkpoint zip", &resume, &[], &["checkpoint.npz"]);
     // The untampered checkpoint still resumes.
     write_record(&checkpoint, &original).unwrap();
+    let o = run_in(&resume, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// An adaptive run's checkpoint (issue 20): the step controller's memory is checked too.
+#[test]
+fn adaptive_wear_checkpoints_check_the_step_controller() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("adaptive");
+    let common = strings(&[
+        "fretting-wear",
+        "--out",
+        out.to_str().unwrap(),
+        "--n",
+        "401",
+        "--tol",
+        "1e-3",
+        "--tau-end",
+        "0.4",
+        "--json",
+    ]);
+    let mut first = common.clone();
+    first.extend(strings(&["--stop-after", "4"]));
+    let o = run_in(&first, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut resume = common;
+    resume.push("--resume".into());
+    let original = read_record(&out.join("checkpoint.npz")).unwrap();
+    let fam = "C adaptive wear";
+    for (name, value, needles) in [
+        ("next_step", 0.0, vec!["next_step", "> 0"]),
+        ("next_step", f64::INFINITY, vec!["next_step", "null"]),
+        ("previous_error", 0.0, vec!["next_step", "> 0"]),
+        ("previous_error", f64::NAN, vec!["previous_error", "null"]),
+    ] {
+        tampered_resume(
+            fam,
+            &out,
+            &resume,
+            &original,
+            |r| set_attr(r, name, AttrValue::Float(value)),
+            &needles,
+        );
+    }
+    tampered_resume(
+        fam,
+        &out,
+        &resume,
+        &original,
+        |r| set(r, "tau_history", |v| v[1] = v[0]),
+        &["tau_history", "increases"],
+    );
+    // The untampered checkpoint still resumes.
+    write_record(&out.join("checkpoint.npz"), &original).unwrap();
     let o = run_in(&resume, &[]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
@@ -1054,6 +1188,42 @@ fn messages_name_the_input_the_rule_and_the_value() {
         (
             strings(&["fretting-wear", "--dtau", "-1e-3", "--out", o]),
             vec!["dtau", "-0.001"],
+        ),
+        (
+            strings(&["fretting-wear", "--tol", "-1e-4", "--out", o]),
+            vec!["--tol", "-0.0001"],
+        ),
+        (
+            strings(&["fretting-wear", "--tol", "0", "--out", o]),
+            vec!["--tol", "got 0"],
+        ),
+        (
+            strings(&["fretting-wear", "--tol", "NaN", "--out", o]),
+            vec!["--tol", "NaN"],
+        ),
+        (
+            strings(&["fretting-wear", "--tol", "inf", "--out", o]),
+            vec!["--tol", "inf"],
+        ),
+        (
+            strings(&["fretting-wear", "--tol", "1e300", "--out", o]),
+            vec!["--tol", "0.1"],
+        ),
+        (
+            strings(&["fretting-wear", "--tol", "1e-300", "--out", o]),
+            vec!["--tol", "1e-12"],
+        ),
+        (
+            strings(&[
+                "fretting-wear",
+                "--tol",
+                "1e-4",
+                "--dtau",
+                "1e-3",
+                "--out",
+                o,
+            ]),
+            vec!["--tol", "--dtau", "not both"],
         ),
         (
             strings(&["fretting-wear", "--length", "-2", "--out", o]),

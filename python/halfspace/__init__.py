@@ -375,6 +375,7 @@ def fretting_wear(
     *,
     chi: float = 0.5,
     n: int = 2001,
+    tol: float | None = None,
     dtau: float | None = None,
     tau_end: float = 30.0,
     method: str = "fft",
@@ -383,12 +384,14 @@ def fretting_wear(
 ) -> Result:
     """Fretting wear of a parabolic indenter in partial slip by the MDR (Willert et al. 2021,
     Section 4; spec ``mdr.md`` §5), dimensionless: amplitude ratio ``chi = u_A/u_max``, ``n`` nodes,
-    wear time step ``dtau`` (default 1e-3, or the explicit step's stability bound where that is
-    smaller: fine grids, k < 0) to ``tau_end``, domain ``length`` L/a₀. ``material``: ``None`` or
+    adaptive wear steps (ROS2) at the local error tolerance ``tol`` (default 1e-4, units of d) or
+    a fixed step ``dtau``, to ``tau_end``, domain ``length`` L/a₀. ``material``: ``None`` or
     ``"homogeneous"``, or a power-law graded medium ``"graded:k=..,nu=.."`` (E ∝ z^k; the
     normalized run depends on k alone, ν gives ``tangential_constant_ratio`` c_T/c_N and
     ``u_max_over_mu_d``; docs/fretting-wear.md, "Graded media"). The worn ``profile`` approaches the
-    ``limiting_profile``; ``contact_radius_history`` is a/a₀ per cycle; ``wear_volume`` and
+    ``limiting_profile``; ``contact_radius_history`` is a/a₀ per step (the extent of the touching
+    region; ``loaded_radius_history``: where p > 1e-3 max p), at ``tau_history``; ``steps`` counts
+    the time steps; ``wear_volume`` and
     ``limit_wear_volume`` are V/(π a₀² d). As ``halfspace fretting-wear``."""
     # A typed medium: only k and ν enter (E0, z0, E set the scales a0, F0, N0, not the run).
     if isinstance(material, Graded):
@@ -403,7 +406,7 @@ def fretting_wear(
                     else "homogeneous")
     elif material is not None:
         material = _text(material, "material")
-    return Result(_fretting_wear(chi=_real(chi, "chi"), n=_count(n, "n"),
+    return Result(_fretting_wear(chi=_real(chi, "chi"), n=_count(n, "n"), tol=_opt_real(tol, "tol"),
                                  dtau=_opt_real(dtau, "dtau"), tau_end=_real(tau_end, "tau_end"),
                                  method=_text(method, "method"), material=material,
                                  length=_opt_real(length, "length")))

@@ -101,6 +101,7 @@ def fretting_wear(
     *,
     chi: float = ...,
     n: int = ...,
+    tol: float | None = ...,
     dtau: float | None = ...,
     tau_end: float = ...,
     method: str = ...,

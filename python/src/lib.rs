@@ -16,7 +16,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use halfspace::config::LoopConfig;
-use halfspace::fretting::{FrettingParams, FrettingSimulation};
+use halfspace::fretting::{FrettingParams, FrettingSimulation, TimeStepping};
 use halfspace::fretting_map::{run_map_until, MapError};
 use halfspace::mdr::{Backend, ContactParams, ContactSolver, Load, Profile};
 use halfspace::records::{contact_record, contact_summary, wear_summary};
@@ -167,18 +167,20 @@ fn axisym<'py>(
     Ok(d)
 }
 
-/// `fretting_wear(*, chi=0.5, n=2001, dtau=None, tau_end=30.0, method="fft")`: the MDR
+/// `fretting_wear(*, chi=0.5, n=2001, tol=None, dtau=None, tau_end=30.0, method="fft")`: the MDR
 /// fretting-wear simulation of a parabolic indenter in partial slip (Willert et al. 2021,
 /// Section 4; spec `mdr.md` §5), dimensionless, as `halfspace fretting-wear`. Returns a dict: the
 /// CLI's JSON keys and `r`, `profile` (final worn profile), `limiting_profile`, `tau_history`,
-/// `contact_radius_history` (a/a₀ per cycle).
+/// `contact_radius_history` (a/a₀, the touching region, per step), `loaded_radius_history`.
+/// Adaptive steps at `tol` (default 1e-4) unless `dtau` fixes the step.
 #[pyfunction]
-#[pyo3(signature = (*, chi=0.5, n=2001, dtau=None, tau_end=30.0, method="fft", material=None, length=None))]
+#[pyo3(signature = (*, chi=0.5, n=2001, tol=None, dtau=None, tau_end=30.0, method="fft", material=None, length=None))]
 #[allow(clippy::too_many_arguments)]
 fn fretting_wear<'py>(
     py: Python<'py>,
     chi: f64,
     n: usize,
+    tol: Option<f64>,
     dtau: Option<f64>,
     tau_end: f64,
     method: &str,
@@ -195,12 +197,22 @@ fn fretting_wear<'py>(
         None => WearMedium { k: 0.0, nu: None },
     };
     let length = length.unwrap_or_else(|| FrettingParams::default_length(chi, medium.k));
-    let dtau = dtau.unwrap_or_else(|| FrettingParams::default_step(n, length, medium.k));
+    let stepping = match (dtau, tol) {
+        (Some(_), Some(_)) => {
+            return Err(err(
+                "give tol (adaptive steps) or dtau (fixed step), not both".to_string(),
+            ))
+        }
+        (Some(dtau), None) => TimeStepping::Fixed { dtau },
+        (None, tol) => TimeStepping::Adaptive {
+            tolerance: tol.unwrap_or(TimeStepping::DEFAULT_TOLERANCE),
+        },
+    };
     let mut params = FrettingParams {
         chi,
         k: medium.k,
         nodes: n,
-        dtau,
+        stepping,
         tau_end,
         backend,
         length,
@@ -224,16 +236,15 @@ fn fretting_wear<'py>(
     )?;
     d.set_item(
         "tau_history",
-        PyArray1::from_vec(
-            py,
-            (1..=state.contact_radius_history.len())
-                .map(|k| k as f64 * dtau)
-                .collect(),
-        ),
+        PyArray1::from_vec(py, state.tau_history.clone()),
     )?;
     d.set_item(
         "contact_radius_history",
         PyArray1::from_vec(py, state.contact_radius_history.clone()),
+    )?;
+    d.set_item(
+        "loaded_radius_history",
+        PyArray1::from_vec(py, state.loaded_radius_history.clone()),
     )?;
     Ok(d)
 }

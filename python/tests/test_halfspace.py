@@ -56,7 +56,7 @@ def test_fretting_wear_equals_the_cli(tmp_path):
     ref = cli("fretting-wear", "--chi", "0.5", "--n", "301", "--dtau", "0.005", "--tau-end", "1.0",
               "--out", str(out))
     got = hs.fretting_wear(chi=0.5, n=301, dtau=0.005, tau_end=1.0)
-    for key in ("cycles", "contact_radius_over_a0", "profile_at_a0_over_d", "limit_contact_radius_over_a0"):
+    for key in ("steps", "contact_radius_over_a0", "profile_at_a0_over_d", "limit_contact_radius_over_a0"):
         assert getattr(got, key) == ref[key], key
     with h5py.File(out / "results.h5") as f:
         assert np.array_equal(got.contact_radius_history, f["contact_radius_history"][:])

@@ -106,6 +106,13 @@ CASES = [
     (lambda: hs.fretting_map([0.08], [4e-8], config={"shift_step": 1e-20}), HalfspaceError,
      "increments"),
     (lambda: hs.fretting_wear(tau_end=1e12), HalfspaceError, "tau_end"),
+    (lambda: hs.fretting_wear(tol=0.0), HalfspaceError, "tol"),
+    (lambda: hs.fretting_wear(tol=-1e-4), HalfspaceError, "tol"),
+    (lambda: hs.fretting_wear(tol=float("nan")), HalfspaceError, "tol"),
+    (lambda: hs.fretting_wear(tol=float("inf")), HalfspaceError, "tol"),
+    (lambda: hs.fretting_wear(tol=1e300), HalfspaceError, "tol"),
+    (lambda: hs.fretting_wear(tol="1e-4"), TypeError, "tol"),
+    (lambda: hs.fretting_wear(tol=1e-4, dtau=1e-3), HalfspaceError, "not both"),
     (lambda: hs.contact3d(hs.Sphere(1e-4), M, force=0.08, grid=100_000), HalfspaceError,
      "needs about"),
 ]

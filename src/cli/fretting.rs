@@ -6,7 +6,9 @@ use std::time::{Duration, Instant};
 
 use clap::Args;
 use halfspace::data::{read_record, write_record, AttrValue, Record};
-use halfspace::fretting::{FrettingParams, FrettingSimulation, FrettingState, Snapshot};
+use halfspace::fretting::{
+    FrettingParams, FrettingSimulation, FrettingState, Snapshot, TimeStepping,
+};
 use halfspace::mdr::Backend;
 use halfspace::records::wear_summary;
 use halfspace::spec::{parse_wear_medium, WearMedium};
@@ -27,7 +29,7 @@ const WEAR_RUN: RunKind = RunKind {
 
 #[derive(Debug, Args)]
 pub struct FrettingArgs {
-    /// TOML file with any of: chi, n, dtau, tau_end, length, snapshots, method, material.
+    /// TOML file with any of: chi, n, tol, dtau, tau_end, length, snapshots, method, material.
     #[arg(long)]
     config: Option<PathBuf>,
     /// Output directory (results.h5, results.npz, worn_profiles.png/.svg, checkpoint.npz).
@@ -55,7 +57,11 @@ pub struct FrettingArgs {
     /// Grid nodes N.
     #[arg(long, allow_hyphen_values = true)]
     n: Option<usize>,
-    /// Wear step Δτ (default 1e-3, or the stability bound where that is smaller: fine grids, k < 0).
+    /// Local error tolerance of the adaptive (ROS2) wear steps, max over the nodes in units of d
+    /// (default 1e-4).
+    #[arg(long, allow_hyphen_values = true)]
+    tol: Option<f64>,
+    /// Fixed wear step Δτ instead of adaptive steps (ROS2, stable at any step).
     #[arg(long, allow_hyphen_values = true)]
     dtau: Option<f64>,
     /// Final τ = N/N0.
@@ -78,6 +84,7 @@ pub struct FrettingArgs {
 struct Config {
     chi: Option<f64>,
     n: Option<usize>,
+    tol: Option<f64>,
     dtau: Option<f64>,
     tau_end: Option<f64>,
     length: Option<f64>,
@@ -118,16 +125,43 @@ fn params_of(args: &FrettingArgs) -> Result<(FrettingParams, WearMedium), CliErr
         .length
         .or(config.length)
         .unwrap_or_else(|| FrettingParams::default_length(p.chi, p.k));
-    p.dtau = args
-        .dtau
-        .or(config.dtau)
-        .unwrap_or_else(|| FrettingParams::default_step(p.nodes, p.length, p.k));
+    let tol = args.tol.or(config.tol);
+    p.stepping = match (args.dtau.or(config.dtau), tol) {
+        (Some(_), Some(_)) => {
+            return Err(CliError::Spec(
+                "give a tolerance (--tol, adaptive steps) or a fixed step (--dtau), not both"
+                    .into(),
+            ))
+        }
+        (Some(dtau), None) => TimeStepping::Fixed { dtau },
+        (None, tol) => TimeStepping::Adaptive {
+            tolerance: tol.unwrap_or(TimeStepping::DEFAULT_TOLERANCE),
+        },
+    };
     if let Some(s) = config.snapshots {
         p.snapshots = s;
     }
     p.snapshots.retain(|t| *t <= p.tau_end + 1e-12);
-    p.validate().map_err(fretting_error)?;
+    p.validate().map_err(parameter_error)?;
     Ok((p, medium))
+}
+
+/// A parameter error naming the flag it came from (`--tol`, `--tau-end`, …; a config file's key
+/// is the flag's name with `_`); the others (`snapshots`, `k`, …) as the library names them.
+fn parameter_error(e: halfspace::fretting::FrettingError) -> CliError {
+    match e {
+        halfspace::fretting::FrettingError::InvalidParameter {
+            name,
+            value,
+            allowed,
+        } if ["chi", "n", "tol", "dtau", "tau_end", "length"].contains(&name) => {
+            CliError::Spec(format!(
+                "--{} must be {allowed}, got {value}",
+                name.replace('_', "-")
+            ))
+        }
+        e => fretting_error(e),
+    }
 }
 
 fn fretting_error(e: halfspace::fretting::FrettingError) -> CliError {
@@ -139,7 +173,17 @@ fn params_attrs(p: &FrettingParams) -> Vec<(&'static str, AttrValue)> {
         ("chi", AttrValue::Float(p.chi)),
         ("k", AttrValue::Float(p.k)),
         ("n", AttrValue::Int(p.nodes as i64)),
-        ("dtau", AttrValue::Float(p.dtau)),
+        ("stepping", AttrValue::Text(p.stepping.name().into())),
+        (
+            match p.stepping {
+                TimeStepping::Adaptive { .. } => "tol",
+                _ => "dtau",
+            },
+            AttrValue::Float(match p.stepping {
+                TimeStepping::Adaptive { tolerance } => tolerance,
+                TimeStepping::Fixed { dtau } | TimeStepping::ExplicitEuler { dtau } => dtau,
+            }),
+        ),
         ("tau_end", AttrValue::Float(p.tau_end)),
         ("length", AttrValue::Float(p.length)),
         ("method", AttrValue::Text(p.backend.name().into())),
@@ -155,7 +199,16 @@ fn checkpoint_record(sim: &FrettingSimulation) -> Record {
             "contact_radius_history",
             state.contact_radius_history.clone(),
         )
+        .array("loaded_radius_history", state.loaded_radius_history.clone())
+        .array("tau_history", state.tau_history.clone())
         .attr("step", AttrValue::Int(state.step as i64))
+        .attr("tau", AttrValue::Float(state.tau))
+        .attr("next_step", AttrValue::Float(state.next_step))
+        .attr("previous_error", AttrValue::Float(state.previous_error))
+        .attr(
+            "rejected_steps",
+            AttrValue::Int(state.rejected_steps as i64),
+        )
         .attr(
             "snapshot_count",
             AttrValue::Int(state.snapshots.len() as i64),
@@ -166,9 +219,14 @@ fn checkpoint_record(sim: &FrettingSimulation) -> Record {
             .array(&format!("snapshot{k}_pressure"), s.pressure.clone())
             .array(&format!("snapshot{k}_slip"), s.slip.clone())
             .attr(&format!("snapshot{k}_step"), AttrValue::Int(s.step as i64))
+            .attr(&format!("snapshot{k}_tau"), AttrValue::Float(s.tau))
             .attr(
                 &format!("snapshot{k}_contact_radius"),
                 AttrValue::Float(s.contact_radius),
+            )
+            .attr(
+                &format!("snapshot{k}_loaded_radius"),
+                AttrValue::Float(s.loaded_radius),
             );
     }
     for (name, value) in params_attrs(sim.params()) {
@@ -190,19 +248,28 @@ fn state_from_checkpoint(path: &Path, params: &FrettingParams) -> Result<Frettin
             )));
         }
     }
+    // Step counts: an integer ≥ 0 (a negative one would wrap as u64).
     let int = |name: &str| match rec.get_attr(name) {
-        Some(AttrValue::Int(v)) => Ok(*v),
-        other => Err(bad(format!("attribute {name} is {other:?}"))),
+        Some(AttrValue::Int(v)) if *v >= 0 => Ok(*v as u64),
+        other => Err(bad(format!(
+            "attribute {name} is {other:?}, not a count ≥ 0"
+        ))),
     };
     let array = |name: &str| {
         rec.get(name)
             .map(|v| v.to_vec())
             .ok_or_else(|| bad(format!("array {name} is missing")))
     };
+    let float = |name: &str| {
+        rec.float_attr(name)
+            .ok_or_else(|| bad(format!("attribute {name} is {:?}", rec.get_attr(name))))
+    };
     let mut snapshots = Vec::new();
     for k in 0..int("snapshot_count")? {
         snapshots.push(Snapshot {
-            step: int(&format!("snapshot{k}_step"))? as u64,
+            step: int(&format!("snapshot{k}_step"))?,
+            tau: float(&format!("snapshot{k}_tau"))?,
+            loaded_radius: float(&format!("snapshot{k}_loaded_radius"))?,
             profile: array(&format!("snapshot{k}_profile"))?,
             pressure: array(&format!("snapshot{k}_pressure"))?,
             slip: array(&format!("snapshot{k}_slip"))?,
@@ -218,9 +285,15 @@ fn state_from_checkpoint(path: &Path, params: &FrettingParams) -> Result<Frettin
         });
     }
     Ok(FrettingState {
-        step: int("step")? as u64,
+        step: int("step")?,
+        tau: float("tau")?,
         profile: array("profile")?,
+        tau_history: array("tau_history")?,
         contact_radius_history: array("contact_radius_history")?,
+        loaded_radius_history: array("loaded_radius_history")?,
+        next_step: float("next_step")?,
+        previous_error: float("previous_error")?,
+        rejected_steps: int("rejected_steps")?,
         snapshots,
     })
 }
@@ -261,16 +334,15 @@ pub fn run(args: FrettingArgs) -> Result<(), CliError> {
     } else {
         FrettingSimulation::new(params.clone()).map_err(fretting_error)?
     };
-    let total = params.total_steps();
+    // Progress in thousandths of τ_end (adaptive steps are not known in advance).
+    let progress = |s: &FrettingSimulation| (1000.0 * s.tau() / s.params().tau_end) as u64;
     let bar = if std::io::stderr().is_terminal() && !args.json {
-        let bar = indicatif::ProgressBar::new(total);
+        let bar = indicatif::ProgressBar::new(1000);
         bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{bar:40} {pos}/{len} steps  τ = {msg}  ETA {eta}",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            indicatif::ProgressStyle::with_template("{bar:40} τ = {msg}  ETA {eta}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
         );
-        bar.set_position(sim.state().step);
+        bar.set_position(progress(&sim));
         Some(bar)
     } else {
         None
@@ -282,9 +354,9 @@ pub fn run(args: FrettingArgs) -> Result<(), CliError> {
     let result = sim.run(|s| {
         let step = s.state().step;
         if let Some(bar) = &bar {
-            if step % 64 == 0 {
-                bar.set_position(step);
-                bar.set_message(format!("{:.3}", step as f64 * s.params().dtau));
+            if step % 16 == 0 {
+                bar.set_position(progress(s));
+                bar.set_message(format!("{:.3} ({step} steps)", s.tau()));
             }
         }
         let stop = args.stop_after.is_some_and(|k| step >= k);
@@ -337,10 +409,11 @@ pub fn run(args: FrettingArgs) -> Result<(), CliError> {
         println!("{summary}");
     } else {
         println!(
-            "τ = {:.3}: a/a0 = {:.4} (limit r*/a0 = {:.4}), f(a0)/d = {:.4}; {} steps in {seconds:.2} s; results in {}",
-            state.step as f64 * params.dtau,
+            "τ = {:.3}: a/a0 = {:.4} (limit r*/a0 = {:.4}, loaded radius {:.4}), f(a0)/d = {:.4}; {} steps in {seconds:.2} s; results in {}",
+            state.tau,
             summary["contact_radius_over_a0"].as_f64().unwrap_or(f64::NAN),
             sim.limit_contact_radius(),
+            summary["loaded_radius_over_a0"].as_f64().unwrap_or(f64::NAN),
             sim.profile_at_a0(),
             state.step,
             dir.display()
@@ -355,27 +428,23 @@ fn results_record(sim: &FrettingSimulation) -> Record {
     let mut rec = Record::default()
         .array("r", sim.grid().coordinates())
         .array("limiting_profile", sim.limiting_profile().to_vec())
-        .array(
-            "tau_history",
-            (1..=state.contact_radius_history.len())
-                .map(|k| k as f64 * p.dtau)
-                .collect(),
-        )
+        .array("tau_history", state.tau_history.clone())
         .array(
             "contact_radius_history",
             state.contact_radius_history.clone(),
         )
+        .array("loaded_radius_history", state.loaded_radius_history.clone())
         .array(
             "snapshot_tau",
-            state
-                .snapshots
-                .iter()
-                .map(|s| s.step as f64 * p.dtau)
-                .collect(),
+            state.snapshots.iter().map(|s| s.tau).collect(),
         )
         .array(
             "snapshot_contact_radius",
             state.snapshots.iter().map(|s| s.contact_radius).collect(),
+        )
+        .array(
+            "snapshot_loaded_radius",
+            state.snapshots.iter().map(|s| s.loaded_radius).collect(),
         );
     for (k, s) in state.snapshots.iter().enumerate() {
         rec = rec
@@ -394,7 +463,8 @@ fn results_record(sim: &FrettingSimulation) -> Record {
         "units",
         AttrValue::Text(
             "normalized (spec §5): r/a0, f/d, p a0²/F0, slip per cycle / u_A, tau = N/N0; \
-                 f_k, p_k, slip_k at snapshot_tau[k]"
+                 f_k, p_k, slip_k at snapshot_tau[k]; contact radius = extent of the touching \
+                 region, loaded radius = outermost node with p > 1e-3 max p"
                 .into(),
         ),
     )

@@ -115,6 +115,19 @@ pub fn convergence(
     series: &[(&str, Vec<f64>)],
     order: f64,
 ) -> PlotResult {
+    loglog(path, title, "error", ns, series, &[-order])
+}
+
+/// Log–log `y` against N, one line per series, with reference lines of the given slopes through
+/// the first point of the first series (errors against N; the time per transform of Fig. 1).
+pub fn loglog(
+    path: &Path,
+    title: &str,
+    ylabel: &str,
+    ns: &[usize],
+    series: &[(&str, Vec<f64>)],
+    slopes: &[f64],
+) -> PlotResult {
     atomic(path, |path| {
         let xmin = *ns.first().unwrap_or(&1) as f64 * 0.8;
         let xmax = *ns.last().unwrap_or(&10) as f64 * 1.25;
@@ -133,7 +146,7 @@ pub fn convergence(
         chart
             .configure_mesh()
             .x_desc("N (nodes)")
-            .y_desc("error")
+            .y_desc(ylabel)
             .x_label_formatter(&|v| format!("{v:.0}"))
             .y_label_formatter(&|v| format!("{v:.0e}"))
             .draw()?;
@@ -151,17 +164,20 @@ pub fn convergence(
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color));
             chart.draw_series(pts.iter().map(|p| Circle::new(*p, 3, color.filled())))?;
         }
-        // Reference slope through the first point of the first series.
+        // Reference slopes through the first point of the first series.
         if let Some((_, e)) = series.first() {
             let (n0, e0) = (ns[0] as f64, e[0]);
-            let line: Vec<(f64, f64)> = ns
-                .iter()
-                .map(|&n| (n as f64, e0 * (n as f64 / n0).powf(-order)))
-                .collect();
-            chart
-                .draw_series(LineSeries::new(line, BLACK.mix(0.4)))?
-                .label(format!("slope −{order}"))
-                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK.mix(0.4)));
+            for (k, &slope) in slopes.iter().enumerate() {
+                let line: Vec<(f64, f64)> = ns
+                    .iter()
+                    .map(|&n| (n as f64, e0 * (n as f64 / n0).powf(slope)))
+                    .collect();
+                let style = BLACK.mix(0.25 + 0.2 * k as f64);
+                chart
+                    .draw_series(LineSeries::new(line, style))?
+                    .label(format!("slope {slope}"))
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], style));
+            }
         }
         chart
             .configure_series_labels()
@@ -339,8 +355,11 @@ where
     let mut chart = ChartBuilder::on(&root)
         .caption(
             format!(
-                "Fretting wear (MDR): χ = {}, N = {}, Δτ = {}",
-                p.chi, p.nodes, p.dtau
+                "Fretting wear (MDR): χ = {}, k = {}, N = {}, {} steps",
+                p.chi,
+                p.k,
+                p.nodes,
+                sim.state().step
             ),
             ("sans-serif", 20),
         )
@@ -375,7 +394,7 @@ where
         let color = colors[k % colors.len()];
         chart
             .draw_series(LineSeries::new(take(&s.profile), color.stroke_width(2)))?
-            .label(format!("τ = {}", s.step as f64 * p.dtau))
+            .label(format!("τ = {}", s.tau))
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color));
     }
     // Limiting profile f∞ on c < r ≤ r* (f₀ beyond), dashed.

@@ -31,6 +31,9 @@ pub enum Study {
     /// Timing of one application of the EIM volume operator (eigenstrain on every layer → strain on
     /// every layer, half-space) on --grid² cells × --layers layers: build and apply seconds.
     EimOperator,
+    /// The paper's Fig. 1: seconds per profile transform (Eq. 7 / Eq. 23, planned beforehand)
+    /// against N, MVM against FFT, homogeneous and graded (k = 0.5), one run, log–log.
+    TransformTiming,
 }
 
 #[derive(Debug, Args)]
@@ -70,6 +73,9 @@ pub fn run(args: StudyArgs) -> Result<(), CliError> {
     }
     if let Study::EimOperator = args.study {
         return eim_operator(&args);
+    }
+    if let Study::TransformTiming = args.study {
+        return transform_timing(&args);
     }
     let (title, ns, series): (&str, Vec<usize>, Series) = match args.study {
         Study::Eq17 => {
@@ -139,7 +145,8 @@ pub fn run(args: StudyArgs) -> Result<(), CliError> {
         | Study::FeComparison
         | Study::FrettingLimit
         | Study::GradedWear
-        | Study::EimOperator => {
+        | Study::EimOperator
+        | Study::TransformTiming => {
             unreachable!("handled above")
         }
     };
@@ -171,6 +178,52 @@ pub fn run(args: StudyArgs) -> Result<(), CliError> {
             }
         }
     }
+    Ok(())
+}
+
+/// Fig. 1 of Willert (2021): seconds per application of the profile transform (Eq. 7, Eq. 23 at
+/// k = 0.5) against N for the MVM and the FFT backend, from one run (0.25 s of applications per
+/// point, the fastest batch mean); `--plot FILE.svg` draws it log–log with slopes 1 and 2.
+fn transform_timing(args: &StudyArgs) -> Result<(), CliError> {
+    let ns = vec![100, 300, 1000, 3000, 10000, 30000];
+    let cases = [
+        ("FFT, homogeneous (Eq. 7)", 0.0, Backend::Fft),
+        ("MVM, homogeneous (Eq. 7)", 0.0, Backend::Mvm),
+        ("FFT, graded k = 0.5 (Eq. 23)", 0.5, Backend::Fft),
+        ("MVM, graded k = 0.5 (Eq. 23)", 0.5, Backend::Mvm),
+    ];
+    let mut series: Series = Vec::new();
+    for (name, k, backend) in cases {
+        let t: Result<Vec<f64>, _> = ns
+            .iter()
+            .map(|&n| studies::profile_transform_seconds(n, k, backend, 0.25))
+            .collect();
+        series.push((name, t?));
+    }
+    let title = "Fig. 1: seconds per profile transform against N (MVM vs FFT)";
+    if let Some(path) = &args.plot {
+        plot::loglog(
+            path,
+            title,
+            "seconds per transform",
+            &ns,
+            &series,
+            &[1.0, 2.0],
+        )
+        .map_err(|e| CliError::Plot(format!("{}: {e}", path.display())))?;
+    }
+    let s: Vec<_> = series
+        .iter()
+        .map(|(name, t)| {
+            json!({"name": name, "seconds": t,
+                   "slope_last_decade": (t[t.len() - 1] / t[t.len() - 3]).ln()
+                       / (ns[ns.len() - 1] as f64 / ns[ns.len() - 3] as f64).ln()})
+        })
+        .collect();
+    println!(
+        "{}",
+        json!({"study": title, "n": ns, "threads": 1, "series": s})
+    );
     Ok(())
 }
 
@@ -308,45 +361,47 @@ fn fe_comparison(args: &StudyArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// a/a0 against τ for χ = 0.3, 0.5 and 0.9, N = 2001, L = 1.6 a0, Δτ = 1e-3, τ ≤ 5 (every run
-/// is at its limit by then; beyond it the slip annulus carries no pressure and the edge where g < d
-/// ends is no longer defined), with the limits r*/a0.
+/// a/a0 against τ for χ = 0.3, 0.5 and 0.9, N = 2001, L = 1.6 a0, adaptive steps at the default
+/// tolerance, τ ≤ 5 (every run is at its limit by then), with the limits r*/a0.
 fn fretting_limit(args: &StudyArgs) -> Result<(), CliError> {
     use halfspace::fretting::{FrettingParams, FrettingSimulation};
     let mut curves = Vec::new();
     let mut limits = Vec::new();
     let mut rows = Vec::new();
-    let (dtau, tau_end) = (1e-3, 5.0);
+    let tau_end = 5.0;
     for chi in [0.3, 0.5, 0.9] {
         let params = FrettingParams {
             chi,
-            dtau,
             tau_end,
-            snapshots: vec![],
+            snapshots: vec![0.1, 0.5, 1.0, 2.0, 3.0],
             ..FrettingParams::default()
         };
         let mut sim = FrettingSimulation::new(params).map_err(|e| CliError::Spec(e.to_string()))?;
-        // τ at which the worn volume first reaches 50 % and 95 % of V∞ (the observer sees every step).
+        // τ at which the worn volume first reaches 50 % and 95 % of V∞ (the observer sees every
+        // step; linear between steps).
         let limit = sim.limit_wear_volume();
         let mut reached = [None::<f64>; 2];
+        let mut before = (0.0, 0.0);
         sim.run(|s| {
             let v = s.wear_volume() / limit;
-            let tau = s.state().step as f64 * s.params().dtau;
+            let tau = s.tau();
             for (slot, share) in reached.iter_mut().zip([0.5, 0.95]) {
                 if slot.is_none() && v >= share {
-                    *slot = Some(tau);
+                    let w = (share - before.1) / (v - before.1);
+                    *slot = Some(before.0 + w * (tau - before.0));
                 }
             }
+            before = (tau, v);
             false
         })
         .map_err(|e| CliError::Spec(e.to_string()))?;
-        let h = &sim.state().contact_radius_history;
-        // Every 10th point keeps the figure light.
-        let pts: Vec<(f64, f64)> = h
+        let state = sim.state();
+        let h = &state.contact_radius_history;
+        let pts: Vec<(f64, f64)> = state
+            .tau_history
             .iter()
-            .enumerate()
-            .step_by(10)
-            .map(|(k, a)| ((k + 1) as f64 * dtau, *a))
+            .copied()
+            .zip(h.iter().copied())
             .collect();
         let r_star = sim.limit_contact_radius();
         curves.push((format!("χ = {chi}"), pts));
@@ -354,9 +409,16 @@ fn fretting_limit(args: &StudyArgs) -> Result<(), CliError> {
             format!("r*/a0 = {r_star:.4}"),
             vec![(0.0, r_star), (tau_end, r_star)],
         ));
-        let at = |tau: f64| h[((tau / dtau).round() as usize).min(h.len()) - 1];
+        let at = |tau: f64| {
+            let i = state
+                .tau_history
+                .iter()
+                .position(|&t| t >= tau)
+                .unwrap_or(h.len() - 1);
+            h[i]
+        };
         let top = h.iter().copied().fold(1.0, f64::max);
-        rows.push(json!({"chi": chi, "dtau": dtau, "r_star": r_star, "max_a": top,
+        rows.push(json!({"chi": chi, "steps": state.step, "r_star": r_star, "max_a": top,
             "tau_half_volume": reached[0], "tau_95_volume": reached[1],
             "wear_volume": sim.wear_volume(), "limit_wear_volume": sim.limit_wear_volume(),
             "a_at_tau": {"0.1": at(0.1), "0.5": at(0.5), "1": at(1.0), "2": at(2.0), "3": at(3.0), "5": at(5.0)}}));

@@ -2,7 +2,7 @@
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use halfspace_fretting::{FrettingParams, FrettingSimulation};
+use halfspace_fretting::{FrettingParams, FrettingSimulation, TimeStepping};
 use halfspace_numerics::Backend;
 
 fn cycle(c: &mut Criterion) {
@@ -12,7 +12,7 @@ fn cycle(c: &mut Criterion) {
             let params = FrettingParams {
                 nodes: n,
                 backend,
-                dtau: 1e-5,
+                stepping: TimeStepping::ExplicitEuler { dtau: 1e-5 },
                 tau_end: 1.0,
                 ..FrettingParams::default()
             };

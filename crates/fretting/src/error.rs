@@ -30,6 +30,14 @@ pub enum FrettingError {
         /// A step that is stable for this grid (half the current one).
         suggested: f64,
     },
+    /// The adaptive step fell below what `τ` can resolve.
+    #[error("the adaptive wear step fell to {dtau:e} at tau = {tau}; loosen --tol")]
+    StepTooSmall {
+        /// τ reached.
+        tau: f64,
+        /// The step that was refused.
+        dtau: f64,
+    },
     /// The contact reached the end of the grid.
     #[error(
         "the contact reached the end of the grid (L/a0 = {length}); use a larger domain length L"

@@ -5,7 +5,7 @@
 //! variables `r̃ = r/a₀`, `f̃ = f/d`, `p̃ = p a₀²/F₀`, `Δũ = Δu/u_A`, `τ = N/N₀` the wear law is
 //! parameter-free: `∂f̃/∂τ = p̃ Δũ` (Eq. 30–31). Each step (one wear increment `Δτ`):
 //! `f → g` (Eq. 7), contact edge (§7 P9), `q → p` (Eq. 17), slip (Cattaneo–Mindlin in MDR form),
-//! explicit Euler. [`limit`] has the closed forms: Popov's limiting profile `f̃∞`, the limiting
+//! ROS2 (linearly implicit, error-controlled) or explicit Euler. [`limit`] has the closed forms: Popov's limiting profile `f̃∞`, the limiting
 //! contact radius `r*`, the Hertz slip.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -13,10 +13,13 @@
 mod checkpoint;
 mod error;
 pub mod limit;
+mod linearization;
 mod params;
 mod simulation;
 pub mod studies;
 
 pub use error::FrettingError;
-pub use params::FrettingParams;
-pub use simulation::{FrettingSimulation, FrettingState, Snapshot};
+pub use params::{FrettingParams, TimeStepping};
+pub use simulation::{
+    ContactRadii, FrettingSimulation, FrettingState, Snapshot, GAP_TOLERANCE, LOAD_THRESHOLD,
+};

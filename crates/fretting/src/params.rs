@@ -2,6 +2,52 @@ use halfspace_numerics::{Backend, SquaredGrid};
 
 use crate::FrettingError;
 
+/// How the wear law `∂f̃/∂τ = p̃ Δũ` is integrated in `τ` (docs/fretting-wear.md, "Time
+/// integration").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TimeStepping {
+    /// ROS2 (Verwer et al. 1999, linearly implicit, L-stable) with error control: the embedded
+    /// first-order estimate `Δτ/2 |k₁ + k₂|`, largest over the nodes, is kept ≤ `tolerance`
+    /// (units of `d`); steps land on the snapshot times.
+    Adaptive {
+        /// Local error per step, `max_i |f̃_i − f̂_i|` (units of `d`).
+        tolerance: f64,
+    },
+    /// ROS2 at the fixed step `dtau` (no error control; stable at any step).
+    Fixed {
+        /// The step `Δτ`.
+        dtau: f64,
+    },
+    /// Explicit Euler at the fixed step `dtau` (the reference path; stable only below
+    /// [`FrettingParams::step_limit`]).
+    ExplicitEuler {
+        /// The step `Δτ`.
+        dtau: f64,
+    },
+}
+
+impl TimeStepping {
+    /// The default local error tolerance of [`TimeStepping::Adaptive`].
+    pub const DEFAULT_TOLERANCE: f64 = 1e-4;
+
+    /// The fixed step, if any.
+    pub fn fixed_step(&self) -> Option<f64> {
+        match *self {
+            Self::Adaptive { .. } => None,
+            Self::Fixed { dtau } | Self::ExplicitEuler { dtau } => Some(dtau),
+        }
+    }
+
+    /// Short name: `adaptive`, `fixed` (ROS2) or `explicit-euler`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Adaptive { .. } => "adaptive",
+            Self::Fixed { .. } => "fixed",
+            Self::ExplicitEuler { .. } => "explicit-euler",
+        }
+    }
+}
+
 /// Parameters of a fretting-wear run, in the normalized variables of spec §5.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FrettingParams {
@@ -13,8 +59,9 @@ pub struct FrettingParams {
     pub k: f64,
     /// Grid nodes `N`.
     pub nodes: usize,
-    /// Wear step `Δτ > 0`.
-    pub dtau: f64,
+    /// The time integration: error-controlled ROS2 (default), ROS2 at a fixed step, or explicit
+    /// Euler (the reference).
+    pub stepping: TimeStepping,
     /// Final `τ`.
     pub tau_end: f64,
     /// Domain size `L/a₀ ≥ 1.45` (the contact grows to `r* < √2 a₀`, spec §7 P8).
@@ -26,13 +73,16 @@ pub struct FrettingParams {
 }
 
 impl Default for FrettingParams {
-    /// The reference run of spec §5: χ = 0.5, N = 2001, L = 1.6 a₀, Δτ = 1e-3, τ_end = 30.
+    /// The reference run of spec §5: χ = 0.5, N = 2001, L = 1.6 a₀, τ_end = 30, adaptive steps at
+    /// the default tolerance.
     fn default() -> Self {
         Self {
             chi: 0.5,
             k: 0.0,
             nodes: 2001,
-            dtau: 1e-3,
+            stepping: TimeStepping::Adaptive {
+                tolerance: TimeStepping::DEFAULT_TOLERANCE,
+            },
             tau_end: 30.0,
             length: 1.6,
             snapshots: vec![0.1, 1.0, 3.0, 10.0, 30.0],
@@ -44,6 +94,12 @@ impl Default for FrettingParams {
 impl FrettingParams {
     /// Smallest domain accepted (spec §7 P8).
     pub const MIN_LENGTH: f64 = 1.45;
+
+    /// The largest `τ_end`: the worn contact reaches Popov's limit by `τ ≈ 5` (k = 0) to
+    /// `τ ≈ 30` (graded, k = −0.5, χ = 0.9; docs/fretting-wear.md), so `τ_end ≤ 1e6` leaves four
+    /// decades and refuses an absurd request up front (adaptive steps have no step count to
+    /// bound it, and their smallest step, `1e-14 τ_end`, would grow with it).
+    pub const MAX_TAU_END: f64 = 1e6;
 
     /// The domain a run of `chi`, `k` gets when none is given: the reference run's `L = 1.6 a₀`
     /// (homogeneous, `r* < √2 a₀`), or `1.15 r*` when the graded contact grows further.
@@ -75,14 +131,31 @@ impl FrettingParams {
         if self.nodes < 64 {
             return Err(bad("n", self.nodes as f64, "≥ 64"));
         }
-        if !(self.dtau.is_finite() && self.dtau > 0.0) {
-            return Err(bad("dtau", self.dtau, "finite and > 0"));
+        if !(self.tau_end.is_finite() && self.tau_end > 0.0 && self.tau_end <= Self::MAX_TAU_END) {
+            return Err(bad(
+                "tau_end",
+                self.tau_end,
+                "finite, > 0 and ≤ 1e6 (the contact reaches Popov's limit by τ ≈ 10–100)",
+            ));
         }
-        if !(self.tau_end.is_finite() && self.tau_end > 0.0) {
-            return Err(bad("tau_end", self.tau_end, "finite and > 0"));
-        }
-        if self.tau_end / self.dtau > 1e9 {
-            return Err(bad("tau_end/dtau", self.tau_end / self.dtau, "≤ 1e9 steps"));
+        match self.stepping {
+            TimeStepping::Adaptive { tolerance } => {
+                if !(1e-12..=0.1).contains(&tolerance) {
+                    return Err(bad(
+                        "tol",
+                        tolerance,
+                        "in [1e-12, 0.1] (local error, units of d)",
+                    ));
+                }
+            }
+            TimeStepping::Fixed { dtau } | TimeStepping::ExplicitEuler { dtau } => {
+                if !(dtau.is_finite() && dtau > 0.0) {
+                    return Err(bad("dtau", dtau, "finite and > 0"));
+                }
+                if self.tau_end / dtau > 1e9 {
+                    return Err(bad("tau_end/dtau", self.tau_end / dtau, "≤ 1e9 steps"));
+                }
+            }
         }
         if !(self.length.is_finite() && self.length >= Self::MIN_LENGTH) {
             return Err(bad(
@@ -116,17 +189,18 @@ impl FrettingParams {
         let grid =
             SquaredGrid::new(self.nodes, self.length).map_err(halfspace_mdr::MdrError::from)?;
         let limit = Self::step_limit(&grid, self.k);
-        if self.dtau > limit {
-            return Err(bad(
+        match self.stepping {
+            TimeStepping::ExplicitEuler { dtau } if dtau > limit => Err(bad(
                 "dtau",
-                self.dtau,
+                dtau,
                 &format!(
-                    "≤ {limit:.2e} for N = {}, L = {}, k = {} (explicit wear step stability)",
+                    "≤ {limit:.2e} for N = {}, L = {}, k = {} (explicit wear step stability; \
+                     the implicit steps have no such bound)",
                     self.nodes, self.length, self.k
                 ),
-            ));
+            )),
+            _ => Ok(()),
         }
-        Ok(())
     }
 
     /// An a-priori bound on the explicit step, `Δτ ≤ 1.5 (h/L)` for `k ≥ 0` and
@@ -155,21 +229,47 @@ impl FrettingParams {
             .unwrap_or(1e-3)
     }
 
-    /// Number of wear steps, `round(τ_end/Δτ)`.
-    pub fn total_steps(&self) -> u64 {
-        (self.tau_end / self.dtau).round() as u64
+    /// Number of wear steps of a fixed-step run, `round(τ_end/Δτ)` (`None` when adaptive).
+    pub fn total_steps(&self) -> Option<u64> {
+        self.stepping
+            .fixed_step()
+            .map(|dtau| (self.tau_end / dtau).round() as u64)
     }
 
-    /// Steps at which snapshots are taken (sorted, unique, including the last step).
-    pub fn snapshot_steps(&self) -> Vec<u64> {
-        let mut steps: Vec<u64> = self
+    /// The times at which snapshots are taken (sorted, unique, ending with `τ_end`). With a fixed
+    /// step each is rounded to the nearest step, `round(τ/Δτ) Δτ`; adaptive steps land on them.
+    pub fn snapshot_times(&self) -> Vec<f64> {
+        let round = |t: f64| match self.stepping.fixed_step() {
+            Some(dtau) => ((t / dtau).round() * dtau).min(self.fixed_end()),
+            None => t.min(self.tau_end),
+        };
+        let mut times: Vec<f64> = self
             .snapshots
             .iter()
-            .map(|t| ((t / self.dtau).round() as u64).min(self.total_steps()))
-            .chain(std::iter::once(self.total_steps()))
+            .map(|&t| round(t))
+            .chain(std::iter::once(self.fixed_end()))
             .collect();
-        steps.sort_unstable();
-        steps.dedup();
-        steps
+        times.sort_by(f64::total_cmp);
+        times.dedup();
+        times
+    }
+
+    /// `τ` after `steps` fixed steps, `steps · Δτ`, landing exactly on [`Self::fixed_end`] at the
+    /// last step (`None` when adaptive).
+    pub fn fixed_tau(&self, steps: u64) -> Option<f64> {
+        let dtau = self.stepping.fixed_step()?;
+        Some(if Some(steps) == self.total_steps() {
+            self.fixed_end()
+        } else {
+            steps as f64 * dtau
+        })
+    }
+
+    /// The final `τ`: `τ_end`, or `round(τ_end/Δτ) Δτ` with a fixed step.
+    pub fn fixed_end(&self) -> f64 {
+        match (self.stepping.fixed_step(), self.total_steps()) {
+            (Some(dtau), Some(steps)) => steps as f64 * dtau,
+            _ => self.tau_end,
+        }
     }
 }

@@ -9,7 +9,7 @@ use halfspace_fretting::limit::{
     annulus_response, initial_profile, limit_contact_radius, limit_wear_volume, limiting_profile,
     stick_radius,
 };
-use halfspace_fretting::{FrettingParams, FrettingSimulation};
+use halfspace_fretting::{FrettingParams, FrettingSimulation, TimeStepping};
 use halfspace_numerics::Backend;
 
 fn run(params: FrettingParams) -> FrettingSimulation {
@@ -27,7 +27,7 @@ fn k0_is_the_homogeneous_run_bit_for_bit() {
     // again here so that no later change moves the homogeneous run unnoticed.
     let sim = run(FrettingParams {
         nodes: 301,
-        dtau: 0.005,
+        stepping: TimeStepping::ExplicitEuler { dtau: 0.005 },
         tau_end: 1.0,
         snapshots: vec![0.1, 1.0],
         ..FrettingParams::default()
@@ -50,7 +50,9 @@ fn graded(k: f64, chi: f64, nodes: usize, tau_end: f64, backend: Backend) -> Fre
         k,
         nodes,
         length,
-        dtau: FrettingParams::default_step(nodes, length, k),
+        stepping: TimeStepping::ExplicitEuler {
+            dtau: FrettingParams::default_step(nodes, length, k),
+        },
         tau_end,
         snapshots: vec![],
         backend,
@@ -103,7 +105,7 @@ fn mvm_and_fft_agree_over_300_steps() {
             k,
             nodes: 501,
             length,
-            dtau,
+            stepping: TimeStepping::ExplicitEuler { dtau },
             tau_end: 300.0 * dtau,
             snapshots: vec![],
             backend,
@@ -165,7 +167,7 @@ fn bad_grading_is_refused() {
         k: -0.5,
         chi: 0.9,
         length: 1.5,
-        dtau: 1e-4,
+        stepping: TimeStepping::ExplicitEuler { dtau: 1e-4 },
         ..FrettingParams::default()
     })
     .err()

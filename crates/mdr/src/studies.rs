@@ -68,3 +68,45 @@ pub fn observed_order(ns: &[usize], errors: &[f64]) -> f64 {
     let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
     -sxy / sxx
 }
+
+/// Seconds per application of the profile transform (Eq. 7; Eq. 23 for `k ≠ 0`), "the pure
+/// transformation step (without build-up of a priori known matrices or vectors)" of the paper's
+/// Fig. 1: the transform is planned once for `n` nodes (`L = 1`), then applied to the slope of
+/// `f = r²/2 + r⁴/4` in batches until `budget_seconds` have passed (at least three applications);
+/// the result is the smallest batch mean (the least disturbed by other work on the machine).
+pub fn profile_transform_seconds(
+    n: usize,
+    k: f64,
+    backend: Backend,
+    budget_seconds: f64,
+) -> Result<f64, MdrError> {
+    let grid = SquaredGrid::new(n, 1.0)?;
+    let material = if k == 0.0 {
+        Material::from_e_star(1.0)?
+    } else {
+        Material::power_law(1.0, 1.0, 0.0, k)?
+    };
+    let mut t = crate::ProfileTransform::new(n, &material, backend)?;
+    // df/dρ of f = ρ/2 + ρ²/4 (ρ = r²).
+    let slope: Vec<f64> = (0..n).map(|i| 0.5 + 0.5 * grid.squared(i)).collect();
+    let mut g = vec![0.0; n];
+    t.apply(&grid, &slope, &mut g)?;
+    let start = std::time::Instant::now();
+    let mut best = f64::INFINITY;
+    let mut batch = 1usize;
+    let mut total = 0usize;
+    while total < 3 || start.elapsed().as_secs_f64() < budget_seconds {
+        let t0 = std::time::Instant::now();
+        for _ in 0..batch {
+            t.apply(&grid, &slope, &mut g)?;
+        }
+        let mean = t0.elapsed().as_secs_f64() / batch as f64;
+        best = best.min(mean);
+        total += batch;
+        // Batches of about a hundredth of the budget.
+        if mean * (batch as f64) < 0.01 * budget_seconds {
+            batch *= 2;
+        }
+    }
+    Ok(best)
+}
