@@ -368,7 +368,7 @@ pub fn contact_summary(outcome: &ContactOutcome, case: &ContactCase) -> serde_js
             "min_eigen_displacement".into(),
             json!(ni.min_eigen_displacement),
         );
-        // Spec §8.5b: A Σ p_c should vanish; its size relative to W measures the truncation of p_c
+        // docs/theory-sam.md#domain-size-and-truncation: A Σ p_c should vanish; its size relative to W measures the truncation of p_c
         // by the domain (enlarge the extent when it is not small).
         let pc: f64 = n.correction_pressure().iter().sum::<f64>() * problem.grid().cell_area();
         extra.insert(

@@ -394,7 +394,7 @@ fn a_table_sampled_from_a_sphere_matches_hertz() {
     assert!((a / a_exact - 1.0).abs() < 1e-9, "a = {a} vs {a_exact}");
 }
 
-/// Graded Hertz through the binary (spec §4.5: E0 = z0 = R = 1, ν = 0.3, δ = 0.01).
+/// Graded Hertz through the binary (docs/theory-mdr.md#graded-closed-forms: E0 = z0 = R = 1, ν = 0.3, δ = 0.01).
 #[test]
 fn graded_hertz_through_the_binary() {
     for (k, a, f, p0) in [

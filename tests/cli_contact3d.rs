@@ -32,7 +32,7 @@ fn hertz_frictionless_and_with_a_tangential_force() {
     ] {
         assert!(v.get(key).is_some(), "missing {key}");
     }
-    // a = 3.0111 μm, p0 = 4213 MPa, δ = 0.086348 μm (spec §7.1); 64² over 4a.
+    // a = 3.0111 μm, p0 = 4213 MPa, δ = 0.086348 μm (docs/theory-sam.md#hertz-reference); 64² over 4a.
     assert!((v["max_pressure"].as_f64().unwrap() / 4213.0e6 - 1.0).abs() < 2e-3);
     assert!((v["depth"].as_f64().unwrap() / 0.086348e-6 - 1.0).abs() < 1e-3);
     assert!((v["contact_radius"].as_f64().unwrap() / 3.0111e-6 - 1.0).abs() < 0.02);
@@ -309,7 +309,7 @@ fn hertz_with(extra: &[&str]) -> std::process::Output {
 
 #[test]
 fn a_stiff_sphere_below_the_contact_with_subsurface_stresses_and_volume_output() {
-    // Spec §7.6 (Leroux-2010-type case): r = 0.3a, centre depth 0.5a, E_I = 2E, a = 3.0111 μm:
+    // docs/theory-sam.md#inhomogeneity-references (Leroux-2010-type case): r = 0.3a, centre depth 0.5a, E_I = 2E, a = 3.0111 μm:
     // p_max/p₀ = 1.277 at 2Δ = a/16 (the library test reproduces it to 4 digits).
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("inh.h5");
@@ -340,7 +340,7 @@ fn a_stiff_sphere_below_the_contact_with_subsurface_stresses_and_volume_output()
         assert!(v.get(key).is_some(), "missing {key}");
     }
     assert_eq!(v["inclusion_cells"], 480);
-    // A Σ p_c / W: −0.5 % on this ±2a domain (the truncation monitor of spec §8.5b).
+    // A Σ p_c / W: −0.5 % on this ±2a domain (the truncation monitor of docs/theory-sam.md#domain-size-and-truncation).
     assert!(
         v["correction_pressure_integral_over_force"]
             .as_f64()

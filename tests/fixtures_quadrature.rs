@@ -50,7 +50,7 @@ fn profile(name: &str, manifest: &Manifest) -> Profile {
 
 /// Bounds of the comparison, from the measured errors at N = 2001 with a margin below 2×: 1e-4 (the
 /// issue's target) everywhere but the pressure at k = −0.5, where Eq. 29's trapezoid rule is
-/// O(h^{1.25}) (spec §7 P1; measured 1.6e-4 on the worn profile) and, for the 301-row table, the
+/// O(h^{1.25}) (docs/theory-mdr.md#p1-singular-kernels; measured 1.6e-4 on the worn profile) and, for the 301-row table, the
 /// table's own interpolation error dominates (2.6e-4, flat in N; the same profile sampled at 3001
 /// rows gives 4.2e-5 at order 1.27, `odd_table_profile_converges_at_the_trapezoid_order`).
 fn bounds(profile: &str, k: f64) -> (f64, f64) {

@@ -3,7 +3,7 @@
 //! datasets/npy/wear_path__*, written by `python -m verify wear-path`; verify/wear_path.py: grid
 //! uniform in r, exact cell integrals by scipy's incomplete beta and ₂F₁, Heun steps): the contact
 //! radius a/a0, the worn depth f(a0)/d and the wear volume V/(π a0² d) along the path, for
-//! (k, χ) = (0, 0.5) (spec §5's reference run), (0.5, 0.9) and (−0.5, 0.5). Both file formats are
+//! (k, χ) = (0, 0.5) (the reference run of docs/theory-mdr.md#fretting-wear), (0.5, 0.9) and (−0.5, 0.5). Both file formats are
 //! read; every file's sha256 is checked against datasets/MANIFEST.json.
 
 use std::path::Path;

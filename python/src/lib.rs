@@ -169,7 +169,7 @@ fn axisym<'py>(
 
 /// `fretting_wear(*, chi=0.5, n=2001, tol=None, dtau=None, tau_end=30.0, method="fft")`: the MDR
 /// fretting-wear simulation of a parabolic indenter in partial slip (Willert et al. 2021,
-/// Section 4; spec `mdr.md` §5), dimensionless, as `halfspace fretting-wear`. Returns a dict: the
+/// Section 4; docs/theory-mdr.md#fretting-wear), dimensionless, as `halfspace fretting-wear`. Returns a dict: the
 /// CLI's JSON keys and `r`, `profile` (final worn profile), `limiting_profile`, `tau_history`,
 /// `contact_radius_history` (a/a₀, the touching region, per step), `loaded_radius_history`.
 /// Adaptive steps at `tol` (default 1e-4) unless `dtau` fixes the step.

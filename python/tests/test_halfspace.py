@@ -66,7 +66,7 @@ def test_fretting_wear_equals_the_cli(tmp_path):
 
 
 def test_contact3d_with_an_inhomogeneity_equals_the_cli_bit_for_bit(tmp_path):
-    """The spec §7.6 stiff sphere below a Hertz contact, coarse, with the subsurface field."""
+    """The stiff sphere of docs/theory-sam.md#inhomogeneity-references below a Hertz contact, coarse, with the subsurface field."""
     out = tmp_path / "c.h5"
     inc = "sphere:x=0,y=0,z=1.50554e-6,r=0.90332e-6,E=420e9,nu=0.3"
     ref = cli("contact3d", "--indenter", "sphere:R=105e-6", "--material", "homogeneous:E=210e9,nu=0.3",

@@ -1,4 +1,4 @@
-//! `halfspace contact3d`: 3D semi-analytical contact (spec `sam.md`), one normal and one tangential
+//! `halfspace contact3d`: 3D semi-analytical contact (docs/theory-sam.md), one normal and one tangential
 //! increment, with or without inhomogeneities.
 
 use std::path::PathBuf;

@@ -1,4 +1,4 @@
-//! `halfspace fretting-wear`: fretting wear on the MDR (spec §5), the project's main job.
+//! `halfspace fretting-wear`: fretting wear on the MDR (docs/theory-mdr.md#fretting-wear), the project's main job.
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -462,7 +462,7 @@ fn results_record(sim: &FrettingSimulation) -> Record {
     .attr(
         "units",
         AttrValue::Text(
-            "normalized (spec §5): r/a0, f/d, p a0²/F0, slip per cycle / u_A, tau = N/N0; \
+            "normalized (docs/theory-mdr.md#fretting-wear): r/a0, f/d, p a0²/F0, slip per cycle / u_A, tau = N/N0; \
                  f_k, p_k, slip_k at snapshot_tau[k]; contact radius = extent of the touching \
                  region, loaded radius = outermost node with p > 1e-3 max p"
                 .into(),

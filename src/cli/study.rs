@@ -15,7 +15,7 @@ type Series = Vec<(&'static str, Vec<f64>)>;
 pub enum Study {
     /// Eq. 17 on the Eq. 18 pair q = 1 − x⁴: mean relative error (Eq. 19) against N.
     Eq17,
-    /// Eqs. 12 and 13 on Hertz (spec §2 test 2): max error against N.
+    /// Eqs. 12 and 13 on Hertz (docs/theory-mdr.md#displacement-transform test 2): max error against N.
     Displacement,
     /// Eqs. 25 and 26 on the Eq. 27 pair U = x⁴ at k = ±0.5: mean relative error against N.
     Eq27,
@@ -23,7 +23,7 @@ pub enum Study {
     GradedHertz,
     /// MDR against the scikit-fem references in datasets/fe.h5 (k = 0, ±0.3).
     FeComparison,
-    /// Fretting wear: a/a0 against τ for χ = 0.3, 0.5, 0.9 and their limits r*/a0 (spec §5).
+    /// Fretting wear: a/a0 against τ for χ = 0.3, 0.5, 0.9 and their limits r*/a0 (docs/theory-mdr.md#fretting-wear).
     FrettingLimit,
     /// Fretting wear of graded media E ∝ z^k: the limiting worn profiles (χ = 0.5) for k = −0.5 … 0.9
     /// and the final wear volume against the amplitude u_A/(μd) (ν = 0.3), the optimal grading.

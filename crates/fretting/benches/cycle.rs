@@ -1,4 +1,4 @@
-//! Time per wear cycle (one step of the loop of spec §5), FFT vs MVM, N = 2001 and 20001.
+//! Time per wear cycle (one step of the loop of docs/theory-mdr.md#fretting-wear), FFT vs MVM, N = 2001 and 20001.
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};

@@ -1,6 +1,6 @@
-//! Closed forms of spec §5 in normalized variables (`a₀ = d = 1`), for the homogeneous medium and
+//! Closed forms of docs/theory-mdr.md#fretting-wear in normalized variables (`a₀ = d = 1`), for the homogeneous medium and
 //! the power-law graded medium `E ∝ z^k` (docs/fretting-wear.md, "Graded media"): the paraboloid
-//! `f = r²/(2R)` has `g = x²/((1+k)R)` (spec §4.1), so `a₀² = (1+k)Rd` and `f̃₀ = (1+k) r̃²/2`,
+//! `f = r²/(2R)` has `g = x²/((1+k)R)` (docs/theory-mdr.md#graded-profile-transform), so `a₀² = (1+k)Rd` and `f̃₀ = (1+k) r̃²/2`,
 //! `g̃₀ = x̃²`. Every function reduces at `k = 0` to the homogeneous formula, evaluated by the same
 //! operations (bit for bit).
 
@@ -21,7 +21,7 @@ pub fn initial_profile(r: f64, k: f64) -> f64 {
 }
 
 /// `(cos(πk/2)/π) B_z(p, (1−k)/2)`: the incomplete beta integrals of the graded inverse transform
-/// (spec §4.3, Eq. 24, with `x = r sin θ`), normalized so that `p = (1+k)/2`, `z = 1` gives 1.
+/// (docs/theory-mdr.md#graded-displacements, Eq. 24, with `x = r sin θ`), normalized so that `p = (1+k)/2`, `z = 1` gives 1.
 fn graded_beta(p: f64, k: f64, z: f64) -> f64 {
     // z ∈ [0, 1] and p > 0 by construction (callers pass z = c²/r² with r > c).
     (0.5 * PI * k).cos() / PI * incomplete_beta(p, 0.5 * (1.0 - k), z).unwrap_or(f64::NAN)
@@ -39,7 +39,7 @@ pub fn annulus_response(r: f64, c: f64, k: f64) -> f64 {
     }
 }
 
-/// Popov's limiting no-wear profile for grading exponent `k` (spec §5; graded: docs/fretting-wear.md):
+/// Popov's limiting no-wear profile for grading exponent `k` (docs/theory-mdr.md#fretting-wear; graded: docs/fretting-wear.md):
 /// zero pressure in the slip annulus, so `g̃∞ = g̃₀ = x̃²` for `x̃ ≤ c̃` and `g̃∞ = 1` beyond; by
 /// Eq. 24 `f̃∞ = f̃₀` for `r̃ ≤ c̃` and for `r̃ > c̃`
 /// `f̃∞ = (cos(πk/2)/π) r̃² B_{c²/r²}((3+k)/2, (1−k)/2) + J(r̃)` ([`annulus_response`]); homogeneous
@@ -108,7 +108,7 @@ pub fn limit_wear_volume_at_amplitude(
     Ok((chi > 0.0 && chi < 1.0).then(|| limit_wear_volume(chi, k)))
 }
 
-/// Monotonic Cattaneo–Mindlin slip of the paraboloid at the amplitude, over `u_A` (spec §5,
+/// Monotonic Cattaneo–Mindlin slip of the paraboloid at the amplitude, over `u_A` (docs/theory-mdr.md#fretting-wear,
 /// "Hertz check"): `s̃ = (1/(πχ))[(r² − 2c²) arccos(c/r) + c √(r² − c²)]` for `c < r ≤ 1`, else 0
 /// (homogeneous).
 pub fn hertz_slip(r: f64, chi: f64) -> f64 {
@@ -129,7 +129,7 @@ pub fn hertz_slip_derivative(r: f64, chi: f64) -> f64 {
     (2.0 * r * (c / r).acos() + (r * r - 2.0 * c * c) * c / (r * w) + c * r / w) / (PI * chi)
 }
 
-/// Slip per cycle over `u_A` in the worn state (spec §5; graded: docs/fretting-wear.md):
+/// Slip per cycle over `u_A` in the worn state (docs/theory-mdr.md#fretting-wear; graded: docs/fretting-wear.md):
 /// `Δũ = 4[(f̃ − f̃∞)/χ + J(r̃)]` for `c < r ≤ a`, 0 elsewhere — the graded inverse transform
 /// (Eq. 24) of the 1D slip `(u_A/χ)(g̃ − (1 − χ))` on `c < |x| < a`, with `g = g₀` in the stick zone
 /// (wear never reaches it); the steady cycle's slip path is four times the monotonic slip.
@@ -165,7 +165,7 @@ mod tests {
 
     #[test]
     fn worn_slip_formula_is_the_hertz_slip_on_the_initial_profile() {
-        // Δũ/4 at f = f₀ must equal the monotonic Hertz slip s̃ (spec §5, both derived there).
+        // Δũ/4 at f = f₀ must equal the monotonic Hertz slip s̃ (docs/theory-mdr.md#fretting-wear, both derived there).
         for chi in [0.3, 0.5, 0.9] {
             for i in 1..100 {
                 let r = i as f64 / 100.0;

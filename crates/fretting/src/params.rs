@@ -48,7 +48,7 @@ impl TimeStepping {
     }
 }
 
-/// Parameters of a fretting-wear run, in the normalized variables of spec §5.
+/// Parameters of a fretting-wear run, in the normalized variables of docs/theory-mdr.md#fretting-wear.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FrettingParams {
     /// `χ = u_A / u_max`, `0 < χ < 1` (partial slip).
@@ -64,7 +64,7 @@ pub struct FrettingParams {
     pub stepping: TimeStepping,
     /// Final `τ`.
     pub tau_end: f64,
-    /// Domain size `L/a₀ ≥ 1.45` (the contact grows to `r* < √2 a₀`, spec §7 P8).
+    /// Domain size `L/a₀ ≥ 1.45` (the contact grows to `r* < √2 a₀`, docs/theory-mdr.md#p8-domain-size).
     pub length: f64,
     /// `τ` at which the state is recorded (`τ_end` is always recorded).
     pub snapshots: Vec<f64>,
@@ -73,7 +73,7 @@ pub struct FrettingParams {
 }
 
 impl Default for FrettingParams {
-    /// The reference run of spec §5: χ = 0.5, N = 2001, L = 1.6 a₀, τ_end = 30, adaptive steps at
+    /// The reference run of docs/theory-mdr.md#fretting-wear: χ = 0.5, N = 2001, L = 1.6 a₀, τ_end = 30, adaptive steps at
     /// the default tolerance.
     fn default() -> Self {
         Self {
@@ -92,7 +92,7 @@ impl Default for FrettingParams {
 }
 
 impl FrettingParams {
-    /// Smallest domain accepted (spec §7 P8).
+    /// Smallest domain accepted (docs/theory-mdr.md#p8-domain-size).
     pub const MIN_LENGTH: f64 = 1.45;
 
     /// The largest `τ_end`: the worn contact reaches Popov's limit by `τ ≈ 5` (k = 0) to
@@ -185,7 +185,7 @@ impl FrettingParams {
             return Err(bad("snapshots", t, "finite and > 0"));
         }
         // Explicit Euler: the stable step scales with the radial spacing near the edge
-        // (spec §7 P10; `step_limit`).
+        // (docs/theory-mdr.md#p10-explicit-wear-step; `step_limit`).
         let grid =
             SquaredGrid::new(self.nodes, self.length).map_err(halfspace_mdr::MdrError::from)?;
         let limit = Self::step_limit(&grid, self.k);
@@ -205,7 +205,7 @@ impl FrettingParams {
 
     /// An a-priori bound on the explicit step, `Δτ ≤ 1.5 (h/L)` for `k ≥ 0` and
     /// `Δτ ≤ 1.5 · 2^k (h/L)^{1−k}` for `k < 0`, with `h = L²/(N−1)`. The map `f → p` is of order
-    /// `1 − k` in the radius (`f → g` and `g → p` are each of order `(1−k)/2`, spec §4.1 and §4.4),
+    /// `1 − k` in the radius (`f → g` and `g → p` are each of order `(1−k)/2`, docs/theory-mdr.md#graded-profile-transform and docs/theory-mdr.md#graded-pressure),
     /// so the stable explicit step scales as `(h/L)^{1−k}`. Measured with the edge between nodes
     /// (runs to τ = 3, χ = 0.5 and 0.9, N = 1001 and 2001): `k = 0` and `0.5` stable at
     /// `1.5 h/L`; the largest stable steps at χ = 0.9 were 5.5e-4 / 2.5e-4 (k = −0.25, N = 1001 /

@@ -12,7 +12,7 @@ use crate::{FrettingError, FrettingParams, TimeStepping};
 
 /// `c_N` of the normalized problem: with `q̃ = c̃_N (1 − g̃)`, Eq. 29 (Eq. 17 at `k = 0`) gives
 /// `p̃ = p a₀²/F₀`, `p̃ = (c̃_N/π) ∫ g̃'/(x̃² − r̃²)^{(1−k)/2}` with `c̃_N = (1+k)(3+k)/4` (graded Hertz,
-/// spec §4.5: `F₀ = 4 c_N a₀^{3+k} / ((1+k)²(3+k)R)`, `a₀² = (1+k)Rd`); `3/4` homogeneous (spec §5).
+/// docs/theory-mdr.md#graded-closed-forms: `F₀ = 4 c_N a₀^{3+k} / ((1+k)²(3+k)R)`, `a₀² = (1+k)Rd`); `3/4` homogeneous (docs/theory-mdr.md#fretting-wear).
 pub fn normalized_modulus(k: f64) -> f64 {
     0.25 * (1.0 + k) * (3.0 + k)
 }
@@ -99,7 +99,7 @@ const ROS2_GAMMA: f64 = 1.0 + std::f64::consts::FRAC_1_SQRT_2;
 /// The first adaptive step.
 const FIRST_STEP: f64 = 1e-4;
 
-/// The per-cycle loop of spec §5 with the edge between nodes, planned once: no allocation per
+/// The per-cycle loop of docs/theory-mdr.md#fretting-wear with the edge between nodes, planned once: no allocation per
 /// step. Integrates `∂f̃/∂τ = p̃ Δũ` by [`TimeStepping`].
 pub struct FrettingSimulation {
     params: FrettingParams,
@@ -332,7 +332,7 @@ impl FrettingSimulation {
         Ok(self.contact()?.radii)
     }
 
-    /// One accepted wear step of `∂f̃/∂τ = p̃ Δũ` (Eq. 30–31; spec §5's per-cycle loop with the edge
+    /// One accepted wear step of `∂f̃/∂τ = p̃ Δũ` (Eq. 30–31; the one of docs/theory-mdr.md#fretting-wear per-cycle loop with the edge
     /// between nodes): the rate `F(f̃) = p̃ Δũ` is `f → g` (Eq. 7 / 23), the contact edge `a`
     /// where the linear interpolant of `g` beyond the outermost node with `g < d` reaches `d`,
     /// `q = c̃_N max(d − g, 0)`, `q → p` by product integration with that edge
@@ -348,7 +348,7 @@ impl FrettingSimulation {
     /// Takes a snapshot after the step when it lands on a snapshot time (and of the initial state
     /// when 0 is one).
     ///
-    /// Spec §5 (and the paper) cut `q` at the first node outside and use Eq. 17/29; that pressure
+    /// docs/theory-mdr.md#fretting-wear (and the paper) cut `q` at the first node outside and use Eq. 17/29; that pressure
     /// jumps by `O(1)` each time the edge crosses a node and the run does not converge under grid
     /// refinement (docs/fretting-wear.md, "The contact edge between nodes").
     pub fn step(&mut self) -> Result<(), FrettingError> {
@@ -392,7 +392,7 @@ impl FrettingSimulation {
         self.state.loaded_radius_history.push(radii.loaded);
         // Wear only raises f, so the edge where g reaches d approaches r* from below; three cells
         // of slack for the grazing end phase, where g ≈ d on the whole annulus and the edge
-        // jitters; an unstable step overshoots further (spec §7 P10).
+        // jitters; an unstable step overshoots further (docs/theory-mdr.md#p10-explicit-wear-step).
         // The implicit steps are stable at any step; their end phase may leave the edge a few
         // cells beyond r* (measured 3.7 cells, k = −0.5, χ = 0.9, N = 2001), so only explicit
         // Euler is watched.

@@ -1,4 +1,4 @@
-//! The fretting-wear loop against spec §5: the reference run, the limit r*, backends, resume,
+//! The fretting-wear loop against docs/theory-mdr.md#fretting-wear: the reference run, the limit r*, backends, resume,
 //! the slip field, and bad parameters.
 
 mod common;
@@ -23,7 +23,7 @@ fn profile_at_a0(sim: &FrettingSimulation, profile: &[f64]) -> f64 {
 
 #[test]
 fn reference_run_of_spec_section_5() {
-    // χ = 0.5, N = 2001, L = 1.6 a0, Δτ = 1e-3 (spec §5's reference run, Δu = 4s). Spec §5's table
+    // χ = 0.5, N = 2001, L = 1.6 a0, Δτ = 1e-3 (the reference run of docs/theory-mdr.md#fretting-wear, Δu = 4s). The table of docs/theory-mdr.md#fretting-wear
     // (a/a0 1.0793 at τ = 1, 1.1353 at τ = 30) came from its edge rule (q cut at the first node
     // outside, Eq. 17), which does not converge under refinement (f(a0) at τ = 1: 0.5392 / 0.5328
     // / 0.5279 at N = 1001 / 2001 / 4001). With the edge between nodes the run converges:
@@ -139,7 +139,7 @@ fn resume_is_bit_for_bit() {
     }
 }
 
-/// The loop's closed-form slip (spec §5) against the slip computed from its definition, Eq. 8
+/// The loop's closed-form slip (docs/theory-mdr.md#fretting-wear) against the slip computed from its definition, Eq. 8
 /// applied to the 1D slip (1/χ)(g(x) − g(c)) on c < x ≤ a by the MDR displacement transform (Eq. 12),
 /// after the first wear step, and against the Hertz closed form (the unit tests in `limit` check
 /// the formula at f₀ to 1e-13 and its derivative by central differences).
@@ -247,7 +247,7 @@ fn bad_parameters_and_instability_are_reported() {
         },
         "dtau",
     );
-    // Spec §7 P10: Δτ = 2e-3 diverged at N = 2001; 1e-3 at N = 4001 blew up: refused up front.
+    // docs/theory-mdr.md#p10-explicit-wear-step: Δτ = 2e-3 diverged at N = 2001; 1e-3 at N = 4001 blew up: refused up front.
     bad(
         FrettingParams {
             stepping: TimeStepping::ExplicitEuler { dtau: 2e-3 },

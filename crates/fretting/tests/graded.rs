@@ -23,7 +23,7 @@ fn k0_is_the_homogeneous_run_bit_for_bit() {
     // `halfspace fretting-wear --n 301 --dtau 0.005 --tau-end 1 --chi 0.5` (homogeneous): profile at
     // nodes 100 and 200, a/a0 and p at node 50. The graded code left these bits as they were
     // (commit 6c39993); the edge between nodes changed them on purpose (node 100: 0.50029 →
-    // 0.51426; spec §5's edge rule does not converge, docs/fretting-wear.md), and they are pinned
+    // 0.51426; the edge rule of docs/theory-mdr.md#fretting-wear does not converge, docs/fretting-wear.md), and they are pinned
     // again here so that no later change moves the homogeneous run unnoticed.
     let sim = run(FrettingParams {
         nodes: 301,
@@ -147,7 +147,7 @@ fn graded_closed_forms_are_consistent() {
             assert!(limit_wear_volume(chi, k) > 0.0);
         }
     }
-    // The homogeneous values of spec §5.
+    // The homogeneous values of docs/theory-mdr.md#fretting-wear.
     approx::assert_abs_diff_eq!(limit_contact_radius(0.5, 0.0), 1.1397, epsilon = 5e-5);
 }
 

@@ -1,5 +1,5 @@
-//! Closed forms of the MDR (spec §1–§4), shared by tests, docs and benches. `E*` is the contact
-//! modulus of a homogeneous medium, `c_N` that of a power-law graded one (spec §4.2); all
+//! Closed forms of the MDR (docs/theory-mdr.md#profile-transform to #graded-media), shared by tests, docs and benches. `E*` is the contact
+//! modulus of a homogeneous medium, `c_N` that of a power-law graded one (docs/theory-mdr.md#graded-constant-cn); all
 //! functions are pure and take SI values.
 
 use std::f64::consts::PI;
@@ -8,19 +8,19 @@ use halfspace_numerics::quad::tanh_sinh;
 use halfspace_numerics::special::{gamma, hyp2f1, incomplete_beta};
 use halfspace_numerics::NumericsError;
 
-/// `κ_n = √π Γ(n/2 + 1) / Γ(n/2 + 1/2)`: `f = c rⁿ ↦ g = κ_n c |x|ⁿ` (spec §1 table);
+/// `κ_n = √π Γ(n/2 + 1) / Γ(n/2 + 1/2)`: `f = c rⁿ ↦ g = κ_n c |x|ⁿ` (docs/theory-mdr.md#profile-transform table);
 /// `κ₁ = π/2`, `κ₂ = 2`, `κ₃ = 3π/4`, `κ₄ = 8/3`.
 pub fn power_law_factor(n: f64) -> f64 {
     graded_power_law_factor(n, 0.0)
 }
 
 /// `κ_n(k) = Γ(1 + n/2) Γ((1+k)/2) / Γ((1+k+n)/2)`: `f = c rⁿ ↦ g = κ_n(k) c |x|ⁿ` in a graded
-/// medium (spec §4.1); `κ₂(k) = 2/(1+k)`, and `κ_n(0) = κ_n`.
+/// medium (docs/theory-mdr.md#graded-profile-transform); `κ₂(k) = 2/(1+k)`, and `κ_n(0) = κ_n`.
 pub fn graded_power_law_factor(n: f64, k: f64) -> f64 {
     gamma(1.0 + 0.5 * n) * gamma(0.5 * (1.0 + k)) / gamma(0.5 * (1.0 + k + n))
 }
 
-/// Kernel of Eq. 25 (spec §4.3): `K_k(y) = 1 − 2cos(kπ/2)/(π(1+k)) · H(y; k)`,
+/// Kernel of Eq. 25 (docs/theory-mdr.md#graded-displacements): `K_k(y) = 1 − 2cos(kπ/2)/(π(1+k)) · H(y; k)`,
 /// `H(y; k) = y^{(1+k)/2} ₂F₁((1+k)/2, (1+k)/2; (3+k)/2; y)`, `0 ≤ y ≤ 1`; `K_k(0) = 1`,
 /// `K_k(1) = 0`, `K_0(y) = (2/π) arccos √y` (Eq. 12's kernel, evaluated so at `k = 0`).
 pub fn displacement_kernel(y: f64, k: f64) -> Result<f64, NumericsError> {
@@ -100,7 +100,7 @@ pub fn cut_linear_displacement(r: f64, a: f64, k: f64) -> Result<f64, NumericsEr
     Ok((0.5 * k * PI).cos() / PI * r * incomplete_beta(0.5 * (2.0 + k), 0.5 * (1.0 - k), z)?)
 }
 
-/// Graded Hertz (spec §4.5): `a = √((1+k) R δ)`.
+/// Graded Hertz (docs/theory-mdr.md#graded-closed-forms): `a = √((1+k) R δ)`.
 pub fn graded_sphere_radius(depth: f64, radius: f64, k: f64) -> f64 {
     ((1.0 + k) * radius * depth).sqrt()
 }
@@ -139,7 +139,7 @@ pub fn graded_power_force(a: f64, c: f64, n: f64, c_n: f64, k: f64) -> f64 {
         / ((1.0 + k) * (n + 1.0 + k))
 }
 
-/// Eq. 29 test pair (spec §4.5): `g = x⁴ ↦ p(r) = (2c_N/π)[2/(k+3) (a²−r²)^{(k+3)/2}
+/// Eq. 29 test pair (docs/theory-mdr.md#graded-closed-forms): `g = x⁴ ↦ p(r) = (2c_N/π)[2/(k+3) (a²−r²)^{(k+3)/2}
 /// + 2r²/(k+1) (a²−r²)^{(k+1)/2}]`.
 pub fn graded_quartic_pressure(r: f64, a: f64, c_n: f64, k: f64) -> f64 {
     if r >= a {
@@ -186,7 +186,7 @@ pub fn sphere_pressure(r: f64, a: f64, radius: f64, e_star: f64) -> f64 {
 }
 
 /// Sphere: surface displacement `u = δ − r²/2R` inside and
-/// `u = [(2a² − r²) arcsin(a/r) + a √(r² − a²)] / (πR)` outside (spec §2 test 2).
+/// `u = [(2a² − r²) arcsin(a/r) + a √(r² − a²)] / (πR)` outside (docs/theory-mdr.md#displacement-transform test 2).
 pub fn sphere_displacement(r: f64, a: f64, radius: f64) -> f64 {
     if r <= a {
         a * a / radius - r * r / (2.0 * radius)
@@ -281,7 +281,7 @@ pub fn quartic_load_stress(r: f64, a: f64) -> f64 {
     }
 }
 
-/// Eq. 8 pair (spec §2 test 1): `U = x⁴ ↦ u = (3/8) r⁴`.
+/// Eq. 8 pair (docs/theory-mdr.md#displacement-transform test 1): `U = x⁴ ↦ u = (3/8) r⁴`.
 pub fn quartic_displacement(r: f64) -> f64 {
     0.375 * r.powi(4)
 }
@@ -330,7 +330,7 @@ mod tests {
             let tol = 10.0 * (2e-12f64).powf(0.5 * (1.0 - k));
             assert!((inside - outside).abs() < tol, "k={k}: {inside} {outside}");
         }
-        // Graded Hertz table (spec §4.5), E₀ = z₀ = R = 1, ν = 0.3, δ = 0.01.
+        // Graded Hertz table (docs/theory-mdr.md#graded-closed-forms), E₀ = z₀ = R = 1, ν = 0.3, δ = 0.01.
         for (k, c_n, a, f, p0) in [
             (-0.5, 0.4017282, 0.0707107, 3.4184152e-3, 0.27202884),
             (0.5, 1.2542952, 0.1224745, 4.0960844e-4, 1.5211282e-2),

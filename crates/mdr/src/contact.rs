@@ -1,13 +1,13 @@
-//! Macroscopic relations and the contact solve (spec §1; §4.2 for graded media, of which the
+//! Macroscopic relations and the contact solve (docs/theory-mdr.md#profile-transform; docs/theory-mdr.md#graded-constant-cn for graded media, of which the
 //! homogeneous medium is `k = 0`, `c_N = E*`).
 //!
 //! * `δ = g(a)`;
-//! * `F = 2c_N ∫_0^a x^k (δ − g) dx = 2c_N/(1+k) ∫_0^{a²} ξ^{(1+k)/2} ĝ'(ξ) dξ` (Eq. 2, §4.2; the last
+//! * `F = 2c_N ∫_0^a x^k (δ − g) dx = 2c_N/(1+k) ∫_0^{a²} ξ^{(1+k)/2} ĝ'(ξ) dξ` (Eq. 2, docs/theory-mdr.md#graded-constant-cn; the last
 //!   form on the grid);
 //! * `p` from `Q = c_N(δ − g)` by Eq. 17 (Eq. 29), `u` from `U = δ − g` by Eq. 12/25 or 13/26.
 //!
 //! The contact radius is found on the grid (interpolating `g` or the cumulative force), then the
-//! grid is rebuilt so that `a²` is a node (the stress transform needs `a² = (M−1)h`, spec §1), and
+//! grid is rebuilt so that `a²` is a node (the stress transform needs `a² = (M−1)h`, docs/theory-mdr.md#profile-transform), and
 //! the two steps are repeated until the interpolated radius lies on that node to the tolerance: the
 //! result is self-consistent, `g(a) = δ` at the edge node, with no snapping error.
 
@@ -39,7 +39,7 @@ pub struct ContactParams {
     /// Backend of the profile and stress transforms; the displacement uses Eq. 12 for `Mvm` and
     /// Eq. 13 by FFT for `Fft` ([`DisplacementMethod::for_backend`]).
     pub backend: Backend,
-    /// Domain size over contact radius, `L/a ≥ 1` (spec §7 P8; tables may shorten it).
+    /// Domain size over contact radius, `L/a ≥ 1` (docs/theory-mdr.md#p8-domain-size; tables may shorten it).
     pub domain_ratio: f64,
     /// Relative tolerance of the contact-radius iteration.
     pub tolerance: f64,
@@ -109,13 +109,13 @@ impl ContactSolution {
         self.force / (PI * self.contact_radius * self.contact_radius)
     }
 
-    /// Normal stiffness `dF/dδ = 2c_N a^{1+k}/(1+k)` (`2E* a` homogeneous, spec §1, §4.2).
+    /// Normal stiffness `dF/dδ = 2c_N a^{1+k}/(1+k)` (`2E* a` homogeneous, docs/theory-mdr.md#profile-transform, docs/theory-mdr.md#graded-constant-cn).
     pub fn normal_stiffness(&self) -> f64 {
         let k = self.grading_exponent;
         2.0 * self.contact_modulus * self.contact_radius.powf(1.0 + k) / (1.0 + k)
     }
 
-    /// `dF/da = 2c_N a^{1+k} g'(a)/(1+k)` (`2E* a g'(a)` homogeneous, spec §1), `g'(a)` from the grid.
+    /// `dF/da = 2c_N a^{1+k} g'(a)/(1+k)` (`2E* a g'(a)` homogeneous, docs/theory-mdr.md#profile-transform), `g'(a)` from the grid.
     pub fn force_radius_slope(&self) -> f64 {
         self.normal_stiffness() * self.edge_slope
     }
@@ -199,7 +199,7 @@ impl ContactSolver {
         &self.params
     }
 
-    /// Solves the contact of `profile` under `load` (spec §1): contact radius, depth, force,
+    /// Solves the contact of `profile` under `load` (docs/theory-mdr.md#profile-transform): contact radius, depth, force,
     /// pressure (Eq. 17) and surface displacement (Eq. 12 or 13).
     pub fn solve(&mut self, profile: &Profile, load: Load) -> Result<ContactSolution, MdrError> {
         match load {
@@ -212,14 +212,15 @@ impl ContactSolver {
         if let (Profile::Power { n, .. }, DisplacementMethod::Convolution(_)) =
             (profile, self.displacement_tf.method())
         {
-            // g − κ₂c₀x² − κ₁s₀x starts like xⁿ: Eq. 13/26 needs n ∉ (1, 5/2) \ {2} (spec §7 P11).
+            // g − κ₂c₀x² − κ₁s₀x starts like xⁿ: Eq. 13/26 needs n ∉ (1, 5/2) \ {2} (docs/theory-mdr.md#p11-applicability-of-eqs-13-and-26).
             if *n > 1.0 && *n < 2.5 && *n != 2.0 {
                 return Err(MdrError::InvalidParameter {
                     name:
                         "power-law exponent n for the Eq. 13/26 displacement (use the MVM backend: \
                            Eq. 12/25)",
                     value: *n,
-                    allowed: "1, 2 or ≥ 5/2 (spec §7 P11)",
+                    allowed:
+                        "1, 2 or ≥ 5/2 (docs/theory-mdr.md#p11-applicability-of-eqs-13-and-26)",
                 });
             }
         }
@@ -346,7 +347,7 @@ impl ContactSolver {
         let n = self.params.nodes;
         let c_n = self.material.contact_modulus();
         let k = self.material.grading_exponent();
-        // F = 2c_N δ a^{1+k}/(1+k) (spec §4.5; 2E* a δ at k = 0).
+        // F = 2c_N δ a^{1+k}/(1+k) (docs/theory-mdr.md#graded-closed-forms; 2E* a δ at k = 0).
         let stiffness = 2.0 * c_n * radius.powf(1.0 + k) / (1.0 + k);
         let (depth, force) = match load {
             Load::Depth(d) => (d, stiffness * d),
@@ -418,7 +419,7 @@ impl ContactSolver {
     }
 
     /// `g` (and its smooth part without the cone), `ĝ'`, and the cumulative force
-    /// `F_i = 2c_N/(1+k) ∫_0^{ξ_i} ξ^{(1+k)/2} ĝ' dξ` (Eq. 2, §4.2), its cone part
+    /// `F_i = 2c_N/(1+k) ∫_0^{ξ_i} ξ^{(1+k)/2} ĝ' dξ` (Eq. 2, docs/theory-mdr.md#graded-constant-cn), its cone part
     /// `κ₁ s₀ ξ^{(2+k)/2}/(2+k)`, parabolic part `2κ₂ c₀ ξ^{(3+k)/2}/(3+k)` and cubic part
     /// `3κ₃ c₃ ξ^{(4+k)/2}/(4+k)` (inside the bracket)
     /// in closed form, the rest by the trapezoid rule. At `k = 0`: `(π/2)E* s₀ ξ + (8/3)E* c₀ ξ^{3/2}`.

@@ -30,7 +30,7 @@ pub enum MdrError {
     /// The method needs `g(x)` increasing (a convex profile) and it is not.
     #[error(
         "non-convex profile: the equivalent profile g(x) decreases near x = {x:e} m; the \
-         contact-radius rule g(a) = δ (spec §1) needs g increasing, i.e. a convex f(r)"
+         contact-radius rule g(a) = δ (docs/theory-mdr.md#profile-transform) needs g increasing, i.e. a convex f(r)"
     )]
     NonConvexProfile {
         /// Where `g` decreases.

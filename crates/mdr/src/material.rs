@@ -1,6 +1,6 @@
 //! The elastic half-space. Homogeneous: `E* = E/(1−ν²)` for a rigid indenter, or the combined
-//! modulus `1/E* = (1−ν₁²)/E₁ + (1−ν₂²)/E₂` given directly (spec conventions). Power-law graded:
-//! `E(z) = E₀ (z/z₀)^k`, `−1 < k < 1`, constant `ν`, with the MDR constant `c_N` of spec §4.2.
+//! modulus `1/E* = (1−ν₁²)/E₁ + (1−ν₂²)/E₂` given directly (docs/theory-mdr.md#conventions). Power-law graded:
+//! `E(z) = E₀ (z/z₀)^k`, `−1 < k < 1`, constant `ν`, with the MDR constant `c_N` of docs/theory-mdr.md#graded-constant-cn.
 
 use std::f64::consts::PI;
 
@@ -16,7 +16,7 @@ pub enum Material {
         /// Contact modulus `E*` in Pa.
         e_star: f64,
     },
-    /// Power-law graded, `E(z) = E₀ (z/z₀)^k` (spec §4; the paper's `c₀` is `z₀`).
+    /// Power-law graded, `E(z) = E₀ (z/z₀)^k` (docs/theory-mdr.md#graded-media; the paper's `c₀` is `z₀`).
     PowerLaw {
         /// `E₀` in Pa, the modulus at depth `z₀`.
         e0: f64,
@@ -45,7 +45,7 @@ impl Material {
     }
 
     /// Power-law graded half-space `E(z) = E₀ (z/z₀)^k` with `E₀, z₀ > 0`, `ν ∈ (−1, 0.5]`,
-    /// `k ∈ (−1, 1)` (spec §7 P12: `|k| ≥ 1` is refused). `k = 0` is the homogeneous medium with
+    /// `k ∈ (−1, 1)` (docs/theory-mdr.md#p12-special-functions: `|k| ≥ 1` is refused). `k = 0` is the homogeneous medium with
     /// `E* = E₀/(1−ν²)`, through the same code.
     pub fn power_law(e0: f64, z0: f64, nu: f64, k: f64) -> Result<Self, MdrError> {
         positive("modulus E0", e0)?;
@@ -61,7 +61,7 @@ impl Material {
         Ok(Material::PowerLaw { e0, z0, nu, k })
     }
 
-    /// The modulus of the MDR's Winkler bed, `c_N` (spec §4.2); `= E*` for a homogeneous medium.
+    /// The modulus of the MDR's Winkler bed, `c_N` (docs/theory-mdr.md#graded-constant-cn); `= E*` for a homogeneous medium.
     /// Its unit is Pa·m^{−k}: the bed's line load is `q = c_N |x|^k (δ − g)`.
     pub fn contact_modulus(&self) -> f64 {
         match *self {
@@ -81,7 +81,7 @@ impl Material {
     }
 }
 
-/// The dimensionless factor of `c_N` (spec §4.2, derived and verified there):
+/// The dimensionless factor of `c_N` (docs/theory-mdr.md#graded-constant-cn, derived and verified there):
 /// `c_N (1−ν²) z₀^k / E₀ = (1+k)² cos(πk/2) Γ(1+k/2)² / (β sin(πβ/2) Γ((3+k+β)/2) Γ((3+k−β)/2))`,
 /// `β = √((1+k)(1 − kν/(1−ν)))`; 1 at `k = 0` (then `β = 1`). For `−1 < k < 1`, `ν ∈ (−1, 0.5]`,
 /// `β ∈ (0, 2)` and every Γ argument is positive.

@@ -1,8 +1,8 @@
 //! Indenter profiles `f(r)`: the gap between the indenter and the undeformed surface, with
-//! `f(0) = 0` (spec conventions and §7 P6).
+//! `f(0) = 0` (docs/theory-mdr.md#conventions and docs/theory-mdr.md#p6-the-apex-at-zero).
 //!
 //! For the profile transform each profile is split as `f(r) = s₀ r + f_rem(r)`, where
-//! `s₀ = f'(0⁺)` is the conical part, transformed in closed form (`g = (π/2) s₀ |x|`, spec §7 P5),
+//! `s₀ = f'(0⁺)` is the conical part, transformed in closed form (`g = (π/2) s₀ |x|`, docs/theory-mdr.md#p5-conical-profiles),
 //! and the smooth remainder goes through Eq. 7 with `f̂'_rem(ρ) = f'_rem(r)/(2r)` exact where the
 //! profile knows it, by finite differences of `f̂_rem` on the grid otherwise.
 
@@ -109,7 +109,7 @@ impl Profile {
         }
     }
 
-    /// Conical part `s₀ = f'(0⁺)`, transformed in closed form (spec §7 P5).
+    /// Conical part `s₀ = f'(0⁺)`, transformed in closed form (docs/theory-mdr.md#p5-conical-profiles).
     pub fn conical_slope(&self) -> f64 {
         match self {
             Profile::Cone { slope } => *slope,
@@ -142,7 +142,7 @@ impl Profile {
 
     /// Writes `f̂'_rem(ξ_i)`, the derivative with respect to `ρ = r²` of the profile without its
     /// conical and cubic parts, at every grid node (the input of Eq. 7). Exact for spheres and
-    /// power laws with `n ≥ 2`; otherwise the second-order differences of spec §0.2 of the sampled
+    /// power laws with `n ≥ 2`; otherwise the second-order differences of docs/theory-mdr.md#finite-differences of the sampled
     /// remainder (`scratch` holds the samples).
     pub fn squared_slope(
         &self,
@@ -187,7 +187,7 @@ impl Profile {
 }
 
 /// A validated table `(r_k, f_k)`: at least 3 rows, `r_0 = 0`, `r` strictly increasing, all
-/// finite; `f` is shifted so that `f(0) = 0` (spec §7 P6). Interpolated by cubic Hermite
+/// finite; `f` is shifted so that `f(0) = 0` (docs/theory-mdr.md#p6-the-apex-at-zero). Interpolated by cubic Hermite
 /// polynomials with second-order three-point slopes.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ProfileTable {
@@ -274,7 +274,7 @@ impl ProfileTable {
     /// `f'(0⁺)` from the interpolant, or 0 when it is below [`Self::APEX_SLOPE_FLOOR`] times the
     /// table's mean slope `f(r_max)/r_max`: a smooth apex sampled in a table gives a slope estimate
     /// of the size of the interpolation error (`O(h²)` times the third derivative), which the
-    /// conical split would turn into a spurious infinite pressure at the apex (spec §7 P5).
+    /// conical split would turn into a spurious infinite pressure at the apex (docs/theory-mdr.md#p5-conical-profiles).
     pub fn slope_at_origin(&self) -> f64 {
         let mean = (self.f[self.f.len() - 1] / self.max_radius()).abs();
         if self.slope[0].abs() <= Self::APEX_SLOPE_FLOOR * mean {

@@ -5,7 +5,7 @@ use crate::{analytic, Backend, DisplacementMethod, DisplacementTransform, Materi
 use crate::{SquaredGrid, StressTransform};
 
 /// Eq. 19 mean relative error of Eq. 17 on the Eq. 18 pair `q = 1 − x⁴` (a = L = 1, M = N),
-/// excluding the edge node where `σ* = 0` (spec §3).
+/// excluding the edge node where `σ* = 0` (docs/theory-mdr.md#stress-transform).
 pub fn stress_transform_error(n: usize, backend: Backend) -> Result<f64, MdrError> {
     let grid = SquaredGrid::new(n, 1.0)?;
     let q: Vec<f64> = (0..n).map(|i| 1.0 - grid.squared(i).powi(2)).collect();
@@ -21,7 +21,7 @@ pub fn stress_transform_error(n: usize, backend: Backend) -> Result<f64, MdrErro
     Ok(sum / (n - 1) as f64)
 }
 
-/// Max error of the displacement transform on Hertz (spec §2 test 2: R = 1, a = 0.7, L = 1,
+/// Max error of the displacement transform on Hertz (docs/theory-mdr.md#displacement-transform test 2: R = 1, a = 0.7, L = 1,
 /// `U = a² − x²` on the contact), whole surface. `n − 1` must make `0.49 (n − 1)` an integer for
 /// `a²` to be a node; other `n` use the nearest node.
 pub fn displacement_hertz_error(n: usize, method: DisplacementMethod) -> Result<f64, MdrError> {
@@ -38,7 +38,7 @@ pub fn displacement_hertz_error(n: usize, method: DisplacementMethod) -> Result<
 }
 
 /// Mean relative error (over `j ≥ 1`) of the graded displacement transform on the Eq. 27 pair
-/// `U = x⁴ ↦ u = (1+k)(3+k)/8 r⁴` (L = 1, no cut; spec §4.3).
+/// `U = x⁴ ↦ u = (1+k)(3+k)/8 r⁴` (L = 1, no cut; docs/theory-mdr.md#graded-displacements).
 pub fn graded_quartic_displacement_error(
     n: usize,
     k: f64,

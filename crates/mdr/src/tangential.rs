@@ -235,7 +235,7 @@ fn integrate_dp45(
     x
 }
 
-/// `Λ(k, ν) = m_zz`, the normal compliance in closed form (spec `mdr.md` §4.2, the Green's
+/// `Λ(k, ν) = m_zz`, the normal compliance in closed form (docs/theory-mdr.md#graded-constant-cn, the Green's
 /// function's factor): `(1−ν) 2^k β sin(πβ/2) Γ((3+k+β)/2) Γ((3+k−β)/2) / (cos(πk/2) Γ(k+2)²)`.
 pub fn normal_compliance(k: f64, nu: f64) -> f64 {
     let beta = ((1.0 + k) * (1.0 - k * nu / (1.0 - nu))).sqrt();

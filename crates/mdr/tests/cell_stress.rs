@@ -1,6 +1,6 @@
 //! The line-load → pressure transform with the edge between nodes (`CellStressTransform`, product
 //! integration of Eq. 14/28): exact for a load linear in ξ wherever the edge is, converging for
-//! the quartic pair of spec §4.5, continuous as the edge crosses a node, MVM == FFT, and bad input.
+//! the quartic pair of docs/theory-mdr.md#graded-closed-forms, continuous as the edge crosses a node, MVM == FFT, and bad input.
 
 mod common;
 
@@ -50,7 +50,7 @@ fn a_load_linear_in_xi_is_exact_wherever_the_edge_is() {
 
 #[test]
 fn the_quartic_pair_converges_at_order_one_plus_gamma() {
-    // q = a⁴ − x⁴ ↦ spec §4.5's graded quartic pressure; a = 1 sits inside a cell (θ ≠ 1).
+    // q = a⁴ − x⁴ ↦ the graded quartic pressure of docs/theory-mdr.md#graded-closed-forms; a = 1 sits inside a cell (θ ≠ 1).
     for k in [-0.5, 0.0, 0.5] {
         let mut errors = Vec::new();
         let sizes = [251, 501, 1001, 2001];

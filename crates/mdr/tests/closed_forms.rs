@@ -1,5 +1,5 @@
-//! Spec §1 closed forms through the contact solver (N = 2001 unless said), spec §3 Eq. 18 and its
-//! convergence table, spec §2 tests 1–2. Every tolerance is the measured error of this
+//! docs/theory-mdr.md#profile-transform closed forms through the contact solver (N = 2001 unless said), docs/theory-mdr.md#stress-transform Eq. 18 and its
+//! convergence table, docs/theory-mdr.md#displacement-transform tests 1–2. Every tolerance is the measured error of this
 //! discretization with a margin of at most 2×, and the spec's own numbers where it gives them.
 
 mod common;
@@ -13,7 +13,7 @@ fn solver(n: usize, backend: Backend) -> ContactSolver {
 
 #[test]
 fn sphere_is_reproduced_to_rounding_by_depth_and_by_force() {
-    // The parabolic split of the profile transform makes a paraboloid exact (spec §7 P4 remedied),
+    // The parabolic split of the profile transform makes a paraboloid exact (docs/theory-mdr.md#p4-the-origin remedied),
     // so Hertz is reproduced to rounding, as the spec says of Eq. 17 with exact g.
     for backend in [Backend::Fft, Backend::Mvm] {
         let mut s = solver(2001, backend);
@@ -41,8 +41,8 @@ fn sphere_is_reproduced_to_rounding_by_depth_and_by_force() {
 
 #[test]
 fn cone_depth_force_and_pressure() {
-    // Reference numbers of spec §1: tan θ = 0.1, a = 0.5: δ = 0.0785398, F = 0.0392699,
-    // p(0.25) = 0.0658479. The conical part is transformed in closed form (spec §7 P5).
+    // Reference numbers of docs/theory-mdr.md#profile-transform: tan θ = 0.1, a = 0.5: δ = 0.0785398, F = 0.0392699,
+    // p(0.25) = 0.0658479. The conical part is transformed in closed form (docs/theory-mdr.md#p5-conical-profiles).
     let mut s = solver(2001, Backend::Fft);
     let sol = s
         .solve(
@@ -92,7 +92,7 @@ fn flat_punch_force_pressure_and_displacement() {
 
 #[test]
 fn power_laws_n3_n4_and_their_convergence() {
-    // Spec §1: n = 3: δ = 0.2945243, F = 0.2208932; n = 4: δ = 0.1666667, F = 0.1333333 (a = 0.5).
+    // docs/theory-mdr.md#profile-transform: n = 3: δ = 0.2945243, F = 0.2208932; n = 4: δ = 0.1666667, F = 0.1333333 (a = 0.5).
     // r³ is split off in closed form (exact to rounding); r⁴ at N = 2001: |Δa/a| = 1.4e-6.
     let cases = [
         (3.0, 0.294_524_311_274_043_1, 0.220_893_233_455_532_3),
@@ -156,7 +156,7 @@ fn power_laws_n3_n4_and_their_convergence() {
 
 #[test]
 fn eq18_table_and_order_three_halves() {
-    // Spec §3 table (a = L = 1, M = N): ε = 5.30e-4, 1.78e-5, 6.36e-6, 5.76e-7 for
+    // docs/theory-mdr.md#stress-transform table (a = L = 1, M = N): ε = 5.30e-4, 1.78e-5, 6.36e-6, 5.76e-7 for
     // N = 101, 1001, 2001, 10001. The error is the trapezoid rule's, O(h^{3/2}).
     let table = [
         (101usize, 5.30e-4),
@@ -195,8 +195,8 @@ fn eq18_table_and_order_three_halves() {
 
 #[test]
 fn eq7_alone_reproduces_the_spec_accuracy_table() {
-    // Spec §1: raw Eq. 7 on the sphere (L = 1): max|g − g*| = 1.46e-3, 1.46e-4, 7.3e-5 at
-    // N = 101, 1001, 2001 — O(1/N), from the first nodes (spec §7 P4).
+    // docs/theory-mdr.md#profile-transform: raw Eq. 7 on the sphere (L = 1): max|g − g*| = 1.46e-3, 1.46e-4, 7.3e-5 at
+    // N = 101, 1001, 2001 — O(1/N), from the first nodes (docs/theory-mdr.md#p4-the-origin).
     for (n, want) in [(101usize, 1.46e-3), (1001, 1.46e-4), (2001, 7.3e-5)] {
         let grid = SquaredGrid::new(n, 1.0).unwrap();
         let mut t =

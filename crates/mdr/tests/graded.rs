@@ -1,4 +1,4 @@
-//! Power-law graded media (spec §4): c_N-based relations, graded Hertz, Eq. 27 and Eq. 29
+//! Power-law graded media (docs/theory-mdr.md#graded-media): c_N-based relations, graded Hertz, Eq. 27 and Eq. 29
 //! convergence, MVM == FFT over k, the force of Eq. 28 integrated over the area, k = 0 against the
 //! homogeneous medium, and finite-difference checks.
 
@@ -54,7 +54,7 @@ fn graded_hertz_table_of_spec_section_4_5() {
                 .map(|&r| analytic::graded_sphere_pressure(r, a_exact, 1.0, c_n, k))
                 .collect();
             assert!(relative_max_norm(&sol.pressure, &p) < 1e-6);
-            // Inside the contact u = δ − f exactly (spec §4.3).
+            // Inside the contact u = δ − f exactly (docs/theory-mdr.md#graded-displacements).
             for j in 0..=sol.edge_index {
                 let r = sol.grid.coordinate(j);
                 let want = 0.01 - r * r / 2.0;
@@ -129,7 +129,7 @@ fn graded_hertz_displacement_outside_the_contact_against_quadrature() {
             // Measured: k = −0.5: 1.7e-7/5.4e-8/1.7e-8 (Eq. 26), 7.0e-7/2.2e-7/6.7e-8 (Eq. 25);
             // k = 0.5: 1.0e-4/4.4e-5/1.8e-5 (Eq. 26), 1.4e-4/5.9e-5/2.5e-5 (Eq. 25). Both at the
             // order (3 − k)/2 of the trapezoid rule against the (ρ − ξ)^{(1−k)/2} end of the kernel
-            // (spec §7 P1): 1.70 and 1.25.
+            // (docs/theory-mdr.md#p1-singular-kernels): 1.70 and 1.25.
             let bound = if k < 0.0 { 5e-7 } else { 1e-4 };
             assert!(errors[1] < bound, "k={k} {backend:?}: {errors:?}");
             assert!(
@@ -215,7 +215,7 @@ fn eq29_quartic_errors_of_spec_section_4_5() {
                     "k={k} {backend:?}: {errors:?} vs spec {spec:?}"
                 );
             }
-            // Order (3 ± k)/2 of the trapezoid rule against (ξ − ρ)^{(1+k)/2} (spec §7 P1).
+            // Order (3 ± k)/2 of the trapezoid rule against (ξ − ρ)^{(1+k)/2} (docs/theory-mdr.md#p1-singular-kernels).
             let order = observed_order(&ns, &errors);
             assert!(
                 (order - 0.5 * (3.0 + k)).abs() < 0.15,
@@ -397,7 +397,7 @@ proptest! {
     }
 
     /// ∫ p dA = 2π ∫_0^a p r dr (Eq. 28 integrated over the area) equals the macroscopic force of
-    /// §4.2. The area integral is a trapezoid rule in ρ on the pressure grid whose integrand ends
+    /// docs/theory-mdr.md#graded-constant-cn. The area integral is a trapezoid rule in ρ on the pressure grid whose integrand ends
     /// like (a² − ρ)^{(1+k)/2}: its error is O(h^{(3+k)/2}), ≤ 1e-4 relative at N = 2001 for k ≥ −0.9.
     #[test]
     fn area_integral_of_pressure_equals_the_force(k in -0.9..0.9f64, c1 in 0.2..2.0f64, c2 in 0.0..1.0f64, delta in 0.02..0.3f64) {

@@ -1,5 +1,5 @@
 //! Invariants as property tests (proptest, fixed case counts) and finite-difference checks of the
-//! analytic derivatives of the macroscopic relations (spec §1).
+//! analytic derivatives of the macroscopic relations (docs/theory-mdr.md#profile-transform).
 
 mod common;
 
@@ -31,7 +31,7 @@ fn lcg_vec(seed: u64, n: usize) -> Vec<f64> {
 proptest! {
     #![proptest_config(ProptestConfig { cases: 48, rng_seed: proptest::test_runner::RngSeed::Fixed(11), ..ProptestConfig::default() })]
 
-    /// Spec §7 P7: MVM and FFT evaluate the same sums and agree to ~1e-12 relative (max norm).
+    /// docs/theory-mdr.md#p7-fft-details: MVM and FFT evaluate the same sums and agree to ~1e-12 relative (max norm).
     #[test]
     fn fft_and_mvm_agree_on_every_transform(
         n in 8usize..3000,
@@ -121,7 +121,7 @@ proptest! {
     ) {
         let profile = table_profile(s0, [c1, c2, 0.0], 401);
         // The depth is drawn through the contact radius a₁ of the quadratic term alone
-        // (δ = g(a₁) = 2c₁a₁² for f = c₁r², spec §1): the other terms only shrink the contact, so
+        // (δ = g(a₁) = 2c₁a₁² for f = c₁r², docs/theory-mdr.md#profile-transform): the other terms only shrink the contact, so
         // a(δ·ratio) ≤ a₁√2 < 1.7 stays inside the table on [0, 2]. Drawing δ directly let
         // c₁ = 0.05, δ = 0.45 put the edge at 2.1, outside the table (a CI failure, not a bug).
         let d1 = 2.0 * c1 * a1 * a1;
@@ -144,7 +144,7 @@ proptest! {
     }
 }
 
-/// Finite-difference checks of spec §1: dF/dδ = 2E* a and dF/da = 2E* a g'(a), against central
+/// Finite-difference checks of docs/theory-mdr.md#profile-transform: dF/dδ = 2E* a and dF/da = 2E* a g'(a), against central
 /// differences of the solver's own outputs. Step ε = 1e-4 δ: the truncation error of the central
 /// difference is O(ε²) ≈ 1e-8 relative, rounding ~1e-16/1e-4 = 1e-12; what remains is the
 /// variation of the discretization error with δ (measured ≤ 2e-6 relative for r³ at N = 2001).

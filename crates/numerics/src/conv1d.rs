@@ -3,7 +3,7 @@
 //! for (the first `m` outputs of a causal convolution depend only on the first `m` inputs).
 //!
 //! Two backends evaluate the *same* sum (design.md: they agree to rounding):
-//! * [`Backend::Fft`]: zero-padded to a 5-smooth length `P ≥ 2n − 1` (spec §7 P7: without the
+//! * [`Backend::Fft`]: zero-padded to a 5-smooth length `P ≥ 2n − 1` (docs/theory-mdr.md#p7-fft-details: without the
 //!   padding the product is circular), kernel spectrum computed once, `apply` allocation-free;
 //!   O(P log P).
 //! * [`Backend::Mvm`]: the lower-triangular Toeplitz matrix–vector product, O(m²), with four

@@ -1,4 +1,4 @@
-//! DC-FFT (Liu, Wang & Liu 2000; spec `sam.md` §2): linear (non-periodic) 2D convolution
+//! DC-FFT (Liu, Wang & Liu 2000; docs/theory-sam.md#dc-fft): linear (non-periodic) 2D convolution
 //! `u_ij = Σ_{k,l} K_{i−k, j−l} p_kl` on an `N₁ × N₂` grid, for block operators (`n_out × n_in`
 //! kernels: the 2 × 2 tangential compliance, …). The kernel is laid out on a `2N₁ × 2N₂` array with
 //! offsets `−(N−1)..N−1` and the `N`-th row and column zero, transformed once; inputs are

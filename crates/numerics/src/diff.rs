@@ -1,13 +1,13 @@
-//! Second-order finite differences on a uniform grid (spec `mdr.md` §0.2):
+//! Second-order finite differences on a uniform grid (docs/theory-mdr.md#finite-differences):
 //!
 //! `D[y]_0 = (−3y_0 + 4y_1 − y_2)/(2h)`, `D[y]_i = (y_{i+1} − y_{i−1})/(2h)`,
 //! `D[y]_{n−1} = (3y_{n−1} − 4y_{n−2} + y_{n−3})/(2h)` — `numpy.gradient(y, h, edge_order=2)`.
 //!
-//! Always differentiate arrays cut at a kink (the contact edge), never across it (spec §7 P3).
+//! Always differentiate arrays cut at a kink (the contact edge), never across it (docs/theory-mdr.md#p3-one-sided-differences-at-the-edge).
 
 use crate::NumericsError;
 
-/// Writes `D[y]` (spec §0.2) into `out`. Needs `y.len() == out.len() ≥ 3`; with 2 nodes the
+/// Writes `D[y]` (docs/theory-mdr.md#finite-differences) into `out`. Needs `y.len() == out.len() ≥ 3`; with 2 nodes the
 /// first-order difference is used on both, with 1 node the derivative is 0.
 pub fn derivative_uniform(y: &[f64], h: f64, out: &mut [f64]) -> Result<(), NumericsError> {
     let n = y.len();

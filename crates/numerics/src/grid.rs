@@ -1,4 +1,4 @@
-//! The grid uniform in the square of the coordinate (spec `mdr.md` §0.1, paper Eq. 6):
+//! The grid uniform in the square of the coordinate (docs/theory-mdr.md#squared-grid, paper Eq. 6):
 //! `ξ_i = i h`, `x_i = √(i h)`, `h = L²/(N−1)`, `i = 0..N−1` (zero-based).
 
 use crate::NumericsError;
@@ -30,7 +30,7 @@ impl SquaredGrid {
     }
 
     /// Grid of `n` nodes whose node `index` (zero-based) lies exactly at `x = radius`:
-    /// `h = radius²/index`. Used to put the contact edge `a² = (M−1)h` on a node (spec §1).
+    /// `h = radius²/index`. Used to put the contact edge `a² = (M−1)h` on a node (docs/theory-mdr.md#profile-transform).
     pub fn with_node_at(n: usize, radius: f64, index: usize) -> Result<Self, NumericsError> {
         check_n(n)?;
         if index == 0 || index >= n {

@@ -6,7 +6,7 @@
 //!   `x`). Stops when `‖b − A x‖ / ‖b‖ < tol`.
 //! * [`richardson`]: the preconditioned Richardson iteration `x ← x + M⁻¹ (b − A x)`. With the block
 //!   matrix of the exact self term as `M` this is the block-Jacobi scheme of the equivalent inclusion
-//!   method (spec `sam.md` §5.6). Stops when `max|Δx| / max|x| < tol`; stops with an error, not a
+//!   method (docs/theory-sam.md#solving-the-eim-equations). Stops when `max|Δx| / max|x| < tol`; stops with an error, not a
 //!   hang, when the iteration diverges.
 //!
 //! Both take a warm start in `x`, never print, and return what they did ([`KrylovInfo`]) or

@@ -1,4 +1,4 @@
-//! Layered 3D DC-FFT (spec `sam.md` §5.5): fields on a stack of layers of `N₁ × N₂` cells that share
+//! Layered 3D DC-FFT (docs/theory-sam.md#layered-operators): fields on a stack of layers of `N₁ × N₂` cells that share
 //! the surface lattice, at depths `x₃ = z Δ₃` with integer depth keys `z` (a layer of cubes of side
 //! `2Δ₃` centred at `(2k + 1)Δ₃` has `z = 2k + 1`; the surface has `z = 0`). The output at target
 //! layer `a` is
@@ -144,7 +144,7 @@ pub struct LayeredSpectra {
 
 /// The layered operator on one contiguous stack of `L` layers (targets = sources, depth keys
 /// `z₀ + 2b`), with the sums over source layers done by a length-`P = 2L` FFT in depth, per in-plane
-/// frequency (spec §5.5, "3D DC-FFT / DC-FFT-CC", Liu & Wang 2005): the difference family is a
+/// frequency (docs/theory-sam.md#layered-operators, "3D DC-FFT / DC-FFT-CC", Liu & Wang 2005): the difference family is a
 /// Toeplitz product in `a − b` (a linear convolution, zero-padded to `P`); the sum family a Hankel
 /// product in `a + b`, i.e. a Toeplitz product with the source order reversed, whose depth spectrum
 /// is the input's at `−ω` times a phase folded into the stored kernel. `O(P log P + P·blocks)` per

@@ -3,9 +3,9 @@
 //! * [`conv1d`]: zero-padded linear convolution by real FFT, planned once and applied without
 //!   allocating, with a dense (O(N²)) twin that evaluates the same sum.
 //! * [`power_sum`]: the causal and anti-causal trapezoid sums with the kernel `m^γ` of
-//!   spec `mdr.md` §0.3, the single engine behind every MDR transform.
-//! * [`grid`]: the grid uniform in the square of the coordinate (spec §0.1, paper Eq. 6).
-//! * [`diff`]: second-order finite differences, one-sided at both ends (spec §0.2).
+//!   docs/theory-mdr.md#power-sums, the single engine behind every MDR transform.
+//! * [`grid`]: the grid uniform in the square of the coordinate (docs/theory-mdr.md#squared-grid, paper Eq. 6).
+//! * [`diff`]: second-order finite differences, one-sided at both ends (docs/theory-mdr.md#finite-differences).
 //! * [`quad`]: trapezoid rules on uniform grids.
 //! * [`fft2d`]: the one real 2D FFT core (padded for DC-FFT, periodic for circulants), plans cached
 //!   by shape, one core shared by the operators of one owner.

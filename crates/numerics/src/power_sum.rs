@@ -1,4 +1,4 @@
-//! The two convolution primitives of spec `mdr.md` §0.3 with the kernel `b_m = m^γ`, `γ > 0`
+//! The two convolution primitives of docs/theory-mdr.md#power-sums with the kernel `b_m = m^γ`, `γ > 0`
 //! (so `b_0 = 0`), evaluated by one [`ToeplitzConvolution`] (FFT or MVM).
 //!
 //! * Causal sum (Eqs. 7, 13, 23, 26): `S_i[a] = ½ a_0 i^γ + Σ_{j=1}^{i−1} a_j (i−j)^γ`
@@ -9,7 +9,7 @@
 
 use crate::{Backend, NumericsError, ToeplitzConvolution};
 
-/// Causal and anti-causal trapezoid sums with the kernel `m^γ` (spec §0.3), for inputs of any
+/// Causal and anti-causal trapezoid sums with the kernel `m^γ` (docs/theory-mdr.md#power-sums), for inputs of any
 /// length up to the capacity. Owns its scratch; applying does not allocate.
 pub struct PowerSum {
     gamma: f64,
@@ -57,7 +57,7 @@ impl PowerSum {
         self.conv.backend()
     }
 
-    /// Causal sum `S_i[a] = Σ_{j=0}^{i} ã_j (i−j)^γ`, `ã_0 = a_0/2`, `ã_j = a_j` (spec §0.3).
+    /// Causal sum `S_i[a] = Σ_{j=0}^{i} ã_j (i−j)^γ`, `ã_0 = a_0/2`, `ã_j = a_j` (docs/theory-mdr.md#power-sums).
     pub fn causal(&mut self, a: &[f64], out: &mut [f64]) -> Result<(), NumericsError> {
         let m = self.check(a.len(), out.len())?;
         if m == 0 {
@@ -73,7 +73,7 @@ impl PowerSum {
     }
 
     /// Anti-causal sum `A_j[c] = Σ_{i=j}^{M−1} c̃_i (i−j)^γ`, `c̃_{M−1} = c_{M−1}/2`, `M = c.len()`
-    /// (spec §0.3); `A_{M−1} = 0` and `A_{M−2} = c_{M−1}/2`.
+    /// (docs/theory-mdr.md#power-sums); `A_{M−1} = 0` and `A_{M−2} = c_{M−1}/2`.
     pub fn anticausal(&mut self, c: &[f64], out: &mut [f64]) -> Result<(), NumericsError> {
         let m = self.check(c.len(), out.len())?;
         if m == 0 {
@@ -117,7 +117,7 @@ impl PowerSum {
 mod tests {
     use super::*;
 
-    /// Spec §0.3 written out literally (one-based in the spec, zero-based here).
+    /// docs/theory-mdr.md#power-sums written out literally (one-based in the spec, zero-based here).
     fn causal_literal(a: &[f64], gamma: f64) -> Vec<f64> {
         (0..a.len())
             .map(|i| {

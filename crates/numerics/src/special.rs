@@ -1,5 +1,5 @@
 //! Special functions: Γ and ln Γ (Lanczos, g = 7, 9 terms; relative error ~1e-15 on the real
-//! axis), 1/Γ, and the Gauss hypergeometric function ₂F₁ for real arguments (spec §4.3, §7 P12).
+//! axis), 1/Γ, and the Gauss hypergeometric function ₂F₁ for real arguments (docs/theory-mdr.md#graded-displacements, docs/theory-mdr.md#p12-special-functions).
 
 use std::f64::consts::PI;
 
@@ -85,7 +85,7 @@ pub fn incomplete_beta(p: f64, q: f64, z: f64) -> Result<f64, NumericsError> {
 const SERIES_MAX_TERMS: usize = 100_000;
 
 /// Gauss hypergeometric function `₂F₁(a, b; c; z) = Σ (a)_n (b)_n / ((c)_n n!) zⁿ` for real
-/// arguments and `z ≤ 1` (spec §4.3: the kernel `H(y; k)` of Eq. 25 needs `0 ≤ y ≤ 1`).
+/// arguments and `z ≤ 1` (docs/theory-mdr.md#graded-displacements: the kernel `H(y; k)` of Eq. 25 needs `0 ≤ y ≤ 1`).
 ///
 /// * `|z| ≤ 1/2`: the series.
 /// * `−1 ≤ z < −1/2`, `z < −1`: Pfaff, `₂F₁(a,b;c;z) = (1−z)^{−a} ₂F₁(a, c−b; c; z/(z−1))`.
@@ -278,7 +278,7 @@ mod tests {
                 assert!((v / want - 1.0).abs() < 1e-13, "z={z}: {v} vs {want}");
             }
         }
-        // Gauss at z = 1: ₂F₁(a, a; a+1; 1) = Γ(a+1)Γ(1−a) (spec §7 P12).
+        // Gauss at z = 1: ₂F₁(a, a; a+1; 1) = Γ(a+1)Γ(1−a) (docs/theory-mdr.md#p12-special-functions).
         for a in [0.1, 0.5, 0.9] {
             let v = hyp2f1(a, a, a + 1.0, 1.0).unwrap();
             let want = gamma(a + 1.0) * gamma(1.0 - a);

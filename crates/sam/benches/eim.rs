@@ -1,6 +1,6 @@
 //! The equivalent inclusion method: one application of the layered EIM field operator (8 layers,
-//! the whole grid as the window) and the whole frictionless contact with the stiff sphere of spec
-//! §7.6 (E_I = 2E, r = 0.3a at depth 0.5a) on 64² and 128² grids over 4a.
+//! the whole grid as the window) and the whole frictionless contact with the stiff sphere of
+//! docs/theory-sam.md#inhomogeneity-references (E_I = 2E, r = 0.3a at depth 0.5a) on 64² and 128² grids over 4a.
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};

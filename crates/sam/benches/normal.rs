@@ -1,6 +1,6 @@
 //! Frictionless Hertz by DC-FFT + Polonsky–Keer (tolerance 1e-10), grids 128²…512²: one full solve
 //! from a cold start per iteration of the benchmark (operator planned beforehand), the plain
-//! iteration of spec §3 and the accelerated default (|k| preconditioner, one product per
+//! iteration of docs/theory-sam.md#normal-contact and the accelerated default (|k| preconditioner, one product per
 //! iteration, nested grids) side by side.
 use std::time::Duration;
 

@@ -1,4 +1,4 @@
-//! Cattaneo–Mindlin 128² (spec §7.2; rigid sphere on steel, W = 80 mN, μ = 0.3, Q/μP = 0.6), one
+//! Cattaneo–Mindlin 128² (docs/theory-sam.md#cattaneo-mindlin-reference; rigid sphere on steel, W = 80 mN, μ = 0.3, Q/μP = 0.6), one
 //! tangential solve from a cold start per benchmark iteration: FISTA and the active-set method
 //! side by side (issue 10). The pressure is solved once beforehand.
 use std::time::Duration;

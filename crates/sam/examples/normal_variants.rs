@@ -40,7 +40,7 @@ fn main() {
             .collect();
         let plain = NormalParams::plain();
         for (name, params) in [
-            ("plain (spec §3)", plain),
+            ("plain (docs/theory-sam.md#normal-contact)", plain),
             (
                 "one product per iteration",
                 NormalParams {

@@ -1,4 +1,4 @@
-//! The surface grid: `N₁ × N₂` cells of size `2Δ₁ × 2Δ₂`, centred on the origin (spec §0).
+//! The surface grid: `N₁ × N₂` cells of size `2Δ₁ × 2Δ₂`, centred on the origin (docs/theory-sam.md#conventions).
 
 use crate::error::positive;
 use crate::SamError;

@@ -1,4 +1,4 @@
-//! 3D semi-analytical contact of elastic half-spaces (spec `sam.md`; Leroux & Nélias 2011), one
+//! 3D semi-analytical contact of elastic half-spaces (docs/theory-sam.md; Leroux & Nélias 2011), one
 //! module per family: influence coefficients and the volume kernels ([`kernels`]), the
 //! Polonsky–Keer normal solver ([`normal`]), the stick–slip tangential solver ([`tangential`]),
 //! the contact problem with its Panagiotopoulos coupling, force control and inhomogeneities
@@ -6,7 +6,7 @@
 //! the drivers of the front ends ([`drivers`]) and the closed forms the tests compare with
 //! ([`analytic`]).
 //!
-//! Conventions (spec §0): body 2 is the half-space `x₃ ≥ 0` (depth), body 1 the indenter; tractions
+//! Conventions (docs/theory-sam.md#conventions): body 2 is the half-space `x₃ ≥ 0` (depth), body 1 the indenter; tractions
 //! are those of body 1 on body 2 (`p ≥ 0` compressive, `q` along `+x_α`); displacements of body 2,
 //! two-body quantities relative. SI units.
 #![forbid(unsafe_code)]

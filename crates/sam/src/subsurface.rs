@@ -1,10 +1,10 @@
-//! The stress field below the surface (spec §5.3–5.5): at the centres of the cubic cells under
+//! The stress field below the surface (docs/theory-sam.md#mirror-image-and-correction-pressure to #layered-operators): at the centres of the cubic cells under
 //! every surface cell, from the surface down to a given depth,
 //!
 //! `ε = ε⁰[p + p_c, q] + ε⁽¹⁾[ε*] + ε⁽²⁾[ε*]`, `σ = C_m : ε` in the matrix, `σ = C_I : ε` in an
 //! inhomogeneity cell,
 //!
-//! where `ε⁰` are Love's rectangle strains of the surface tractions (spec §5.4) — with the
+//! where `ε⁰` are Love's rectangle strains of the surface tractions (docs/theory-sam.md#love-rectangle-stresses) — with the
 //! correction pressure `p_c` of the eigenstrains added to `p` (field (3)) — and `ε⁽¹⁾ + ε⁽²⁾` the
 //! cuboid eigenstrains in infinite space and their mirror images. The layered products are streamed
 //! key by key ([`halfspace_numerics::layered::accumulate_streamed`]): a deep field needs no stored
@@ -305,8 +305,8 @@ pub type EigenSources<'a> = (&'a InclusionSet, &'a [f64], &'a [f64]);
 /// The stress at arbitrary points `(x₁, x₂, depth > 0)` by direct summation (the twin of
 /// [`subsurface_stress`] at the cell centres, and the evaluation off the lattice for reference
 /// fixtures): Love's rectangle stresses of the piecewise-constant tractions `p + p_c` (and `q`) on
-/// the grid cells (spec §5.4), `σ⁰(x) = Σ_c p_c Σ^p(x − x_c) + q₁,c Σ^{q₁} + q₂,c Σ^{q₂}`, plus, with
-/// `eigen`, the strain of every inclusion cuboid and its mirror image (spec §5.2–5.3),
+/// the grid cells (docs/theory-sam.md#love-rectangle-stresses), `σ⁰(x) = Σ_c p_c Σ^p(x − x_c) + q₁,c Σ^{q₁} + q₂,c Σ^{q₂}`, plus, with
+/// `eigen`, the strain of every inclusion cuboid and its mirror image (docs/theory-sam.md#cuboid-in-infinite-space to #mirror-image-and-correction-pressure),
 /// `ε^d(x) = Σ_b D(x − x_b) ε*_b + D(x − x̄_b) ε*ˢ_b`; `σ = C : (C_m⁻¹ σ⁰ + ε^d)` with `C` the
 /// stiffness of the cell the point lies in. O(cells) per point.
 pub fn stress_at_points(

@@ -1,4 +1,4 @@
-//! Cattaneo–Mindlin with the coupling off (spec §7.2): rigid sphere on steel, Hertz data of §7.1,
+//! Cattaneo–Mindlin with the coupling off (docs/theory-sam.md#cattaneo-mindlin-reference): rigid sphere on steel, Hertz data of docs/theory-sam.md#hertz-reference,
 //! 128² over 4a (2Δ = a/32), the shift D₁ prescribed at the Cattaneo–Mindlin value.
 #![allow(clippy::needless_range_loop)]
 
@@ -11,7 +11,7 @@ const R: f64 = 105e-6;
 const W: f64 = 0.08;
 const MU: f64 = 0.3;
 
-/// The case of spec §7.2 on 128² over 4a: the grid, the (uncoupled) compliance, the friction
+/// The case of docs/theory-sam.md#cattaneo-mindlin-reference on 128² over 4a: the grid, the (uncoupled) compliance, the friction
 /// bound μp of the Hertz pressure, and a, p₀ and the Cattaneo–Mindlin compliance K.
 struct Case {
     grid: SurfaceGrid,

@@ -1,5 +1,5 @@
 //! The equivalent inclusion method: layered operators against their dense twin, the solvers on
-//! both and against a direct LU solve, Eshelby's sphere and Mindlin–Cheng's nucleus (spec §7.5).
+//! both and against a direct LU solve, Eshelby's sphere and Mindlin–Cheng's nucleus (docs/theory-sam.md#kernel-reference-values).
 #![allow(clippy::needless_range_loop)]
 
 use faer::linalg::solvers::Solve;
@@ -193,7 +193,7 @@ fn eshelby_sphere(
 #[test]
 fn eshelby_sphere_by_cuboids_matches_spec_and_converges() {
     let remote = [-NU / E, -NU / E, 1.0 / E, 0.0, 0.0, 0.0];
-    // Spec §7.5: radius 3/5/6 cells (136/552/912 cells): mean σ₃₃ = 1.3128/1.3177/1.3165,
+    // docs/theory-sam.md#kernel-reference-values: radius 3/5/6 cells (136/552/912 cells): mean σ₃₃ = 1.3128/1.3177/1.3165,
     // mean σ₁₁ = −0.0365/−0.0391/−0.0389; exact 1.3150 / −0.0398.
     let exact = eshelby_sphere_interior_stress(E, NU, 2.0 * E, NU, &remote);
     let mut errors = Vec::new();
@@ -391,7 +391,7 @@ fn correction_pressure_integral(n: usize) -> f64 {
 #[test]
 fn correction_pressure_integral_vanishes_as_the_domain_grows() {
     // p_c ~ r⁻³, so the truncated integral decays like 1/L: halves when the domain doubles.
-    // Spec §7.5: −0.01 eV at ±128 (depth 8); here at ±16 … ±128.
+    // docs/theory-sam.md#kernel-reference-values: −0.01 eV at ±128 (depth 8); here at ±16 … ±128.
     let values: Vec<f64> = [32, 64, 128, 256]
         .iter()
         .map(|&n| correction_pressure_integral(n))
@@ -463,7 +463,7 @@ fn bad_inhomogeneities_are_refused_with_the_reason() {
 
 #[test]
 fn voids_solve_by_gmres_and_block_jacobi_reports_divergence() {
-    // E_I = 0: spec §5.6 — block Jacobi's spectral radius is 1.54 (diverges), GMRES is slow but
+    // E_I = 0: docs/theory-sam.md#solving-the-eim-equations — block Jacobi's spectral radius is 1.54 (diverges), GMRES is slow but
     // converges; neither hangs.
     let err = eshelby_sphere(3, 0.0, EimMethod::BlockJacobi).unwrap_err();
     // Reported as soon as the steps have grown a thousandfold, not at the iteration limit.

@@ -1,4 +1,4 @@
-//! Polonsky–Keer normal contact against Hertz (spec §7.1): R = 105 μm, E = 210 GPa, ν = 0.3,
+//! Polonsky–Keer normal contact against Hertz (docs/theory-sam.md#hertz-reference): R = 105 μm, E = 210 GPa, ν = 0.3,
 //! W = 80 mN (a = 3.0111 μm, p0 = 4213 MPa), domain 4a.
 #![allow(clippy::needless_range_loop)]
 
@@ -74,7 +74,7 @@ fn solve(n: usize, load: NormalLoad) -> (Run, f64, f64) {
 
 #[test]
 fn hertz_under_load_control_and_its_convergence() {
-    // Spec §7.1 (domain 4a): p_max/p0 = 0.99913/0.99979/0.99995, δ/δ_H = 0.99977/0.99995/0.99999,
+    // docs/theory-sam.md#hertz-reference (domain 4a): p_max/p0 = 0.99913/0.99979/0.99995, δ/δ_H = 0.99977/0.99995/0.99999,
     // L2 = 0.91/0.45/0.22 %, iterations 47/64/87 at 64²/128²/256².
     let mut l2 = Vec::new();
     for n in [64usize, 128, 256] {
@@ -101,7 +101,7 @@ fn hertz_under_load_control_and_its_convergence() {
                 run.delta_ratio
             );
         }
-        // Spec §3: 47/64/87 iterations; measured 40/53/71 (the first step from a uniform start).
+        // docs/theory-sam.md#normal-contact: 47/64/87 iterations; measured 40/53/71 (the first step from a uniform start).
         let spec = match n {
             64 => 47,
             128 => 64,

@@ -1,4 +1,4 @@
-//! Frictionless contact with a spherical inhomogeneity under the contact centre (spec §7.6, a
+//! Frictionless contact with a spherical inhomogeneity under the contact centre (docs/theory-sam.md#inhomogeneity-references, a
 //! Leroux–Fulleringer–Nélias-2010-type case): rigid sphere R = 105 μm on E = 210 GPa, ν = 0.3,
 //! W = 80 mN; inhomogeneity radius 0.3a, centre depth 0.5a, same ν.
 
@@ -46,7 +46,7 @@ fn run(cells_per_a: usize, ratio: f64) -> Outcome {
     solve_with(grid, &[sphere_under_contact(ratio)])
 }
 
-/// The spec §7.6 sphere: radius 0.3a, centre 0.5a below the contact centre, `E_I = ratio · E`.
+/// The docs/theory-sam.md#inhomogeneity-references sphere: radius 0.3a, centre 0.5a below the contact centre, `E_I = ratio · E`.
 fn sphere_under_contact(ratio: f64) -> Inhomogeneity {
     let (a, _, _) = hertz();
     Inhomogeneity {
@@ -120,7 +120,7 @@ fn homogeneous_on(grid: SurfaceGrid) -> (f64, f64) {
 #[test]
 fn stiff_and_soft_spheres_under_hertz_contact_match_the_spec_reference() {
     let (_, p0, _) = hertz();
-    // Spec §7.6 at 2Δ = a/16: stiff p_max/p0 = 1.277 at the centre, area ×1.000, δ ×0.994;
+    // docs/theory-sam.md#inhomogeneity-references at 2Δ = a/16: stiff p_max/p0 = 1.277 at the centre, area ×1.000, δ ×0.994;
     // soft p(0)/p0 = 0.753, p_max/p0 = 0.905 (a ring), area ×1.010, δ ×1.006.
     let (area_h, delta_h) = homogeneous(16);
     let stiff = run(16, 2.0);
@@ -154,7 +154,7 @@ fn stiff_and_soft_spheres_under_hertz_contact_match_the_spec_reference() {
 
 #[test]
 fn composite_fibres_under_frictionless_hertz_contact_match_the_spec_reproduction() {
-    // [LN11]'s fibres (spec §7.6): along y, r = 0.13a, 4 cells per radius, spacing 3r, axes at
+    // [LN11]'s fibres (docs/theory-sam.md#inhomogeneity-references): along y, r = 0.13a, 4 cells per radius, spacing 3r, axes at
     // depth 1.5r, E_I = 2E; 128² cells. Spec: fibre-centred p_max = 1.175 p₀, area × 0.928,
     // δ = 0.0841 μm, min u₃^eig = −5.4 nm; gap-centred +16.1 %, area × 0.932.
     let (a, p0, _) = hertz();

@@ -1,5 +1,5 @@
 //! Influence matrices: symmetry and reciprocity (proptest), and the DC-FFT operators of the contact
-//! kernels against their dense O(N⁴) control (spec §2).
+//! kernels against their dense O(N⁴) control (docs/theory-sam.md#dc-fft).
 
 use halfspace_numerics::conv2d::{DcFft2d, DenseConvolution2d, GridOperator, KernelFn};
 use halfspace_sam::{Body, Compliance, SurfaceGrid};

@@ -1,4 +1,4 @@
-//! The closed-form kernels of spec §5.2–5.4 against the values of spec §7.5, their identities and
+//! The closed-form kernels of docs/theory-sam.md#cuboid-in-infinite-space to #love-rectangle-stresses against the values of docs/theory-sam.md#kernel-reference-values, their identities and
 //! finite differences.
 #![allow(clippy::needless_range_loop)]
 

@@ -1,5 +1,5 @@
-//! Load paths: the Mindlin–Deresiewicz fretting loop (uncoupled, spec §7.3), tangential force
-//! control (spec §7.2) and the coupled normal loading of the rigid sphere (spec §7.4).
+//! Load paths: the Mindlin–Deresiewicz fretting loop (uncoupled, docs/theory-sam.md#mindlin-deresiewicz-reference), tangential force
+//! control (docs/theory-sam.md#cattaneo-mindlin-reference) and the coupled normal loading of the rigid sphere (docs/theory-sam.md#coupled-loop-reference).
 
 use halfspace_numerics::op::DenseOperators;
 use halfspace_sam::analytic::mindlin;
@@ -59,7 +59,7 @@ fn loop_area(path: &[(f64, f64)]) -> f64 {
 
 #[test]
 fn mindlin_deresiewicz_loop_partial_slip() {
-    // D* = 0.02 μm: Q*/μW = 0.7802, Q(D=0) on unloading = −0.0931 μW, ΔW = 1.195e-10 J (spec §7.3;
+    // D* = 0.02 μm: Q*/μW = 0.7802, Q(D=0) on unloading = −0.0931 μW, ΔW = 1.195e-10 J (docs/theory-sam.md#mindlin-deresiewicz-reference;
     // the spec's 64² run with 40 steps per quarter: max |Q − Q_MD| = 6e-4 μP, ΔW = 1.193e-10 J).
     let mut prob = problem(64, false);
     let d_star = 0.02e-6;
@@ -115,7 +115,7 @@ fn mindlin_deresiewicz_loop_partial_slip() {
 
 #[test]
 fn mindlin_deresiewicz_loop_with_gross_slip() {
-    // D* = 0.04 μm (spec §7.3, [LN11]): gross slip from 0.03146 μm; unloading Q/μP = +0.127 at
+    // D* = 0.04 μm (docs/theory-sam.md#mindlin-deresiewicz-reference, [LN11]): gross slip from 0.03146 μm; unloading Q/μP = +0.127 at
     // D = 0.02, −0.560 at 0, −0.980 at −0.02, −1 below −0.0229 μm; loop area 1.424e-9 J.
     let mut prob = problem(64, false);
     let mu_p = MU * W;
@@ -160,7 +160,7 @@ fn mindlin_deresiewicz_loop_with_gross_slip() {
 
 #[test]
 fn tangential_force_control_matches_cattaneo_mindlin() {
-    // Spec §7.2: D₁/D_CM = 0.99955 (Q/μP = 0.5), 0.99915 (0.9) at 128²; here 64².
+    // docs/theory-sam.md#cattaneo-mindlin-reference: D₁/D_CM = 0.99955 (Q/μP = 0.5), 0.99915 (0.9) at 128²; here 64².
     let mut prob = problem(64, false);
     prob.increment(NormalLoad::Force(W), [0.0, 0.0]).unwrap();
     let base = prob.state().clone();
@@ -183,7 +183,7 @@ fn tangential_force_control_matches_cattaneo_mindlin() {
 
 #[test]
 fn coupled_normal_loading_raises_the_peak_pressure() {
-    // Spec §7.4 (128², 80 × 1 mN): p_max/p0 = 1.081, δ/δ_H = 0.990 at 80 mN. Here 64² (2Δ = a/16)
+    // docs/theory-sam.md#coupled-loop-reference (128², 80 × 1 mN): p_max/p0 = 1.081, δ/δ_H = 0.990 at 80 mN. Here 64² (2Δ = a/16)
     // and 8 × 10 mN increments to keep the test short; the doc run reproduces the spec's path.
     let mut prob = problem(64, true);
     assert!(prob.is_coupled());

@@ -9,11 +9,11 @@ use super::{check_fits, check_len};
 use crate::analytic::{cut_linear_displacement, displacement_kernel};
 use crate::{Material, MdrError};
 
-/// Which discretization of the displacement transform (spec §2, §4.3).
+/// Which discretization of the displacement transform (docs/theory-mdr.md#displacement-transform, docs/theory-mdr.md#graded-displacements).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DisplacementMethod {
     /// Eq. 12 (Eq. 25 graded): `û(ρ) = U(0) + ∫_0^ρ Û'(ξ) K_k(ξ/ρ) dξ` with
-    /// `K_0(y) = (2/π) arccos √y` and the ₂F₁ kernel of spec §4.3 for `k ≠ 0`: a dense (not
+    /// `K_0(y) = (2/π) arccos √y` and the ₂F₁ kernel of docs/theory-mdr.md#graded-displacements for `k ≠ 0`: a dense (not
     /// Toeplitz) O(N²) product. At `k = 0` the kernel is evaluated on the fly; for `k ≠ 0` it is
     /// tabulated once when the transform is built (`N²/2` entries, at most [`Self::MAX_KERNEL_NODES`]
     /// nodes).
@@ -47,7 +47,7 @@ impl DisplacementMethod {
     }
 }
 
-/// Displacement transform `U(x) → u(r)` of the MDR (paper Eqs. 8, 24; spec §2, §4.3):
+/// Displacement transform `U(x) → u(r)` of the MDR (paper Eqs. 8, 24; docs/theory-mdr.md#displacement-transform, docs/theory-mdr.md#graded-displacements):
 /// `u(r) = (2/π) cos(kπ/2) ∫_0^r x^k U(x) / (r² − x²)^{(1+k)/2} dx` for a 1D displacement `U` given
 /// on the contact nodes `0..M` and zero beyond (`a² = ξ_{M−1}`), evaluated on every node of the
 /// grid, inside and outside the contact.
@@ -55,12 +55,12 @@ impl DisplacementMethod {
 /// `U = U(0) + L₁ x + V` on the contact is split: the first two parts, cut at `a`, are transformed
 /// in closed form (`U(0)` inside, `U(0)(1 − K_k(a²/r²))` outside; `L₁ r/κ₁(k)` inside and an
 /// incomplete beta function outside, [`crate::analytic::cut_linear_displacement`]); `V = O(x²)` goes
-/// through Eq. 12/25 or Eq. 13/26, differenced on the array cut at `a` (spec §7 P3), with its jump
+/// through Eq. 12/25 or Eq. 13/26, differenced on the array cut at `a` (docs/theory-mdr.md#p3-one-sided-differences-at-the-edge), with its jump
 /// `V(a⁻)` at the edge in closed form. For Eq. 13/26 a parabolic term `c₂ x²`, present in every
-/// smooth contact and outside the equation's validity (spec §7 P11), is subtracted over the whole
+/// smooth contact and outside the equation's validity (docs/theory-mdr.md#p11-applicability-of-eqs-13-and-26), is subtracted over the whole
 /// grid and added back as its transform `c₂ (1+k) r²/2`. These splits are exact identities and
 /// this project's additions to the paper's discretization: without them Eq. 13 converges as
-/// `O(N^{−1/2})` on Hertz (spec §2 test 2); with them it matches Eq. 12.
+/// `O(N^{−1/2})` on Hertz (docs/theory-mdr.md#displacement-transform test 2); with them it matches Eq. 12.
 pub struct DisplacementTransform {
     method: DisplacementMethod,
     k: f64,
@@ -129,7 +129,7 @@ impl DisplacementTransform {
     /// `u` on every node from `U` on the contact nodes `0..M` (`M = u_contact.len() ≥ 3`, `U = 0`
     /// beyond) and `L₁ = lim_{x→0} (U(x) − U(0))/x` (the conical part; 0 for smooth `U`).
     /// For Eq. 13/26, a `U` whose remainder starts with a power below `x^{5/2}` (other than the
-    /// split-off `x` and `x²`) is refused with an error that names Eq. 12/25 (spec §7 P11).
+    /// split-off `x` and `x²`) is refused with an error that names Eq. 12/25 (docs/theory-mdr.md#p11-applicability-of-eqs-13-and-26).
     pub fn apply(
         &mut self,
         grid: &SquaredGrid,
@@ -351,7 +351,7 @@ fn parabolic_coefficient(v: &[f64], grid: &SquaredGrid) -> f64 {
 }
 
 /// Eq. 13/26 needs `β = d/dξ(ξ^{(k−1)/2} R)` bounded enough for the trapezoid rule, where
-/// `R = V − c₂x²` is what remains after the closed-form parts (spec §2 Variant B, §7 P11). A
+/// `R = V − c₂x²` is what remains after the closed-form parts (docs/theory-mdr.md#displacement-transform Variant B, docs/theory-mdr.md#p11-applicability-of-eqs-13-and-26). A
 /// remainder that starts like `x^m` with `m < 5/2` (e.g. `x^{3/2}` from a profile `r^{3/2}`) makes
 /// `β ~ ξ^{(m+k−3)/2}` too singular: refuse it and name Eq. 12/25. The exponent is estimated from
 /// nodes 1–4 and only when the remainder there is above rounding (`1e-9` of `max |U|`).
@@ -382,7 +382,7 @@ fn check_eq26_applicability(
                 "leading exponent of U − U(0) − L₁x − c₂x² for Eq. 26 (use Eq. 25: the MVM backend)"
             },
             value: m,
-            allowed: "≥ 5/2 (no terms between x² and x^{5/2} at the origin, spec §7 P11)",
+            allowed: "≥ 5/2 (no terms between x² and x^{5/2} at the origin, docs/theory-mdr.md#p11-applicability-of-eqs-13-and-26)",
         });
     }
     Ok(())

@@ -1,4 +1,4 @@
-//! The three MDR transforms on the grid uniform in `ξ = x²` (spec §0.1). Each is a struct built
+//! The three MDR transforms on the grid uniform in `ξ = x²` (docs/theory-mdr.md#squared-grid). Each is a struct built
 //! once for a capacity (largest grid size), a material and a [`Backend`]; `apply` methods take the
 //! grid (any size up to the capacity, any step) and do not allocate.
 //!

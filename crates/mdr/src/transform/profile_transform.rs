@@ -3,11 +3,11 @@ use halfspace_numerics::{diff::derivative_uniform, pow_or_sqrt, Backend, PowerSu
 use super::{check_fits, check_len};
 use crate::{Material, MdrError, Profile};
 
-/// Profile transform `f(r) → g(x)` of the MDR (paper Eq. 1, discretized as Eq. 7; spec §1):
+/// Profile transform `f(r) → g(x)` of the MDR (paper Eq. 1, discretized as Eq. 7; docs/theory-mdr.md#profile-transform):
 ///
 /// `Ĝ_i = h^{3/2} S^{1/2}_i[f̂']`, `g_i = 2 √ξ_i D[Ĝ]_i`,
 ///
-/// with `S` the causal trapezoid sum of spec §0.3 and `D` the differences of §0.2. Written for the
+/// with `S` the causal trapezoid sum of docs/theory-mdr.md#power-sums and `D` the differences of docs/theory-mdr.md#finite-differences. Written for the
 /// grading exponent `k` (Eq. 23: `h^{(3+k)/2} S^{(1+k)/2}`, `g_i = 2/(1+k) ξ_i^{(1−k)/2} D[Ĝ]_i`), of
 /// which the homogeneous medium is `k = 0`.
 pub struct ProfileTransform {
@@ -69,8 +69,8 @@ impl ProfileTransform {
         Ok(())
     }
 
-    /// `g(x)` of a profile on every node, by Eq. 7 (Eq. 23) with two closed-form splits (spec §7
-    /// P4, P5): `f = s₀ r + c₀ r² + f_rest`, where `s₀ = f'(0⁺)` and `c₀ = f̂'_rem(0)`, so that
+    /// `g(x)` of a profile on every node, by Eq. 7 (Eq. 23) with two closed-form splits (docs/theory-mdr.md#p4-the-origin, #p5-conical-profiles):
+    /// `f = s₀ r + c₀ r² + f_rest`, where `s₀ = f'(0⁺)` and `c₀ = f̂'_rem(0)`, so that
     /// `g = κ₁(k) s₀ |x| + κ₂(k) c₀ x² + Eq.7[f_rest]` (`κ₁(0) = π/2`, `κ₂(k) = 2/(1+k)`). The cone part makes `f̂'` bounded (P5); the
     /// parabolic part removes the `ξ^{3/2}` behaviour of `Ĝ` at the origin that makes `D[Ĝ]` first
     /// order there (P4), so a paraboloid is transformed exactly and smooth profiles lose the

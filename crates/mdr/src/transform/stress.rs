@@ -3,12 +3,12 @@ use halfspace_numerics::{diff::derivative_uniform, pow_or_sqrt, Backend, PowerSu
 use super::{check_fits, check_len};
 use crate::{Material, MdrError};
 
-/// Line load `q(x) → σ(r)` of the MDR (paper Eq. 14, discretized as Eq. 17; spec §3). With
-/// `a² = ξ_{M−1}` a grid node and `q̂', q̂''` by the differences of §0.2 on the array cut at the
-/// contact edge (§7 P3):
+/// Line load `q(x) → σ(r)` of the MDR (paper Eq. 14, discretized as Eq. 17; docs/theory-mdr.md#stress-transform). With
+/// `a² = ξ_{M−1}` a grid node and `q̂', q̂''` by the differences of docs/theory-mdr.md#finite-differences on the array cut at the
+/// contact edge (docs/theory-mdr.md#p3-one-sided-differences-at-the-edge):
 ///
 /// `σ_j = (2/π) [ −q̂'(a²) √(a² − ρ_j) + h^{3/2} A^{1/2}_j[q̂''] ] + q(a⁻) / (π √(a² − ρ_j))`,
-/// `j < M−1`, and `σ_{M−1} = 0` (`+∞` when `q(a⁻) ≠ 0`). The last term is the edge term of §3 for
+/// `j < M−1`, and `σ_{M−1} = 0` (`+∞` when `q(a⁻) ≠ 0`). The last term is the edge term of docs/theory-mdr.md#stress-transform for
 /// a non-vanishing load at the edge (the flat punch's whole pressure). Written for the grading
 /// exponent `k` (Eq. 29 with `Q = c_N (δ − g)`), of which the homogeneous medium is `k = 0`.
 pub struct StressTransform {
@@ -75,7 +75,7 @@ impl StressTransform {
             let gap_gamma = h_gamma * gap_power[m - 1 - j];
             let mut s = pref * (-edge_slope * gap_gamma + scale * t[j]);
             if edge_load != 0.0 {
-                // (a² − ρ_j)^{γ−1}, the edge term of §3 (flat punch).
+                // (a² − ρ_j)^{γ−1}, the edge term of docs/theory-mdr.md#stress-transform (flat punch).
                 let gap = h * (m - 1 - j) as f64;
                 s += edge_load / std::f64::consts::PI * gap_gamma / gap;
             }

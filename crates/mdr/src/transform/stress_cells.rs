@@ -8,7 +8,7 @@ use crate::{Material, MdrError};
 ///
 /// `σ(ρ) = −(1/π) ∫_ρ^{a²} q̂'(ξ) (ξ − ρ)^{γ−1} dξ`, `γ = (1+k)/2`, `q(a) = 0`
 ///
-/// (spec §3 / §4.4 before their integration by parts). Here `q` is taken linear on every cell
+/// (docs/theory-mdr.md#stress-transform / docs/theory-mdr.md#graded-pressure before their integration by parts). Here `q` is taken linear on every cell
 /// `[ξ_i, ξ_{i+1}]` of the contact nodes `0..M` and on the partial cell `[ξ_{M−1}, a²]`,
 /// `a² = ξ_{M−1} + θh`, `θ ∈ (0, 1]`, where it falls to `q(a) = 0`; each cell is integrated
 /// exactly:

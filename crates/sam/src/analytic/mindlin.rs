@@ -1,4 +1,4 @@
-//! The Mindlin–Deresiewicz closed forms for a Hertzian contact (spec §7.3), uncoupled.
+//! The Mindlin–Deresiewicz closed forms for a Hertzian contact (docs/theory-sam.md#mindlin-deresiewicz-reference), uncoupled.
 
 /// `Q(D)` on first loading: `μP[1 − (1 − D/K)^{3/2}]`, capped at `μP`.
 pub fn loading(d: f64, k_cm: f64, mu_p: f64) -> f64 {

@@ -43,7 +43,7 @@ pub fn hertz_axis_max_shear(a: f64, p0: f64, nu: f64) -> (f64, f64) {
 }
 
 /// Eshelby's tensor of a sphere as a Voigt 6 × 6 matrix on tensor components:
-/// `S_ijkl = (5ν−1)/(15(1−ν)) δ_ij δ_kl + (4−5ν)/(15(1−ν)) (δ_ik δ_jl + δ_il δ_jk)` (spec §5.1).
+/// `S_ijkl = (5ν−1)/(15(1−ν)) δ_ij δ_kl + (4−5ν)/(15(1−ν)) (δ_ik δ_jl + δ_il δ_jk)` (docs/theory-sam.md#equivalency-equation).
 pub fn eshelby_sphere_tensor(nu: f64) -> [[f64; 6]; 6] {
     let a = (5.0 * nu - 1.0) / (15.0 * (1.0 - nu));
     let b = (4.0 - 5.0 * nu) / (15.0 * (1.0 - nu));
@@ -92,7 +92,7 @@ pub fn eshelby_sphere_interior_stress(
 /// Surface displacement `(u_r, u₃)` at radius `r` of a centre of dilatation of strength `e V`
 /// (eigenstrain `e δ_ij` in a small volume `V`) at depth `c` in a half-space, Mindlin & Cheng
 /// (1950): `u₃ = −(1+ν) e V c / (π R³)`, `u_r = (1+ν) e V r / (π R³)`, `R² = r² + c²`
-/// (spec §5.3; `u₃ > 0` into the body, so the surface bulges out).
+/// (docs/theory-sam.md#mirror-image-and-correction-pressure; `u₃ > 0` into the body, so the surface bulges out).
 pub fn mindlin_cheng_surface(r: f64, depth: f64, ev: f64, nu: f64) -> (f64, f64) {
     let big_r = (r * r + depth * depth).sqrt();
     let k = (1.0 + nu) * ev / (std::f64::consts::PI * big_r.powi(3));
@@ -116,7 +116,7 @@ mod tests {
 
     #[test]
     fn eshelby_spec_numbers() {
-        // Spec §7.5: E_I = 2 E_m, ν = 0.3, remote σ₃₃ = 1: interior σ₃₃ = 1.3150, σ₁₁ = −0.0398.
+        // docs/theory-sam.md#kernel-reference-values: E_I = 2 E_m, ν = 0.3, remote σ₃₃ = 1: interior σ₃₃ = 1.3150, σ₁₁ = −0.0398.
         let (e, nu) = (1.0, 0.3);
         let remote = [-nu / e, -nu / e, 1.0 / e, 0.0, 0.0, 0.0];
         let s = eshelby_sphere_interior_stress(e, nu, 2.0 * e, nu, &remote);

@@ -1,14 +1,14 @@
-//! Contact with inhomogeneities below the surface: the outer loop of [LN11] Fig. 2 (spec §6.2).
+//! Contact with inhomogeneities below the surface: the outer loop of [LN11] Fig. 2 (docs/theory-sam.md#nested-loops).
 //! Per increment, until the surface eigen-displacements stop changing:
 //!
 //! 1. contact solve with `h = h₀ + u₃^eig` and `Δu ∋ u_α^eig` ([`ContactProblem::solve`]);
-//! 2. applied strain `ε⁰` at the inclusion cells from `p, q` (Love, spec §5.4);
-//! 3. EIM: `ε*` from the equivalency equations (spec §5.6), warm-started;
-//! 4. correction pressure and eigen-displacements `u^eig` (spec §6.1);
+//! 2. applied strain `ε⁰` at the inclusion cells from `p, q` (Love, docs/theory-sam.md#love-rectangle-stresses);
+//! 3. EIM: `ε*` from the equivalency equations (docs/theory-sam.md#solving-the-eim-equations), warm-started;
+//! 4. correction pressure and eigen-displacements `u^eig` (docs/theory-sam.md#eigen-displacements);
 //! 5. `u^eig ← u^eig_old + ω (u^eig − u^eig_old)`; stop when
 //!    `max|u₃^eig − u₃^eig,old| / max|u₃^eig| < tol` (and the same for `u_α^eig` with friction).
 //!
-//! The friction history is committed only when the increment has converged (spec §8.11).
+//! The friction history is committed only when the increment has converged (docs/theory-sam.md#history-variables).
 
 use crate::contact::{shift_for_force, ContactProblem, IncrementInfo};
 use crate::eim::{
@@ -22,7 +22,7 @@ use halfspace_numerics::anderson::Anderson;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NestedParams {
     /// Relative change of the eigen-displacements below which the increment has converged
-    /// (spec §6.2: 1e-6).
+    /// (docs/theory-sam.md#nested-loops: 1e-6).
     pub tolerance: f64,
     /// Outer iteration limit.
     pub max_outer: usize,
@@ -36,7 +36,7 @@ pub struct NestedParams {
     /// tolerance.
     pub inexact_contact: bool,
     /// Anderson acceleration of the outer fixed point `u^eig ← G(u^eig)`: history depth (0: the
-    /// relaxed Picard iteration of spec §6.2), mixing `ω` = [`NestedParams::relaxation`]
+    /// relaxed Picard iteration of docs/theory-sam.md#nested-loops), mixing `ω` = [`NestedParams::relaxation`]
     /// ([`halfspace_numerics::anderson`]).
     pub anderson_depth: usize,
     /// Start each increment from the secant prediction `2x_n − x_{n−1}` of the eigenstrains and
@@ -228,7 +228,7 @@ impl InhomogeneousContact {
         })
     }
 
-    /// One increment to normal load `load` and shift `shift` (spec §6.2), the friction history
+    /// One increment to normal load `load` and shift `shift` (docs/theory-sam.md#nested-loops), the friction history
     /// committed at convergence.
     pub fn increment(&mut self, load: NormalLoad, shift: [f64; 2]) -> Result<NestedInfo, SamError> {
         self.problem.begin();
@@ -339,7 +339,7 @@ impl InhomogeneousContact {
         let omega = self.params.relaxation;
         // Inexact inner solves: the EIM is solved to 1e-3 of the last outer change (never looser
         // than 1e-3, never tighter than its own tolerance), so early outer passes are cheap and the
-        // last ones are converged well below the outer tolerance (spec §8.8).
+        // last ones are converged well below the outer tolerance (docs/theory-sam.md#outer-loop-tolerances).
         let mut last_change: f64 = 1.0;
         for outer in 1..=self.params.max_outer {
             self.problem.set_eigen_displacements(Some([
@@ -484,7 +484,7 @@ impl InhomogeneousContact {
         &self.u_eig
     }
 
-    /// The correction pressure `p_c` on the grid (its integral should vanish: spec §8.5b; a large
+    /// The correction pressure `p_c` on the grid (its integral should vanish: docs/theory-sam.md#domain-size-and-truncation; a large
     /// `A Σ p_c` relative to the load means the domain truncates it — enlarge the extent).
     pub fn correction_pressure(&self) -> &[f64] {
         self.system.correction_pressure()

@@ -1,4 +1,4 @@
-//! Normal and tangential contact together (spec §4.4–4.5): the Panagiotopoulos alternation for
+//! Normal and tangential contact together (docs/theory-sam.md#loading-history to #normal-tangential-alternation): the Panagiotopoulos alternation for
 //! coupled (dissimilar) bodies, the incremental (history-dependent) friction law, load paths and
 //! fretting loops.
 
@@ -19,7 +19,7 @@ pub struct ContactParams {
     pub normal: NormalParams,
     /// Tangential solver stopping rule.
     pub tangential: TangentialParams,
-    /// Alternation tolerance: `max|Δp|/max p` and `max|Δq|/(μ max p)` (spec §4.5: 1e-7).
+    /// Alternation tolerance: `max|Δp|/max p` and `max|Δq|/(μ max p)` (docs/theory-sam.md#normal-tangential-alternation: 1e-7).
     pub alternation_tolerance: f64,
     /// Alternation limit.
     pub max_alternations: usize,
@@ -51,7 +51,7 @@ pub struct ContactState {
     pub pressure: Vec<f64>,
     /// Shear `q = (q₁, q₂)` per cell.
     pub shear: [Vec<f64>; 2],
-    /// Total relative tangential displacement `Δu` per cell (history variable, spec §4.1).
+    /// Total relative tangential displacement `Δu` per cell (history variable, docs/theory-sam.md#incremental-friction-law).
     pub tangential_displacement: [Vec<f64>; 2],
     /// Slip of the last increment `S` per cell.
     pub slip: [Vec<f64>; 2],
@@ -108,7 +108,7 @@ pub struct ContactProblem<S: OperatorSet = FftOperators> {
     tq: [Vec<f64>; 2],
     w: [Vec<f64>; 2],
     u3: Vec<f64>,
-    /// Known eigen-displacements `(u₁, u₂, u₃)^eig` of the half-space (spec §6.1), if any.
+    /// Known eigen-displacements `(u₁, u₂, u₃)^eig` of the half-space (docs/theory-sam.md#eigen-displacements), if any.
     eigen: Option<[Vec<f64>; 3]>,
     /// `Δuⁿ⁺¹` of the last [`ContactProblem::solve`], committed by [`ContactProblem::commit`].
     trial_displacement: [Vec<f64>; 2],
@@ -175,7 +175,7 @@ impl<S: OperatorSet> ContactProblem<S> {
             (None, None)
         };
         // Without friction the tangential fields are empty (q = 0, nothing to store): a
-        // frictionless problem holds the geometry, h and p only (spec §3), 24 B per cell.
+        // frictionless problem holds the geometry, h and p only (docs/theory-sam.md#normal-contact), 24 B per cell.
         let frictional = params.friction > 0.0;
         crate::memory::check_problem(&grid, frictional, coupled)?;
         let z = || vec![0.0; n];
@@ -223,8 +223,8 @@ impl<S: OperatorSet> ContactProblem<S> {
         })
     }
 
-    /// Sets the known surface eigen-displacements `u^eig = (u₁, u₂, u₃)` of the half-space (spec
-    /// §6.1, [LN11] Eqs. 14–15): `u₃^eig` enters the initial separation `h = h₀ + u₃^eig`, `u_α^eig`
+    /// Sets the known surface eigen-displacements `u^eig = (u₁, u₂, u₃)` of the half-space (
+    /// docs/theory-sam.md#eigen-displacements, [LN11] Eqs. 14–15): `u₃^eig` enters the initial separation `h = h₀ + u₃^eig`, `u_α^eig`
     /// the relative tangential displacement (and so the slip and the friction history). They apply
     /// to the next [`ContactProblem::solve`]; `None` removes them.
     pub fn set_eigen_displacements(&mut self, u: Option<[&[f64]; 3]>) -> Result<(), SamError> {
@@ -336,7 +336,7 @@ impl<S: OperatorSet> ContactProblem<S> {
         Ok(())
     }
 
-    /// One increment to normal load `load` and rigid shift `shift` (spec §4.4):
+    /// One increment to normal load `load` and rigid shift `shift` (docs/theory-sam.md#loading-history):
     /// [`ContactProblem::begin`], [`ContactProblem::solve`], [`ContactProblem::commit`].
     pub fn increment(
         &mut self,
@@ -349,8 +349,8 @@ impl<S: OperatorSet> ContactProblem<S> {
         Ok(info)
     }
 
-    /// Starts an increment: the friction history `w = Δuⁿ − Dⁿ` from the committed state (spec
-    /// §4.1). Any number of [`ContactProblem::solve`] calls may follow (an outer loop re-solving the
+    /// Starts an increment: the friction history `w = Δuⁿ − Dⁿ` from the committed state (
+    /// docs/theory-sam.md#incremental-friction-law). Any number of [`ContactProblem::solve`] calls may follow (an outer loop re-solving the
     /// increment with new eigen-displacements, a force control searching the shift); only
     /// [`ContactProblem::commit`] changes the history.
     pub fn begin(&mut self) {
@@ -363,7 +363,7 @@ impl<S: OperatorSet> ContactProblem<S> {
     }
 
     /// Makes the last [`ContactProblem::solve`] the converged state of the increment: `Δuⁿ⁺¹` and
-    /// `Dⁿ⁺¹` become the history of the next one (spec §8.11).
+    /// `Dⁿ⁺¹` become the history of the next one (docs/theory-sam.md#history-variables).
     pub fn commit(&mut self) {
         for a in 0..2 {
             self.state.tangential_displacement[a].copy_from_slice(&self.trial_displacement[a]);
@@ -373,7 +373,7 @@ impl<S: OperatorSet> ContactProblem<S> {
 
     /// Solves the current increment (after [`ContactProblem::begin`]) to normal load `load` and
     /// rigid shift `shift`: Panagiotopoulos alternation of the normal solve (shear frozen) and the
-    /// tangential solve (pressure frozen) until both stop changing (spec §4.5); one pass when
+    /// tangential solve (pressure frozen) until both stop changing (docs/theory-sam.md#normal-tangential-alternation); one pass when
     /// uncoupled. The eigen-displacements enter `h` and `Δu`. Pressure and shear are updated (and
     /// serve as warm starts); the history is not.
     pub fn solve(&mut self, load: NormalLoad, shift: [f64; 2]) -> Result<IncrementInfo, SamError> {
@@ -382,7 +382,7 @@ impl<S: OperatorSet> ContactProblem<S> {
 
     /// [`ContactProblem::solve`] with the alternation and tangential tolerances multiplied by
     /// `slack ≥ 1` (the tangential one at most [`INEXACT_CEILING`]): for an outer loop whose next
-    /// pass re-solves the increment anyway (the EIM loop of spec §6.2 far from convergence), as the
+    /// pass re-solves the increment anyway (the EIM loop of docs/theory-sam.md#nested-loops far from convergence), as the
     /// inexact alternation does for its own early passes. `slack = 1` is [`ContactProblem::solve`].
     pub fn solve_loosely(
         &mut self,
@@ -456,7 +456,7 @@ impl<S: OperatorSet> ContactProblem<S> {
                 self.normal
                     .solve(h, load, &mut self.state.pressure, &self.params.normal)?;
             let Some(tangential) = self.tangential.as_mut() else {
-                // μ = 0: no shear and no tangential fields (spec §3 alone).
+                // μ = 0: no shear and no tangential fields (docs/theory-sam.md#normal-contact alone).
                 tangential_info = TangentialInfo::frictionless(normal_info.contact_cells);
                 break;
             };
@@ -582,7 +582,7 @@ impl<S: OperatorSet> ContactProblem<S> {
     }
 
     /// One increment to a prescribed tangential force `Q₁` (with `Q₂` left free at `D₂ = 0`): the
-    /// shift `D₁` is found by Brent's method on the monotone map `D₁ ↦ Q₁(D₁)` (spec §4.3), each
+    /// shift `D₁` is found by Brent's method on the monotone map `D₁ ↦ Q₁(D₁)` (docs/theory-sam.md#stick-slip-solver-and-force-control), each
     /// evaluation a displacement-controlled increment from the same history. `|Q₁| ≥ μW` is gross
     /// slip and refused.
     pub fn increment_with_force(

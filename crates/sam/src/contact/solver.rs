@@ -8,7 +8,7 @@ use crate::subsurface::{subsurface_stress, StressField};
 use crate::SamError;
 
 /// A contact problem on a homogeneous half-space ([`ContactProblem`]) or, with inhomogeneities,
-/// the nested contact ↔ EIM loop ([`InhomogeneousContact`], spec §6.2).
+/// the nested contact ↔ EIM loop ([`InhomogeneousContact`], docs/theory-sam.md#nested-loops).
 pub enum ContactSolver {
     /// No inhomogeneity.
     Plain(Box<ContactProblem>),

@@ -21,7 +21,7 @@ use crate::{SamError, SurfaceGrid};
 pub enum TangentialLoad {
     /// A rigid shift `δx` (m).
     Shift(f64),
-    /// A tangential force `Q_x` (N), the shift found by Brent's method (spec §4.3).
+    /// A tangential force `Q_x` (N), the shift found by Brent's method (docs/theory-sam.md#stick-slip-solver-and-force-control).
     Force(f64),
 }
 

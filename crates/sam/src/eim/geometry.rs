@@ -1,6 +1,6 @@
 //! Inhomogeneities (spheres, cylinders along `x₁` or `x₂`, cuboids) and their cells on the volume
 //! lattice: cubes of the surface cell size `2Δ` under every surface cell, layer `k` centred at depth
-//! `(2k + 1)Δ` (spec §0, §5.5). A cell belongs to an inhomogeneity when its centre lies inside.
+//! `(2k + 1)Δ` (docs/theory-sam.md#conventions, docs/theory-sam.md#layered-operators). A cell belongs to an inhomogeneity when its centre lies inside.
 
 use crate::{SamError, SurfaceGrid};
 
@@ -192,7 +192,7 @@ impl Inhomogeneity {
 }
 
 /// Where the fibres of a unidirectional composite sit relative to the contact centre `x = 0`
-/// ([LN11] does not give the positions: spec §7.6 runs both).
+/// ([LN11] does not give the positions: docs/theory-sam.md#inhomogeneity-references runs both).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FibreLayout {
     /// A fibre axis at `x = 0`.
@@ -262,7 +262,7 @@ pub fn fibres(
     Ok(list)
 }
 
-/// The unidirectional composite of [LN11] (§4 of the paper, spec §7.6) below a contact of Hertz
+/// The unidirectional composite of [LN11] (§4 of the paper, docs/theory-sam.md#inhomogeneity-references) below a contact of Hertz
 /// radius `a`: fibres along `x₂` of radius `0.13a`, centre spacing `3r`, axes at depth `1.5r`,
 /// Young's modulus `e_ratio · e_matrix` and the matrix's Poisson ratio, over `|x₁| ≤ half_width`.
 pub fn composite_fibres(

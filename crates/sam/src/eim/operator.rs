@@ -1,5 +1,5 @@
-//! The discrete operators of the equivalent inclusion method on the layered lattice (spec §5.3,
-//! §5.5, §6.1; [LN11] Eqs. 11–16):
+//! The discrete operators of the equivalent inclusion method on the layered lattice (docs/theory-sam.md#mirror-image-and-correction-pressure,
+//! docs/theory-sam.md#layered-operators, docs/theory-sam.md#eigen-displacements; [LN11] Eqs. 11–16):
 //!
 //! * eigenstrain `ε*` (6 components per cell of the source layers) → **disturbance strain** at the
 //!   cell centres of the target layers, `ε^d = ε⁽¹⁾ + ε⁽²⁾ + ε⁽³⁾`: the cuboids in infinite space
@@ -131,7 +131,7 @@ impl LayerKernel for SurfaceFields {
     }
 }
 
-/// Strain at depth `key Δ` per unit traction `(p, q₁, q₂)` on a surface cell (Love, spec §5.4,
+/// Strain at depth `key Δ` per unit traction `(p, q₁, q₂)` on a surface cell (Love, docs/theory-sam.md#love-rectangle-stresses,
 /// then `C⁻¹`).
 pub(crate) struct LoveStrain {
     pub(crate) half: f64,
@@ -260,7 +260,7 @@ fn love_into_window(
     Ok(())
 }
 
-/// Spectra bytes a layered operator with these counts would store, per spec §5.5:
+/// Spectra bytes a layered operator with these counts would store, per docs/theory-sam.md#layered-operators:
 /// `keys · blocks · 2n₁(n₂+1)` complex values.
 pub fn estimated_bytes(n1: usize, n2: usize, keys: usize, blocks: usize) -> f64 {
     keys as f64 * blocks as f64 * (2 * n1 * (n2 + 1)) as f64 * 16.0
@@ -479,7 +479,7 @@ impl EimFields {
     }
 
     /// `strain[a · 6 + o] = ε^d_o` on target layer `a` from `eigen[b · 6 + i] = ε*_i` on source layer
-    /// `b` (each a window field): fields (1) + (2) + (3) of spec §5.3 in the half-space, (1) in
+    /// `b` (each a window field): fields (1) + (2) + (3) of docs/theory-sam.md#mirror-image-and-correction-pressure in the half-space, (1) in
     /// infinite space. Keeps `p_c` and `2u_α⁽¹⁾` for [`EimFields::eigen_displacements`].
     pub fn disturbance(
         &mut self,
@@ -616,7 +616,7 @@ impl EimFields {
         &self.surface_fields[0]
     }
 
-    /// Surface eigen-displacements of the last disturbance (spec §6.1, [LN11] Eqs. 14–15):
+    /// Surface eigen-displacements of the last disturbance (docs/theory-sam.md#eigen-displacements, [LN11] Eqs. 14–15):
     /// `u₃^eig = K^p₃ * p_c`, `u_α^eig = 2u_α⁽¹⁾ + K^p_α * p_c` (half-space alone), on the whole
     /// grid. The `p_c` product is a plain 2D DC-FFT in both backends (its dense twin is tested in
     /// `numerics::conv2d`).

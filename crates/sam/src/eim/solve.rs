@@ -1,4 +1,4 @@
-//! The discrete equivalency equations (spec §5.1, §5.6; [LN11] Eqs. 1–2): in every inclusion cell
+//! The discrete equivalency equations (docs/theory-sam.md#equivalency-equation, docs/theory-sam.md#solving-the-eim-equations; [LN11] Eqs. 1–2): in every inclusion cell
 //! `I`, `r_I = C^m ε*_I − ΔC_I (ε⁰_I + (𝒟ε*)_I) = 0`, `ΔC = C^m − C^I`, solved for the eigenstrains
 //! `ε*` (6 per cell) by
 //!
@@ -6,7 +6,7 @@
 //!   cube's Eshelby tensor at its centre (the exact self term), i.e.
 //!   `ε*_new = (C^m − ΔC S₀)⁻¹ ΔC (ε⁰ + 𝒟ε* − S₀ε*)`;
 //! * **GMRES** (restart 50) on `A ε* = ΔC ε⁰`, `A = C^m − ΔC 𝒟`, right-preconditioned by the same
-//!   blocks — robust for stiffness ratios from voids to 100 (spec §5.6 table).
+//!   blocks — robust for stiffness ratios from voids to 100 (docs/theory-sam.md#solving-the-eim-equations table).
 //!
 //! The 6 × 6 blocks are inverted once per material with faer's LU. [`EimSystem`] is the flat
 //! [`LinearOperator`] `A`; it runs on the FFT operator or on its dense twin alike.
@@ -286,7 +286,7 @@ impl EimSystem {
         self.fields.spectra_bytes()
     }
 
-    /// The correction pressure `p_c` of the last disturbance (spec §5.3).
+    /// The correction pressure `p_c` of the last disturbance (docs/theory-sam.md#mirror-image-and-correction-pressure).
     pub fn correction_pressure(&self) -> &[f64] {
         self.fields.correction_pressure()
     }

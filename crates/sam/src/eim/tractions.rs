@@ -1,6 +1,6 @@
 //! The equivalent inclusion method under known surface tractions (no contact loop): the applied
-//! strain of `p, q` (spec §5.4), the equivalency equations (§5.6), the correction pressure and the
-//! surface eigen-displacements (§5.3, §6.1) in one call — what a stress analysis of a loaded
+//! strain of `p, q` (docs/theory-sam.md#love-rectangle-stresses), the equivalency equations (docs/theory-sam.md#solving-the-eim-equations), the correction pressure and the
+//! surface eigen-displacements (docs/theory-sam.md#mirror-image-and-correction-pressure, docs/theory-sam.md#eigen-displacements) in one call — what a stress analysis of a loaded
 //! surface (and the reference comparisons) needs.
 
 use super::{

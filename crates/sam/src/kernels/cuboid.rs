@@ -1,4 +1,4 @@
-//! A cuboid with a uniform eigenstrain `ε*` in an infinite isotropic space (spec `sam.md` §5.2;
+//! A cuboid with a uniform eigenstrain `ε*` in an infinite isotropic space (docs/theory-sam.md#cuboid-in-infinite-space;
 //! Chiu 1977; Mura 1987 §11; [LN11] App. A, Eqs. 9 and 16).
 //!
 //! With the box centred at 0 with half-sizes `a`, the Newtonian and biharmonic potentials
@@ -10,7 +10,7 @@
 //! `ε_ij = D_ijkl ε*_kl`, `D_ijkl = [ψ,klij − 2ν δ_kl φ,ij − (1−ν)(φ,kj δ_il + φ,ki δ_jl + φ,lj δ_ik
 //! + φ,li δ_jk)] / (8π(1−ν))`.
 //!
-//! Only derivatives of `𝓔, 𝓗` are needed; their primitives (spec §5.2 table) use `R = |c|`,
+//! Only derivatives of `𝓔, 𝓗` are needed; their primitives (docs/theory-sam.md#cuboid-in-infinite-space table) use `R = |c|`,
 //! `L_k = ln(R + c_k)` and `T_k = arctan(c_i c_j / (c_k R))`, with `R + c_k = (c_i² + c_j²)/(R − c_k)`
 //! for `c_k < 0` (no cancellation). `ε` is the total strain; the stress is `C:ε` outside and
 //! `C:(ε − ε*)` inside the cuboid.
@@ -369,12 +369,12 @@ impl DisplacementPotentials {
     }
 }
 
-/// `D` as a Voigt 6 × 6 matrix at `x` for the box of half-sizes `a` (spec §5.2, [LN11] Eq. 9).
+/// `D` as a Voigt 6 × 6 matrix at `x` for the box of half-sizes `a` (docs/theory-sam.md#cuboid-in-infinite-space, [LN11] Eq. 9).
 pub fn strain_kernel(x: [f64; 3], a: [f64; 3], nu: f64) -> [[f64; 6]; 6] {
     StrainPotentials::new(x, a).voigt(nu)
 }
 
-/// `Dˢ` as a 3 × 6 matrix at `x` for the box of half-sizes `a` (spec §5.2, [LN11] Eq. 16).
+/// `Dˢ` as a 3 × 6 matrix at `x` for the box of half-sizes `a` (docs/theory-sam.md#cuboid-in-infinite-space, [LN11] Eq. 16).
 pub fn displacement_kernel(x: [f64; 3], a: [f64; 3], nu: f64) -> [[f64; 6]; 3] {
     DisplacementPotentials::new(x, a).voigt(nu)
 }

@@ -1,4 +1,4 @@
-//! Closed-form kernels of the semi-analytical method (spec `sam.md` §5.2–5.4):
+//! Closed-form kernels of the semi-analytical method (docs/theory-sam.md#cuboid-in-infinite-space to #love-rectangle-stresses):
 //!
 //! * [`cuboid`]: a cuboid with uniform eigenstrain in an infinite space (Chiu 1977; Mura 1987 §11;
 //!   [LN11] App. A, Eqs. 9 and 16) — the strain kernel `D`, the displacement kernel `Dˢ`, and the
@@ -6,13 +6,13 @@
 //! * [`subsurface`]: Love's (1929) stresses below a uniformly loaded surface rectangle, for a pressure
 //!   and for both shears (Liu & Wang 2002).
 //!
-//! The surface influence coefficients of the same rectangles (spec §1) are in [`crate::kernels::surface`].
+//! The surface influence coefficients of the same rectangles (docs/theory-sam.md#influence-coefficients) are in [`crate::kernels::surface`].
 
 pub mod cuboid;
 pub mod subsurface;
 pub mod surface;
 
-/// Voigt order of symmetric tensors (spec §0): `(11, 22, 33, 23, 13, 12)`, tensor shear components.
+/// Voigt order of symmetric tensors (docs/theory-sam.md#conventions): `(11, 22, 33, 23, 13, 12)`, tensor shear components.
 pub const VOIGT: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)];
 
 /// Isotropic stiffness `C` as a 6 × 6 matrix on Voigt vectors with **tensor** shear components

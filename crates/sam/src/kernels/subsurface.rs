@@ -1,5 +1,5 @@
 //! Stresses at depth `z > 0` below a uniform traction on the surface rectangle `2Δ₁ × 2Δ₂` centred at
-//! 0 (spec `sam.md` §5.4; Love 1929; Liu & Wang 2002): `σ_ij = ⟦Σ_ij⟧` over the corner coordinates
+//! 0 (docs/theory-sam.md#love-rectangle-stresses; Love 1929; Liu & Wang 2002): `σ_ij = ⟦Σ_ij⟧` over the corner coordinates
 //! `c_α = x_α + s_α Δ_α` (sign `s₁s₂`), `ρ = √(c₁² + c₂² + z²)`.
 //!
 //! Unit pressure (compressive, acting in `+x₃`): with `Φ_z = −arctan(c₁c₂/(zρ))`,

@@ -1,6 +1,6 @@
-//! Influence coefficients of uniform tractions on a `2Δ₁ × 2Δ₂` rectangle (spec §1, Love 1929,
+//! Influence coefficients of uniform tractions on a `2Δ₁ × 2Δ₂` rectangle (docs/theory-sam.md#influence-coefficients, Love 1929,
 //! Johnson 1985 §3.2), written as corner sums `⟦P⟧(x) = Σ s₁s₂ P(x₁ + s₁Δ₁, x₂ + s₂Δ₂)` of the
-//! primitives of §1.2, for one half-space and for a pair of bodies (§1.4: compliances add, the
+//! primitives of docs/theory-sam.md#corner-primitives, for one half-space and for a pair of bodies (docs/theory-sam.md#two-bodies: compliances add, the
 //! normal–tangential coupling `κ` is a difference).
 
 use std::f64::consts::PI;
@@ -114,7 +114,7 @@ impl Body {
     }
 }
 
-/// The compliance constants of a pair (spec §1.4): normal `k₁ + k₂`, tangential sums, and the
+/// The compliance constants of a pair (docs/theory-sam.md#two-bodies): normal `k₁ + k₂`, tangential sums, and the
 /// coupling `κ = (1−2ν₂)/(4πG₂) − (1−2ν₁)/(4πG₁)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Compliance {

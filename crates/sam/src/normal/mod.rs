@@ -1,4 +1,4 @@
-//! Normal contact by the constrained conjugate gradient of Polonsky & Keer (1999), spec §3, with
+//! Normal contact by the constrained conjugate gradient of Polonsky & Keer (1999), docs/theory-sam.md#normal-contact, with
 //! the DC-FFT operator `K^p_3 *` in place of multi-level summation, and three accelerations, each
 //! switchable ([`NormalParams`]) and each giving the same solution:
 //!
@@ -80,7 +80,7 @@ impl Default for NormalParams {
 }
 
 impl NormalParams {
-    /// The plain Polonsky–Keer iteration of spec §3 (two products per iteration, no
+    /// The plain Polonsky–Keer iteration of docs/theory-sam.md#normal-contact (two products per iteration, no
     /// preconditioner, no continuation): the reference the accelerations are tested against.
     pub fn plain() -> Self {
         Self {
@@ -237,7 +237,7 @@ impl<S: OperatorSet> NormalSolver<S> {
 
     /// Solves `p ≥ 0, g = K*p + h − δ ≥ 0, p g = 0` with `h` the initial separation (geometry plus
     /// any known displacement such as the coupling term), under force or approach control
-    /// (spec §3). `p` is the warm start and the result; an all-zero or invalid `p` is a cold start
+    /// (docs/theory-sam.md#normal-contact). `p` is the warm start and the result; an all-zero or invalid `p` is a cold start
     /// (the nested continuation, if enabled, provides the start).
     pub fn solve(
         &mut self,
@@ -300,7 +300,7 @@ impl<S: OperatorSet> NormalSolver<S> {
         Ok(info)
     }
 
-    /// The (preconditioned, incremental) Polonsky–Keer iteration from `p` (spec §3 steps 1–10).
+    /// The (preconditioned, incremental) Polonsky–Keer iteration from `p` (docs/theory-sam.md#normal-contact steps 1–10).
     fn iterate(
         &mut self,
         h: &[f64],

@@ -1,6 +1,6 @@
-//! Stick–slip tangential contact with Coulomb friction (spec §4): one increment is the convex QP
-//! `min ½ q·Tq − b·q` subject to `|q_i| ≤ g_i = μ p_i` (§4.2), solved by accelerated projected
-//! gradient (FISTA with gradient restart, Beck & Teboulle 2009, O'Donoghue & Candès 2015; §4.3)
+//! Stick–slip tangential contact with Coulomb friction (docs/theory-sam.md#tangential-contact): one increment is the convex QP
+//! `min ½ q·Tq − b·q` subject to `|q_i| ≤ g_i = μ p_i` (docs/theory-sam.md#convex-quadratic-program), solved by accelerated projected
+//! gradient (FISTA with gradient restart, Beck & Teboulle 2009, O'Donoghue & Candès 2015; docs/theory-sam.md#stick-slip-solver-and-force-control)
 //! and stopped on the KKT residual. The slip of the increment is `S = b − Tq`.
 //!
 //! The default method is a primal active-set (inexact semismooth Newton) iteration
@@ -9,7 +9,7 @@
 //! free part — stick cells, and the rotation `δ_t` of rim cells with `λ ≤ STIFF_RIM·T(0)` — is
 //! solved to `INNER_REDUCTION` of the round's KKT residual by conjugate gradients on
 //! `(M T M + Λ) δ = M S` (linearising `S − λq = 0` along the rim's tangent adds `λ δ_t`), with the
-//! `|k|` circulant preconditioner `M P M` (the 2 × 2 symbol of `T` is ∝ 1/|k|, spec §1.4, like the
+//! `|k|` circulant preconditioner `M P M` (the 2 × 2 symbol of `T` is ∝ 1/|k|, docs/theory-sam.md#two-bodies, like the
 //! normal compliance's); rim cells are put back on their circle. Then the sets: stick cells beyond
 //! their disc slip (direction `q̂`); when none did, rim cells whose slip opposes their shear stick
 //! again; stiff rim cells (`λ > STIFF_RIM·T(0)`, held fixed in the solve) turn to `g Ŝ`. It stops on
@@ -41,7 +41,7 @@ pub const INNER_REDUCTION: f64 = 0.1;
 /// Algorithm of the tangential solve.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TangentialMethod {
-    /// Accelerated projected gradient with gradient restart (spec §4.3).
+    /// Accelerated projected gradient with gradient restart (docs/theory-sam.md#stick-slip-solver-and-force-control).
     Fista,
     /// Primal active set (inexact semismooth Newton) with `|k|`-preconditioned CG (module docs);
     /// FISTA as the fallback.

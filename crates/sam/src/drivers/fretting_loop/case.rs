@@ -81,7 +81,7 @@ impl LoopCase {
     }
 
     /// Mindlin's full-slip shift `K = 3μW(2 − ν) / (16 G a)`, `G = E / 2(1 + ν)` (rigid sphere;
-    /// spec §7.3, uncoupled): the loop is in partial slip for `A < K` and reaches gross slip beyond
+    /// docs/theory-sam.md#mindlin-deresiewicz-reference, uncoupled): the loop is in partial slip for `A < K` and reaches gross slip beyond
     /// (Mindlin–Deresiewicz, [`crate::analytic::mindlin`]).
     pub fn mindlin_slip_shift(&self) -> f64 {
         let g = self.e / (2.0 * (1.0 + self.nu));

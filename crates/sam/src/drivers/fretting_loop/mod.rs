@@ -1,7 +1,7 @@
 //! The fretting loop of [LN11] (Leroux & Nélias 2011, §3–4) as a library driver: a rigid sphere on a
 //! half-space (with or without inhomogeneities), the normal load ramped in steps, then the rigid
-//! shift `δx` cycled `0 → +A → −A → +A`, each increment the coupled stick–slip contact (spec §4.5)
-//! or, with inhomogeneities, the nested contact ↔ EIM loop (spec §6.2).
+//! shift `δx` cycled `0 → +A → −A → +A`, each increment the coupled stick–slip contact (docs/theory-sam.md#normal-tangential-alternation)
+//! or, with inhomogeneities, the nested contact ↔ EIM loop (docs/theory-sam.md#nested-loops).
 //!
 //! * [`LoopCase`]: the configuration (the paper's constants by default; [`LoopCase::composite`] for
 //!   its fibre case) and [`LoadPath`], the increments and the points A–D.
