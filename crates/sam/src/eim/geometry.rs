@@ -201,6 +201,9 @@ pub enum FibreLayout {
     GapCentred,
 }
 
+/// The most fibres [`fibres`] lays on each side of the centre.
+const MAX_FIBRES_PER_SIDE: f64 = 1e6;
+
 /// Parallel cylindrical fibres along `x₂` (perpendicular to a sliding motion along `x₁`) of radius
 /// `r`, axes at depth `depth` and centre spacing `spacing`, every fibre whose section lies within
 /// `|x₁| ≤ half_width` ([LN11]: `r = 0.13a`, spacing `3r`, depth `1.5r`).
@@ -231,7 +234,17 @@ pub fn fibres(
         FibreLayout::FibreCentred => 0.0,
         FibreLayout::GapCentred => 0.5 * spacing,
     };
-    let reach = ((half_width - r) / spacing).floor() as i64 + 1;
+    // Fibres on each side of the centre; refused before the count can overflow (a domain of
+    // 1e300 fibre spacings is a typo, not a model).
+    let reach = ((half_width - r) / spacing).floor() + 1.0;
+    if reach > MAX_FIBRES_PER_SIDE {
+        return Err(invalid(
+            "domain half width over the fibre spacing",
+            reach,
+            "≤ 1e6 fibres on each side of the centre",
+        ));
+    }
+    let reach = reach as i64;
     let mut list = Vec::new();
     for k in -reach..=reach {
         let x = offset + k as f64 * spacing;
