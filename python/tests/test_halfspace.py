@@ -23,11 +23,13 @@ def binary() -> str:
     env = os.environ.get("HALFSPACE_BIN")
     if env:
         return env
-    for profile in ("release", "debug"):
-        path = ROOT / "target" / profile / "halfspace"
-        if path.is_file():
-            return str(path)
-    pytest.skip("no halfspace binary: run cargo build first")
+    # The newest of the two: a release binary left from an older checkout must not stand in for the
+    # debug binary that `cargo test` just built.
+    built = [ROOT / "target" / profile / "halfspace" for profile in ("release", "debug")]
+    built = [path for path in built if path.is_file()]
+    if not built:
+        pytest.skip("no halfspace binary: run cargo build first")
+    return str(max(built, key=lambda path: path.stat().st_mtime))
 
 
 def cli(*args: str) -> dict:
