@@ -173,7 +173,7 @@ def pressure_from_reactions(m, e, reaction, contact_dofs, loc):
 
 
 def graded_hertz_force(k, delta):
-    """Closed-form graded Hertz force (spec §4.5) for the far-field estimate only."""
+    """Closed-form graded Hertz force (docs/theory-mdr.md#graded-closed-forms) for the far-field estimate only."""
     from .quadrature import c_n
     a = math.sqrt((1 + k) * R_SPHERE * delta)
     cn = c_n(k) if k != 0 else 1 / (1 - NU * NU)

@@ -5,8 +5,8 @@ library's power sums), and Heun's second-order step in τ (the library steps by 
 
 Normalized variables a0 = d = 1, grading exponent k, amplitude ratio χ, c = sqrt(1 − χ):
 
-    g(x) = x^(1−k) ∫_0^x f'(r) (x² − r²)^((k−1)/2) dr                          (spec §4.1, Eq. 20)
-    p(r) = (c̃_N/π) ∫_r^a g'(x) (x² − r²)^((k−1)/2) dx,   c̃_N = (1+k)(3+k)/4     (spec §4.4, Eq. 28)
+    g(x) = x^(1−k) ∫_0^x f'(r) (x² − r²)^((k−1)/2) dr                          (docs/theory-mdr.md#graded-profile-transform, Eq. 20)
+    p(r) = (c̃_N/π) ∫_r^a g'(x) (x² − r²)^((k−1)/2) dx,   c̃_N = (1+k)(3+k)/4     (docs/theory-mdr.md#graded-pressure, Eq. 28)
     Δũ(r) = 4 [(f − f∞)/χ + J(r)],  J = 1 − I_{c²/r²}((1+k)/2, (1−k)/2)   for c < r < a
     ∂f/∂τ = p Δũ
 

@@ -462,8 +462,8 @@ def _config_json(config: dict[str, Any] | None) -> str | None:
 
 class FrettingLoop:
     """The fretting loop of Leroux & Nélias (2011): normal load ramped in steps, then the shift
-    cycled 0 → +A → −A → +A, each increment the coupled stick–slip contact (spec §4.5) or, with
-    inhomogeneities, the nested contact ↔ EIM loop (spec §6.2).
+    cycled 0 → +A → −A → +A, each increment the coupled stick–slip contact (docs/theory-sam.md#normal-tangential-alternation) or, with
+    inhomogeneities, the nested contact ↔ EIM loop (docs/theory-sam.md#nested-loops).
 
     ``config`` holds the keys of ``halfspace fretting-loop --config`` (``radius``, ``e``, ``nu``,
     ``friction``, ``force``, ``normal_steps``, ``amplitude``, ``shift_step``, ``grid``,
