@@ -6,6 +6,7 @@ use serde::Deserialize;
 use crate::sam::drivers::fretting_loop::LoopCase;
 use crate::sam::drivers::fretting_map::FrettingMap;
 use crate::sam::eim::{FibreLayout, Inhomogeneity};
+use crate::sam::kernels::surface::Body;
 use crate::spec::{parse_inhomogeneity, SpecError};
 
 /// The fretting-loop configuration as read from TOML (`fretting-loop --config`) or from a Python
@@ -18,7 +19,15 @@ pub struct LoopConfig {
     pub e: f64,
     pub nu: f64,
     pub friction: f64,
-    pub force: f64,
+    /// Normal force W (N); exactly one of `force` and `approach` (neither: W = 80 mN).
+    pub force: Option<f64>,
+    /// Rigid approach δ (m): normal control by approach instead of force.
+    pub approach: Option<f64>,
+    /// Young's modulus of the indenter (Pa); with `indenter_nu`, an elastic indenter (absent:
+    /// rigid).
+    pub indenter_e: Option<f64>,
+    /// Poisson ratio of the indenter (with `indenter_e`).
+    pub indenter_nu: Option<f64>,
     pub normal_steps: usize,
     pub amplitude: f64,
     pub shift_step: f64,
@@ -46,7 +55,10 @@ impl Default for LoopConfig {
             e: c.e,
             nu: c.nu,
             friction: c.friction,
-            force: c.force,
+            force: None,
+            approach: None,
+            indenter_e: None,
+            indenter_nu: None,
             normal_steps: c.normal_steps,
             amplitude: c.amplitude,
             shift_step: c.shift_step,
@@ -173,10 +185,17 @@ impl LoopConfig {
         loads: Vec<f64>,
         amplitudes: Vec<f64>,
     ) -> Result<FrettingMap, SpecError> {
+        if self.approach.is_some() {
+            return Err(SpecError(
+                "fretting map config: the map's rows are normal loads ([map] loads): approach \
+                 is not read by a map; remove it"
+                    .into(),
+            ));
+        }
         let largest = loads.iter().copied().fold(f64::NAN, f64::max);
         let mut cfg = self.clone();
         if largest.is_finite() && largest > 0.0 {
-            cfg.force = largest;
+            cfg.force = Some(largest);
         }
         let base = cfg.case(case, grid)?;
         FrettingMap::new(base, loads, amplitudes).map_err(|e| SpecError(e.to_string()))
@@ -189,12 +208,34 @@ fn loop_case(
     case_name: &str,
     grid: Option<usize>,
 ) -> Result<LoopCase, SpecError> {
+    let (force, approach) = match (cfg.force, cfg.approach) {
+        (Some(_), Some(_)) => {
+            return Err(SpecError(
+                "fretting loop config: give exactly one of force (N) and approach (m)".into(),
+            ))
+        }
+        (f, None) => (f.unwrap_or(LoopCase::default().force), None),
+        (None, Some(d)) => (0.0, Some(d)),
+    };
+    let indenter = match (cfg.indenter_e, cfg.indenter_nu) {
+        (None, None) => Body::Rigid,
+        (Some(e), Some(nu)) => Body::Elastic { e, nu },
+        _ => {
+            return Err(SpecError(
+                "fretting loop config: an elastic indenter needs both indenter_e (Pa) and \
+                 indenter_nu (absent both: rigid)"
+                    .into(),
+            ))
+        }
+    };
     let mut case = LoopCase {
         radius: cfg.radius,
         e: cfg.e,
         nu: cfg.nu,
         friction: cfg.friction,
-        force: cfg.force,
+        force,
+        approach,
+        indenter,
         normal_steps: cfg.normal_steps,
         amplitude: cfg.amplitude,
         shift_step: cfg.shift_step,

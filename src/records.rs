@@ -9,6 +9,7 @@ use crate::sam::drivers::fretting_loop::{
     FrettingLoop, LoopCase, LoopMetrics, LoopRow, LoopSnapshot, PointFields, POINT_LABELS,
 };
 use crate::sam::drivers::one_contact::{ContactCase, ContactOutcome};
+use crate::sam::kernels::surface::Body;
 use crate::sam::subsurface::StressField;
 use serde_json::json;
 
@@ -60,7 +61,7 @@ fn point_record(mut rec: Record, prefix: &str, p: &PointFields, shape: (usize, u
 /// the inhomogeneities as text): the identity of a run in its directory's manifest
 /// (`halfspace::run_dir`), so that a refusal names the keys that differ.
 pub fn case_parameters(case: &LoopCase) -> serde_json::Value {
-    json!({
+    let mut v = json!({
         "radius": case.radius,
         "e": case.e,
         "nu": case.nu,
@@ -73,7 +74,19 @@ pub fn case_parameters(case: &LoopCase) -> serde_json::Value {
         "extent_over_a": case.extent_over_a,
         "subsurface_depth": case.subsurface_depth,
         "inhomogeneities": format!("{:?}", case.inhomogeneities),
-    })
+    });
+    // The elastic indenter and approach control only when used: a rigid, force-controlled
+    // case keeps the manifest of earlier versions.
+    if let Some(m) = v.as_object_mut() {
+        if let Some(d) = case.approach {
+            m.insert("approach".into(), json!(d));
+        }
+        if let Body::Elastic { e, nu } = case.indenter {
+            m.insert("indenter_e".into(), json!(e));
+            m.insert("indenter_nu".into(), json!(nu));
+        }
+    }
+    v
 }
 
 /// Everything [`snapshot_from_record`] needs.
@@ -295,6 +308,14 @@ pub fn loop_results_record(
             rec = rec.attr(&format!("{prefix}{name}"), AttrValue::Float(v));
         }
         rec = rec.attr(&format!("{prefix}regime"), AttrValue::Int(m.regime as i64));
+    }
+    if let Some(d) = case.approach {
+        rec = rec.attr("approach", AttrValue::Float(d));
+    }
+    if let Body::Elastic { e, nu } = case.indenter {
+        rec = rec
+            .attr("indenter_E", AttrValue::Float(e))
+            .attr("indenter_nu", AttrValue::Float(nu));
     }
     rec.attr("radius", AttrValue::Float(case.radius))
         .attr("E", AttrValue::Float(case.e))

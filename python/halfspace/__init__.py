@@ -466,7 +466,8 @@ class FrettingLoop:
     inhomogeneities, the nested contact ↔ EIM loop (docs/theory-sam.md#nested-loops).
 
     ``config`` holds the keys of ``halfspace fretting-loop --config`` (``radius``, ``e``, ``nu``,
-    ``friction``, ``force``, ``normal_steps``, ``amplitude``, ``shift_step``, ``grid``,
+    ``friction``, ``force`` or ``approach`` (exactly one), ``indenter_e`` and ``indenter_nu`` (an
+    elastic sphere; absent: rigid), ``normal_steps``, ``amplitude``, ``shift_step``, ``grid``,
     ``extent_over_a``, ``subsurface_over_a``, ``layout``, ``fibre_e_ratio``; ``inhomogeneity``: a
     list of tables ``{"kind": "sphere", "x": ..}`` or of :class:`Inhomogeneity` / spec strings);
     ``case="composite"`` adds the paper's fibres. Iterating yields each increment's row (a dict);

@@ -31,7 +31,8 @@ use super::{plot, CliError};
 
 #[derive(Debug, Args)]
 pub struct FrettingLoopArgs {
-    /// TOML file with any of: radius, e, nu, friction, force, normal_steps, amplitude, shift_step, grid,
+    /// TOML file with any of: radius, e, nu, friction, force or approach, indenter_e and indenter_nu
+    /// (elastic sphere; absent: rigid), normal_steps, amplitude, shift_step, grid,
     /// extent_over_a, subsurface_over_a, [[inhomogeneity]], layout, fibre_e_ratio.
     #[arg(long)]
     config: Option<PathBuf>,
@@ -286,7 +287,7 @@ fn draw_loop_figures(
     let (n1, n2) = (grid.n1, grid.n2);
     let a = case.hertz_radius();
     let p0 = case.hertz_pressure();
-    let mu_w = case.friction * case.force;
+    let mu_w = case.friction * case.hertz_force();
     let mu_p0 = case.friction * p0;
     let fail =
         |p: &Path, e: Box<dyn std::error::Error>| CliError::Plot(format!("{}: {e}", p.display()));

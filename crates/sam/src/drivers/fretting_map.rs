@@ -186,6 +186,7 @@ impl FrettingMap {
         let extent = self.base.extent();
         let mut case = LoopCase {
             force: load,
+            approach: None,
             amplitude,
             shift_step: amplitude / self.quarter as f64,
             subsurface_depth: None,

@@ -4,18 +4,26 @@ use crate::eim::{
     composite_fibres, FibreLayout, Inhomogeneity, COMPOSITE_CELLS_PER_RADIUS,
     COMPOSITE_FIBRE_RADIUS,
 };
+use crate::kernels::surface::Body;
+use crate::normal::NormalLoad;
 use crate::SamError;
 
 /// The labels of the points of [LN11] Figs. 5–7: A end of the normal loading, B `δx = +A`, C
 /// `δx = 0` on the way back, D `δx = −A`.
 pub const POINT_LABELS: [&str; 4] = ["A", "B", "C", "D"];
 
-/// A fretting loop: rigid sphere of radius `radius` on a half-space `(e, nu)` with Coulomb
-/// friction `friction`, normal force ramped to `force` in `normal_steps` equal steps, then the
-/// shift cycled with amplitude `amplitude` in steps `shift_step`, on `grid²` cells over
-/// `extent_over_a · a` (`a` the Hertz radius). Defaults: [LN11]'s homogeneous case (R = 105 μm,
-/// E = 210 GPa, ν = 0.3, μ = 0.3, W = 80 mN in 80 steps, A = 0.04 μm in 0.002 μm steps, 64² over
-/// 4.16a).
+/// A fretting loop: a sphere of radius `radius` (rigid, or elastic with
+/// [`LoopCase::indenter`]) on a flat half-space `(e, nu)` with Coulomb friction `friction`, normal
+/// force ramped to `force` (or the approach to [`LoopCase::approach`]) in `normal_steps` equal
+/// steps, then the shift cycled with amplitude `amplitude` in steps `shift_step`, on `grid²` cells
+/// over `extent_over_a · a` (`a` the Hertz radius of the pair). Defaults: [LN11]'s homogeneous
+/// case (rigid sphere, R = 105 μm, E = 210 GPa, ν = 0.3, μ = 0.3, W = 80 mN in 80 steps,
+/// A = 0.04 μm in 0.002 μm steps, 64² over 4.16a).
+///
+/// The two bodies enter the contact through their compliances (docs/theory-sam.md#two-bodies):
+/// `1/E* = Σ(1 − ν²)/E`, the tangential compliance `Σ(2 − ν)/G` of Mindlin's slip shift and the
+/// normal–tangential coupling `κ` (a difference: zero for identical bodies). Inhomogeneities and
+/// subsurface stresses belong to the flat, with its own `(e, nu)`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LoopCase {
     /// Sphere radius R (m).
@@ -26,8 +34,14 @@ pub struct LoopCase {
     pub nu: f64,
     /// Coulomb friction coefficient μ > 0.
     pub friction: f64,
-    /// Final normal force W (N).
+    /// Final normal force W (N) under force control; must be 0 when [`LoopCase::approach`] is
+    /// given (exactly one of them sets the normal load).
     pub force: f64,
+    /// Final rigid approach δ (m) under approach control (`None`: force control by `force`).
+    /// The approach is ramped like the force, `δ_i = δ i / n`; the force `W(δ)` is computed.
+    pub approach: Option<f64>,
+    /// The indenter (the sphere): [`Body::Rigid`] ([LN11]) or [`Body::Elastic`] `{ e, nu }`.
+    pub indenter: Body,
     /// Normal load steps.
     pub normal_steps: usize,
     /// Shift amplitude A (m).
@@ -52,6 +66,8 @@ impl Default for LoopCase {
             nu: 0.3,
             friction: 0.3,
             force: 0.08,
+            approach: None,
+            indenter: Body::Rigid,
             normal_steps: 80,
             amplitude: 0.04e-6,
             shift_step: 0.002e-6,
@@ -64,28 +80,67 @@ impl Default for LoopCase {
 }
 
 impl LoopCase {
-    /// The Hertz contact radius `a = (3WR / 4E*)^{1/3}`, `E* = E/(1 − ν²)` (rigid sphere).
+    /// The flat half-space as a body of the pair.
+    pub fn flat(&self) -> Body {
+        Body::Elastic {
+            e: self.e,
+            nu: self.nu,
+        }
+    }
+
+    /// The final normal force of the normal loading: `force` under force control, Hertz's
+    /// `W(δ) = (4/3) E* √R δ^{3/2}` (Johnson 1985 Eq. 4.23) under approach control — the scale of
+    /// the loop (Hertz radius, pressure, `μW`, Mindlin's shift); the computed force of a
+    /// discretised contact is in the rows.
+    pub fn hertz_force(&self) -> f64 {
+        match self.approach {
+            None => self.force,
+            Some(d) => 4.0 / 3.0 * self.e_star() * self.radius.sqrt() * d * d.sqrt(),
+        }
+    }
+
+    /// The Hertz contact radius `a = (3WR / 4E*)^{1/3}` of the pair (`W` =
+    /// [`LoopCase::hertz_force`]; under approach control this is `√(Rδ)` up to rounding).
     pub fn hertz_radius(&self) -> f64 {
-        halfspace_mdr::analytic::sphere_radius_for_force(self.force, self.radius, self.e_star())
+        halfspace_mdr::analytic::sphere_radius_for_force(
+            self.hertz_force(),
+            self.radius,
+            self.e_star(),
+        )
     }
 
     /// The Hertz peak pressure `p₀ = 3W / (2πa²)`.
     pub fn hertz_pressure(&self) -> f64 {
         let a = self.hertz_radius();
-        3.0 * self.force / (2.0 * std::f64::consts::PI * a * a)
+        3.0 * self.hertz_force() / (2.0 * std::f64::consts::PI * a * a)
     }
 
-    /// `E* = E / (1 − ν²)` (rigid indenter).
+    /// The effective modulus of the pair, `1/E* = (1 − ν₁²)/E₁ + (1 − ν²)/E` (Johnson 1985
+    /// Eq. 4.22); `E/(1 − ν²)` for a rigid indenter (computed as in earlier versions, bit for bit).
     pub fn e_star(&self) -> f64 {
-        self.e / (1.0 - self.nu * self.nu)
+        match self.indenter {
+            Body::Rigid => self.e / (1.0 - self.nu * self.nu),
+            indenter => 1.0 / (indenter.normal_term() + self.flat().normal_term()),
+        }
     }
 
-    /// Mindlin's full-slip shift `K = 3μW(2 − ν) / (16 G a)`, `G = E / 2(1 + ν)` (rigid sphere;
-    /// docs/theory-sam.md#mindlin-deresiewicz-reference, uncoupled): the loop is in partial slip for `A < K` and reaches gross slip beyond
-    /// (Mindlin–Deresiewicz, [`crate::analytic::mindlin`]).
+    /// Mindlin's full-slip shift `K = (3μW / 16a) Σ(2 − ν)/G` over both bodies, `G = E / 2(1 + ν)`
+    /// (docs/theory-sam.md#mindlin-deresiewicz-reference, uncoupled; Johnson 1985 Eq. 7.42): the
+    /// loop is in partial slip for `A < K` and reaches gross slip beyond (Mindlin–Deresiewicz,
+    /// [`crate::analytic::mindlin`]). Rigid indenter: `3μW(2 − ν)/(16 G a)`, bit for bit as
+    /// before.
     pub fn mindlin_slip_shift(&self) -> f64 {
-        let g = self.e / (2.0 * (1.0 + self.nu));
-        3.0 * self.friction * self.force * (2.0 - self.nu) / (16.0 * g * self.hertz_radius())
+        let w = self.hertz_force();
+        match self.indenter {
+            Body::Rigid => {
+                let g = self.e / (2.0 * (1.0 + self.nu));
+                3.0 * self.friction * w * (2.0 - self.nu) / (16.0 * g * self.hertz_radius())
+            }
+            indenter => {
+                let compliance = indenter.mindlin_term() + self.flat().mindlin_term();
+                3.0 * self.friction * w * compliance / (16.0 * self.hertz_radius())
+            }
+        }
     }
 
     /// The grid's side length `extent_over_a · a` (m).
@@ -132,12 +187,36 @@ impl LoopCase {
                 "friction (Coulomb μ; a fretting loop needs μ > 0)",
                 self.friction,
             ),
-            ("force (normal force W, N)", self.force),
             ("amplitude (shift amplitude A, m)", self.amplitude),
             ("shift_step (m)", self.shift_step),
             ("extent_over_a", self.extent_over_a),
         ] {
             crate::error::positive(name, v)?;
+        }
+        match self.approach {
+            None => {
+                crate::error::positive("force (normal force W, N)", self.force)?;
+            }
+            Some(d) => {
+                crate::error::positive("approach (rigid approach δ, m)", d)?;
+                if self.force != 0.0 {
+                    return Err(SamError::InvalidInput(format!(
+                        "force = {:e} N and approach = {d:e} m: give exactly one of them (the \
+                         normal load is controlled by force or by approach)",
+                        self.force
+                    )));
+                }
+            }
+        }
+        if let Body::Elastic { e, nu } = self.indenter {
+            crate::error::positive("indenter_e (Young's modulus of the indenter, Pa)", e)?;
+            if !(nu > -1.0 && nu <= 0.5) {
+                return Err(SamError::InvalidParameter {
+                    name: "indenter_nu (Poisson ratio of the indenter)",
+                    value: nu,
+                    allowed: "in (−1, 0.5]",
+                });
+            }
         }
         if !(self.nu > -1.0 && self.nu < 0.5) {
             return Err(SamError::InvalidParameter {
@@ -167,10 +246,10 @@ impl LoopCase {
         let p0 = self.hertz_pressure();
         if !(a.is_normal() && cell.is_normal() && p0.is_normal() && a > 0.0) {
             return Err(SamError::InvalidInput(format!(
-                "force = {:e} N, radius = {:e} m and e = {:e} Pa give a Hertz radius a = {a:e} m, \
-                 cells of {cell:e} m and p0 = {p0:e} Pa: not representable (give SI values of \
-                 a real contact)",
-                self.force, self.radius, self.e
+                "force = {:e} N (or approach = {:?} m), radius = {:e} m and e = {:e} Pa give a \
+                 Hertz radius a = {a:e} m, cells of {cell:e} m and p0 = {p0:e} Pa: not \
+                 representable (give SI values of a real contact)",
+                self.force, self.approach, self.radius, self.e
             )));
         }
         if let Some(d) = self.subsurface_depth {
@@ -206,23 +285,31 @@ impl LoopCase {
 
     /// The load path of this case.
     pub fn path(&self) -> LoadPath {
-        LoadPath::fretting(
+        let mut path = LoadPath::fretting(
             self.force,
             self.normal_steps,
             self.amplitude,
             self.shift_step,
-        )
+        );
+        if let Some(d) = self.approach {
+            path.force = d;
+            path.by_approach = true;
+        }
+        path
     }
 }
 
-/// The increments of a fretting loop: `W_i = W i / n` at `δx = 0` (`i = 1..n`), then `δx` from 0
+/// The increments of a fretting loop: `W_i = W i / n` (or the approach `δ_i = δ i / n` under
+/// approach control) at `δx = 0` (`i = 1..n`), then `δx` from 0
 /// to `+A`, to `−A` and back to `+A` in `q = round(A / step)` steps per quarter. Generated on
 /// demand ([`LoadPath::increment`]), never stored: a path of 10¹³ increments costs nothing until
 /// it is run (and [`LoopCase::estimate`] refuses it before).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LoadPath {
-    /// Final normal force W.
+    /// Final normal force W (the final approach δ when `by_approach`).
     pub force: f64,
+    /// Normal control by approach (`force` holds δ) rather than by force.
+    pub by_approach: bool,
     /// Shift amplitude A.
     pub amplitude: f64,
     /// Normal steps `n`.
@@ -236,6 +323,7 @@ impl LoadPath {
     pub fn fretting(force: f64, normal_steps: usize, amplitude: f64, shift_step: f64) -> Self {
         Self {
             force,
+            by_approach: false,
             amplitude,
             normal_steps,
             quarter: quarter_steps(amplitude, shift_step) as usize,
@@ -261,6 +349,18 @@ impl LoadPath {
         } else {
             None
         }
+    }
+
+    /// Increment `k` as the normal load of the solver ([`NormalLoad::Force`] or
+    /// [`NormalLoad::Approach`]) and the shift.
+    pub fn load(&self, k: usize) -> Option<(NormalLoad, [f64; 2])> {
+        let (v, shift) = self.increment(k)?;
+        let load = if self.by_approach {
+            NormalLoad::Approach(v)
+        } else {
+            NormalLoad::Force(v)
+        };
+        Some((load, shift))
     }
 
     /// The increments in order.

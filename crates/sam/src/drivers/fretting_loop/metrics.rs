@@ -61,7 +61,14 @@ impl LoopMetrics {
         rows: &[LoopRow],
         max_transverse_slip: f64,
     ) -> Self {
-        let mu_w = case.friction * case.force;
+        // μW with the loop's W: the prescribed force, or under approach control the force
+        // computed at the end of the normal loading.
+        let w = if path.by_approach {
+            rows[path.normal_steps - 1].w
+        } else {
+            case.force
+        };
+        let mu_w = case.friction * w;
         let a = case.hertz_radius();
         let start = path.cycle_start();
         let cycle = &rows[start..];

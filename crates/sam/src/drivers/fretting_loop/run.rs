@@ -102,7 +102,9 @@ impl FrettingLoop {
                 (x * x + y * y) / (2.0 * case.radius)
             })
             .collect();
-        let compliance = Compliance::pair(Body::Rigid, Body::elastic(case.e, case.nu)?)?;
+        // The pair (docs/theory-sam.md#two-bodies): the indenter's compliance adds to the flat's;
+        // the flat alone carries the inhomogeneities.
+        let compliance = Compliance::pair(case.indenter, Body::elastic(case.e, case.nu)?)?;
         let params = ContactParams {
             friction: case.friction,
             ..ContactParams::default()
@@ -180,12 +182,19 @@ impl FrettingLoop {
                 ));
             }
             let (w, shift) = self.path.increment(k).unwrap_or_default();
-            if r.w.to_bits() != w.to_bits() || r.d.to_bits() != shift[0].to_bits() {
+            // The prescribed normal load: the force, or the approach under approach control.
+            let (member, given) = if self.path.by_approach {
+                ("approach, shift_x", r.approach)
+            } else {
+                ("normal_force, shift_x", r.w)
+            };
+            if given.to_bits() != w.to_bits() || r.d.to_bits() != shift[0].to_bits() {
                 return Err(bad(
-                    "normal_force, shift_x".into(),
+                    member.into(),
                     format!(
-                        "row {k} is (W, δx) = ({}, {}), this loop's increment {k} is ({w}, {})",
-                        r.w, r.d, shift[0]
+                        "row {k} is (W or δ, δx) = ({given}, {}), this loop's increment {k} is \
+                         ({w}, {})",
+                        r.d, shift[0]
                     ),
                 ));
             }
@@ -369,11 +378,16 @@ impl FrettingLoop {
     /// The next increment: its row, or `None` when the loop is done.
     pub fn step(&mut self) -> Result<Option<&LoopRow>, SamError> {
         let k = self.rows.len();
-        let Some((w, shift)) = self.path.increment(k) else {
+        let Some((load, shift)) = self.path.load(k) else {
             return Ok(None);
         };
         let start = Instant::now();
-        let (info, nested) = self.solver.increment(NormalLoad::Force(w), shift)?;
+        let (info, nested) = self.solver.increment(load, shift)?;
+        // The row's W: the prescribed force, or the force computed at the prescribed approach.
+        let w = match load {
+            NormalLoad::Force(w) => w,
+            NormalLoad::Approach(_) => info.normal.force,
+        };
         self.seconds.increments += start.elapsed().as_secs_f64();
         match &nested {
             Some(n) => {
