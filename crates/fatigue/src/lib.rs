@@ -17,9 +17,11 @@ pub mod error;
 pub mod field;
 pub mod invariant;
 pub mod material;
+pub mod screened;
 pub mod tensor;
 
 pub use error::FatigueError;
 pub use field::{evaluate_field, FieldIndices, FieldParams};
 pub use material::Material;
+pub use screened::{evaluate_screened, ScreenedIndices};
 pub use tensor::Voigt;

@@ -1,0 +1,196 @@
+//! The screened field evaluation: its bounds are upper bounds, it equals the full evaluation where
+//! it evaluates (and everywhere with fraction 0), and the Hertz normal cycle on the axis against
+//! Johnson's closed form (Johnson 1985 Eq. 3.45; docs/fatigue.md, "Checks").
+mod common;
+
+use common::{proportional_cycle, random_cycle, steel, Rng};
+use halfspace_fatigue::critical_plane::{fatemi_socie, swt, PlaneScratch};
+use halfspace_fatigue::screened::critical_plane_bounds;
+use halfspace_fatigue::{evaluate_field, evaluate_screened, FieldParams, Material, Voigt};
+
+fn paths(points: usize, increments: usize, seed: u64) -> Vec<Vec<Voigt>> {
+    let mut rng = Rng::new(seed);
+    (0..points)
+        .map(|k| {
+            if k % 4 == 3 {
+                let m = [rng.normal() * 1e8, 0.0, -5e7, 1e7, 0.0, 2e7];
+                let d = [rng.normal() * 1e8, rng.normal() * 1e8, 0.0, 3e7, 1e7, 0.0];
+                proportional_cycle(m, d, increments)
+            } else {
+                random_cycle(&mut rng, increments, 1e8 * 0.9f64.powi(k as i32), 5e7)
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn bounds_bound_the_critical_plane_criteria() {
+    let m = steel();
+    let params = FieldParams::default();
+    let mut scratch = PlaneScratch::default();
+    for path in paths(60, 24, 77) {
+        let [bs, bf] = critical_plane_bounds(&path, &m);
+        let s = swt(&path, &m, &params.plane, &mut scratch).unwrap().value;
+        let f = fatemi_socie(&path, &m, &params.plane, &mut scratch)
+            .unwrap()
+            .value;
+        assert!(s <= bs, "SWT {s} above its bound {bs}");
+        assert!(f <= bf, "FS {f} above its bound {bf}");
+        // Not vacuous: within a factor of a few.
+        assert!(f > 0.0 && bf < 4.0 * f, "FS bound {bf} vs {f}");
+    }
+}
+
+#[test]
+fn screened_equals_full_where_evaluated() {
+    let (points, increments) = (48, 20);
+    let ps = paths(points, increments, 5);
+    let flat: Vec<f64> = ps.iter().flatten().flatten().copied().collect();
+    let m = steel();
+    let params = FieldParams::default();
+    let full = evaluate_field(&flat, points, increments, &m, &params).unwrap();
+    let all = evaluate_screened(&flat, increments, &[m], &vec![0; points], &params, 0.0).unwrap();
+    assert_eq!(all.crossland, full.crossland);
+    assert_eq!(all.dang_van, full.dang_van);
+    assert_eq!(all.swt, full.swt);
+    assert_eq!(all.fatemi_socie, full.fatemi_socie);
+    let half = evaluate_screened(&flat, increments, &[m], &vec![0; points], &params, 0.5).unwrap();
+    assert_eq!(half.swt_max, full.swt_max);
+    assert_eq!(half.fatemi_socie_max, full.fatemi_socie_max);
+    assert!(
+        half.fatemi_socie_evaluated < points,
+        "the screen skipped nothing"
+    );
+    for p in 0..points {
+        if full.fatemi_socie[p] >= 0.5 * full.fatemi_socie_max.value {
+            assert_eq!(half.fatemi_socie[p], full.fatemi_socie[p]);
+        }
+        if full.swt[p] >= 0.5 * full.swt_max.value {
+            assert_eq!(half.swt[p], full.swt[p]);
+        }
+        assert!(half.fatemi_socie[p].is_nan() || half.fatemi_socie[p] == full.fatemi_socie[p]);
+    }
+    // Two materials: each point is evaluated with its own.
+    let soft = Material { young: 70e9, ..m };
+    let which: Vec<u16> = (0..points).map(|p| (p % 2) as u16).collect();
+    let mixed = evaluate_screened(&flat, increments, &[m, soft], &which, &params, 0.0).unwrap();
+    let only_soft = evaluate_field(&flat, points, increments, &soft, &params).unwrap();
+    for p in (1..points).step_by(2) {
+        assert_eq!(mixed.swt[p], only_soft.swt[p]);
+    }
+    assert!(evaluate_screened(&flat, increments, &[m], &which, &params, 0.0).is_err());
+}
+
+/// Johnson 1985 Eq. 3.45 on the axis of a Hertz contact of radius `a`, peak pressure `p0`, at
+/// depth `z`: `(σ_r, σ_z)`.
+fn hertz_axis(p0: f64, a: f64, z: f64, nu: f64) -> (f64, f64) {
+    let u = z / a;
+    let sz = -p0 / (1.0 + u * u);
+    let sr = -p0 * ((1.0 + nu) * (1.0 - u * (1.0 / u).atan()) - 0.5 / (1.0 + u * u));
+    (sr, sz)
+}
+
+#[test]
+fn hertz_normal_cycle_on_the_axis_matches_the_closed_forms() {
+    // Load 0 → W → 0 in 40 steps (a ∝ W^{1/3}, p₀ ∝ W^{1/3}); σ at fixed depth on the axis is
+    // axisymmetric, s = d(t) diag(1, 1, −2)/3 with d = σ_r − σ_z: the deviatoric path is
+    // proportional, so √J₂,a = (max d − min d)/(2√3) (docs/fatigue.md F2), the ball's centre is
+    // at d_c = (max d + min d)/2 and τ_Tresca(ŝ) = |d − d_c|/2; the shear traction on any plane
+    // is d(t) times a fixed vector of largest length 1/2, so Fatemi–Socie with k = 0 is
+    // (max d − min d)/(4G). SWT: σ_n = σ_H + d c, c = (1 − 3n_z²)/3 ∈ [−2/3, 1/3], maximised
+    // over c by a dense scan refined by golden sections (1e-12 in c).
+    let m = Material {
+        fs_k: 0.0,
+        ..steel()
+    };
+    let nu = m.poisson;
+    let (a1, p01) = (2.0e-5, 1.5e9);
+    let steps = 40;
+    let g = m.shear_modulus();
+    for z_over_a in [0.25, 0.48, 1.0, 1.5] {
+        let z = z_over_a * a1;
+        let path: Vec<Voigt> = (0..=steps)
+            .map(|i| {
+                let lambda = 1.0 - (2.0 * i as f64 / steps as f64 - 1.0).abs();
+                if lambda == 0.0 {
+                    return [0.0; 6];
+                }
+                let s = lambda.cbrt();
+                let (sr, sz) = hertz_axis(p01 * s, a1 * s, z, nu);
+                [sr, sr, sz, 0.0, 0.0, 0.0]
+            })
+            .collect();
+        let d: Vec<f64> = path.iter().map(|s| s[0] - s[2]).collect();
+        let h: Vec<f64> = path.iter().map(|s| (s[0] + s[1] + s[2]) / 3.0).collect();
+        let (dmax, dmin) = (
+            d.iter().copied().fold(f64::MIN, f64::max),
+            d.iter().copied().fold(f64::MAX, f64::min),
+        );
+        let hmax = h.iter().copied().fold(f64::MIN, f64::max);
+        let j2a = (dmax - dmin) / (2.0 * 3f64.sqrt());
+        let crossland = (j2a + m.alpha_crossland() * hmax) / m.t_minus1;
+        let dc = 0.5 * (dmax + dmin);
+        let dang_van = d
+            .iter()
+            .zip(&h)
+            .map(|(d, h)| (0.5 * (d - dc).abs() + m.alpha_dang_van() * h) / m.t_minus1)
+            .fold(f64::MIN, f64::max);
+        let fs = (dmax - dmin) / (4.0 * g);
+        let swt_of = |c: f64| {
+            let sn: Vec<f64> = d.iter().zip(&h).map(|(d, h)| h + d * c).collect();
+            let en: Vec<f64> = sn
+                .iter()
+                .zip(&h)
+                .map(|(s, h)| ((1.0 + nu) * s - 3.0 * nu * h) / m.young)
+                .collect();
+            let smax = sn.iter().copied().fold(f64::MIN, f64::max);
+            let (emax, emin) = (
+                en.iter().copied().fold(f64::MIN, f64::max),
+                en.iter().copied().fold(f64::MAX, f64::min),
+            );
+            smax * 0.5 * (emax - emin)
+        };
+        let scan = 20000;
+        let (mut best_c, mut best) = (0.0, f64::MIN);
+        for k in 0..=scan {
+            let c = -2.0 / 3.0 + k as f64 / scan as f64;
+            let v = swt_of(c);
+            if v > best {
+                (best_c, best) = (c, v);
+            }
+        }
+        let (mut lo, mut hi) = (best_c - 1.0 / scan as f64, best_c + 1.0 / scan as f64);
+        lo = lo.max(-2.0 / 3.0);
+        hi = hi.min(1.0 / 3.0);
+        let phi = 0.5 * (5f64.sqrt() - 1.0);
+        while hi - lo > 1e-12 {
+            let (x1, x2) = (hi - phi * (hi - lo), lo + phi * (hi - lo));
+            if swt_of(x1) < swt_of(x2) {
+                lo = x1;
+            } else {
+                hi = x2;
+            }
+        }
+        let swt_closed = best.max(swt_of(0.5 * (lo + hi)));
+        let flat: Vec<f64> = path.iter().flatten().copied().collect();
+        let r =
+            evaluate_screened(&flat, steps + 1, &[m], &[0], &FieldParams::default(), 0.0).unwrap();
+        let rel = |x: f64, y: f64| (x - y).abs() / y.abs().max(1e-300);
+        eprintln!(
+            "z/a = {z_over_a}: Crossland {:.9} ({:.1e}), Dang Van {:.9} ({:.1e}), SWT {:.6e} Pa \
+             ({:.1e}), FS {:.6e} ({:.1e})",
+            crossland,
+            rel(r.crossland[0], crossland),
+            dang_van,
+            rel(r.dang_van[0], dang_van),
+            swt_closed,
+            rel(r.swt[0], swt_closed),
+            fs,
+            rel(r.fatemi_socie[0], fs)
+        );
+        assert!(rel(r.crossland[0], crossland) < 1e-6);
+        assert!(rel(r.dang_van[0], dang_van) < 1e-6);
+        assert!(rel(r.fatemi_socie[0], fs) < 1e-6);
+        assert!(rel(r.swt[0], swt_closed) < 1e-6);
+    }
+}
