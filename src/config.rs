@@ -3,6 +3,7 @@
 
 use serde::Deserialize;
 
+use crate::fatigue::Material;
 use crate::sam::drivers::fretting_loop::LoopCase;
 use crate::sam::drivers::fretting_map::FrettingMap;
 use crate::sam::eim::{FibreLayout, Inhomogeneity};
@@ -44,6 +45,73 @@ pub struct LoopConfig {
     pub fibre_e_ratio: Option<f64>,
     /// Depth of the von Mises fields at the points A–D over a (0: none).
     pub subsurface_over_a: f64,
+    /// `[fatigue]`: the fatigue criteria over the closed cycle (docs/fatigue.md, "On the
+    /// fretting loop"; absent: none).
+    pub fatigue: Option<FatigueConfig>,
+}
+
+/// Fatigue constants of one material (docs/fatigue.md, "Material constants"): fully reversed
+/// bending and torsion limits `f_minus1`, `t_minus1` (Pa), Fatemi–Socie's `fs_k` and
+/// `yield_stress` (Pa); the elastic constants are the material's own.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FatigueConstants {
+    pub f_minus1: f64,
+    pub t_minus1: f64,
+    pub fs_k: f64,
+    pub yield_stress: f64,
+}
+
+/// The `[fatigue]` table: the matrix's constants, `depth_over_a` (the box below the contact,
+/// default 1.5), `screen_fraction` (SWT and Fatemi–Socie are evaluated exactly where their
+/// upper bound reaches this fraction of the maximum, default 0.5; 0: everywhere) and
+/// `[fatigue.inhomogeneity]`, the constants of every inhomogeneity (absent: the matrix's).
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FatigueConfig {
+    pub f_minus1: f64,
+    pub t_minus1: f64,
+    pub fs_k: f64,
+    pub yield_stress: f64,
+    #[serde(default = "default_fatigue_depth")]
+    pub depth_over_a: f64,
+    #[serde(default = "default_screen_fraction")]
+    pub screen_fraction: f64,
+    #[serde(default)]
+    pub inhomogeneity: Option<FatigueConstants>,
+}
+
+fn default_fatigue_depth() -> f64 {
+    1.5
+}
+
+fn default_screen_fraction() -> f64 {
+    0.5
+}
+
+impl FatigueConfig {
+    /// The criteria's materials: index 0 the matrix `(e, nu)`, `m + 1` the inclusion material
+    /// `m` of `inclusions` (`(E, ν)` each).
+    pub fn materials(&self, e: f64, nu: f64, inclusions: &[(f64, f64)]) -> Vec<Material> {
+        let of = |c: &FatigueConstants, young: f64, poisson: f64| Material {
+            f_minus1: c.f_minus1,
+            t_minus1: c.t_minus1,
+            young,
+            poisson,
+            fs_k: c.fs_k,
+            yield_stress: c.yield_stress,
+        };
+        let matrix = FatigueConstants {
+            f_minus1: self.f_minus1,
+            t_minus1: self.t_minus1,
+            fs_k: self.fs_k,
+            yield_stress: self.yield_stress,
+        };
+        let inner = self.inhomogeneity.as_ref().unwrap_or(&matrix);
+        std::iter::once(of(&matrix, e, nu))
+            .chain(inclusions.iter().map(|&(ei, ni)| of(inner, ei, ni)))
+            .collect()
+    }
 }
 
 impl Default for LoopConfig {
@@ -68,6 +136,7 @@ impl Default for LoopConfig {
             layout: None,
             fibre_e_ratio: None,
             subsurface_over_a: 1.0,
+            fatigue: None,
         }
     }
 }
@@ -185,6 +254,13 @@ impl LoopConfig {
         loads: Vec<f64>,
         amplitudes: Vec<f64>,
     ) -> Result<FrettingMap, SpecError> {
+        if self.fatigue.is_some() {
+            return Err(SpecError(
+                "fretting map config: [fatigue] is read by fretting-loop only (the crack-risk \
+                 map is not built yet); remove it"
+                    .into(),
+            ));
+        }
         if self.approach.is_some() {
             return Err(SpecError(
                 "fretting map config: the map's rows are normal loads ([map] loads): approach \
@@ -247,6 +323,7 @@ fn loop_case(
             .map(inhomogeneity_from_table)
             .collect::<Result<Vec<_>, _>>()?,
         subsurface_depth: None,
+        fatigue_depth: None,
     };
     if !(cfg.subsurface_over_a.is_finite() && cfg.subsurface_over_a >= 0.0) {
         return Err(SpecError(format!(
@@ -296,6 +373,27 @@ fn loop_case(
         .map_err(|e| SpecError(format!("fretting loop config: {e}")))?;
     if cfg.subsurface_over_a > 0.0 {
         case.subsurface_depth = Some(cfg.subsurface_over_a * case.hertz_radius());
+    }
+    if let Some(f) = &cfg.fatigue {
+        if !(f.depth_over_a.is_finite() && f.depth_over_a > 0.0) {
+            return Err(SpecError(format!(
+                "fretting loop config: [fatigue] depth_over_a must be finite and > 0, got {}",
+                f.depth_over_a
+            )));
+        }
+        if !(0.0..=1.0).contains(&f.screen_fraction) {
+            return Err(SpecError(format!(
+                "fretting loop config: [fatigue] screen_fraction must lie in [0, 1], got {}",
+                f.screen_fraction
+            )));
+        }
+        let inclusions: Vec<(f64, f64)> =
+            case.inhomogeneities.iter().map(|i| (i.e, i.nu)).collect();
+        for m in f.materials(case.e, case.nu, &inclusions) {
+            m.validate()
+                .map_err(|e| SpecError(format!("fretting loop config: [fatigue]: {e}")))?;
+        }
+        case.fatigue_depth = Some(f.depth_over_a * case.hertz_radius());
     }
     Ok(case)
 }

@@ -2,6 +2,7 @@
 //!
 //! Facade over the workspace crates; see `docs/architecture.md`.
 pub use halfspace_data as data;
+pub use halfspace_fatigue as fatigue;
 pub use halfspace_fretting as fretting;
 pub use halfspace_mdr as mdr;
 pub use halfspace_numerics as numerics;
@@ -9,6 +10,7 @@ pub use halfspace_sam as sam;
 
 pub mod config;
 pub mod fretting_map;
+pub mod loop_fatigue;
 pub mod records;
 pub mod run_dir;
 pub mod spec;

@@ -343,7 +343,16 @@ impl PyFrettingLoop {
     #[new]
     #[pyo3(signature = (config_json=None, case="homogeneous", grid=None))]
     fn new(config_json: Option<&str>, case: &str, grid: Option<usize>) -> PyResult<Self> {
-        let case = loop_config(config_json)?.case(case, grid).map_err(err)?;
+        let config = loop_config(config_json)?;
+        if config.fatigue.is_some() {
+            // The indices are computed by the CLI (halfspace::loop_fatigue); refused here rather
+            // than recorded and dropped.
+            return Err(err(
+                "config: [fatigue] is read by `halfspace fretting-loop` only (not yet by \
+                 FrettingLoop); remove it",
+            ));
+        }
+        let case = config.case(case, grid).map_err(err)?;
         Ok(Self {
             inner: FrettingLoop::new(case).map_err(err)?,
         })

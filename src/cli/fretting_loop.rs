@@ -8,6 +8,7 @@ use std::time::{Duration, Instant};
 use clap::Args;
 use halfspace::config::LoopConfig;
 use halfspace::data::{read_record, write_record};
+use halfspace::loop_fatigue::{evaluate_loop_fatigue, FATIGUE_FIELDS};
 use halfspace::records::{
     case_parameters, loop_results_record, snapshot_from_record, snapshot_record,
 };
@@ -163,8 +164,25 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
         Some((r, m))
     };
     let reference_seconds = reference_start.elapsed().as_secs_f64();
-    let rec = loop_results_record(&lp, &metrics, reference.as_ref().map(|(r, m)| (r, m)));
-    write_record(&args.out.join("results.h5"), &rec)?;
+    let fatigue = match &cfg.fatigue {
+        Some(f) => Some(evaluate_loop_fatigue(&lp, f)?),
+        None => None,
+    };
+    let mut rec = loop_results_record(&lp, &metrics, reference.as_ref().map(|(r, m)| (r, m)));
+    if let Some(f) = &fatigue {
+        rec = f.record(rec);
+    }
+    let results = args.out.join("results.h5");
+    write_record(&results, &rec)?;
+    if let Some(f) = &fatigue {
+        halfspace::data::write_xdmf(
+            &results.with_extension("xdmf"),
+            &results,
+            &f.volume(),
+            &FATIGUE_FIELDS,
+            "halfspace fretting-loop fatigue indices; XDMF axes Z Y X = depth (into the body), x, y (m)",
+        )?;
+    }
     // Complete: the checkpoint is no longer needed (a re-run into the same directory starts over).
     if checkpoint.exists() {
         std::fs::remove_file(&checkpoint)
@@ -172,7 +190,7 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
     }
     draw_loop_figures(&args.out, &lp, reference.as_ref().map(|(r, _)| r))?;
     run_dir.complete_present()?;
-    let summary = loop_summary(
+    let mut summary = loop_summary(
         &lp,
         &metrics,
         reference.as_ref(),
@@ -180,6 +198,11 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
         start,
         reference_seconds,
     );
+    if let (Some(f), Some(out)) = (&fatigue, summary.as_object_mut()) {
+        if let Value::Object(keys) = f.summary() {
+            out.extend(keys);
+        }
+    }
     if args.json {
         println!("{summary}");
     } else {
@@ -225,6 +248,7 @@ fn loop_summary(
             "eim_seconds": s.eim,
             "disturbance_seconds": s.disturbance,
             "subsurface_seconds": s.subsurface,
+            "cycle_stress_seconds": s.cycle_stress,
             "homogeneous_reference_seconds": reference_seconds,
             "alternations": sum(|r| r.alternations),
             "outer_iterations": sum(|r| r.outer_iterations),

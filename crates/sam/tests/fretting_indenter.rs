@@ -220,3 +220,80 @@ fn bad_indenters_are_refused() {
         assert!(msg.contains("indenter"), "{msg}");
     }
 }
+
+/// A short rigid loop recording the cycle's stress history to depth a.
+fn with_history() -> LoopCase {
+    let mut case = LoopCase {
+        grid: 16,
+        normal_steps: 4,
+        amplitude: 0.02e-6,
+        shift_step: 0.005e-6,
+        ..LoopCase::default()
+    };
+    case.fatigue_depth = Some(case.hertz_radius());
+    case
+}
+
+#[test]
+fn the_cycle_stress_history_is_the_field_at_each_increment_and_resumes_bit_for_bit() {
+    use halfspace_sam::subsurface::subsurface_stress;
+    let case = with_history();
+    let mut lp = FrettingLoop::new(case.clone()).unwrap();
+    let start = lp.path().cycle_start();
+    let mut direct = Vec::new();
+    let mut snapshot = None;
+    while lp.step().unwrap().is_some() {
+        let k = lp.rows().len() - 1;
+        if k >= start {
+            let st = lp.solver().problem().state();
+            let f = subsurface_stress(
+                lp.solver().problem().grid(),
+                case.e,
+                case.nu,
+                &st.pressure,
+                Some([&st.shear[0], &st.shear[1]]),
+                case.fatigue_depth.unwrap(),
+                None,
+            )
+            .unwrap();
+            direct.push(f);
+        }
+        if k == start + 3 {
+            snapshot = Some(lp.snapshot());
+        }
+    }
+    let h = lp.cycle_stress().unwrap();
+    assert_eq!(h.increments, lp.path().len() - start);
+    assert_eq!(h.recorded, h.increments);
+    assert_eq!(h.increments, 4 * lp.path().quarter + 1);
+    // Layers to depth a on cells of 4.16a/16: ⌈a / cell⌉.
+    assert_eq!(h.layers, (16.0 / 4.16f64).ceil() as usize);
+    for (t, f) in direct.iter().enumerate() {
+        for p in [0, 37, h.points() - 1] {
+            for c in 0..6 {
+                assert_eq!(h.stress[(p * h.increments + t) * 6 + c], f.stress[c][p]);
+            }
+        }
+    }
+    // The estimate counts the history three times.
+    let bytes = halfspace_sam::drivers::fretting_loop::CycleStress::bytes(
+        256.0,
+        h.layers as f64,
+        h.increments as f64,
+    );
+    let without = LoopCase {
+        fatigue_depth: None,
+        ..case.clone()
+    };
+    assert!(case.estimate().bytes - without.estimate().bytes >= 3.0 * bytes);
+    // Resumed mid-cycle: the same history bit for bit.
+    let mut resumed = FrettingLoop::resume(case.clone(), snapshot.unwrap()).unwrap();
+    resumed
+        .run(|_| std::ops::ControlFlow::Continue(()))
+        .unwrap();
+    assert_eq!(resumed.cycle_stress(), lp.cycle_stress());
+    // A snapshot without the history, of a loop past the cycle's start, is refused.
+    let mut bare = lp.snapshot();
+    bare.cycle_stress = None;
+    assert!(FrettingLoop::resume(case, bare).is_err());
+}

@@ -190,6 +190,7 @@ impl FrettingMap {
             amplitude,
             shift_step: amplitude / self.quarter as f64,
             subsurface_depth: None,
+            fatigue_depth: None,
             ..self.base.clone()
         };
         case.extent_over_a = extent / case.hertz_radius();

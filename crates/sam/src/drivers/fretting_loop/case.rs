@@ -56,6 +56,9 @@ pub struct LoopCase {
     pub inhomogeneities: Vec<Inhomogeneity>,
     /// Depth (m) of the von Mises field stored at the points A–D (`None`: not computed).
     pub subsurface_depth: Option<f64>,
+    /// Depth (m) of the box whose stress history over the closed cycle is recorded for the
+    /// fatigue criteria ([`super::CycleStress`]; `None`: not recorded).
+    pub fatigue_depth: Option<f64>,
 }
 
 impl Default for LoopCase {
@@ -75,6 +78,7 @@ impl Default for LoopCase {
             extent_over_a: 4.16,
             inhomogeneities: Vec::new(),
             subsurface_depth: None,
+            fatigue_depth: None,
         }
     }
 }
@@ -255,6 +259,9 @@ impl LoopCase {
         if let Some(d) = self.subsurface_depth {
             crate::error::positive("subsurface depth", d)?;
         }
+        if let Some(d) = self.fatigue_depth {
+            crate::error::positive("fatigue box depth", d)?;
+        }
         Ok(())
     }
 
@@ -273,12 +280,26 @@ impl LoopCase {
             + 19.0 * 8.0;
         // The points A–D: eight surface fields each (and the von Mises layers, when asked).
         let points = 4.0 * cells * 8.0 * 8.0;
+        // The stress history of the closed cycle (docs/fatigue.md, "On the fretting loop"): the
+        // path `cells · layers · (4q + 1) · 48 B`, three times (the loop's, the checkpoint
+        // snapshot's and its record's), and one stress field per increment (15 values per cell
+        // and six half-spectra of 2N₁(N₂ + 1) complex values per layer).
+        let history = match self.fatigue_depth {
+            Some(depth) => {
+                let cell = self.extent() / self.grid as f64;
+                let layers = super::CycleStress::layers_for(depth, cell) as f64;
+                let cycle = 4.0 * quarter_steps(self.amplitude, self.shift_step) + 1.0;
+                3.0 * super::CycleStress::bytes(cells, layers, cycle)
+                    + layers * cells * (15.0 * 8.0 + 6.0 * 2.0 * 16.0)
+            }
+            None => 0.0,
+        };
         LoopEstimate {
             increments,
             cells,
             loops: 1.0,
             concurrent: 1.0,
-            bytes: frictional * cells + points + increments * ROW_BYTES,
+            bytes: frictional * cells + points + increments * ROW_BYTES + history,
             work: increments * cells * weight,
         }
     }

@@ -4,6 +4,7 @@ use std::ops::ControlFlow;
 use std::time::Instant;
 
 use super::case::{LoadPath, LoopCase, POINT_LABELS};
+use super::history::CycleStress;
 use super::metrics::LoopMetrics;
 use super::row::LoopRow;
 use crate::contact::ContactSolver;
@@ -29,6 +30,8 @@ pub struct LoopSeconds {
     pub disturbance: f64,
     /// Von Mises fields at the points A–D.
     pub subsurface: f64,
+    /// Stress fields of the closed cycle's history ([`LoopCase::fatigue_depth`]).
+    pub cycle_stress: f64,
 }
 
 /// The surface fields (and the von Mises field below) at one of the points A–D, each `N₁N₂`
@@ -69,6 +72,8 @@ pub struct LoopSnapshot {
     pub state: ContactState,
     /// With inhomogeneities: the nested loop's warm start (eigenstrains, eigen-displacements).
     pub eigen: Option<NestedWarmStart>,
+    /// The closed cycle's stress history so far ([`LoopCase::fatigue_depth`]).
+    pub cycle_stress: Option<CycleStress>,
 }
 
 /// The fretting loop of a [`LoopCase`] (module doc of [`crate::drivers::fretting_loop`]).
@@ -80,6 +85,7 @@ pub struct FrettingLoop {
     points: Vec<PointFields>,
     max_transverse_slip: f64,
     seconds: LoopSeconds,
+    cycle_stress: Option<CycleStress>,
 }
 
 impl FrettingLoop {
@@ -119,6 +125,7 @@ impl FrettingLoop {
             points: Vec::new(),
             max_transverse_slip: 0.0,
             seconds: LoopSeconds::default(),
+            cycle_stress: None,
         })
     }
 
@@ -145,6 +152,7 @@ impl FrettingLoop {
         lp.rows = snapshot.rows;
         lp.points = snapshot.points;
         lp.max_transverse_slip = snapshot.max_transverse_slip;
+        lp.cycle_stress = snapshot.cycle_stress;
         Ok(lp)
     }
 
@@ -327,6 +335,46 @@ impl FrettingLoop {
                 )?;
             }
         }
+        let expected = rows.len().saturating_sub(self.path.cycle_start());
+        match (&snapshot.cycle_stress, self.case.fatigue_depth) {
+            (None, Some(_)) if expected > 0 => {
+                return Err(bad(
+                    "cycle_stress".into(),
+                    format!("missing: {expected} increments of the cycle are done"),
+                ))
+            }
+            (Some(_), None) => {
+                return Err(bad(
+                    "cycle_stress".into(),
+                    "present, but this loop records no stress history".into(),
+                ))
+            }
+            (Some(h), Some(depth)) => {
+                let layers = CycleStress::layers_for(depth, 2.0 * grid.half1);
+                let cycle = self.path.len() - self.path.cycle_start();
+                if h.recorded != expected
+                    || h.layers != layers
+                    || h.increments != cycle
+                    || h.grid != grid
+                    || h.stress.len() != layers * cells * cycle * 6
+                    || h.material.len() != layers * cells
+                {
+                    return Err(bad(
+                        "cycle_stress".into(),
+                        format!(
+                            "{} of {} increments on {} layers ({} values): this loop has {expected} \
+                             of {cycle} on {layers} layers",
+                            h.recorded,
+                            h.increments,
+                            h.layers,
+                            h.stress.len()
+                        ),
+                    ));
+                }
+                finite("cycle_stress".into(), &h.stress, None)?;
+            }
+            _ => {}
+        }
         Ok(())
     }
 
@@ -363,6 +411,12 @@ impl FrettingLoop {
     /// Largest `|s₂|` (transverse slip, from the normal–tangential coupling) so far (m).
     pub fn max_transverse_slip(&self) -> f64 {
         self.max_transverse_slip
+    }
+
+    /// The closed cycle's stress history ([`LoopCase::fatigue_depth`]; complete when the loop
+    /// is done).
+    pub fn cycle_stress(&self) -> Option<&CycleStress> {
+        self.cycle_stress.as_ref()
     }
 
     /// Wall time by part since this object was made.
@@ -408,6 +462,13 @@ impl FrettingLoop {
             let fields = self.point_fields(POINT_LABELS[m], k + 1)?;
             self.points.push(fields);
         }
+        if let Some(depth) = self.case.fatigue_depth {
+            if k >= self.path.cycle_start() {
+                let t = Instant::now();
+                self.record_cycle_stress(depth)?;
+                self.seconds.cycle_stress += t.elapsed().as_secs_f64();
+            }
+        }
         Ok(self.rows.last())
     }
 
@@ -425,6 +486,25 @@ impl FrettingLoop {
         Ok(true)
     }
 
+    /// The stress field of the box at this increment into the cycle's history: the flat's
+    /// constants, the EIM disturbance with inhomogeneities ([`ContactSolver::subsurface`]).
+    fn record_cycle_stress(&mut self, depth: f64) -> Result<(), SamError> {
+        let field = self.solver.subsurface(self.case.e, self.case.nu, depth)?;
+        if self.cycle_stress.is_none() {
+            let materials = self
+                .solver
+                .nested()
+                .map(|n| n.inclusions().materials.clone())
+                .unwrap_or_default();
+            let increments = self.path.len() - self.path.cycle_start();
+            self.cycle_stress = Some(CycleStress::new(&field, increments, materials)?);
+        }
+        match &mut self.cycle_stress {
+            Some(h) => h.record(&field),
+            None => Ok(()),
+        }
+    }
+
     /// The state to continue from ([`FrettingLoop::resume`]).
     pub fn snapshot(&self) -> LoopSnapshot {
         LoopSnapshot {
@@ -434,6 +514,7 @@ impl FrettingLoop {
             max_transverse_slip: self.max_transverse_slip,
             state: self.solver.problem().state().clone(),
             eigen: self.solver.nested().map(|n| n.warm_start()),
+            cycle_stress: self.cycle_stress.clone(),
         }
     }
 

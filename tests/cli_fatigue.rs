@@ -1,0 +1,102 @@
+//! `fretting-loop` with an elastic indenter, approach control and a `[fatigue]` table: the keys,
+//! their errors, the JSON maxima and the volume fields of results.h5; resumed mid-cycle bit for
+//! bit (docs/fatigue.md, "On the fretting loop").
+mod common;
+
+use common::{arrays_equal, bad, ok_json, run};
+
+const FATIGUE: &str =
+    "[fatigue]\nf_minus1 = 400e6\nt_minus1 = 280e6\nfs_k = 0.5\nyield_stress = 600e6\n";
+
+fn config(dir: &std::path::Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_str().unwrap().to_string()
+}
+
+#[test]
+fn bad_keys_are_refused_with_their_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("out");
+    let o = o.to_str().unwrap();
+    for (text, needle) in [
+        ("force = 0.08\napproach = 1e-7\n", "exactly one of force"),
+        ("indenter_e = 210e9\n", "indenter_nu"),
+        ("indenter_e = -1.0\nindenter_nu = 0.3\n", "indenter_e"),
+        ("[fatigue]\nf_minus1 = 400e6\n", "t_minus1"),
+        (
+            "[fatigue]\nf_minus1 = 400e6\nt_minus1 = 500e6\nfs_k = 0.5\nyield_stress = 6e8\n",
+            "[fatigue]",
+        ),
+        (&format!("{FATIGUE}depth = 1.0\n"), "depth"),
+        (
+            &format!("{FATIGUE}screen_fraction = 2.0\n"),
+            "screen_fraction",
+        ),
+    ] {
+        let c = config(dir.path(), "bad.toml", text);
+        bad(&["fretting-loop", "--config", &c, "--out", o], needle);
+    }
+}
+
+#[test]
+fn fatigue_maxima_and_fields_of_an_elastic_indenter_under_approach_control() {
+    let dir = tempfile::tempdir().unwrap();
+    // Identical steel bodies at the approach of W ≈ 80 mN (a = 3.76 μm, δ = a²/R).
+    let text = format!(
+        "grid = 16\nnormal_steps = 4\namplitude = 0.02e-6\nshift_step = 0.005e-6\n\
+         subsurface_over_a = 0.0\nindenter_e = 210e9\nindenter_nu = 0.3\napproach = 1.35e-7\n\
+         {FATIGUE}depth_over_a = 1.0\n"
+    );
+    let c = config(dir.path(), "loop.toml", &text);
+    let full = dir.path().join("full");
+    let j = ok_json(&run(&[
+        "fretting-loop",
+        "--config",
+        &c,
+        "--out",
+        full.to_str().unwrap(),
+        "--json",
+    ]));
+    for key in ["crossland", "dang_van", "swt", "fatemi_socie"] {
+        let v = j[format!("{key}_max")].as_f64().unwrap();
+        assert!(v.is_finite() && v > 0.0, "{key}_max = {v}");
+        let at = j[format!("{key}_max_at")].as_array().unwrap();
+        assert_eq!(at.len(), 3);
+        assert!(at[2].as_f64().unwrap() > 0.0, "{key}: z below the surface");
+    }
+    let rec = halfspace::data::read_record(&full.join("results.h5")).unwrap();
+    let layers = rec.get("z").unwrap().len();
+    assert!(layers >= 1);
+    for key in ["crossland", "dang_van", "swt", "fatemi_socie"] {
+        assert_eq!(rec.shape_of(key).unwrap(), vec![layers, 16, 16]);
+    }
+    let crossland = rec.get("crossland").unwrap();
+    let max = crossland.iter().copied().fold(f64::MIN, f64::max);
+    assert_eq!(max, j["crossland_max"].as_f64().unwrap());
+    assert!(full.join("results.xdmf").exists());
+    // Killed mid-cycle (4 normal + 4 + 3 shift increments) and resumed: the same results.
+    let killed = dir.path().join("killed");
+    let k = killed.to_str().unwrap();
+    let out = run(&[
+        "fretting-loop",
+        "--config",
+        &c,
+        "--out",
+        k,
+        "--stop-after",
+        "11",
+    ]);
+    assert!(out.status.success());
+    let j2 = ok_json(&run(&[
+        "fretting-loop",
+        "--config",
+        &c,
+        "--out",
+        k,
+        "--resume",
+        "--json",
+    ]));
+    arrays_equal(&full.join("results.h5"), &killed.join("results.h5"));
+    assert_eq!(j2["fatemi_socie_max"], j["fatemi_socie_max"]);
+}
