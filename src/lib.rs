@@ -12,3 +12,4 @@ pub mod fretting_map;
 pub mod records;
 pub mod run_dir;
 pub mod spec;
+pub mod wear3d_mdr;
