@@ -134,7 +134,7 @@ pub fn mdr_cross_check(params: &CrossCheckParams) -> Result<CrossCheck, CrossChe
     let seconds_3d = t.elapsed().as_secs_f64();
     let g = *run.grid();
     let h = 2.0 * g.half1 / a0;
-    let mgrid = mdr.grid().clone();
+    let mgrid = *mdr.grid();
     let interp = |profile: &[f64], r: f64| -> f64 {
         let t = mgrid.fractional_index(r).max(0.0);
         let i = (t.floor() as usize).min(mgrid.len() - 2);

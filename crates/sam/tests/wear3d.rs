@@ -178,7 +178,7 @@ fn wear_over_an_inhomogeneity_stops() {
     case.body = WornBody::Flat;
     case.inhomogeneity_depth_cells = 1e-4;
     let mut run = FrettingWear3d::new(case.clone()).expect("plan");
-    let err = run.run(|_| ControlFlow::Continue(())).err().expect("stops");
+    let err = run.run(|_| ControlFlow::Continue(())).expect_err("stops");
     assert!(
         matches!(err, SamError::WornIntoInhomogeneity { depth, limit, .. } if depth > limit),
         "{err}"
