@@ -7,12 +7,12 @@ use crate::normal::NormalLoad;
 use crate::{Body, SamError};
 
 /// The default largest depth increment of a wear step over the elastic approach, `η`
-/// (docs/wear3d.md#cycle-jumping): the measured change of the worn profile when it is halved is
+/// (docs/wear3d.md#the-wear-step-and-cycle-jumping): the measured change of the worn profile when it is halved is
 /// in docs/wear3d.md.
 pub const DEFAULT_STEP_FRACTION: f64 = 0.01;
 
 /// The default fraction `β` of the explicit wear step's stability bound `ΔN ≤ 2 C_min / max(k Δu)`
-/// (docs/wear3d.md#cycle-jumping): `β = 1` is half the bound, where the stiffest mode of the worn
+/// (docs/wear3d.md#the-wear-step-and-cycle-jumping): `β = 1` is half the bound, where the stiffest mode of the worn
 /// gap decays without overshoot.
 pub const DEFAULT_STABILITY_FRACTION: f64 = 1.0;
 

@@ -70,7 +70,7 @@ impl WearLaw {
 
     /// The rate's sensitivity to the pressure per unit slip, `∂(dh/dN)/∂p / |Δu|`: `k`, or `αμ`
     /// (in the slip zone `|q| = μp`): the stiffness of the explicit wear step
-    /// (docs/wear3d.md#cycle-jumping).
+    /// (docs/wear3d.md#the-wear-step-and-cycle-jumping).
     pub fn pressure_coefficient(&self, friction: f64) -> f64 {
         match *self {
             Self::Archard { coefficient } => coefficient,

@@ -164,7 +164,7 @@ pub struct FrettingWear3d {
 
 /// `C_min = Σ_{m,n} (−1)^{m+n} K(m, n)` over the grid's offsets: the surface compliance's symbol
 /// at the checkerboard frequency `(π, π)`, its smallest value, which bounds the eigenvalues of every
-/// contact set's influence matrix from below (docs/wear3d.md#cycle-jumping).
+/// contact set's influence matrix from below (docs/wear3d.md#the-wear-step-and-cycle-jumping).
 pub fn checkerboard_compliance(compliance: &Compliance, grid: &SurfaceGrid) -> f64 {
     let quadrant = compliance.normal_quadrant(grid, 1 << 14);
     let weight = |m: usize| if m == 0 { 1.0 } else { 2.0 };
@@ -439,7 +439,7 @@ impl FrettingWear3d {
         self.solver.problem_mut().set_geometry(&self.geometry)
     }
 
-    /// One wear step (docs/wear3d.md#the-wear-step): the first call loads the contact (the normal
+    /// One wear step (docs/wear3d.md#the-wear-step-and-cycle-jumping): the first call loads the contact (the normal
     /// steps and the quarter `0 → +A`); each call computes the cycle `+A → −A → +A` on the
     /// current worn gap and integrates the law over its increments, `r_i = Σ_k rate(p_k, |q_k|,
     /// |S_k|)` per cell; then `ΔN = ⌊min(η δ / max r, β C_min / (k_p max Δu), cycles to the
