@@ -14,3 +14,4 @@ pub mod loop_fatigue;
 pub mod records;
 pub mod run_dir;
 pub mod spec;
+pub mod wear3d_mdr;

@@ -5,6 +5,7 @@ mod contact3d;
 mod fretting;
 mod fretting_loop;
 mod fretting_map;
+mod fretting_wear3d;
 mod plot;
 mod study;
 
@@ -33,6 +34,9 @@ enum Command {
     /// A fretting map (Vingsbo–Söderberg): the fretting loop over loads × amplitudes, its regime
     /// and dissipated energy; points in parallel, checkpointed, resumable.
     FrettingMap(fretting_map::FrettingMapArgs),
+    /// 3D fretting wear on the SAM solver: Archard or energy wear over cycles with cycle jumping,
+    /// checkpointed, resumable (docs/wear3d.md).
+    FrettingWear3d(fretting_wear3d::FrettingWear3dArgs),
     /// Convergence studies against closed forms (the figures of docs/).
     Study(study::StudyArgs),
 }
@@ -137,7 +141,7 @@ pub fn run() -> ExitCode {
         Command::Axisym(_) => &["--method"],
         Command::FrettingWear(_) => &["--method", "--dtau", "--length"],
         Command::Contact3d(_) => &["--extent", "--subsurface"],
-        Command::FrettingLoop(_) | Command::FrettingMap(_) => &[],
+        Command::FrettingLoop(_) | Command::FrettingMap(_) | Command::FrettingWear3d(_) => &[],
         Command::Study(_) => &["--method", "--dtau", "--length", "--extent"],
     };
     let result = match cli.command {
@@ -147,6 +151,7 @@ pub fn run() -> ExitCode {
         Command::Contact3d(args) => contact3d::run(args),
         Command::FrettingLoop(args) => fretting_loop::run_loop(args),
         Command::FrettingMap(args) => fretting_map::run(args),
+        Command::FrettingWear3d(args) => fretting_wear3d::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -47,6 +47,22 @@ pub enum SamError {
     /// The caller asked the run to stop (Ctrl-C); what was done before is intact.
     #[error("cancelled (interrupted)")]
     Cancelled,
+    /// A wear run whose worn flat comes within reach of its inhomogeneities: the EIM geometry was
+    /// built for the unworn surface (docs/wear3d.md#inhomogeneities-under-wear). The wear step
+    /// that would pass the limit is not applied; the run's state before it is intact.
+    #[error(
+        "the worn depth over an inhomogeneity would reach {depth:e} m after {cycles} cycles, past \
+         the limit {limit:e} m (inhomogeneity_depth_cells of a cell): the inhomogeneities were placed for the \
+         unworn surface; the run stops here (see docs/wear3d.md, inhomogeneities under wear)"
+    )]
+    WornIntoInhomogeneity {
+        /// Cycles the step would have reached.
+        cycles: u64,
+        /// Worn depth the step would have reached over an inhomogeneity (m).
+        depth: f64,
+        /// The limit (m).
+        limit: f64,
+    },
     /// Grid shape or array length problems.
     #[error(transparent)]
     Numerics(#[from] NumericsError),

@@ -261,6 +261,51 @@ impl<S: OperatorSet> ContactProblem<S> {
         Ok(())
     }
 
+    /// The initial separation `h₀` per cell (m): the geometry the problem was made with, or the
+    /// last one given to [`ContactProblem::set_geometry`].
+    pub fn geometry(&self) -> &[f64] {
+        &self.geometry
+    }
+
+    /// Replaces the initial separation `h₀` (a worn gap, docs/wear3d.md#the-worn-gap): it applies
+    /// to the next [`ContactProblem::solve`]; the state and the friction history are kept. The
+    /// field must have one finite value per cell.
+    pub fn set_geometry(&mut self, geometry: &[f64]) -> Result<(), SamError> {
+        if geometry.len() != self.geometry.len() {
+            return Err(SamError::Numerics(
+                halfspace_numerics::NumericsError::LengthMismatch {
+                    what: "geometry",
+                    expected: self.geometry.len(),
+                    got: geometry.len(),
+                },
+            ));
+        }
+        if let Some(v) = geometry.iter().find(|v| !v.is_finite()) {
+            return Err(SamError::InvalidParameter {
+                name: "geometry (initial separation)",
+                value: *v,
+                allowed: "finite",
+            });
+        }
+        self.geometry.copy_from_slice(geometry);
+        Ok(())
+    }
+
+    /// The deformed gap of the current state, `g = h₀ + u₃^eig − δ + K p` per cell
+    /// (docs/theory-sam.md#normal-contact; without the coupling term `κ⟦P_B⟧ * q`, zero for
+    /// `κ = 0`): `≈ 0` where `p > 0`, `> 0` outside. Written into `out` (one value per cell).
+    pub fn deformed_gap(&mut self, out: &mut [f64]) -> Result<(), SamError> {
+        self.normal.displacement(&self.state.pressure, out)?;
+        let delta = self.state.approach;
+        for (k, g) in out.iter_mut().enumerate() {
+            *g += self.geometry[k] - delta;
+        }
+        if let Some(eig) = &self.eigen {
+            out.iter_mut().zip(&eig[2]).for_each(|(g, u)| *g += u);
+        }
+        Ok(())
+    }
+
     /// The grid.
     pub fn grid(&self) -> &SurfaceGrid {
         &self.grid

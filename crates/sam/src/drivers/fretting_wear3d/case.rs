@@ -1,0 +1,272 @@
+//! The configuration of a 3D fretting-wear run (docs/wear3d.md).
+
+use super::laws::{WearLaw, WornBody};
+use crate::drivers::fretting_loop::{LoadPath, LoopCase};
+use crate::eim::Shape;
+use crate::normal::NormalLoad;
+use crate::{Body, SamError};
+
+/// The default largest depth increment of a wear step over the elastic approach, `η`
+/// (docs/wear3d.md#the-wear-step-and-cycle-jumping): the measured change of the worn profile when it is halved is
+/// in docs/wear3d.md.
+pub const DEFAULT_STEP_FRACTION: f64 = 0.01;
+
+/// The default fraction `β` of the explicit wear step's stability bound `ΔN ≤ 2 C_min / max(k Δu)`
+/// (docs/wear3d.md#the-wear-step-and-cycle-jumping): `β = 1` is half the bound, where the stiffest mode of the worn
+/// gap decays without overshoot.
+pub const DEFAULT_STABILITY_FRACTION: f64 = 1.0;
+
+/// The worn depth of the flat over an inhomogeneity, in cells `2Δ` (the EIM lattice spacing),
+/// beyond which the run stops (docs/wear3d.md#inhomogeneities-under-wear): the EIM geometry was
+/// built for the unworn surface, and a quarter of a cell is where the first layer's centre has
+/// moved by an eighth of its spacing.
+pub const INHOMOGENEITY_DEPTH_CELLS: f64 = 0.25;
+
+/// A 3D fretting-wear run (docs/wear3d.md): the fretting loop of `fretting` (sphere, half-space,
+/// friction, amplitude, shift step, grid, inhomogeneities) cycled `+A → −A → +A` with the worn
+/// depth of `law` added to the gap after every computed cycle, each computed cycle standing for
+/// `ΔN` cycles (cycle jumping), until `cycles`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WearCase {
+    /// The fretting loop (its `force`, or `approach` below; `subsurface_depth` is not used).
+    pub fretting: LoopCase,
+    /// The indenter: [`Body::Rigid`] (the fretting loop's) or elastic (a pair of identical bodies
+    /// with `ν = 0` has no normal–tangential coupling: Mindlin's setting, the MDR cross-check).
+    pub indenter: Body,
+    /// Normal control by the rigid approach `δ` (m) instead of the force.
+    pub approach: Option<f64>,
+    /// The wear law and its coefficient.
+    pub law: WearLaw,
+    /// The body whose depth the wear is booked to (the gap grows the same for all three).
+    pub body: WornBody,
+    /// Fretting cycles `N` to run.
+    pub cycles: u64,
+    /// Cycle counts at which a wear step ends exactly and the worn depth and pressure are kept.
+    pub record_cycles: Vec<u64>,
+    /// `η`: the largest depth increment of a wear step over the elastic approach.
+    pub step_fraction: f64,
+    /// `β`: the fraction of the stability bound of the explicit wear step.
+    pub stability_fraction: f64,
+    /// The worn depth of the flat over an inhomogeneity, in cells, at which the run stops
+    /// ([`INHOMOGENEITY_DEPTH_CELLS`] by default; smaller is stricter).
+    pub inhomogeneity_depth_cells: f64,
+}
+
+impl WearCase {
+    /// A run of `fretting` under `law` for `cycles`, on the gap, force control, default steps.
+    pub fn new(fretting: LoopCase, law: WearLaw, cycles: u64) -> Self {
+        Self {
+            fretting,
+            indenter: Body::Rigid,
+            approach: None,
+            law,
+            body: WornBody::Gap,
+            cycles,
+            record_cycles: Vec::new(),
+            step_fraction: DEFAULT_STEP_FRACTION,
+            stability_fraction: DEFAULT_STABILITY_FRACTION,
+            inhomogeneity_depth_cells: INHOMOGENEITY_DEPTH_CELLS,
+        }
+    }
+
+    /// The 3D twin of the MDR wear problem of docs/theory-mdr.md#fretting-wear (the issue's
+    /// cross-check, docs/wear3d.md#the-mdr-cross-check): two identical elastic bodies
+    /// `E = 210 GPa`, `ν = 0` (`E* = E/2`, `G* = E/2`, no normal–tangential coupling: `κ = 0`
+    /// for identical bodies, whereas a rigid sphere on a `ν = 0` half-space has the largest
+    /// coupling `κ = 1/(4πG)`), `R = 105 μm`, fixed approach `d = 0.1 μm`
+    /// (`a₀ = √(Rd)`), `μ = 0.3`, amplitude `u_A = χ μ d` (`u_max = μ E* d / G* = μd` for this
+    /// pair), Archard on the gap with `k = a₀² d / (N₀ F₀ u_A)` (`F₀ = 4E* a₀³ / 3R`) so that
+    /// `τ = N / N₀` (Willert 2021 Eq. 31); `grid²` cells over `±1.6 a₀`, `quarter` shift steps
+    /// per quarter cycle, run to `τ_end`, records at `taus`.
+    pub fn mdr_twin(
+        grid: usize,
+        chi: f64,
+        n0: f64,
+        tau_end: f64,
+        taus: &[f64],
+        quarter: usize,
+    ) -> Result<Self, SamError> {
+        if !(chi > 0.0 && chi < 1.0) {
+            return Err(SamError::InvalidParameter {
+                name: "chi (amplitude over the gross-slip amplitude)",
+                value: chi,
+                allowed: "in (0, 1)",
+            });
+        }
+        crate::error::positive("N0 (cycles)", n0)?;
+        crate::error::positive("tau_end", tau_end)?;
+        let (e_pair, radius, d, mu): (f64, f64, f64, f64) = (210e9, 105e-6, 0.1e-6, 0.3);
+        let e_half = 0.5 * e_pair; // E* of the pair
+        let a0 = (radius * d).sqrt();
+        let f0 = 4.0 * e_half * a0.powi(3) / (3.0 * radius);
+        let amplitude = chi * mu * d;
+        let k = a0 * a0 * d / (n0 * f0 * amplitude);
+        let fretting = LoopCase {
+            radius,
+            e: e_pair,
+            nu: 0.0,
+            friction: mu,
+            force: f0,
+            normal_steps: 1,
+            amplitude,
+            shift_step: amplitude / quarter.max(1) as f64,
+            grid,
+            extent_over_a: 3.2,
+            inhomogeneities: Vec::new(),
+            subsurface_depth: None,
+        };
+        let cycles = (tau_end * n0).round() as u64;
+        let mut case = Self::new(fretting, WearLaw::Archard { coefficient: k }, cycles);
+        case.approach = Some(d);
+        case.indenter = Body::elastic(e_pair, 0.0)?;
+        case.record_cycles = taus.iter().map(|t| (t * n0).round() as u64).collect();
+        case.validate()?;
+        Ok(case)
+    }
+
+    /// The reference radius the domain is scaled by: `a₀ = √(Rδ)` under approach control (the
+    /// Hertz radius at that approach, rigid sphere), the Hertz radius of the force otherwise.
+    pub fn reference_radius(&self) -> f64 {
+        match self.approach {
+            Some(d) => (self.fretting.radius * d).sqrt(),
+            None => halfspace_mdr::analytic::sphere_radius_for_force(
+                self.fretting.force,
+                self.fretting.radius,
+                self.e_star(),
+            ),
+        }
+    }
+
+    /// The pair's `E* = 1 / Σ (1 − νᵢ²)/Eᵢ`.
+    pub fn e_star(&self) -> f64 {
+        let flat = (1.0 - self.fretting.nu * self.fretting.nu) / self.fretting.e;
+        let indenter = match self.indenter {
+            Body::Rigid => 0.0,
+            Body::Elastic { e, nu } => (1.0 - nu * nu) / e,
+        };
+        1.0 / (flat + indenter)
+    }
+
+    /// The unworn elastic approach: `δ` under approach control, `a²/R` (Hertz) under force
+    /// control: the scale of the depth increment per wear step.
+    pub fn approach_scale(&self) -> f64 {
+        match self.approach {
+            Some(d) => d,
+            None => {
+                let a = self.reference_radius();
+                a * a / self.fretting.radius
+            }
+        }
+    }
+
+    /// The domain side `extent_over_a · a₀` (m).
+    pub fn extent(&self) -> f64 {
+        self.fretting.extent_over_a * self.reference_radius()
+    }
+
+    /// The normal load of increment `k` of the path: `(k+1)/n` of the final force or approach
+    /// during the `n` normal steps, the final one after.
+    pub fn normal_load(&self, k: usize) -> NormalLoad {
+        let n = self.fretting.normal_steps;
+        let ramp = if k < n {
+            (k + 1) as f64 / n as f64
+        } else {
+            1.0
+        };
+        match self.approach {
+            Some(d) => NormalLoad::Approach(if k + 1 >= n { d } else { d * ramp }),
+            None => NormalLoad::Force(if k + 1 >= n {
+                self.fretting.force
+            } else {
+                self.fretting.force * ramp
+            }),
+        }
+    }
+
+    /// The shifts: the fretting loop's path ([`LoadPath`]); its cycle (after
+    /// [`LoadPath::cycle_start`]) is the computed cycle of every wear step.
+    pub fn path(&self) -> LoadPath {
+        self.fretting.path()
+    }
+
+    /// Checks the configuration: the fretting loop's ([`LoopCase::validate`]), the approach,
+    /// the coefficient, `cycles ≥ 1`, the record cycles in `[1, cycles]`, `η` in `(0, 0.5]`, `β`
+    /// in `(0, 1.9]` (below the stability bound 2).
+    pub fn validate(&self) -> Result<(), SamError> {
+        self.fretting.validate()?;
+        if let Body::Elastic { e, nu } = self.indenter {
+            Body::elastic(e, nu)?;
+        }
+        if let Some(d) = self.approach {
+            crate::error::positive("approach (rigid approach δ, m)", d)?;
+        }
+        self.law.validate()?;
+        if self.cycles == 0 {
+            return Err(SamError::InvalidParameter {
+                name: "cycles",
+                value: 0.0,
+                allowed: "≥ 1",
+            });
+        }
+        if let Some(&c) = self
+            .record_cycles
+            .iter()
+            .find(|&&c| c == 0 || c > self.cycles)
+        {
+            return Err(SamError::InvalidParameter {
+                name: "record_cycles",
+                value: c as f64,
+                allowed: "in [1, cycles]",
+            });
+        }
+        if !(self.step_fraction > 0.0 && self.step_fraction <= 0.5) {
+            return Err(SamError::InvalidParameter {
+                name: "step_fraction (largest depth increment per wear step / approach)",
+                value: self.step_fraction,
+                allowed: "in (0, 0.5]",
+            });
+        }
+        if !(self.stability_fraction > 0.0 && self.stability_fraction <= 1.9) {
+            return Err(SamError::InvalidParameter {
+                name: "stability_fraction (of the explicit wear step's bound)",
+                value: self.stability_fraction,
+                allowed: "in (0, 1.9]",
+            });
+        }
+        if !(self.inhomogeneity_depth_cells > 0.0 && self.inhomogeneity_depth_cells <= 1.0) {
+            return Err(SamError::InvalidParameter {
+                name: "inhomogeneity_depth_cells (worn depth over an inhomogeneity, cells)",
+                value: self.inhomogeneity_depth_cells,
+                allowed: "in (0, 1]",
+            });
+        }
+        let a = self.reference_radius();
+        let cell = self.extent() / self.fretting.grid as f64;
+        if !(a.is_normal() && cell.is_normal()) {
+            return Err(SamError::InvalidInput(format!(
+                "approach = {:?} m and radius = {:e} m give a reference radius a0 = {a:e} m and \
+                 cells of {cell:e} m: not representable (give SI values of a real contact)",
+                self.approach, self.fretting.radius
+            )));
+        }
+        Ok(())
+    }
+
+    /// Whether cell centre `(x, y)` lies above (inside the footprint of) an inhomogeneity.
+    pub fn over_inhomogeneity(&self, x: f64, y: f64) -> bool {
+        self.fretting.inhomogeneities.iter().any(|h| match h.shape {
+            Shape::Sphere {
+                x: cx, y: cy, r, ..
+            } => (x - cx).hypot(y - cy) <= r,
+            Shape::Cylinder {
+                axis, position, r, ..
+            } => match axis {
+                crate::eim::Axis::X => (y - position).abs() <= r,
+                crate::eim::Axis::Y => (x - position).abs() <= r,
+            },
+            Shape::Cuboid {
+                x: cx, y: cy, half, ..
+            } => (x - cx).abs() <= half[0] && (y - cy).abs() <= half[1],
+        })
+    }
+}

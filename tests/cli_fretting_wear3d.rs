@@ -1,0 +1,102 @@
+//! `halfspace fretting-wear3d` through the binary (docs/wear3d.md#the-command).
+
+mod common;
+
+use common::{arrays_equal, bad, ok_json, run};
+
+/// The MDR twin of docs/wear3d.md (identical bodies, ν = 0, fixed approach, χ = 0.5) on 16²,
+/// N₀ = 1000 cycles, to τ = 1.
+const TWIN: &str = "radius = 105e-6\ne = 210e9\nnu = 0.0\nfriction = 0.3\nforce = 0.045\n\
+normal_steps = 1\namplitude = 1.5e-8\nshift_step = 1.5e-8\ngrid = 16\nextent_over_a = 3.2\n\
+approach = 1e-7\nindenter_e = 210e9\nindenter_nu = 0.0\n\
+[wear]\nlaw = \"archard\"\ncoefficient = 1.5430335e-12\nbody = \"gap\"\ncycles = 1000\n\
+record_cycles = [100]\n";
+
+/// A run's JSON keys and results; a run stopped twice and resumed ends bit for bit where the
+/// uninterrupted run ends; a re-run into a directory holding a checkpoint is refused.
+#[test]
+fn wear3d_runs_and_resumes_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("wear.toml");
+    std::fs::write(&cfg, TWIN).unwrap();
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    let args = |out: &std::path::Path, extra: &[&str]| {
+        let mut v = vec![
+            "fretting-wear3d".to_string(),
+            "--config".into(),
+            cfg.to_str().unwrap().into(),
+            "--out".into(),
+            out.to_str().unwrap().into(),
+        ];
+        v.extend(extra.iter().map(|s| s.to_string()));
+        v
+    };
+    let go = |v: Vec<String>| run(&v.iter().map(|s| s.as_str()).collect::<Vec<_>>());
+    let full = ok_json(&go(args(&a, &["--json"])));
+    for key in [
+        "cycles",
+        "wear_steps",
+        "wear_volume",
+        "max_wear_depth",
+        "contact_radius",
+        "stick_radius",
+        "dissipated_energy_total",
+        "seconds",
+    ] {
+        assert!(full[key].is_number(), "{key}: {full}");
+    }
+    assert_eq!(full["cycles"], 1000);
+    assert!(full["wear_volume"].as_f64().unwrap() > 0.0);
+    assert!(go(args(&b, &["--stop-after", "2"])).status.success());
+    assert!(b.join("checkpoint.npz").is_file() && !b.join("results.h5").exists());
+    let refused = go(args(&b, &[]));
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(go(args(&b, &["--resume", "--stop-after", "3"]))
+        .status
+        .success());
+    let resumed = ok_json(&go(args(&b, &["--resume", "--json"])));
+    arrays_equal(&a.join("results.h5"), &b.join("results.h5"));
+    assert_eq!(full["wear_volume"], resumed["wear_volume"]);
+    assert!(!b.join("checkpoint.npz").exists());
+}
+
+/// Bad configurations are refused with the key named.
+#[test]
+fn wear3d_refuses_bad_configs() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    for (text, needle) in [
+        (TWIN.replace("[wear]\n", "[weer]\n"), "[wear]"),
+        (
+            TWIN.replace("law = \"archard\"", "law = \"hard\""),
+            "wear law",
+        ),
+        (TWIN.replace("cycles = 1000", "cycles = 0"), "cycles"),
+        (
+            TWIN.replace("coefficient = 1.5430335e-12", "coefficient = -1"),
+            "coefficient",
+        ),
+        (
+            TWIN.replace("body = \"gap\"", "body = \"both\""),
+            "wear body",
+        ),
+        (
+            TWIN.replace("approach = 1e-7", "approach = \"x\""),
+            "approach",
+        ),
+        (format!("{TWIN}colour = 1\n"), "colour"),
+    ] {
+        let cfg = dir.path().join("bad.toml");
+        std::fs::write(&cfg, text).unwrap();
+        bad(
+            &[
+                "fretting-wear3d",
+                "--config",
+                cfg.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            needle,
+        );
+    }
+}
