@@ -126,7 +126,7 @@ pub fn mdr_cross_check(params: &CrossCheckParams) -> Result<CrossCheck, CrossChe
     case.step_fraction = params.step_fraction;
     case.stability_fraction = params.stability_fraction;
     let radius = case.fretting.radius;
-    let d = case.approach.unwrap_or(f64::NAN);
+    let d = case.fretting.approach.unwrap_or(f64::NAN);
     let a0 = case.reference_radius();
     let t = Instant::now();
     let mut run = FrettingWear3d::new(case)?;

@@ -6,7 +6,7 @@ use common::{arrays_equal, bad, ok_json, run};
 
 /// The MDR twin of docs/wear3d.md (identical bodies, ν = 0, fixed approach, χ = 0.5) on 16²,
 /// N₀ = 1000 cycles, to τ = 1.
-const TWIN: &str = "radius = 105e-6\ne = 210e9\nnu = 0.0\nfriction = 0.3\nforce = 0.045\n\
+const TWIN: &str = "radius = 105e-6\ne = 210e9\nnu = 0.0\nfriction = 0.3\n\
 normal_steps = 1\namplitude = 1.5e-8\nshift_step = 1.5e-8\ngrid = 16\nextent_over_a = 3.2\n\
 approach = 1e-7\nindenter_e = 210e9\nindenter_nu = 0.0\n\
 [wear]\nlaw = \"archard\"\ncoefficient = 1.5430335e-12\nbody = \"gap\"\ncycles = 1000\n\

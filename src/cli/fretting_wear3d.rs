@@ -16,7 +16,6 @@ use halfspace::sam::drivers::fretting_wear3d::{
     FrettingWear3d, WearCase, WearLaw, WearRecord, WearRow, WearSnapshot, WornBody,
     DEFAULT_STABILITY_FRACTION, DEFAULT_STEP_FRACTION, INHOMOGENEITY_DEPTH_CELLS,
 };
-use halfspace::sam::Body;
 use serde::Deserialize;
 use serde_json::json;
 
@@ -104,19 +103,6 @@ fn read_case(path: &Path, grid: Option<usize>) -> Result<WearCase, CliError> {
     let what = format!("--config {}", path.display());
     let mut table: toml::Table = toml::from_str(&text)
         .map_err(|e| CliError::Spec(halfspace::config::toml_message(&what, &text, &e)))?;
-    let float = |t: &mut toml::Table, key: &str| -> Result<Option<f64>, CliError> {
-        match t.remove(key) {
-            None => Ok(None),
-            Some(v) => v
-                .as_float()
-                .or_else(|| v.as_integer().map(|i| i as f64))
-                .map(Some)
-                .ok_or_else(|| CliError::Spec(format!("{what}: {key} must be a number"))),
-        }
-    };
-    let approach = float(&mut table, "approach")?;
-    let indenter_e = float(&mut table, "indenter_e")?;
-    let indenter_nu = float(&mut table, "indenter_nu")?;
     let wear: WearTable = table
         .remove("wear")
         .ok_or_else(|| CliError::Spec(format!("{what}: a [wear] table is required")))?
@@ -125,20 +111,15 @@ fn read_case(path: &Path, grid: Option<usize>) -> Result<WearCase, CliError> {
     let loop_cfg: LoopConfig = toml::Value::Table(table)
         .try_into()
         .map_err(|e| CliError::Spec(format!("{what}: {e}")))?;
+    if loop_cfg.fatigue.is_some() {
+        return Err(CliError::Spec(format!(
+            "{what}: [fatigue] belongs to fretting-loop (the wear run does not evaluate fatigue criteria)"
+        )));
+    }
     let fretting = loop_cfg.case("homogeneous", grid)?;
     let law = WearLaw::from_name(&wear.law, wear.coefficient)?;
     let mut case = WearCase::new(fretting, law, wear.cycles);
     case.body = WornBody::from_name(&wear.body)?;
-    case.approach = approach;
-    case.indenter = match (indenter_e, indenter_nu) {
-        (None, None) => Body::Rigid,
-        (Some(e), nu) => Body::elastic(e, nu.unwrap_or(0.3))?,
-        (None, Some(_)) => {
-            return Err(CliError::Spec(format!(
-                "{what}: indenter_nu without indenter_e"
-            )))
-        }
-    };
     case.record_cycles = wear.record_cycles;
     case.step_fraction = wear.step_fraction;
     case.stability_fraction = wear.stability_fraction;

@@ -214,7 +214,7 @@ fn bad_input_is_refused() {
         c.step_fraction = bad;
         assert!(FrettingWear3d::new(c).is_err());
         let mut c = case.clone();
-        c.approach = Some(bad);
+        c.fretting.approach = Some(bad);
         assert!(FrettingWear3d::new(c).is_err());
     }
     assert!(WearLaw::from_name("hardness", 1e-15).is_err());
@@ -231,7 +231,7 @@ fn bad_input_is_refused() {
 #[test]
 fn gross_slip_dissipates_the_mindlin_deresiewicz_energy() {
     let mut case = twin(32, 1.0);
-    let d = case.approach.expect("approach");
+    let d = case.fretting.approach.expect("approach");
     let mu = case.fretting.friction;
     let u_max = mu * d;
     case.fretting.amplitude = 2.0 * u_max;

@@ -28,13 +28,12 @@ pub const INHOMOGENEITY_DEPTH_CELLS: f64 = 0.25;
 /// `ΔN` cycles (cycle jumping), until `cycles`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WearCase {
-    /// The fretting loop (its `force`, or `approach` below; `subsurface_depth` is not used).
+    /// The fretting loop: sphere, flat, indenter ([`LoopCase::indenter`]: rigid, or elastic — a
+    /// pair of identical bodies with `ν = 0` has no normal–tangential coupling, Mindlin's setting
+    /// and the MDR cross-check), normal control by `force` or [`LoopCase::approach`], friction,
+    /// amplitude, shift step, grid, inhomogeneities (`subsurface_depth` and `fatigue_depth` are
+    /// not used).
     pub fretting: LoopCase,
-    /// The indenter: [`Body::Rigid`] (the fretting loop's) or elastic (a pair of identical bodies
-    /// with `ν = 0` has no normal–tangential coupling: Mindlin's setting, the MDR cross-check).
-    pub indenter: Body,
-    /// Normal control by the rigid approach `δ` (m) instead of the force.
-    pub approach: Option<f64>,
     /// The wear law and its coefficient.
     pub law: WearLaw,
     /// The body whose depth the wear is booked to (the gap grows the same for all three).
@@ -57,8 +56,6 @@ impl WearCase {
     pub fn new(fretting: LoopCase, law: WearLaw, cycles: u64) -> Self {
         Self {
             fretting,
-            indenter: Body::Rigid,
-            approach: None,
             law,
             body: WornBody::Gap,
             cycles,
@@ -106,7 +103,9 @@ impl WearCase {
             e: e_pair,
             nu: 0.0,
             friction: mu,
-            force: f0,
+            force: 0.0,
+            approach: Some(d),
+            indenter: Body::elastic(e_pair, 0.0)?,
             normal_steps: 1,
             amplitude,
             shift_step: amplitude / quarter.max(1) as f64,
@@ -114,11 +113,11 @@ impl WearCase {
             extent_over_a: 3.2,
             inhomogeneities: Vec::new(),
             subsurface_depth: None,
+            fatigue_depth: None,
         };
+        debug_assert!((fretting.hertz_force() / f0 - 1.0).abs() < 1e-12);
         let cycles = (tau_end * n0).round() as u64;
         let mut case = Self::new(fretting, WearLaw::Archard { coefficient: k }, cycles);
-        case.approach = Some(d);
-        case.indenter = Body::elastic(e_pair, 0.0)?;
         case.record_cycles = taus.iter().map(|t| (t * n0).round() as u64).collect();
         case.validate()?;
         Ok(case)
@@ -127,7 +126,7 @@ impl WearCase {
     /// The reference radius the domain is scaled by: `a₀ = √(Rδ)` under approach control (the
     /// Hertz radius at that approach, rigid sphere), the Hertz radius of the force otherwise.
     pub fn reference_radius(&self) -> f64 {
-        match self.approach {
+        match self.fretting.approach {
             Some(d) => (self.fretting.radius * d).sqrt(),
             None => halfspace_mdr::analytic::sphere_radius_for_force(
                 self.fretting.force,
@@ -137,20 +136,15 @@ impl WearCase {
         }
     }
 
-    /// The pair's `E* = 1 / Σ (1 − νᵢ²)/Eᵢ`.
+    /// The pair's `E* = 1 / Σ (1 − νᵢ²)/Eᵢ` ([`LoopCase::e_star`]).
     pub fn e_star(&self) -> f64 {
-        let flat = (1.0 - self.fretting.nu * self.fretting.nu) / self.fretting.e;
-        let indenter = match self.indenter {
-            Body::Rigid => 0.0,
-            Body::Elastic { e, nu } => (1.0 - nu * nu) / e,
-        };
-        1.0 / (flat + indenter)
+        self.fretting.e_star()
     }
 
     /// The unworn elastic approach: `δ` under approach control, `a²/R` (Hertz) under force
     /// control: the scale of the depth increment per wear step.
     pub fn approach_scale(&self) -> f64 {
-        match self.approach {
+        match self.fretting.approach {
             Some(d) => d,
             None => {
                 let a = self.reference_radius();
@@ -173,7 +167,7 @@ impl WearCase {
         } else {
             1.0
         };
-        match self.approach {
+        match self.fretting.approach {
             Some(d) => NormalLoad::Approach(if k + 1 >= n { d } else { d * ramp }),
             None => NormalLoad::Force(if k + 1 >= n {
                 self.fretting.force
@@ -194,12 +188,6 @@ impl WearCase {
     /// in `(0, 1.9]` (below the stability bound 2).
     pub fn validate(&self) -> Result<(), SamError> {
         self.fretting.validate()?;
-        if let Body::Elastic { e, nu } = self.indenter {
-            Body::elastic(e, nu)?;
-        }
-        if let Some(d) = self.approach {
-            crate::error::positive("approach (rigid approach δ, m)", d)?;
-        }
         self.law.validate()?;
         if self.cycles == 0 {
             return Err(SamError::InvalidParameter {
@@ -246,7 +234,7 @@ impl WearCase {
             return Err(SamError::InvalidInput(format!(
                 "approach = {:?} m and radius = {:e} m give a reference radius a0 = {a:e} m and \
                  cells of {cell:e} m: not representable (give SI values of a real contact)",
-                self.approach, self.fretting.radius
+                self.fretting.approach, self.fretting.radius
             )));
         }
         Ok(())

@@ -197,7 +197,7 @@ impl FrettingWear3d {
                 (x * x + y * y) / (2.0 * lc.radius)
             })
             .collect();
-        let compliance = Compliance::pair(case.indenter, Body::elastic(lc.e, lc.nu)?)?;
+        let compliance = Compliance::pair(lc.indenter, Body::elastic(lc.e, lc.nu)?)?;
         let checkerboard = checkerboard_compliance(&compliance, &grid);
         if !(checkerboard.is_finite() && checkerboard > 0.0) {
             return Err(SamError::InvalidInput(format!(
