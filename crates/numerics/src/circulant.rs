@@ -5,7 +5,7 @@
 //! ([`Circulant2d::inverse_half_space`]; Vollebregt 2014, J. Comput. Phys. 257, §4).
 //! Applying does not allocate.
 
-use crate::fft2d::{multiply_real, Fft2d, Mode, C64};
+use crate::fft2d::{Fft2d, Mode, C64};
 use crate::op::{GridOperator, OperatorShape};
 use crate::NumericsError;
 
@@ -98,9 +98,8 @@ impl Circulant2d {
                 });
             }
         }
-        self.fft.forward(x, &mut self.hat)?;
-        multiply_real(&mut self.hat, &self.symbol);
-        self.fft.inverse(&mut self.hat, y)
+        // Forward transform, product with the symbol and inverse, fused (bit for bit).
+        self.fft.convolve_real(x, &self.symbol, &mut self.hat, y)
     }
 }
 

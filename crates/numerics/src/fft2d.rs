@@ -240,6 +240,7 @@ impl Fft2d {
             &|a, row| row.copy_from_slice(&table[a * p2..(a + 1) * p2]),
             out,
             0..p1,
+            None,
         );
         let scale = 1.0 / (p1 * p2) as f64;
         out.iter_mut().for_each(|s| *s *= scale);
@@ -284,7 +285,7 @@ impl Fft2d {
             }
         };
         let mut spec = self.new_spectrum();
-        self.forward_padded(&fill, &mut spec, 0..p1);
+        self.forward_padded(&fill, &mut spec, 0..p1, None);
         let scale = 1.0 / (p1 * p2) as f64;
         for (o, s) in out.iter_mut().zip(&spec) {
             *o = s.re * scale;
@@ -380,7 +381,48 @@ impl Fft2d {
             row[..n2].copy_from_slice(&x[a * n2..(a + 1) * n2]);
             row[n2..].fill(0.0);
         };
-        self.forward_padded(&fill, out, rows);
+        self.forward_padded(&fill, out, rows, None);
+        Ok(())
+    }
+
+    /// `y = IFFT₂(k · FFT₂(x))` cropped to `N₁ × N₂` for a real spectrum `k` (in the layout of
+    /// [`Fft2d::spectrum_len`]: [`Fft2d::even_kernel_spectrum`] on a padded core, the DC-FFT product
+    /// with an even kernel; [`Fft2d::symbol_spectrum`] on a periodic core, the circulant product).
+    /// Equal bit for bit to [`Fft2d::forward`], [`multiply_real`], [`Fft2d::inverse`], fused: each
+    /// block of columns is transformed, multiplied and transformed back while it is in cache (two
+    /// passes over the spectrum fewer), and the zero padding is never read. `spec` is work space of
+    /// [`Fft2d::spectrum_len`] values (overwritten).
+    pub fn convolve_real(
+        &mut self,
+        x: &[f64],
+        k: &[f64],
+        spec: &mut [C64],
+        y: &mut [f64],
+    ) -> Result<(), NumericsError> {
+        let (n1, n2) = (self.n1, self.n2);
+        for v in [x.len(), y.len()] {
+            if v != n1 * n2 {
+                return Err(NumericsError::LengthMismatch {
+                    what: "grid field",
+                    expected: n1 * n2,
+                    got: v,
+                });
+            }
+        }
+        self.check_spectrum(spec)?;
+        if k.len() != spec.len() {
+            return Err(NumericsError::LengthMismatch {
+                what: "real spectrum",
+                expected: spec.len(),
+                got: k.len(),
+            });
+        }
+        let fill = |a: usize, row: &mut [f64]| {
+            row[..n2].copy_from_slice(&x[a * n2..(a + 1) * n2]);
+            row[n2..].fill(0.0);
+        };
+        self.forward_padded(&fill, spec, 0..n1, Some(k));
+        self.inverse_row_phase(spec, 0..n1, y);
         Ok(())
     }
 
@@ -452,12 +494,15 @@ impl Fft2d {
 
     /// Spectrum (column-major) of the (padded) field whose row `a` (`P₂` values) `fill(a, row)`
     /// writes; only the rows `nonzero` may be nonzero (the row transforms of the others, and of
-    /// the zero padding, are skipped).
+    /// the zero padding, are skipped, and those rows are not read). With a real spectrum `k`, each
+    /// column is then multiplied by `k`'s column and inverse-transformed in place (the column half
+    /// of [`Fft2d::convolve_real`]).
     fn forward_padded(
         &mut self,
         fill: &(dyn Fn(usize, &mut [f64]) + Sync),
         spec: &mut [C64],
         nonzero: std::ops::Range<usize>,
+        k: Option<&[f64]>,
     ) {
         let (p1, h2) = (self.p1, self.p2 / 2 + 1);
         let threads = self.threads;
@@ -483,12 +528,12 @@ impl Fft2d {
             } else {
                 body((0, ((rows, &mut work.row_real[0]), &mut work.row_scratch[0])));
             }
-            work.rows[..nonzero.start * h2].fill(C64::new(0.0, 0.0));
-            work.rows[nonzero.end * h2..].fill(C64::new(0.0, 0.0));
-            // Transpose to columns and transform them.
+            // Transpose to columns and transform them (the rows outside `nonzero` are zero and
+            // not read).
             let rows = &work.rows;
-            let col = &plans.col_fwd;
+            let (col, col_inv) = (&plans.col_fwd, &plans.col_inv);
             let chunk = h2.div_ceil(threads).max(1);
+            let nonzero = &nonzero;
             let body = |(t, (cols, scratch)): ColChunk<'_>| {
                 // Gathered TRANSPOSE_BLOCK columns at a time: each row contributes a contiguous run
                 // (the column-by-column gather read one value per cache line).
@@ -497,9 +542,14 @@ impl Fft2d {
                 for g in (0..ncols).step_by(TRANSPOSE_BLOCK) {
                     let w = TRANSPOSE_BLOCK.min(ncols - g);
                     let block = &mut cols[g * p1..(g + w) * p1];
-                    gather_block(rows, h2, first + g, p1, block);
-                    for column in block.chunks_mut(p1) {
+                    gather_block_rows(rows, h2, first + g, nonzero.clone(), p1, block);
+                    for (c, column) in block.chunks_mut(p1).enumerate() {
                         col.process_with_scratch(column, scratch);
+                        if let Some(k) = k {
+                            let b = first + g + c;
+                            multiply_real(column, &k[b * p1..(b + 1) * p1]);
+                            col_inv.process_with_scratch(column, scratch);
+                        }
                     }
                 }
             };
@@ -517,8 +567,8 @@ impl Fft2d {
     /// Writes the rows `keep` (within the first `N₁`) of the inverse transform of `spec`
     /// (column-major, overwritten), cropped to `N₂` columns, into `y`.
     fn inverse_cropped(&mut self, spec: &mut [C64], keep: std::ops::Range<usize>, y: &mut [f64]) {
-        let (p1, p2, n2) = (self.p1, self.p2, self.n2);
-        let h2 = p2 / 2 + 1;
+        let p1 = self.p1;
+        let h2 = self.p2 / 2 + 1;
         let threads = self.threads;
         let plans = &self.plans;
         self.with_work(|work| {
@@ -536,7 +586,19 @@ impl Fft2d {
             } else {
                 body((spec, &mut work.col_scratch[0]));
             }
-            let out = &*spec;
+        });
+        self.inverse_row_phase(spec, keep, y);
+    }
+
+    /// The row half of the inverse transform: the rows `keep` of `spec` (column-major, columns
+    /// already inverse-transformed) transposed, inverse real-transformed and cropped into `y`.
+    fn inverse_row_phase(&mut self, spec: &[C64], keep: std::ops::Range<usize>, y: &mut [f64]) {
+        let (p1, p2, n2) = (self.p1, self.p2, self.n2);
+        let h2 = p2 / 2 + 1;
+        let threads = self.threads;
+        let plans = &self.plans;
+        self.with_work(|work| {
+            let out = spec;
             let rinv = &plans.row_inv;
             let chunk = keep.len().div_ceil(threads).max(1);
             let first = keep.start;
@@ -597,6 +659,31 @@ fn gather_block(src: &[C64], stride: usize, start: usize, len: usize, dst: &mut 
     }
 }
 
+/// [`gather_block`] of a source whose lines outside `nonzero` are zero: those are not read, their
+/// values in `dst` are set to zero.
+#[inline]
+fn gather_block_rows(
+    src: &[C64],
+    stride: usize,
+    start: usize,
+    nonzero: std::ops::Range<usize>,
+    len: usize,
+    dst: &mut [C64],
+) {
+    let w = dst.len() / len;
+    let zero = C64::new(0.0, 0.0);
+    for r in 0..w {
+        dst[r * len..r * len + nonzero.start].fill(zero);
+        dst[r * len + nonzero.end..(r + 1) * len].fill(zero);
+    }
+    for b in nonzero {
+        let from = b * stride + start;
+        for (r, v) in src[from..from + w].iter().enumerate() {
+            dst[r * len + b] = *v;
+        }
+    }
+}
+
 /// `x *= k` elementwise, for a real spectrum `k` ([`Fft2d::even_kernel_spectrum`]).
 #[inline]
 pub fn multiply_real(x: &mut [C64], k: &[f64]) {
@@ -621,5 +708,50 @@ fn wrap(a: usize, n: usize) -> Option<i64> {
         None
     } else {
         Some(a as i64 - 2 * n as i64)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testkit::lcg;
+
+    /// The fused product equals forward, real product and inverse done apart, bit for bit, padded
+    /// and periodic, below and above the parallel threshold, with unequal (and odd) sides.
+    #[test]
+    fn the_fused_product_equals_the_three_steps_bit_for_bit() {
+        for (n1, n2) in [(9, 14), (7, 5), (130, 128)] {
+            for mode in [Mode::Padded, Mode::Periodic] {
+                let mut fft = Fft2d::with_mode(n1, n2, mode).unwrap();
+                let x = lcg(11, n1 * n2);
+                let k = lcg(12, fft.spectrum_len());
+                let mut spec = fft.new_spectrum();
+                let mut apart = vec![0.0; n1 * n2];
+                fft.forward(&x, &mut spec).unwrap();
+                multiply_real(&mut spec, &k);
+                fft.inverse(&mut spec, &mut apart).unwrap();
+                let mut fused = vec![0.0; n1 * n2];
+                fft.convolve_real(&x, &k, &mut spec, &mut fused).unwrap();
+                assert!(
+                    apart
+                        .iter()
+                        .zip(&fused)
+                        .all(|(a, b)| a.to_bits() == b.to_bits()),
+                    "{n1}×{n2} {mode:?}"
+                );
+            }
+        }
+    }
+
+    /// Wrong lengths are errors, not panics.
+    #[test]
+    fn the_fused_product_checks_lengths() {
+        let mut fft = Fft2d::new(6, 5).unwrap();
+        let mut spec = fft.new_spectrum();
+        let k = vec![1.0; fft.spectrum_len()];
+        let (x, mut y) = (vec![0.0; 30], vec![0.0; 30]);
+        assert!(fft.convolve_real(&x[..29], &k, &mut spec, &mut y).is_err());
+        assert!(fft.convolve_real(&x, &k[1..], &mut spec, &mut y).is_err());
+        assert!(fft.convolve_real(&x, &k, &mut spec[1..], &mut y).is_err());
     }
 }

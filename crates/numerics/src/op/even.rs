@@ -7,7 +7,7 @@
 use rayon::prelude::*;
 
 use super::{check_fields, EvenKernelOperator, GridOperator, OperatorShape};
-use crate::fft2d::{multiply_real, Fft2d, C64, PARALLEL_CELLS};
+use crate::fft2d::{Fft2d, C64, PARALLEL_CELLS};
 use crate::NumericsError;
 
 /// `y += Σ_c v_c K(· − x_c)` over the quadrant table (rows in parallel on large grids).
@@ -82,9 +82,9 @@ impl GridOperator for EvenConvolution2d {
 
     fn apply(&mut self, x: &[&[f64]], y: &mut [&mut [f64]]) -> Result<(), NumericsError> {
         check_fields(GridOperator::shape(self), x, y)?;
-        self.fft.forward(x[0], &mut self.hat)?;
-        multiply_real(&mut self.hat, &self.spectrum);
-        self.fft.inverse(&mut self.hat, y[0])
+        // Forward transform, product with the real spectrum and inverse, fused (bit for bit).
+        self.fft
+            .convolve_real(x[0], &self.spectrum, &mut self.hat, y[0])
     }
 }
 

@@ -30,9 +30,12 @@ use continuation::{coarser, prolong, restrict};
 /// The exact `u = K*p` replaces the carried one every this many iterations (rounding drift).
 pub const REFRESH_INTERVAL: usize = 64;
 
-/// Tolerance of the coarse solves of the nested continuation (they only start the fine solve;
-/// 1e-4 and 1e-6 gave the same fine iterations on Hertz 256²–1024², 1e-4 fewer coarse ones).
-pub const COARSE_TOLERANCE: f64 = 1e-4;
+/// Tolerance of the coarse solves of the nested continuation (they only start the fine solve).
+/// On Hertz at tol 1e-8, 1e-4 and 1e-3 gave the same fine iterations on 128²–1024² (12, 13, 12,
+/// 12) and 1e-3 fewer coarse ones (128²: 17 → 15 on 64², 1024²: 34 → 27 over four grids); 1e-2
+/// cost the fine grid 2–3 iterations more at 512² and 1024² (issue 23; 1e-6 gave the same fine
+/// iterations as 1e-4 in issue 10).
+pub const COARSE_TOLERANCE: f64 = 1e-3;
 
 /// Cells changed by the projection up to which `K*c` is added column by column; above, the next
 /// iteration recomputes `K*p` by a full product (`N` multiply-adds per column: a padded product
@@ -40,8 +43,11 @@ pub const COARSE_TOLERANCE: f64 = 1e-4;
 /// under `perf` the columns took 13 % of a 512² solve at 8).
 const SPARSE_COLUMNS: usize = 4;
 
-/// Nested continuation stops coarsening below this many cells per side.
-pub const COARSEST_SIDE: usize = 64;
+/// Nested continuation stops coarsening below this many cells per side. 32 rather than 64: on
+/// Hertz at tol 1e-8 the 64² grid then starts warm (7 iterations instead of 17, 13 of them with a
+/// second product), so a 128² solve does 15 % fewer products counted in fine-grid products
+/// (24.5 → 20.8; 256²: −6 %), the fine iterations unchanged (issue 23).
+pub const COARSEST_SIDE: usize = 32;
 
 /// What is prescribed.
 #[derive(Debug, Clone, Copy, PartialEq)]
