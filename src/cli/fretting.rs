@@ -404,6 +404,8 @@ pub fn run(args: FrettingArgs) -> Result<(), CliError> {
     let state = sim.state();
     let mut summary = wear_summary(&sim, &medium);
     summary["seconds"] = json!(seconds);
+    // A diagnostic of this process (not part of the state): GMRES iterations of the implicit steps.
+    summary["krylov_iterations"] = json!(sim.krylov_iterations());
     summary["out"] = json!(dir.display().to_string());
     if args.json {
         println!("{summary}");

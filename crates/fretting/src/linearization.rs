@@ -126,6 +126,19 @@ impl RosenbrockMatrix {
 
     /// `J v` at the frozen state (see the module docs).
     pub(crate) fn jacobian(&mut self, v: &[f64], out: &mut [f64]) -> Result<(), MdrError> {
+        self.pressure_response(v, out)?;
+        let m = self.contact_nodes;
+        for (i, o) in out.iter_mut().enumerate().take(m) {
+            if self.slip[i] > 0.0 {
+                *o += self.slip_slope * self.pressure[i] * v[i];
+            }
+        }
+        Ok(())
+    }
+
+    /// The pressure part of `J v`, `Δu ⊙ δp` with `δp = 1[σ > 0] ⊙ (S_θ[−c̃_N 1[g < 1] ⊙ P[D v]]
+    /// + ∂_θσ δθ)`.
+    fn pressure_response(&mut self, v: &[f64], out: &mut [f64]) -> Result<(), MdrError> {
         let h = self.grid.step();
         derivative_uniform(v, h, &mut self.slope)?;
         self.profile_tf
@@ -152,16 +165,198 @@ impl RosenbrockMatrix {
             0.0
         };
         for (i, o) in out.iter_mut().enumerate() {
-            *o = if i < m && self.slip[i] > 0.0 {
-                let dp = if self.loaded[i] {
-                    self.sigma[i] + self.stress_theta[i] * d_theta
-                } else {
-                    0.0
-                };
-                self.slip[i] * dp + self.slip_slope * self.pressure[i] * v[i]
+            *o = if i < m && self.slip[i] > 0.0 && self.loaded[i] {
+                self.slip[i] * (self.sigma[i] + self.stress_theta[i] * d_theta)
             } else {
                 0.0
             };
+        }
+        Ok(())
+    }
+
+    /// `K v = S₁[−c̃_N P[D v]]` on the contact nodes `0..m` (0 beyond): the stress response to a
+    /// profile change with the edge at the node `m − 1` (`θ = 1`) and every contact node open
+    /// (`g < 1`), a function of `m` and the grid alone. `J` without the moving-edge term is
+    /// `diag(Δu ⊙ 1[σ > 0]) K + diag((4/χ) p)` up to `θ` and the closed nodes.
+    pub(crate) fn edge_node_response(
+        &mut self,
+        m: usize,
+        v: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), MdrError> {
+        let h = self.grid.step();
+        derivative_uniform(v, h, &mut self.slope)?;
+        self.profile_tf
+            .slope_to_equivalent(&self.grid, &mut self.slope, &mut self.g)?;
+        for (q, g) in self.q[..m].iter_mut().zip(&self.g) {
+            *q = -self.modulus * g;
+        }
+        self.stress_tf
+            .line_load_to_stress(&self.grid, &self.q[..m], 1.0, &mut out[..m])?;
+        out[m..].fill(0.0);
+        Ok(())
+    }
+
+    /// The band `|i − j| ≤ w` of `K` ([`RosenbrockMatrix::edge_node_response`]) for `m` contact
+    /// nodes, by probing (Curtis, Powell & Reid 1974): with `2w + 1` colours, `K e_c` for
+    /// `e_c = Σ_{j ≡ c} e_j` gives `K_ij` for `|i − j| ≤ w` up to the entries of the same colour
+    /// `2w + 1` and more columns away (`f ↦ p` is of order `1 − k`: its kernel decays like
+    /// `|i − j|^{k − 2}`). Row `i` holds `K_{i, i−w..=i+w}` at `band[i (2w+1) ..]` (columns
+    /// outside the grid 0). `2w + 1` profile and stress transforms.
+    pub(crate) fn probe_band(
+        &mut self,
+        m: usize,
+        width: usize,
+        probe: &mut [f64],
+        response: &mut [f64],
+        band: &mut [f64],
+    ) -> Result<(), MdrError> {
+        let n = self.grid.len();
+        let colours = 2 * width + 1;
+        band.fill(0.0);
+        for c in 0..colours {
+            for (j, p) in probe.iter_mut().enumerate() {
+                *p = if j % colours == c { 1.0 } else { 0.0 };
+            }
+            self.edge_node_response(m, probe, response)?;
+            for (i, r) in response.iter().enumerate().take(m) {
+                // The column j ≡ c of the row's band.
+                let lo = i.saturating_sub(width);
+                let j = lo + (c + colours - lo % colours) % colours;
+                if j < n && j <= i + width {
+                    band[i * colours + (j + width - i)] = *r;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The rows of `J_w = diag(Δu ⊙ 1[σ > 0]) K_w + diag((4/χ) p)` at the frozen state from the
+    /// band `K_w` of [`RosenbrockMatrix::probe_band`] (probed for this state's contact nodes).
+    pub(crate) fn scale_band(&self, width: usize, stress_band: &[f64], band: &mut [f64]) {
+        let colours = 2 * width + 1;
+        band.fill(0.0);
+        for i in 0..self.contact_nodes {
+            if self.slip[i] > 0.0 {
+                let row = &mut band[i * colours..(i + 1) * colours];
+                if self.loaded[i] {
+                    for (b, k) in row.iter_mut().zip(&stress_band[i * colours..]) {
+                        *b = self.slip[i] * k;
+                    }
+                }
+                row[width] += self.slip_slope * self.pressure[i];
+            }
+        }
+    }
+}
+
+/// `M = I − β J_w`, the preconditioner of `W = I − β J`: `J_w` the band `|i − j| ≤ w` of `J` without
+/// the moving-edge term ([`RosenbrockMatrix::probe_band`]), factored by banded Gaussian
+/// elimination without pivoting (`O(N w²)`; `M` is an M-matrix-like perturbation of `I`: the
+/// stiff part `−J` has a positive diagonal). Applied as `M⁻¹` on the right of GMRES, so GMRES's
+/// residual test is the one of `W k = b` (docs/fretting-wear.md, "Time integration").
+pub(crate) struct BandPreconditioner {
+    n: usize,
+    width: usize,
+    /// `J_w`, row-major, `2w + 1` entries a row (column `j = i − w + l`).
+    pub(crate) band: Vec<f64>,
+    /// `K_w` in the same layout and the contact nodes it was probed for (0: none yet). A function
+    /// of the contact nodes alone, so it is probed again only when they change, and a resumed run
+    /// rebuilds the same one.
+    pub(crate) stress_band: Vec<f64>,
+    pub(crate) probed_for: usize,
+    /// The LU factors of `M` in the same layout (unit lower part below the diagonal).
+    lu: Vec<f64>,
+    /// Whether `lu` holds a usable factorization (false: `M⁻¹ = I`).
+    factored: bool,
+    pub(crate) probe: Vec<f64>,
+    pub(crate) response: Vec<f64>,
+}
+
+impl BandPreconditioner {
+    pub(crate) fn new(n: usize, width: usize) -> Self {
+        let colours = 2 * width + 1;
+        Self {
+            n,
+            width,
+            band: vec![0.0; n * colours],
+            stress_band: vec![0.0; n * colours],
+            probed_for: 0,
+            lu: vec![0.0; n * colours],
+            factored: false,
+            probe: vec![0.0; n],
+            response: vec![0.0; n],
+        }
+    }
+
+    /// The half bandwidth `w`.
+    pub(crate) fn width(&self) -> usize {
+        self.width
+    }
+
+    /// Factors `M = I − β J_w`. A pivot that is not positive and finite (`M` far from `I`) leaves
+    /// the preconditioner off (`M⁻¹ = I`) for this `β`.
+    pub(crate) fn factor(&mut self, beta: f64) {
+        let (n, w) = (self.n, self.width);
+        let colours = 2 * w + 1;
+        for (l, b) in self.lu.iter_mut().zip(&self.band) {
+            *l = -beta * b;
+        }
+        for i in 0..n {
+            self.lu[i * colours + w] += 1.0;
+        }
+        self.factored = true;
+        for k in 0..n {
+            let pivot = self.lu[k * colours + w];
+            if !(pivot.is_finite() && pivot > 1e-8) {
+                self.factored = false;
+                return;
+            }
+            let last = (k + w).min(n - 1);
+            for i in k + 1..=last {
+                // Row i, column k sits at l = k + w − i.
+                let lik = self.lu[i * colours + (k + w - i)] / pivot;
+                self.lu[i * colours + (k + w - i)] = lik;
+                if lik != 0.0 {
+                    for j in k + 1..=last {
+                        self.lu[i * colours + (j + w - i)] -=
+                            lik * self.lu[k * colours + (j + w - k)];
+                    }
+                }
+            }
+        }
+    }
+}
+
+impl LinearOperator for BandPreconditioner {
+    fn dim(&self) -> usize {
+        self.n
+    }
+
+    /// `y = M⁻¹ x` (forward and back substitution; `y = x` when not factored).
+    fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), NumericsError> {
+        halfspace_numerics::linop::check_lengths(self.n, x, y)?;
+        y.copy_from_slice(x);
+        if !self.factored {
+            return Ok(());
+        }
+        let (n, w) = (self.n, self.width);
+        let colours = 2 * w + 1;
+        for i in 0..n {
+            let row = &self.lu[i * colours..(i + 1) * colours];
+            let mut s = y[i];
+            for j in i.saturating_sub(w)..i {
+                s -= row[j + w - i] * y[j];
+            }
+            y[i] = s;
+        }
+        for i in (0..n).rev() {
+            let row = &self.lu[i * colours..(i + 1) * colours];
+            let mut s = y[i];
+            for j in i + 1..(i + w + 1).min(n) {
+                s -= row[j + w - i] * y[j];
+            }
+            y[i] = s / row[w];
         }
         Ok(())
     }

@@ -55,7 +55,8 @@ fn reference_run_of_spec_section_5() {
     }
     // At the limit the slip annulus carries no pressure (g = d there: a grazing contact); the
     // surfaces touch out to r* = 1.1397, and so does the contact radius (the touching region,
-    // g within one cell's gap h of d): measured 1.13984, a quarter cell beyond r*. The loaded
+    // g within one cell's gap h of d): measured 1.13959, 0.2 cell inside r* (1.13984 before the
+    // stage solves were preconditioned: the grazing-phase radius moves with them). The loaded
     // radius (p > 1e-3 max p) falls to the stick zone.
     let h = &sim.state().contact_radius_history;
     let r_star = sim.limit_contact_radius();
