@@ -1,14 +1,15 @@
 //! halfspace: contact mechanics of elastic half-spaces.
 //!
-//! Facade over the workspace crates; see `docs/architecture.md`.
+//! Facade over the workspace crates; see `docs/architecture.md`. The application layer (cases,
+//! specs, summaries, records) is `halfspace-cases`; `run_dir` (claiming a run's output directory)
+//! belongs to the command line.
 pub use halfspace_data as data;
 pub use halfspace_fretting as fretting;
 pub use halfspace_mdr as mdr;
 pub use halfspace_numerics as numerics;
 pub use halfspace_sam as sam;
 
-pub mod config;
-pub mod fretting_map;
-pub mod records;
+pub use halfspace_cases as cases;
+pub use halfspace_cases::{config, fretting_map, records, spec};
+
 pub mod run_dir;
-pub mod spec;

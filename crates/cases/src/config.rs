@@ -1,0 +1,458 @@
+//! Configurations of the library's drivers as plain data, read by serde — TOML for the CLI
+//! (`--config`), a Python dict as TOML data ([`from_table`]) — with one spelling of every key, one
+//! schema and one conversion to the library's types (validated once, in [`LoopConfig::case`]).
+//!
+//! A new key of the fretting loop is one field of [`LoopConfig`] (its default in
+//! `LoopConfig::default`) and its use in `loop_case`; TOML files and Python dicts read it at once.
+
+use serde::Deserialize;
+
+use crate::sam::drivers::fretting_loop::LoopCase;
+use crate::sam::drivers::fretting_map::FrettingMap;
+use crate::sam::eim::{Axis, FibreLayout, Inhomogeneity, Shape};
+use crate::spec::{parse_inhomogeneity, SpecError};
+
+/// The fretting-loop configuration as read from TOML (`fretting-loop --config`) or from a Python
+/// dict: the keys of [`LoopCase`] in SI units, `[[inhomogeneity]]` tables, the composite preset's
+/// `layout` and `fibre_e_ratio`, and `subsurface_over_a` (defaults: [LN11]'s homogeneous case).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LoopConfig {
+    pub radius: f64,
+    pub e: f64,
+    pub nu: f64,
+    pub friction: f64,
+    pub force: f64,
+    pub normal_steps: usize,
+    pub amplitude: f64,
+    pub shift_step: f64,
+    pub grid: usize,
+    pub extent_over_a: f64,
+    /// `[[inhomogeneity]]` tables: `kind = "sphere" | "cylinder" | "cuboid"` and the keys of the
+    /// CLI's `--inhomogeneity` specs (`x, y, z, r, axis, hx, hy, hz, E, nu`), or such specs.
+    pub inhomogeneity: Vec<InhomogeneityEntry>,
+    /// Composite preset only: `"fibre-centred"` (a fibre axis at x = 0, the default) or
+    /// `"gap-centred"`; refused without the preset (it would be ignored).
+    pub layout: Option<String>,
+    /// Composite preset only: E_I / E_m of the fibres (2 in [LN11], the default; 0.5 for soft
+    /// fibres); refused without the preset.
+    pub fibre_e_ratio: Option<f64>,
+    /// Depth of the von Mises fields at the points A–D over a (0: none).
+    pub subsurface_over_a: f64,
+}
+
+impl Default for LoopConfig {
+    /// The library's [LN11] case ([`LoopCase::default`]).
+    fn default() -> Self {
+        let c = LoopCase::default();
+        Self {
+            radius: c.radius,
+            e: c.e,
+            nu: c.nu,
+            friction: c.friction,
+            force: c.force,
+            normal_steps: c.normal_steps,
+            amplitude: c.amplitude,
+            shift_step: c.shift_step,
+            grid: c.grid,
+            extent_over_a: c.extent_over_a,
+            inhomogeneity: Vec::new(),
+            layout: None,
+            fibre_e_ratio: None,
+            subsurface_over_a: 1.0,
+        }
+    }
+}
+
+/// One inhomogeneity of a configuration: a `[[inhomogeneity]]` table (TOML; a dict in Python)
+/// with `kind` and the keys of the `--inhomogeneity` spec, spelled as there (`E` is the
+/// inhomogeneity's Young's modulus), or that spec string itself (read by [`parse_inhomogeneity`]).
+/// Values are checked once, by [`Inhomogeneity::validate`], when the case is built.
+#[derive(Debug, Clone, PartialEq)]
+pub enum InhomogeneityEntry {
+    /// A table, typed by its `kind`.
+    Table(InhomogeneityTable),
+    /// A `kind:key=value,...` spec.
+    Spec(String),
+}
+
+/// The keys of a `[[inhomogeneity]]` table by `kind` (SI units; `z` the depth of the centre).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
+pub enum InhomogeneityTable {
+    /// `kind = "sphere"`: centre `x, y, z`, radius `r`.
+    Sphere {
+        x: f64,
+        y: f64,
+        z: f64,
+        r: f64,
+        #[serde(rename = "E")]
+        e: f64,
+        nu: f64,
+    },
+    /// `kind = "cylinder"`: `axis = "y"` with `x`, or `axis = "x"` with `y`; depth `z`, radius `r`.
+    Cylinder {
+        axis: String,
+        #[serde(default)]
+        x: Option<f64>,
+        #[serde(default)]
+        y: Option<f64>,
+        z: f64,
+        r: f64,
+        #[serde(rename = "E")]
+        e: f64,
+        nu: f64,
+    },
+    /// `kind = "cuboid"`: centre `x, y, z`, half sizes `hx, hy, hz`.
+    Cuboid {
+        x: f64,
+        y: f64,
+        z: f64,
+        hx: f64,
+        hy: f64,
+        hz: f64,
+        #[serde(rename = "E")]
+        e: f64,
+        nu: f64,
+    },
+}
+
+impl<'de> Deserialize<'de> for InhomogeneityEntry {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Entry;
+        impl<'de> serde::de::Visitor<'de> for Entry {
+            type Value = InhomogeneityEntry;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a table with kind = \"sphere\" | \"cylinder\" | \"cuboid\", or a kind:key=value spec")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Self::Value, E> {
+                Ok(InhomogeneityEntry::Spec(v.to_string()))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> Result<Self::Value, A::Error> {
+                InhomogeneityTable::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+                    .map(InhomogeneityEntry::Table)
+            }
+        }
+        d.deserialize_any(Entry)
+    }
+}
+
+impl InhomogeneityEntry {
+    /// The library's inhomogeneity, checked; `index` (from 1) names it in errors.
+    pub fn inhomogeneity(&self, index: usize) -> Result<Inhomogeneity, SpecError> {
+        let what = format!("[[inhomogeneity]] {index}");
+        let table = match self {
+            InhomogeneityEntry::Spec(spec) => return parse_inhomogeneity(spec, &what),
+            InhomogeneityEntry::Table(t) => t,
+        };
+        let (shape, e, nu) = match *table {
+            InhomogeneityTable::Sphere { x, y, z, r, e, nu } => {
+                (Shape::Sphere { x, y, z, r }, e, nu)
+            }
+            InhomogeneityTable::Cylinder {
+                ref axis,
+                x,
+                y,
+                z,
+                r,
+                e,
+                nu,
+            } => {
+                let (axis, position) = match (axis.as_str(), x, y) {
+                    ("y", Some(x), None) => (Axis::Y, x),
+                    ("x", None, Some(y)) => (Axis::X, y),
+                    _ => {
+                        return Err(SpecError(format!(
+                            "{what}: a cylinder has axis = \"y\" with x, or axis = \"x\" with y \
+                             (it lies parallel to the surface), got axis = \"{axis}\""
+                        )))
+                    }
+                };
+                (
+                    Shape::Cylinder {
+                        axis,
+                        position,
+                        z,
+                        r,
+                    },
+                    e,
+                    nu,
+                )
+            }
+            InhomogeneityTable::Cuboid {
+                x,
+                y,
+                z,
+                hx,
+                hy,
+                hz,
+                e,
+                nu,
+            } => (
+                Shape::Cuboid {
+                    x,
+                    y,
+                    z,
+                    half: [hx, hy, hz],
+                },
+                e,
+                nu,
+            ),
+        };
+        let inh = Inhomogeneity { shape, e, nu };
+        inh.validate()
+            .map_err(|e| SpecError(format!("{what}: {e}")))?;
+        Ok(inh)
+    }
+}
+
+impl LoopConfig {
+    /// The library's case: `case` is `homogeneous` or `composite` (the paper's fibres of
+    /// `layout`, E_I = `fibre_e_ratio` E, at 4 cells per radius); `grid` overrides the grid.
+    pub fn case(&self, case: &str, grid: Option<usize>) -> Result<LoopCase, SpecError> {
+        loop_case(self, case, grid)
+    }
+}
+
+/// The axes of a fretting map: the `[map]` table of `fretting-map --config` (the other keys are
+/// the fretting loop's, [`LoopConfig`]).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MapAxes {
+    /// Normal loads W (N), the map's rows.
+    pub loads: Vec<f64>,
+    /// Shift amplitudes A (m), the map's columns.
+    pub amplitudes: Vec<f64>,
+    /// `homogeneous` (default) or `composite` (as `fretting-loop --case`).
+    #[serde(default)]
+    pub case: Option<String>,
+}
+
+/// A TOML error as one line naming the source, the line and its text (serde's message alone does
+/// not name the key of a value of the wrong type: "invalid value: integer `-3`, expected usize").
+pub fn toml_message(what: &str, text: &str, e: &toml::de::Error) -> String {
+    let message = e.message().replace('\n', " ");
+    match toml_line(text, e) {
+        Some((line, content)) => format!("{what}: line {line} `{content}`: {message}"),
+        None => format!("{what}: {message}"),
+    }
+}
+
+/// A configuration from TOML data: a file's table, or a Python dict converted to TOML values by
+/// the extension (no text, no parser in Python; TOML values, unlike JSON, hold NaN and ±∞, which
+/// the schema's checks then refuse by name). serde with the schema's own checks (unknown keys,
+/// types); on an error the data is written as TOML to quote the offending key, as
+/// [`toml_message`] does. Whether the message is a wrong type is [`is_type_error`].
+pub fn from_table<T: serde::de::DeserializeOwned>(
+    table: toml::Table,
+    what: &str,
+) -> Result<T, SpecError> {
+    toml::Value::Table(table.clone())
+        .try_into()
+        .map_err(|e: toml::de::Error| {
+            let message = e.message().replace('\n', " ");
+            let retext = toml::to_string(&table).unwrap_or_default();
+            match toml::from_str::<T>(&retext)
+                .err()
+                .and_then(|e| toml_line(&retext, &e))
+            {
+                Some((_, content)) => SpecError(format!("{what}: `{content}`: {message}")),
+                None => SpecError(format!("{what}: {message}")),
+            }
+        })
+}
+
+/// Whether a [`from_table`] error is a value of the wrong type (Python's `TypeError`).
+pub fn is_type_error(e: &SpecError) -> bool {
+    e.0.contains("invalid type:")
+}
+
+/// The line (from 1) and the text of the line where a TOML error points.
+fn toml_line(text: &str, e: &toml::de::Error) -> Option<(usize, String)> {
+    let span = e.span()?;
+    let before = text.get(..span.start)?;
+    let line = before.matches('\n').count() + 1;
+    let content = text.lines().nth(line - 1).unwrap_or("").trim();
+    Some((line, content.chars().take(80).collect()))
+}
+
+/// Reads a fretting-map configuration: the fretting loop's keys and a `[map]` table
+/// (`loads`, `amplitudes`, optional `case`); `what` names the source in errors.
+pub fn map_config_from_toml(text: &str, what: &str) -> Result<(LoopConfig, MapAxes), SpecError> {
+    let mut table: toml::Table =
+        toml::from_str(text).map_err(|e| SpecError(toml_message(what, text, &e)))?;
+    let axes = table.remove("map").ok_or_else(|| {
+        SpecError(format!(
+            "{what}: a fretting map needs a [map] table with loads = [..] (N) and amplitudes = [..] (m)"
+        ))
+    })?;
+    let axes: MapAxes = axes
+        .try_into()
+        .map_err(|e: toml::de::Error| SpecError(format!("{what}: [map]: {}", e.message())))?;
+    let cfg: LoopConfig = from_table(table, what)?;
+    Ok((cfg, axes))
+}
+
+impl LoopConfig {
+    /// The fretting map of this configuration over `loads × amplitudes` ([`FrettingMap`]): the
+    /// case (`homogeneous` or `composite`, `grid` overriding) is built with `force` = the largest
+    /// load, so the domain (`extent_over_a · a(W_max)`) and any composite fibres serve every point.
+    pub fn map(
+        &self,
+        case: &str,
+        grid: Option<usize>,
+        loads: Vec<f64>,
+        amplitudes: Vec<f64>,
+    ) -> Result<FrettingMap, SpecError> {
+        let largest = loads.iter().copied().fold(f64::NAN, f64::max);
+        let mut cfg = self.clone();
+        if largest.is_finite() && largest > 0.0 {
+            cfg.force = largest;
+        }
+        let base = cfg.case(case, grid)?;
+        FrettingMap::new(base, loads, amplitudes).map_err(|e| SpecError(e.to_string()))
+    }
+}
+
+/// [`LoopConfig::case`].
+fn loop_case(
+    cfg: &LoopConfig,
+    case_name: &str,
+    grid: Option<usize>,
+) -> Result<LoopCase, SpecError> {
+    let mut case = LoopCase {
+        radius: cfg.radius,
+        e: cfg.e,
+        nu: cfg.nu,
+        friction: cfg.friction,
+        force: cfg.force,
+        normal_steps: cfg.normal_steps,
+        amplitude: cfg.amplitude,
+        shift_step: cfg.shift_step,
+        grid: cfg.grid,
+        extent_over_a: cfg.extent_over_a,
+        inhomogeneities: cfg
+            .inhomogeneity
+            .iter()
+            .enumerate()
+            .map(|(i, entry)| entry.inhomogeneity(i + 1))
+            .collect::<Result<Vec<_>, _>>()?,
+        subsurface_depth: None,
+    };
+    if !(cfg.subsurface_over_a.is_finite() && cfg.subsurface_over_a >= 0.0) {
+        return Err(SpecError(format!(
+            "fretting loop config: subsurface_over_a must be finite and ≥ 0, got {}",
+            cfg.subsurface_over_a
+        )));
+    }
+    match case_name {
+        "homogeneous" => {
+            for (key, given) in [
+                ("layout", cfg.layout.is_some()),
+                ("fibre_e_ratio", cfg.fibre_e_ratio.is_some()),
+            ] {
+                if given {
+                    return Err(SpecError(format!(
+                        "fretting loop config: {key} is read only by the composite preset \
+                         (case = composite); without it the key would be ignored: remove it or \
+                         choose the composite case"
+                    )));
+                }
+            }
+        }
+        "composite" => {
+            let layout = match cfg.layout.as_deref().unwrap_or("fibre-centred") {
+                "fibre-centred" => FibreLayout::FibreCentred,
+                "gap-centred" => FibreLayout::GapCentred,
+                other => {
+                    return Err(SpecError(format!(
+                        "fretting loop config: layout = '{other}': fibre-centred or gap-centred"
+                    )))
+                }
+            };
+            case = case
+                .composite(layout, cfg.fibre_e_ratio.unwrap_or(2.0))
+                .map_err(|e| SpecError(format!("fretting loop config: {e}")))?;
+        }
+        other => {
+            return Err(SpecError(format!(
+                "case '{other}': homogeneous or composite"
+            )))
+        }
+    }
+    if let Some(g) = grid {
+        case.grid = g;
+    }
+    case.validate()
+        .map_err(|e| SpecError(format!("fretting loop config: {e}")))?;
+    if cfg.subsurface_over_a > 0.0 {
+        case.subsurface_depth = Some(cfg.subsurface_over_a * case.hertz_radius());
+    }
+    Ok(case)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn first(text: &str) -> Result<Inhomogeneity, String> {
+        let cfg: LoopConfig = toml::from_str(text).map_err(|e| e.message().to_string())?;
+        cfg.inhomogeneity[0].inhomogeneity(1).map_err(|e| e.0)
+    }
+
+    #[test]
+    fn an_inhomogeneity_table_and_its_spec_are_one_input() {
+        let table = first(
+            "[[inhomogeneity]]\nkind = \"cylinder\"\naxis = \"y\"\nx = 1e-6\nz = 2e-6\nr = 0.5e-6\nE = 420e9\nnu = 0.3\n",
+        )
+        .unwrap();
+        let spec =
+            first("inhomogeneity = [\"cylinder:axis=y,x=1e-6,z=2e-6,r=0.5e-6,E=420e9,nu=0.3\"]\n")
+                .unwrap();
+        assert_eq!(table, spec);
+        // Integers are numbers; the spec's spelling `E` is the table's.
+        let sphere = first(
+            "[[inhomogeneity]]\nkind = \"sphere\"\nx = 0\ny = 0\nz = 2e-6\nr = 1e-6\nE = 420e9\nnu = 0.3\n",
+        )
+        .unwrap();
+        assert_eq!(sphere.e, 420e9);
+        let e = first(
+            "[[inhomogeneity]]\nkind = \"sphere\"\nx = 0\ny = 0\nz = 2e-6\nr = 1e-6\ne = 420e9\nnu = 0.3\n",
+        )
+        .unwrap_err();
+        assert!(e.contains("unknown field `e`"), "{e}");
+        let e = first(
+            "[[inhomogeneity]]\nkind = \"cylinder\"\naxis = \"y\"\ny = 1e-6\nz = 2e-6\nr = 0.5e-6\nE = 1e9\nnu = 0.3\n",
+        )
+        .unwrap_err();
+        assert!(
+            e.starts_with("[[inhomogeneity]] 1: a cylinder has axis"),
+            "{e}"
+        );
+        let e =
+            first("inhomogeneity = [\"sphere:x=0,y=0,z=2e-6,r=abc,E=1e9,nu=0.3\"]\n").unwrap_err();
+        assert!(e.contains("r='abc' is not a number"), "{e}");
+    }
+
+    #[test]
+    fn a_config_from_data_names_the_offending_key() {
+        let mut table = toml::Table::new();
+        table.insert("grid".into(), toml::Value::String("big".into()));
+        let e = from_table::<LoopConfig>(table, "config").unwrap_err();
+        assert!(is_type_error(&e), "{e}");
+        assert!(
+            e.0.starts_with("config: `grid = \"big\"`: invalid type"),
+            "{e}"
+        );
+        let mut table = toml::Table::new();
+        table.insert("normal_steps".into(), toml::Value::Integer(-1));
+        let e = from_table::<LoopConfig>(table, "config").unwrap_err();
+        assert!(
+            !is_type_error(&e) && e.0.contains("normal_steps = -1"),
+            "{e}"
+        );
+    }
+}
