@@ -21,15 +21,17 @@ def main(scheduler: str | None = None) -> None:
     from distributed import Client, LocalCluster
 
     if scheduler:
-        client = Client(scheduler)
+        client = Client(scheduler)  # type: ignore[no-untyped-call]
         cluster = None
     else:
-        cluster = LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None)
-        client = Client(cluster)
+        cluster = LocalCluster(  # type: ignore[no-untyped-call]
+            n_workers=2, threads_per_worker=1, dashboard_address=None
+        )
+        client = Client(cluster)  # type: ignore[no-untyped-call]
     try:
         m = hs.fretting_map(LOADS, AMPLITUDES, config=CONFIG, client=client)
     finally:
-        client.close()
+        client.close()  # type: ignore[no-untyped-call]
         if cluster is not None:
             cluster.close()
     names = {0: "partial slip", 1: "mixed", 2: "gross slip"}

@@ -19,6 +19,8 @@ def main(grid: int = 64) -> None:
     print(f"{grid}²: p_max/p0 = {c.max_pressure / p0:.4f} (docs/theory-sam.md#inhomogeneity-references at 64²: 1.277), "
           f"contact area / πa² = {c.contact_area / (np.pi * a**2):.4f}")
     print(f"{c.inclusion_cells} inclusion cells, {c.outer_iterations} outer / {c.eim_iterations} EIM iterations")
+    # Present with ``subsurface`` (None without): the volume fields and their maxima.
+    assert c.max_von_mises is not None and c.von_mises is not None and c.eigenstrain_zz is not None
     print(f"max von Mises {c.max_von_mises / p0:.4f} p0 at (x, y, z) = {c.max_von_mises_at} m")
     assert c.max_von_mises == c.von_mises.max()
     assert c.max_pressure > p0                      # the stiff sphere raises the peak

@@ -1,6 +1,8 @@
 //! halfspace: contact mechanics of elastic half-spaces.
 //!
-//! Facade over the workspace crates; see `docs/architecture.md`.
+//! Facade over the workspace crates; see `docs/architecture.md`. The application layer (cases,
+//! specs, summaries, records) is `halfspace-cases`; `run_dir` (claiming a run's output directory)
+//! belongs to the command line.
 pub use halfspace_data as data;
 pub use halfspace_fatigue as fatigue;
 pub use halfspace_fretting as fretting;
@@ -8,10 +10,8 @@ pub use halfspace_mdr as mdr;
 pub use halfspace_numerics as numerics;
 pub use halfspace_sam as sam;
 
-pub mod config;
-pub mod fretting_map;
-pub mod loop_fatigue;
-pub mod records;
+pub use halfspace_cases as cases;
+pub use halfspace_cases::{config, fretting_map, loop_fatigue, records, spec};
+
 pub mod run_dir;
-pub mod spec;
 pub mod wear3d_mdr;

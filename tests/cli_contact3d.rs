@@ -539,7 +539,7 @@ fn composite_fretting_loop_on_a_reduced_case() {
     // One stiff sphere from a TOML table; a table without kind is refused.
     std::fs::write(
         &cfg,
-        "grid = 32\nnormal_steps = 2\nshift_step = 0.02e-6\n\n[[inhomogeneity]]\nkind = \"sphere\"\nx = 0.0\ny = 0.0\nz = 2e-6\nr = 0.9e-6\ne = 420e9\nnu = 0.3\n",
+        "grid = 32\nnormal_steps = 2\nshift_step = 0.02e-6\n\n[[inhomogeneity]]\nkind = \"sphere\"\nx = 0.0\ny = 0.0\nz = 2e-6\nr = 0.9e-6\nE = 420e9\nnu = 0.3\n",
     )
     .unwrap();
     let out = dir.path().join("sphere");
@@ -561,7 +561,7 @@ fn composite_fretting_loop_on_a_reduced_case() {
             "--out",
             out.to_str().unwrap(),
         ],
-        "needs kind",
+        "[[inhomogeneity]]`: missing field `kind`",
     );
     bad(
         &[

@@ -11,12 +11,13 @@ fretting loop with inhomogeneities (``FrettingLoop``); the equations are cited i
 """
 from __future__ import annotations
 
-import json
 import numbers
 from dataclasses import dataclass, fields
-from typing import Any, Iterator
+from collections.abc import Iterator, Sequence
+from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from ._halfspace import MAP_FIELDS as _MAP_FIELDS
 from ._halfspace import HalfspaceError, _FrettingLoop
@@ -39,6 +40,11 @@ __all__ = [
     "Graded",
     "Inhomogeneity",
     "Result",
+    "AxisymResult",
+    "Contact3dResult",
+    "WearResult",
+    "LoopMetrics",
+    "MapResult",
     "axisym",
     "contact3d",
     "fretting_wear",
@@ -67,10 +73,10 @@ def _count(v: Any, name: str, minimum: int = 0) -> int:
     HalfspaceError naming the argument."""
     if isinstance(v, (bool, np.bool_)) or not isinstance(v, (numbers.Integral, np.integer)):
         raise TypeError(f"{name} must be an integer, got {v!r} ({type(v).__name__})")
-    v = int(v)
-    if v < minimum or v >= 2**63:
-        raise HalfspaceError(f"{name} must be an integer ≥ {minimum} (and < 2**63), got {v}")
-    return v
+    count = int(v)
+    if count < minimum or count >= 2**63:
+        raise HalfspaceError(f"{name} must be an integer ≥ {minimum} (and < 2**63), got {count}")
+    return count
 
 
 def _opt_count(v: Any, name: str, minimum: int = 0) -> int | None:
@@ -153,7 +159,7 @@ class PowerLaw(_Checked):
         return f"power:c={_num(self.c, 'c')},n={_num(self.n, 'n')}"
 
 
-def _array(v: Any, name: str) -> np.ndarray:
+def _array(v: Any, name: str) -> NDArray[np.float64]:
     """``v`` as a 1D float array, or TypeError naming the argument."""
     if isinstance(v, (str, bytes)) or v is None:
         raise TypeError(f"{name} must be an array of real numbers, got {v!r}")
@@ -271,7 +277,7 @@ def _spec(value: Any, name: str = "input") -> str:
     if isinstance(value, str):
         return value
     if hasattr(value, "spec"):
-        return value.spec()
+        return str(value.spec())
     raise TypeError(
         f"{name} must be a spec string or a halfspace input class, got {value!r} "
         f"({type(value).__name__})"
@@ -279,7 +285,9 @@ def _spec(value: Any, name: str = "input") -> str:
 
 
 class Result:
-    """A result: its attributes are the CLI's JSON keys (floats, ints, strings) and NumPy arrays."""
+    """A result: its attributes are the CLI's JSON keys (floats, ints, strings) and NumPy arrays.
+    Each function returns its own subclass, which declares them (the summaries of
+    ``halfspace_cases::records``); keys that a run may omit default to ``None``."""
 
     def __init__(self, values: dict[str, Any]) -> None:
         self.__dict__.update(values)
@@ -289,18 +297,190 @@ class Result:
 
     def __repr__(self) -> str:
         scalars = {k: v for k, v in self.__dict__.items() if not isinstance(v, np.ndarray)}
-        return f"Result({scalars})"
+        return f"{type(self).__name__}({scalars})"
+
+
+class AxisymResult(Result):
+    """:func:`axisym`: the keys of ``halfspace axisym --json`` and the arrays ``r``, ``pressure``,
+    ``displacement`` (m, Pa, m)."""
+
+    contact_radius: float
+    depth: float
+    force: float
+    max_pressure: float
+    mean_pressure: float
+    pressure_singular: bool
+    n: int
+    method: str
+    displacement_method: str
+    k: float
+    contact_modulus: float
+    c_n: float
+    normal_stiffness: float
+    grid_length: float
+    edge_index: int
+    iterations: int
+    profile: str
+    material: str
+    r: NDArray[np.float64]
+    pressure: NDArray[np.float64]
+    displacement: NDArray[np.float64]
+
+
+class Contact3dResult(Result):
+    """:func:`contact3d`: the keys of ``halfspace contact3d --json`` and the arrays of its
+    ``--out`` (surface fields shaped (N₁, N₂); with ``subsurface`` the volume fields shaped
+    (layers, N₁, N₂), read by ``to_dict()`` or attribute)."""
+
+    contact_radius: float
+    contact_area: float
+    max_pressure: float
+    force: float
+    depth: float
+    tangential_force: float
+    tangential_force_y: float
+    shift_x: float
+    stick_radius: float
+    iterations: int
+    alternations: int
+    residual: float
+    kkt: float
+    grid: int
+    extent: float
+    coupled: bool
+    seconds: float
+    setup_seconds: float
+    solve_seconds: float
+    friction: float
+    inclusion_cells: int | None = None
+    layers: int | None = None
+    eim_iterations: int | None = None
+    outer_iterations: int | None = None
+    outer_change: float | None = None
+    min_eigen_displacement: float | None = None
+    correction_pressure_integral_over_force: float | None = None
+    eim_method: str | None = None
+    eim_spectra_bytes: int | None = None
+    max_von_mises: float | None = None
+    max_von_mises_at: list[float] | None = None
+    max_tresca: float | None = None
+    max_tresca_at: list[float] | None = None
+    subsurface_layers: int | None = None
+    subsurface_seconds: float | None = None
+    x: NDArray[np.float64]
+    y: NDArray[np.float64]
+    pressure: NDArray[np.float64]
+    shear_x: NDArray[np.float64]
+    shear_y: NDArray[np.float64]
+    slip_x: NDArray[np.float64]
+    slip_y: NDArray[np.float64]
+    stick: NDArray[np.float64]
+    # With inhomogeneities: the eigen-displacements (N₁, N₂); with ``subsurface``: the volume
+    # fields (layers, N₁, N₂) — ``contact3d --out``'s arrays.
+    eigen_displacement_1: NDArray[np.float64] | None = None
+    eigen_displacement_2: NDArray[np.float64] | None = None
+    eigen_displacement_3: NDArray[np.float64] | None = None
+    stress_xx: NDArray[np.float64] | None = None
+    stress_yy: NDArray[np.float64] | None = None
+    stress_zz: NDArray[np.float64] | None = None
+    stress_yz: NDArray[np.float64] | None = None
+    stress_xz: NDArray[np.float64] | None = None
+    stress_xy: NDArray[np.float64] | None = None
+    von_mises: NDArray[np.float64] | None = None
+    tresca: NDArray[np.float64] | None = None
+    principal_1: NDArray[np.float64] | None = None
+    principal_2: NDArray[np.float64] | None = None
+    principal_3: NDArray[np.float64] | None = None
+    material: NDArray[np.float64] | None = None
+    eigenstrain_xx: NDArray[np.float64] | None = None
+    eigenstrain_yy: NDArray[np.float64] | None = None
+    eigenstrain_zz: NDArray[np.float64] | None = None
+    eigenstrain_yz: NDArray[np.float64] | None = None
+    eigenstrain_xz: NDArray[np.float64] | None = None
+    eigenstrain_xy: NDArray[np.float64] | None = None
+
+
+class WearResult(Result):
+    """:func:`fretting_wear`: the keys of ``halfspace fretting-wear --json`` and its arrays."""
+
+    tau_final: float
+    steps: int
+    rejected_steps: int
+    stepping: str
+    contact_radius_over_a0: float
+    loaded_radius_over_a0: float
+    max_contact_radius_over_a0: float
+    contact_radius_definition: str
+    profile_at_a0_over_d: float
+    limit_contact_radius_over_a0: float
+    method: str
+    n: int
+    chi: float
+    length: float
+    k: float
+    wear_volume: float
+    limit_wear_volume: float
+    limit_deviation: float
+    limit_deviation_definition: str
+    wear_volume_definition: str
+    tol: float | None = None
+    dtau: float | None = None
+    nu: float | None = None
+    tangential_constant_ratio: float | None = None
+    u_max_over_mu_d: float | None = None
+    r: NDArray[np.float64]
+    profile: NDArray[np.float64]
+    limiting_profile: NDArray[np.float64]
+    tau_history: NDArray[np.float64]
+    contact_radius_history: NDArray[np.float64]
+    loaded_radius_history: NDArray[np.float64]
+
+
+class LoopMetrics(Result):
+    """:meth:`FrettingLoop.metrics`: the metrics of a completed loop (the keys of
+    ``halfspace fretting-loop --json`` without its times)."""
+
+    dissipated_energy: float
+    ratchet: float
+    tangential_force_over_mu_w_at_amplitude: float
+    max_pressure_over_p0_end_of_normal_loading: float
+    contact_area_over_hertz_end_of_normal_loading: float
+    approach_over_hertz_end_of_normal_loading: float
+    max_transverse_slip: float
+    sliding_fraction: float
+    regime: int
+    energy_ratio: float
+    unloading_stiffness: float
+    increments: int
+    grid: int
+    inclusion_cells: int | None = None
+    layers: int | None = None
+
+
+class MapResult(Result):
+    """:func:`fretting_map`: ``loads``, ``amplitudes`` and the fields shaped (len(loads),
+    len(amplitudes))."""
+
+    loads: NDArray[np.float64]
+    amplitudes: NDArray[np.float64]
+    regime: NDArray[np.int64]
+    dissipated_energy: NDArray[np.float64]
+    energy_ratio: NDArray[np.float64]
+    sliding_fraction: NDArray[np.float64]
+    tangential_force_over_mu_w_at_amplitude: NDArray[np.float64]
+    ratchet: NDArray[np.float64]
+    seconds: NDArray[np.float64]
 
 
 def axisym(
-    profile: Any,
-    material: Any,
+    profile: Sphere | Cone | Flat | PowerLaw | Table | str,
+    material: Homogeneous | Graded | str,
     *,
     force: float | None = None,
     depth: float | None = None,
     n: int = 2001,
     method: str = "fft",
-) -> Result:
+) -> AxisymResult:
     """Axisymmetric normal contact by the MDR: the profile transform (Willert et al. 2021, Eq. 7;
     graded Eq. 23), the contact radius from the force or the depth, the pressure (Eq. 17; graded
     Eq. 29) and the surface displacement (Eqs. 12/13; graded 25/26) on ``n`` nodes, by FFT
@@ -313,25 +493,25 @@ def axisym(
     else:
         values = _axisym(_spec(profile, "profile"), _spec(material, "material"), force=force,
                          depth=depth, n=n, method=method)
-    return Result(values)
+    return AxisymResult(values)
 
 
 def contact3d(
-    indenter: Any,
-    material: Any,
+    indenter: Sphere | Ellipsoid | Cone | Flat | str,
+    material: Homogeneous | str,
     *,
     force: float | None = None,
     depth: float | None = None,
-    indenter_material: Any = "rigid",
+    indenter_material: Homogeneous | str = "rigid",
     shift_x: float | None = None,
     tangential_force: float | None = None,
     friction: float = 0.0,
     grid: int = 128,
     extent: float | None = None,
     tol: float = 1e-10,
-    inhomogeneities: Any = (),
+    inhomogeneities: Inhomogeneity | str | Sequence[Inhomogeneity | str] = (),
     subsurface: float | None = None,
-) -> Result:
+) -> Contact3dResult:
     """One 3D contact by the semi-analytical method, as ``halfspace contact3d``: the normal contact
     under ``force`` (N) or ``depth`` (m) by DC-FFT influence coefficients and a CG active set
     (spec ``sam.md`` §3–4; Polonsky & Keer), then optionally a tangential step — a rigid-body
@@ -366,9 +546,9 @@ def contact3d(
         inhomogeneities=[_spec(i, f"inhomogeneities[{k}]") for k, i in enumerate(inhomogeneities)],
         subsurface=_opt_real(subsurface, "subsurface"),
     )
-    values = json.loads(summary)
+    values = dict(summary)
     values.update(arrays)
-    return Result(values)
+    return Contact3dResult(values)
 
 
 def fretting_wear(
@@ -379,9 +559,9 @@ def fretting_wear(
     dtau: float | None = None,
     tau_end: float = 30.0,
     method: str = "fft",
-    material: Any = None,
+    material: Graded | Homogeneous | str | None = None,
     length: float | None = None,
-) -> Result:
+) -> WearResult:
     """Fretting wear of a parabolic indenter in partial slip by the MDR (Willert et al. 2021,
     Section 4; spec ``mdr.md`` §5), dimensionless: amplitude ratio ``chi = u_A/u_max``, ``n`` nodes,
     adaptive wear steps (ROS2) at the local error tolerance ``tol`` (default 1e-4, units of d) or
@@ -406,58 +586,18 @@ def fretting_wear(
                     else "homogeneous")
     elif material is not None:
         material = _text(material, "material")
-    return Result(_fretting_wear(chi=_real(chi, "chi"), n=_count(n, "n"), tol=_opt_real(tol, "tol"),
+    return WearResult(_fretting_wear(chi=_real(chi, "chi"), n=_count(n, "n"), tol=_opt_real(tol, "tol"),
                                  dtau=_opt_real(dtau, "dtau"), tau_end=_real(tau_end, "tau_end"),
                                  method=_text(method, "method"), material=material,
                                  length=_opt_real(length, "length")))
 
 
-_CONFIG_COUNTS = ("normal_steps", "grid")
-_CONFIG_REALS = ("radius", "e", "nu", "friction", "force", "amplitude", "shift_step", "extent_over_a",
-                 "fibre_e_ratio", "subsurface_over_a")
-
-
-def _config_json(config: dict[str, Any] | None) -> str | None:
-    """The fretting-loop config dict as the JSON the library reads (``inhomogeneity`` items may be
-    tables, :class:`Inhomogeneity` objects or spec strings; the spec key ``E`` is the table's ``e``)."""
+def _config(config: Any) -> dict[str, Any] | None:
+    """The fretting-loop config as given: a dict goes to the library as data (serde, the schema of
+    ``halfspace fretting-loop --config``), which names any key it refuses."""
     if config is not None and not isinstance(config, dict):
         raise TypeError(f"config must be a dict of the fretting-loop keys, got {config!r}")
-    cfg = dict(config or {})
-    for key, value in cfg.items():
-        if not isinstance(key, str):
-            raise TypeError(f"config keys must be strings, got {key!r}")
-        if key in _CONFIG_COUNTS:
-            cfg[key] = _count(value, f"config['{key}']")
-        elif key in _CONFIG_REALS:
-            cfg[key] = _real(value, f"config['{key}']")
-        elif key == "layout":
-            _text(value, "config['layout']")
-    tables = []
-    items = cfg.pop("inhomogeneity", []) or []
-    if not isinstance(items, (list, tuple)):
-        raise TypeError(f"config['inhomogeneity'] must be a list, got {items!r}")
-    for k, item in enumerate(items):
-        if isinstance(item, dict):
-            tables.append(item)
-        else:
-            kind, _, rest = _spec(item, f"config['inhomogeneity'][{k}]").partition(":")
-            table: dict[str, Any] = {"kind": kind}
-            for pair in filter(None, rest.split(",")):
-                key, _, value = pair.partition("=")
-                key = "e" if key == "E" else key
-                if key == "axis":
-                    table[key] = value
-                else:
-                    try:
-                        table[key] = float(value)
-                    except ValueError:
-                        raise HalfspaceError(
-                            f"config['inhomogeneity'][{k}] '{item}': {key}='{value}' is not a number"
-                        ) from None
-            tables.append(table)
-    if tables:
-        cfg["inhomogeneity"] = tables
-    return json.dumps(cfg) if cfg else None
+    return config
 
 
 class FrettingLoop:
@@ -469,13 +609,14 @@ class FrettingLoop:
     ``friction``, ``force`` or ``approach`` (exactly one), ``indenter_e`` and ``indenter_nu`` (an
     elastic sphere; absent: rigid), ``normal_steps``, ``amplitude``, ``shift_step``, ``grid``,
     ``extent_over_a``, ``subsurface_over_a``, ``layout``, ``fibre_e_ratio``; ``inhomogeneity``: a
-    list of tables ``{"kind": "sphere", "x": ..}`` or of :class:`Inhomogeneity` / spec strings);
+    list of tables ``{"kind": "sphere", "x": .., "E": ..}`` — the keys of the spec — or of
+    :class:`Inhomogeneity` / spec strings); the dict goes to the library as data, which checks it.
     ``case="composite"`` adds the paper's fibres. Iterating yields each increment's row (a dict);
     :meth:`run` does the rest with the GIL released.
     """
 
     def __init__(self, config: dict[str, Any] | None = None, *, case: str = "homogeneous", grid: int | None = None):
-        self._inner = _FrettingLoop(_config_json(config), case=_text(case, "case"),
+        self._inner = _FrettingLoop(_config(config), case=_text(case, "case"),
                                     grid=_opt_count(grid, "grid"))
 
     def __len__(self) -> int:
@@ -498,7 +639,7 @@ class FrettingLoop:
         self._inner.run()
         return self
 
-    def rows(self) -> dict[str, np.ndarray]:
+    def rows(self) -> dict[str, NDArray[np.float64]]:
         """One array per field: normal_force, shift_x, tangential_force(_y), max_pressure,
         contact_area, stick_area, alternations, approach, outer_iterations, eim_iterations."""
         return self._inner.rows()
@@ -507,18 +648,18 @@ class FrettingLoop:
         """The fields at the points A–D reached so far: label → {name: (N₁, N₂) array}."""
         return self._inner.points()
 
-    def metrics(self) -> Result:
+    def metrics(self) -> LoopMetrics:
         """Dissipated energy, ratchet, regime (0 partial slip, 1 mixed, 2 gross slip), … of the
         completed loop."""
-        return Result(self._inner.metrics())
+        return LoopMetrics(self._inner.metrics())
 
 
 
 
-def _map_point(config_json: str | None, case: str, grid: int | None, loads: list[float],
+def _map_point(config: dict[str, Any] | None, case: str, grid: int | None, loads: list[float],
                amplitudes: list[float], i: int, j: int) -> list[float]:
     """One point of a fretting map (a task on a Dask worker; the GIL is released while it runs)."""
-    return _fretting_map_point(config_json, case, grid, loads, amplitudes, i, j)
+    return _fretting_map_point(config, case, grid, loads, amplitudes, i, j)
 
 
 def _items(v: Any, name: str) -> list[Any]:
@@ -533,14 +674,14 @@ def _items(v: Any, name: str) -> list[Any]:
 
 
 def fretting_map(
-    loads: Any,
-    amplitudes: Any,
+    loads: float | Sequence[float] | NDArray[np.float64],
+    amplitudes: float | Sequence[float] | NDArray[np.float64],
     *,
     config: dict[str, Any] | None = None,
     case: str = "homogeneous",
     grid: int | None = None,
     client: Any = None,
-) -> Result:
+) -> MapResult:
     """A fretting map (Vingsbo & Söderberg 1988): the fretting loop of :class:`FrettingLoop` at every
     normal load ``W`` in ``loads`` (N) × shift amplitude ``A`` in ``amplitudes`` (m), as
     ``halfspace fretting-map``. ``config`` holds the fretting-loop keys (``grid``, ``normal_steps``,
@@ -559,7 +700,7 @@ def fretting_map(
     installed); the numbers are the same bit for bit (every loop is deterministic)."""
     loads = [_real(w, f"loads[{k}]") for k, w in enumerate(_items(loads, "loads"))]
     amplitudes = [_real(a, f"amplitudes[{k}]") for k, a in enumerate(_items(amplitudes, "amplitudes"))]
-    cfg = _config_json(config)
+    cfg = _config(config)
     case, grid = _text(case, "case"), _opt_count(grid, "grid")
     if client is not None and not all(callable(getattr(client, m, None)) for m in ("map", "gather")):
         raise TypeError(
@@ -588,4 +729,4 @@ def fretting_map(
         for f, name in enumerate(_MAP_FIELDS[2:], start=2):
             values[name] = points[:, :, f].copy()
     values["regime"] = np.asarray(values["regime"]).astype(np.int64)
-    return Result(values)
+    return MapResult(values)

@@ -1,9 +1,11 @@
-//! `halfspace._halfspace`: the Rust side of the Python package. Thin: every function parses its
-//! inputs with the library's one spec parser (`halfspace::spec`) or config schema
-//! (`halfspace::config`), calls the library's driver with the GIL released, and returns plain
-//! dicts of floats and NumPy arrays; the typed classes and result objects live in
-//! `halfspace/__init__.py`. Errors are `halfspace.HalfspaceError` (a `ValueError`) carrying the
-//! library's message.
+//! `halfspace._halfspace`: the Rust side of the Python package, over the application layer
+//! (`halfspace-cases`, docs/architecture.md) and the libraries only — no CLI dependency. Thin:
+//! every function reads its inputs with the one spec parser (`spec`) or the configuration schema
+//! (`config`: a Python dict goes to serde as TOML data, [`toml_value`], never as text), calls the
+//! library's driver with the GIL released, and returns the application layer's summary (a dict)
+//! and NumPy arrays; the typed classes and result objects live in `halfspace/__init__.py`. Errors
+//! are `halfspace.HalfspaceError` (a `ValueError`) carrying the library's message, or `TypeError`
+//! for a configuration value of the wrong type.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::RecvTimeoutError;
@@ -11,15 +13,19 @@ use std::time::Duration;
 
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::create_exception;
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
-use halfspace::config::LoopConfig;
+use halfspace_cases as halfspace;
+
+use halfspace::config::{from_table, is_type_error, LoopConfig};
 use halfspace::fretting::{FrettingParams, FrettingSimulation, TimeStepping};
 use halfspace::fretting_map::{run_map_until, MapError};
 use halfspace::mdr::{Backend, ContactParams, ContactSolver, Load, Profile};
-use halfspace::records::{contact_record, contact_summary, wear_summary};
+use halfspace::records::{
+    axisym_summary, contact_record, contact_summary, loop_summary, wear_summary,
+};
 use halfspace::sam::drivers::fretting_loop::{FrettingLoop, LoopRow, POINT_LABELS};
 use halfspace::sam::drivers::fretting_map::{FrettingMap, MapPoint};
 use halfspace::sam::drivers::one_contact::{solve_contact, ContactCase, TangentialLoad};
@@ -84,21 +90,38 @@ fn interruptible<T: Send>(
     }
 }
 
-/// A flat JSON object of numbers and strings as a dict (the CLI's summary keys).
+/// A summary (a JSON object: the CLI's keys) as a dict: integers as `int`, other numbers as
+/// `float`, objects as dicts, arrays as lists.
 fn json_dict<'py>(py: Python<'py>, value: &serde_json::Value) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     for (key, v) in value.as_object().into_iter().flatten() {
-        match v {
-            serde_json::Value::Number(n) if n.is_u64() || n.is_i64() => {
-                d.set_item(key, n.as_i64().unwrap_or_default())?
-            }
-            serde_json::Value::Number(n) => d.set_item(key, n.as_f64().unwrap_or(f64::NAN))?,
-            serde_json::Value::String(s) => d.set_item(key, s)?,
-            serde_json::Value::Bool(b) => d.set_item(key, b)?,
-            other => d.set_item(key, other.to_string())?,
-        }
+        d.set_item(key, json_py(py, v)?)?;
     }
     Ok(d)
+}
+
+fn json_py<'py>(py: Python<'py>, value: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
+    use serde_json::Value;
+    Ok(match value {
+        Value::Null => py.None().into_bound(py),
+        Value::Bool(b) => PyBool::new(py, *b).to_owned().into_any(),
+        Value::Number(n) if n.is_i64() => {
+            n.as_i64().unwrap_or_default().into_pyobject(py)?.into_any()
+        }
+        Value::Number(n) if n.is_u64() => {
+            n.as_u64().unwrap_or_default().into_pyobject(py)?.into_any()
+        }
+        Value::Number(n) => n.as_f64().unwrap_or(f64::NAN).into_pyobject(py)?.into_any(),
+        Value::String(s) => PyString::new(py, s).into_any(),
+        Value::Array(items) => {
+            let list = PyList::empty(py);
+            for item in items {
+                list.append(json_py(py, item)?)?;
+            }
+            list.into_any()
+        }
+        Value::Object(_) => json_dict(py, value)?.into_any(),
+    })
 }
 
 /// `axisym(profile, material, *, force=None, depth=None, n=2001, method="fft")`: axisymmetric
@@ -120,10 +143,13 @@ fn axisym<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     // A profile given as arrays `(r, f)` (the Python `Table`) is the `table:FILE.npy` profile
     // without the file.
-    let profile = match table {
-        Some((r, f)) => Profile::tabulated(r, f).map_err(|e| err(format!("profile table: {e}")))?,
+    let profile_text = profile;
+    let profile = match &table {
+        Some((r, f)) => Profile::tabulated(r.clone(), f.clone())
+            .map_err(|e| err(format!("profile table: {e}")))?,
         None => parse_profile(profile, "profile").map_err(err)?,
     };
+    let (profile_spec, material_spec) = (profile_text, material);
     let material = parse_material(material, "material").map_err(err)?;
     let load = match (force, depth) {
         (Some(f), None) => Load::Force(f),
@@ -145,19 +171,13 @@ fn axisym<'py>(
         solver.solve(&profile, load)
     })?
     .map_err(err)?;
-    let d = PyDict::new(py);
-    d.set_item("contact_radius", sol.contact_radius)?;
-    d.set_item("depth", sol.depth)?;
-    d.set_item("force", sol.force)?;
-    d.set_item("max_pressure", sol.max_pressure())?;
-    d.set_item("mean_pressure", sol.mean_pressure())?;
-    d.set_item("normal_stiffness", sol.normal_stiffness())?;
-    d.set_item("pressure_singular", sol.pressure_is_singular())?;
-    d.set_item("iterations", sol.iterations)?;
-    d.set_item("n", n)?;
-    d.set_item("method", backend.name())?;
-    d.set_item("k", material.grading_exponent())?;
-    d.set_item("contact_modulus", material.contact_modulus())?;
+    let profile_spec = if table.is_some() {
+        "table"
+    } else {
+        profile_spec
+    };
+    let summary = axisym_summary(&sol, &material, backend, n, profile_spec, material_spec);
+    let d = json_dict(py, &summary)?;
     d.set_item("r", PyArray1::from_vec(py, sol.radii()))?;
     d.set_item("pressure", PyArray1::from_vec(py, sol.pressure.clone()))?;
     d.set_item(
@@ -250,7 +270,7 @@ fn fretting_wear<'py>(
 }
 
 /// `contact3d(indenter, material, ...)`: one 3D contact (`sam::drivers::one_contact::solve_contact`), as
-/// `halfspace contact3d`: returns `(summary_json, arrays)` — the CLI's JSON keys, and the arrays of
+/// `halfspace contact3d`: returns `(summary, arrays)` — the CLI's JSON keys, and the arrays of
 /// `halfspace::records::contact_record` (what `contact3d --out` writes): the surface fields `x`,
 /// `y`, `pressure`, `shear_x/y`, `slip_x/y`, `stick` shaped (N₁, N₂), with `subsurface` the volume
 /// fields (`stress_xx` … `von_mises`, `tresca`, principal stresses, material, eigenstrains) shaped
@@ -275,7 +295,7 @@ fn contact3d<'py>(
     tol: f64,
     inhomogeneities: Vec<String>,
     subsurface: Option<f64>,
-) -> PyResult<(String, Bound<'py, PyDict>)> {
+) -> PyResult<(Bound<'py, PyDict>, Bound<'py, PyDict>)> {
     let load = match (force, depth) {
         (Some(w), None) if w.is_finite() && w > 0.0 => NormalLoad::Force(w),
         (None, Some(d)) if d.is_finite() && d > 0.0 => NormalLoad::Approach(d),
@@ -328,7 +348,7 @@ fn contact3d<'py>(
             )?;
         }
     }
-    Ok((summary.to_string(), d))
+    Ok((json_dict(py, &summary)?, d))
 }
 
 /// The fretting loop of [LN11] (`sam::drivers::fretting_loop::FrettingLoop`), increment by increment.
@@ -339,14 +359,14 @@ struct PyFrettingLoop {
 
 #[pymethods]
 impl PyFrettingLoop {
-    /// `config_json`: the fretting-loop TOML keys as a JSON object (`halfspace::config`).
+    /// `config`: a dict of the fretting-loop keys (`halfspace_cases::config::LoopConfig`).
     #[new]
-    #[pyo3(signature = (config_json=None, case="homogeneous", grid=None))]
-    fn new(config_json: Option<&str>, case: &str, grid: Option<usize>) -> PyResult<Self> {
-        let config = loop_config(config_json)?;
+    #[pyo3(signature = (config=None, case="homogeneous", grid=None))]
+    fn new(config: Option<&Bound<'_, PyAny>>, case: &str, grid: Option<usize>) -> PyResult<Self> {
+        let config = loop_config(config)?;
         if config.fatigue.is_some() {
-            // The indices are computed by the CLI (halfspace::loop_fatigue); refused here rather
-            // than recorded and dropped.
+            // The indices are computed by the CLI (halfspace_cases::loop_fatigue); refused here
+            // rather than recorded and dropped.
             return Err(err(
                 "config: [fatigue] is read by `halfspace fretting-loop` only (not yet by \
                  FrettingLoop); remove it",
@@ -440,37 +460,7 @@ impl PyFrettingLoop {
     /// The metrics of the completed loop (an error before it is done).
     fn metrics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let m = self.inner.metrics().map_err(err)?;
-        let d = PyDict::new(py);
-        d.set_item("dissipated_energy", m.dissipated_energy)?;
-        d.set_item("ratchet", m.ratchet)?;
-        d.set_item(
-            "tangential_force_over_mu_w_at_amplitude",
-            m.tangential_force_over_mu_w_at_amplitude,
-        )?;
-        d.set_item(
-            "max_pressure_over_p0_end_of_normal_loading",
-            m.max_pressure_over_p0_end_of_normal_loading,
-        )?;
-        d.set_item(
-            "contact_area_over_hertz_end_of_normal_loading",
-            m.contact_area_over_hertz_end_of_normal_loading,
-        )?;
-        d.set_item(
-            "approach_over_hertz_end_of_normal_loading",
-            m.approach_over_hertz_end_of_normal_loading,
-        )?;
-        d.set_item("max_transverse_slip", m.max_transverse_slip)?;
-        d.set_item("sliding_fraction", m.sliding_fraction)?;
-        d.set_item("regime", m.regime as i64)?;
-        d.set_item("energy_ratio", m.energy_ratio)?;
-        d.set_item("unloading_stiffness", m.unloading_stiffness)?;
-        d.set_item("increments", self.inner.rows().len())?;
-        d.set_item("grid", self.inner.case().grid)?;
-        if let Some(n) = self.inner.solver().nested() {
-            d.set_item("inclusion_cells", n.inclusions().len())?;
-            d.set_item("layers", n.inclusions().layers.len())?;
-        }
-        Ok(d)
+        json_dict(py, &loop_summary(&self.inner, &m))
     }
 
     /// Labels of the points A–D.
@@ -480,42 +470,111 @@ impl PyFrettingLoop {
     }
 }
 
-/// The fretting-loop configuration from its JSON text (the Python dict), or the default.
-fn loop_config(config_json: Option<&str>) -> PyResult<LoopConfig> {
-    match config_json {
-        Some(text) => serde_json::from_str(text).map_err(|e| err(format!("config: {e}"))),
-        None => Ok(LoopConfig::default()),
+/// A Python value as TOML data for serde (`config::from_table`): dicts with string keys (a `None`
+/// value is an absent key: the default), lists and tuples, strings, booleans, integers (64-bit),
+/// floats; an object with a `spec()` method (an `Inhomogeneity`) is its `kind:key=value` spec.
+/// `path` names the value in errors (`config['grid']`).
+fn toml_value(value: &Bound<'_, PyAny>, path: &str) -> PyResult<toml::Value> {
+    use toml::Value;
+    if value.is_instance_of::<PyBool>() {
+        return Ok(Value::Boolean(value.extract()?));
     }
+    if value.is_instance_of::<PyFloat>() {
+        return Ok(Value::Float(value.extract()?));
+    }
+    if value.is_instance_of::<PyInt>() || value.hasattr("__index__")? {
+        return value.extract::<i64>().map(Value::Integer).map_err(|_| {
+            err(format!(
+                "{path} = {value}: an integer beyond 64 bits (must be < 2**63)"
+            ))
+        });
+    }
+    if let Ok(s) = value.cast::<PyString>() {
+        return Ok(Value::String(s.to_str()?.to_string()));
+    }
+    if let Ok(d) = value.cast::<PyDict>() {
+        return Ok(Value::Table(toml_table(d, path)?));
+    }
+    if value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>() {
+        let mut items = Vec::new();
+        for (k, v) in value.try_iter()?.enumerate() {
+            items.push(toml_value(&v?, &format!("{path}[{k}]"))?);
+        }
+        return Ok(Value::Array(items));
+    }
+    if value.hasattr("spec")? {
+        return toml_value(&value.call_method0("spec")?, path);
+    }
+    Err(PyTypeError::new_err(format!(
+        "{path} must be a number, a string, a list or a dict, got {value}"
+    )))
+}
+
+fn toml_table(d: &Bound<'_, PyDict>, path: &str) -> PyResult<toml::Table> {
+    let mut table = toml::Table::new();
+    for (k, v) in d.iter() {
+        let key = k
+            .cast::<PyString>()
+            .map_err(|_| PyTypeError::new_err(format!("{path}: keys must be strings, got {k}")))?
+            .to_str()?
+            .to_string();
+        if v.is_none() {
+            continue;
+        }
+        let item = toml_value(&v, &format!("{path}['{key}']"))?;
+        table.insert(key, item);
+    }
+    Ok(table)
+}
+
+/// The fretting-loop configuration of a Python dict (serde on its data), or the default.
+fn loop_config(config: Option<&Bound<'_, PyAny>>) -> PyResult<LoopConfig> {
+    let Some(config) = config.filter(|c| !c.is_none()) else {
+        return Ok(LoopConfig::default());
+    };
+    if !config.is_instance_of::<PyDict>() {
+        return Err(PyTypeError::new_err(format!(
+            "config must be a dict of the fretting-loop keys, got {config}"
+        )));
+    }
+    let config = config.cast::<PyDict>()?;
+    from_table(toml_table(config, "config")?, "config").map_err(|e| {
+        if is_type_error(&e) {
+            PyTypeError::new_err(e.0)
+        } else {
+            err(e)
+        }
+    })
 }
 
 /// The fretting map of the config over `loads × amplitudes` (`LoopConfig::map`).
 fn build_map(
-    config_json: Option<&str>,
+    config: Option<&Bound<'_, PyAny>>,
     case: &str,
     grid: Option<usize>,
     loads: Vec<f64>,
     amplitudes: Vec<f64>,
 ) -> PyResult<FrettingMap> {
-    loop_config(config_json)?
+    loop_config(config)?
         .map(case, grid, loads, amplitudes)
         .map_err(err)
 }
 
-/// `_fretting_map(config_json, case, grid, loads, amplitudes)`: every point of the fretting map
+/// `_fretting_map(config, case, grid, loads, amplitudes)`: every point of the fretting map
 /// (`halfspace::fretting_map::run_map` on the local cores, GIL released), as
 /// `halfspace fretting-map`: a dict of `loads`, `amplitudes` and the fields of
 /// `MapPoint::FIELDS` shaped (len(loads), len(amplitudes)).
 #[pyfunction]
-#[pyo3(signature = (config_json, case, grid, loads, amplitudes))]
+#[pyo3(signature = (config, case, grid, loads, amplitudes))]
 fn fretting_map<'py>(
     py: Python<'py>,
-    config_json: Option<&str>,
+    config: Option<&Bound<'py, PyAny>>,
     case: &str,
     grid: Option<usize>,
     loads: Vec<f64>,
     amplitudes: Vec<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let map = build_map(config_json, case, grid, loads, amplitudes)?;
+    let map = build_map(config, case, grid, loads, amplitudes)?;
     let run = interruptible(py, |cancel| {
         run_map_until(&map, None, None, |_, _| {}, &|| {
             cancel.load(Ordering::Relaxed)
@@ -540,29 +599,29 @@ fn fretting_map<'py>(
     Ok(d)
 }
 
-/// `_fretting_map_shape(config_json, case, grid, loads, amplitudes)`: builds the map (every check
+/// `_fretting_map_shape(config, case, grid, loads, amplitudes)`: builds the map (every check
 /// of the configuration and the axes, no loop run) and returns its shape.
 #[pyfunction]
-#[pyo3(signature = (config_json, case, grid, loads, amplitudes))]
+#[pyo3(signature = (config, case, grid, loads, amplitudes))]
 fn fretting_map_shape(
-    config_json: Option<&str>,
+    config: Option<&Bound<'_, PyAny>>,
     case: &str,
     grid: Option<usize>,
     loads: Vec<f64>,
     amplitudes: Vec<f64>,
 ) -> PyResult<(usize, usize)> {
-    let map = build_map(config_json, case, grid, loads, amplitudes)?;
+    let map = build_map(config, case, grid, loads, amplitudes)?;
     Ok(map.shape())
 }
 
-/// `_fretting_map_point(config_json, case, grid, loads, amplitudes, i, j)`: point `(i, j)` of the
+/// `_fretting_map_point(config, case, grid, loads, amplitudes, i, j)`: point `(i, j)` of the
 /// same map (one task of a distributed map; GIL released): the values of `MapPoint::FIELDS`.
 #[pyfunction]
-#[pyo3(signature = (config_json, case, grid, loads, amplitudes, i, j))]
+#[pyo3(signature = (config, case, grid, loads, amplitudes, i, j))]
 #[allow(clippy::too_many_arguments)]
 fn fretting_map_point(
     py: Python<'_>,
-    config_json: Option<&str>,
+    config: Option<&Bound<'_, PyAny>>,
     case: &str,
     grid: Option<usize>,
     loads: Vec<f64>,
@@ -570,7 +629,7 @@ fn fretting_map_point(
     i: usize,
     j: usize,
 ) -> PyResult<Vec<f64>> {
-    let map = build_map(config_json, case, grid, loads, amplitudes)?;
+    let map = build_map(config, case, grid, loads, amplitudes)?;
     let point = interruptible(py, |cancel| {
         map.run_point_until(i, j, &|| cancel.load(Ordering::Relaxed))
     })?

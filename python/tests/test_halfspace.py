@@ -51,6 +51,11 @@ def test_axisym_equals_the_cli_bit_for_bit(tmp_path):
     same = hs.axisym("sphere:R=0.1", "homogeneous:E=210e9,nu=0.3", force=10.0)
     assert np.array_equal(same.pressure, got.pressure)
     assert set(got.to_dict()) >= {"contact_radius", "r", "pressure", "displacement"}
+    # One summary (halfspace_cases::records::axisym_summary): the CLI's keys, but its wall clock.
+    summary = {k: v for k, v in got.to_dict().items() if not isinstance(v, np.ndarray)}
+    assert set(summary) == set(ref) - {"seconds"}
+    for key in set(ref) - {"seconds", "profile", "material"}:
+        assert summary[key] == ref[key] and type(summary[key]) is type(ref[key]), key
 
 
 def test_fretting_wear_equals_the_cli(tmp_path):
@@ -193,7 +198,7 @@ def test_fretting_loop_with_an_inhomogeneity_and_typed_inputs():
     assert m.inclusion_cells > 0 and m.regime in (0, 1, 2)
     assert lp.rows()["outer_iterations"].min() >= 1
     # The same as a TOML-style table.
-    table = {"kind": "sphere", "x": 0.0, "y": 0.0, "z": 0.6 * a, "r": 0.3 * a, "e": 420e9, "nu": 0.3}
+    table = {"kind": "sphere", "x": 0.0, "y": 0.0, "z": 0.6 * a, "r": 0.3 * a, "E": 420e9, "nu": 0.3}
     again = hs.FrettingLoop(dict(SMALL, grid=16, inhomogeneity=[table])).run()
     assert np.array_equal(again.rows()["tangential_force"], lp.rows()["tangential_force"])
 

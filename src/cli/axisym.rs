@@ -5,9 +5,7 @@ use std::time::Instant;
 
 use clap::{Args, ValueEnum};
 use halfspace::data::{write_record, AttrValue, Record};
-use halfspace::mdr::{
-    Backend, ContactParams, ContactSolution, ContactSolver, DisplacementMethod, Load,
-};
+use halfspace::mdr::{Backend, ContactParams, ContactSolution, ContactSolver, Load};
 use serde_json::json;
 
 use super::{plot, CliError};
@@ -88,29 +86,15 @@ pub fn run(args: AxisymArgs) -> Result<(), CliError> {
     let mut solver = ContactSolver::new(material, params)?;
     let sol = solver.solve(&profile, load)?;
     let seconds = start.elapsed().as_secs_f64();
-    let displacement_method =
-        DisplacementMethod::for_backend(backend).equation(material.grading_exponent());
-    let summary = json!({
-        "contact_radius": sol.contact_radius,
-        "depth": sol.depth,
-        "force": sol.force,
-        "max_pressure": sol.max_pressure(),
-        "mean_pressure": sol.mean_pressure(),
-        "pressure_singular": sol.pressure_is_singular(),
-        "n": args.n,
-        "method": backend.name(),
-        "displacement_method": displacement_method,
-        "k": material.grading_exponent(),
-        "contact_modulus": material.contact_modulus(),
-        "c_n": material.contact_modulus(),
-        "normal_stiffness": sol.normal_stiffness(),
-        "grid_length": sol.grid.length(),
-        "edge_index": sol.edge_index,
-        "iterations": sol.iterations,
-        "profile": args.profile,
-        "material": args.material,
-        "seconds": seconds,
-    });
+    let mut summary = halfspace::records::axisym_summary(
+        &sol,
+        &material,
+        backend,
+        args.n,
+        &args.profile,
+        &args.material,
+    );
+    summary["seconds"] = json!(seconds);
     if let Some(path) = &args.out {
         write_record(path, &record(&sol, &args, &summary))?;
     }

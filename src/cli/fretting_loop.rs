@@ -226,61 +226,36 @@ fn loop_summary(
     let sum = |f: fn(&halfspace::sam::drivers::fretting_loop::LoopRow) -> usize| {
         rows.iter().map(f).sum::<usize>()
     };
-    let mut summary = json!({
-        "contact_area_over_hertz_end_of_normal_loading": m.contact_area_over_hertz_end_of_normal_loading,
-        "max_transverse_slip": m.max_transverse_slip,
-        "ratchet": m.ratchet,
-        "max_pressure_over_p0_end_of_normal_loading": m.max_pressure_over_p0_end_of_normal_loading,
-        "approach_over_hertz_end_of_normal_loading": m.approach_over_hertz_end_of_normal_loading,
-        "tangential_force_over_mu_w_at_amplitude": m.tangential_force_over_mu_w_at_amplitude,
-        "dissipated_energy": m.dissipated_energy,
-        "energy_ratio": m.energy_ratio,
-        "sliding_fraction": m.sliding_fraction,
-        "regime": m.regime as i64,
-        "unloading_stiffness": m.unloading_stiffness,
-        "increments": rows.len(),
-        "grid": lp.case().grid,
-        "seconds": start.elapsed().as_secs_f64(),
-        "breakdown": {
-            "increment_seconds": s.increments,
-            "contact_seconds": s.contact,
-            "traction_strain_seconds": s.traction_strain,
-            "eim_seconds": s.eim,
-            "disturbance_seconds": s.disturbance,
-            "subsurface_seconds": s.subsurface,
-            "cycle_stress_seconds": s.cycle_stress,
-            "homogeneous_reference_seconds": reference_seconds,
-            "alternations": sum(|r| r.alternations),
-            "outer_iterations": sum(|r| r.outer_iterations),
-            "eim_operator_applications": sum(|r| r.eim_iterations),
-        },
-        "out": args.out.display().to_string(),
+    let mut summary = halfspace::records::loop_summary(lp, m);
+    summary["seconds"] = json!(start.elapsed().as_secs_f64());
+    summary["breakdown"] = json!({
+        "increment_seconds": s.increments,
+        "contact_seconds": s.contact,
+        "traction_strain_seconds": s.traction_strain,
+        "eim_seconds": s.eim,
+        "disturbance_seconds": s.disturbance,
+        "subsurface_seconds": s.subsurface,
+        "cycle_stress_seconds": s.cycle_stress,
+        "homogeneous_reference_seconds": reference_seconds,
+        "alternations": sum(|r| r.alternations),
+        "outer_iterations": sum(|r| r.outer_iterations),
+        "eim_operator_applications": sum(|r| r.eim_iterations),
     });
-    if let Some(n) = lp.solver().nested() {
+    summary["out"] = json!(args.out.display().to_string());
+    if lp.solver().nested().is_some() {
         let extra = summary.as_object_mut().expect("object");
-        extra.insert("inclusion_cells".into(), json!(n.inclusions().len()));
-        extra.insert("layers".into(), json!(n.inclusions().layers.len()));
         extra.insert("case".into(), json!(args.case));
         if let Some((r, rm)) = reference {
             let (a, b) = (
                 &rows[lp.path().normal_steps - 1],
                 &r.rows()[r.path().normal_steps - 1],
             );
-            extra.insert(
-                "homogeneous".into(),
-                json!({
-                    "max_pressure_over_p0_end_of_normal_loading": rm.max_pressure_over_p0_end_of_normal_loading,
-                    "contact_area_over_hertz_end_of_normal_loading": rm.contact_area_over_hertz_end_of_normal_loading,
-                    "dissipated_energy": rm.dissipated_energy,
-                    "ratchet": rm.ratchet,
-                    "max_transverse_slip": rm.max_transverse_slip,
-                    "tangential_force_over_mu_w_at_amplitude": rm.tangential_force_over_mu_w_at_amplitude,
-                    "energy_ratio": rm.energy_ratio,
-                    "regime": rm.regime as i64,
-                    "sliding_fraction": rm.sliding_fraction,
-                    "unloading_stiffness": rm.unloading_stiffness,
-                }),
-            );
+            let mut homogeneous = halfspace::records::metrics_summary(rm);
+            // The reference's summary has always omitted its approach (kept: outputs bit for bit).
+            if let Some(h) = homogeneous.as_object_mut() {
+                h.remove("approach_over_hertz_end_of_normal_loading");
+            }
+            extra.insert("homogeneous".into(), homogeneous);
             extra.insert(
                 "max_pressure_ratio_to_homogeneous".into(),
                 json!(a.max_pressure / b.max_pressure),

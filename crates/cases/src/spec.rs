@@ -1,5 +1,6 @@
-//! The one parser of the `kind:key=value,...` specifications (design.md, CLI contract), shared by
-//! the CLI, the TOML tables of `fretting-loop` and the Python package. Every function takes `what`,
+//! The one parser of the `kind:key=value,...` specifications (docs/architecture.md, "The
+//! application layer"), shared by the CLI, the configurations (an `inhomogeneity` entry given as a
+//! spec) and the Python package. Every function takes `what`,
 //! the name of the input in the caller's terms (`--profile` on the command line, `profile` in
 //! Python), used in its error messages; the library never names a flag itself.
 

@@ -664,3 +664,69 @@ pub fn wear_summary(
     }
     summary
 }
+
+/// The metrics of a completed fretting loop as JSON ([`LoopMetrics`]: docs/fretting-loop.md): the
+/// one conversion of the CLI's summary, its homogeneous reference and the Python `metrics()`.
+pub fn metrics_summary(m: &LoopMetrics) -> serde_json::Value {
+    json!({
+        "dissipated_energy": m.dissipated_energy,
+        "ratchet": m.ratchet,
+        "tangential_force_over_mu_w_at_amplitude": m.tangential_force_over_mu_w_at_amplitude,
+        "max_pressure_over_p0_end_of_normal_loading": m.max_pressure_over_p0_end_of_normal_loading,
+        "contact_area_over_hertz_end_of_normal_loading": m.contact_area_over_hertz_end_of_normal_loading,
+        "approach_over_hertz_end_of_normal_loading": m.approach_over_hertz_end_of_normal_loading,
+        "max_transverse_slip": m.max_transverse_slip,
+        "sliding_fraction": m.sliding_fraction,
+        "regime": m.regime as i64,
+        "energy_ratio": m.energy_ratio,
+        "unloading_stiffness": m.unloading_stiffness,
+    })
+}
+
+/// The summary of a completed fretting loop: [`metrics_summary`], the increments and the grid,
+/// and with inhomogeneities the inclusion cells and layers (the CLI adds times and its output).
+pub fn loop_summary(lp: &FrettingLoop, m: &LoopMetrics) -> serde_json::Value {
+    let mut summary = metrics_summary(m);
+    summary["increments"] = json!(lp.rows().len());
+    summary["grid"] = json!(lp.case().grid);
+    if let Some(n) = lp.solver().nested() {
+        summary["inclusion_cells"] = json!(n.inclusions().len());
+        summary["layers"] = json!(n.inclusions().layers.len());
+    }
+    summary
+}
+
+/// The summary of an axisymmetric MDR contact (`halfspace axisym --json`, the Python `axisym`):
+/// contact radius, depth, force, pressures, stiffness, the grid and method, the medium's `k` and
+/// contact modulus `c_N` (docs/theory-mdr.md), and the `profile` and `material` as given.
+pub fn axisym_summary(
+    sol: &crate::mdr::ContactSolution,
+    material: &crate::mdr::Material,
+    backend: crate::mdr::Backend,
+    nodes: usize,
+    profile: &str,
+    material_spec: &str,
+) -> serde_json::Value {
+    let displacement_method =
+        crate::mdr::DisplacementMethod::for_backend(backend).equation(material.grading_exponent());
+    json!({
+        "contact_radius": sol.contact_radius,
+        "depth": sol.depth,
+        "force": sol.force,
+        "max_pressure": sol.max_pressure(),
+        "mean_pressure": sol.mean_pressure(),
+        "pressure_singular": sol.pressure_is_singular(),
+        "n": nodes,
+        "method": backend.name(),
+        "displacement_method": displacement_method,
+        "k": material.grading_exponent(),
+        "contact_modulus": material.contact_modulus(),
+        "c_n": material.contact_modulus(),
+        "normal_stiffness": sol.normal_stiffness(),
+        "grid_length": sol.grid.length(),
+        "edge_index": sol.edge_index,
+        "iterations": sol.iterations,
+        "profile": profile,
+        "material": material_spec,
+    })
+}

@@ -1,12 +1,16 @@
-//! Configurations of the library's drivers as plain data (TOML for the CLI, dicts for Python):
-//! one schema and one conversion to the library's types.
+//! Configurations of the library's drivers as plain data, read by serde — TOML for the CLI
+//! (`--config`), a Python dict as TOML data ([`from_table`]) — with one spelling of every key, one
+//! schema and one conversion to the library's types (validated once, in [`LoopConfig::case`]).
+//!
+//! A new key of the fretting loop is one field of [`LoopConfig`] (its default in
+//! `LoopConfig::default`) and its use in `loop_case`; TOML files and Python dicts read it at once.
 
 use serde::Deserialize;
 
 use crate::fatigue::Material;
 use crate::sam::drivers::fretting_loop::LoopCase;
 use crate::sam::drivers::fretting_map::FrettingMap;
-use crate::sam::eim::{FibreLayout, Inhomogeneity};
+use crate::sam::eim::{Axis, FibreLayout, Inhomogeneity, Shape};
 use crate::sam::kernels::surface::Body;
 use crate::spec::{parse_inhomogeneity, SpecError};
 
@@ -35,8 +39,8 @@ pub struct LoopConfig {
     pub grid: usize,
     pub extent_over_a: f64,
     /// `[[inhomogeneity]]` tables: `kind = "sphere" | "cylinder" | "cuboid"` and the keys of the
-    /// CLI's `--inhomogeneity` specs (`x, y, z, r, axis, hx, hy, hz, e, nu`).
-    pub inhomogeneity: Vec<toml::Table>,
+    /// CLI's `--inhomogeneity` specs (`x, y, z, r, axis, hx, hy, hz, E, nu`), or such specs.
+    pub inhomogeneity: Vec<InhomogeneityEntry>,
     /// Composite preset only: `"fibre-centred"` (a fibre axis at x = 0, the default) or
     /// `"gap-centred"`; refused without the preset (it would be ignored).
     pub layout: Option<String>,
@@ -141,34 +145,149 @@ impl Default for LoopConfig {
     }
 }
 
-/// One `[[inhomogeneity]]` table as the CLI's `kind:key=value,...` spec (one parser for both; the
-/// TOML key `e` is the spec's `E`).
-fn inhomogeneity_from_table(table: &toml::Table) -> Result<Inhomogeneity, SpecError> {
-    let kind = table
-        .get("kind")
-        .and_then(|v| v.as_str())
-        .ok_or_else(|| {
-            SpecError(
-                "fretting loop config: every [[inhomogeneity]] needs kind = \"sphere\" | \"cylinder\" | \"cuboid\""
-                    .into(),
-            )
-        })?;
-    let mut pairs = Vec::new();
-    for (key, value) in table.iter().filter(|(k, _)| k.as_str() != "kind") {
-        let text = match value {
-            toml::Value::Float(v) => format!("{v:e}"),
-            toml::Value::Integer(v) => v.to_string(),
-            toml::Value::String(v) => v.clone(),
-            other => {
-                return Err(SpecError(format!(
-                    "fretting loop config: [[inhomogeneity]] {key} = {other}: a number (or x/y for axis)"
-                )))
+/// One inhomogeneity of a configuration: a `[[inhomogeneity]]` table (TOML; a dict in Python)
+/// with `kind` and the keys of the `--inhomogeneity` spec, spelled as there (`E` is the
+/// inhomogeneity's Young's modulus), or that spec string itself (read by [`parse_inhomogeneity`]).
+/// Values are checked once, by [`Inhomogeneity::validate`], when the case is built.
+#[derive(Debug, Clone, PartialEq)]
+pub enum InhomogeneityEntry {
+    /// A table, typed by its `kind`.
+    Table(InhomogeneityTable),
+    /// A `kind:key=value,...` spec.
+    Spec(String),
+}
+
+/// The keys of a `[[inhomogeneity]]` table by `kind` (SI units; `z` the depth of the centre).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
+pub enum InhomogeneityTable {
+    /// `kind = "sphere"`: centre `x, y, z`, radius `r`.
+    Sphere {
+        x: f64,
+        y: f64,
+        z: f64,
+        r: f64,
+        #[serde(rename = "E")]
+        e: f64,
+        nu: f64,
+    },
+    /// `kind = "cylinder"`: `axis = "y"` with `x`, or `axis = "x"` with `y`; depth `z`, radius `r`.
+    Cylinder {
+        axis: String,
+        #[serde(default)]
+        x: Option<f64>,
+        #[serde(default)]
+        y: Option<f64>,
+        z: f64,
+        r: f64,
+        #[serde(rename = "E")]
+        e: f64,
+        nu: f64,
+    },
+    /// `kind = "cuboid"`: centre `x, y, z`, half sizes `hx, hy, hz`.
+    Cuboid {
+        x: f64,
+        y: f64,
+        z: f64,
+        hx: f64,
+        hy: f64,
+        hz: f64,
+        #[serde(rename = "E")]
+        e: f64,
+        nu: f64,
+    },
+}
+
+impl<'de> Deserialize<'de> for InhomogeneityEntry {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Entry;
+        impl<'de> serde::de::Visitor<'de> for Entry {
+            type Value = InhomogeneityEntry;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a table with kind = \"sphere\" | \"cylinder\" | \"cuboid\", or a kind:key=value spec")
             }
-        };
-        let key = if key == "e" { "E" } else { key.as_str() };
-        pairs.push(format!("{key}={text}"));
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Self::Value, E> {
+                Ok(InhomogeneityEntry::Spec(v.to_string()))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> Result<Self::Value, A::Error> {
+                InhomogeneityTable::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+                    .map(InhomogeneityEntry::Table)
+            }
+        }
+        d.deserialize_any(Entry)
     }
-    parse_inhomogeneity(&format!("{kind}:{}", pairs.join(",")), "[[inhomogeneity]]")
+}
+
+impl InhomogeneityEntry {
+    /// The library's inhomogeneity, checked; `index` (from 1) names it in errors.
+    pub fn inhomogeneity(&self, index: usize) -> Result<Inhomogeneity, SpecError> {
+        let what = format!("[[inhomogeneity]] {index}");
+        let table = match self {
+            InhomogeneityEntry::Spec(spec) => return parse_inhomogeneity(spec, &what),
+            InhomogeneityEntry::Table(t) => t,
+        };
+        let (shape, e, nu) = match *table {
+            InhomogeneityTable::Sphere { x, y, z, r, e, nu } => {
+                (Shape::Sphere { x, y, z, r }, e, nu)
+            }
+            InhomogeneityTable::Cylinder {
+                ref axis,
+                x,
+                y,
+                z,
+                r,
+                e,
+                nu,
+            } => {
+                let (axis, position) = match (axis.as_str(), x, y) {
+                    ("y", Some(x), None) => (Axis::Y, x),
+                    ("x", None, Some(y)) => (Axis::X, y),
+                    _ => {
+                        return Err(SpecError(format!(
+                            "{what}: a cylinder has axis = \"y\" with x, or axis = \"x\" with y \
+                             (it lies parallel to the surface), got axis = \"{axis}\""
+                        )))
+                    }
+                };
+                (
+                    Shape::Cylinder {
+                        axis,
+                        position,
+                        z,
+                        r,
+                    },
+                    e,
+                    nu,
+                )
+            }
+            InhomogeneityTable::Cuboid {
+                x,
+                y,
+                z,
+                hx,
+                hy,
+                hz,
+                e,
+                nu,
+            } => (
+                Shape::Cuboid {
+                    x,
+                    y,
+                    z,
+                    half: [hx, hy, hz],
+                },
+                e,
+                nu,
+            ),
+        };
+        let inh = Inhomogeneity { shape, e, nu };
+        inh.validate()
+            .map_err(|e| SpecError(format!("{what}: {e}")))?;
+        Ok(inh)
+    }
 }
 
 impl LoopConfig {
@@ -203,6 +322,35 @@ pub fn toml_message(what: &str, text: &str, e: &toml::de::Error) -> String {
     }
 }
 
+/// A configuration from TOML data: a file's table, or a Python dict converted to TOML values by
+/// the extension (no text, no parser in Python; TOML values, unlike JSON, hold NaN and ±∞, which
+/// the schema's checks then refuse by name). serde with the schema's own checks (unknown keys,
+/// types); on an error the data is written as TOML to quote the offending key, as
+/// [`toml_message`] does. Whether the message is a wrong type is [`is_type_error`].
+pub fn from_table<T: serde::de::DeserializeOwned>(
+    table: toml::Table,
+    what: &str,
+) -> Result<T, SpecError> {
+    toml::Value::Table(table.clone())
+        .try_into()
+        .map_err(|e: toml::de::Error| {
+            let message = e.message().replace('\n', " ");
+            let retext = toml::to_string(&table).unwrap_or_default();
+            match toml::from_str::<T>(&retext)
+                .err()
+                .and_then(|e| toml_line(&retext, &e))
+            {
+                Some((_, content)) => SpecError(format!("{what}: `{content}`: {message}")),
+                None => SpecError(format!("{what}: {message}")),
+            }
+        })
+}
+
+/// Whether a [`from_table`] error is a value of the wrong type (Python's `TypeError`).
+pub fn is_type_error(e: &SpecError) -> bool {
+    e.0.contains("invalid type:")
+}
+
 /// The line (from 1) and the text of the line where a TOML error points.
 fn toml_line(text: &str, e: &toml::de::Error) -> Option<(usize, String)> {
     let span = e.span()?;
@@ -225,21 +373,7 @@ pub fn map_config_from_toml(text: &str, what: &str) -> Result<(LoopConfig, MapAx
     let axes: MapAxes = axes
         .try_into()
         .map_err(|e: toml::de::Error| SpecError(format!("{what}: [map]: {}", e.message())))?;
-    let cfg: LoopConfig =
-        toml::Value::Table(table.clone())
-            .try_into()
-            .map_err(|e: toml::de::Error| {
-                // Name the offending key: parse the same keys as text, which gives a position.
-                let retext = toml::to_string(&table).unwrap_or_default();
-                let message = e.message().replace('\n', " ");
-                match toml::from_str::<LoopConfig>(&retext)
-                    .err()
-                    .and_then(|e| toml_line(&retext, &e))
-                {
-                    Some((_, content)) => SpecError(format!("{what}: `{content}`: {message}")),
-                    None => SpecError(format!("{what}: {message}")),
-                }
-            })?;
+    let cfg: LoopConfig = from_table(table, what)?;
     Ok((cfg, axes))
 }
 
@@ -320,7 +454,8 @@ fn loop_case(
         inhomogeneities: cfg
             .inhomogeneity
             .iter()
-            .map(inhomogeneity_from_table)
+            .enumerate()
+            .map(|(i, entry)| entry.inhomogeneity(i + 1))
             .collect::<Result<Vec<_>, _>>()?,
         subsurface_depth: None,
         fatigue_depth: None,
@@ -396,4 +531,67 @@ fn loop_case(
         case.fatigue_depth = Some(f.depth_over_a * case.hertz_radius());
     }
     Ok(case)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn first(text: &str) -> Result<Inhomogeneity, String> {
+        let cfg: LoopConfig = toml::from_str(text).map_err(|e| e.message().to_string())?;
+        cfg.inhomogeneity[0].inhomogeneity(1).map_err(|e| e.0)
+    }
+
+    #[test]
+    fn an_inhomogeneity_table_and_its_spec_are_one_input() {
+        let table = first(
+            "[[inhomogeneity]]\nkind = \"cylinder\"\naxis = \"y\"\nx = 1e-6\nz = 2e-6\nr = 0.5e-6\nE = 420e9\nnu = 0.3\n",
+        )
+        .unwrap();
+        let spec =
+            first("inhomogeneity = [\"cylinder:axis=y,x=1e-6,z=2e-6,r=0.5e-6,E=420e9,nu=0.3\"]\n")
+                .unwrap();
+        assert_eq!(table, spec);
+        // Integers are numbers; the spec's spelling `E` is the table's.
+        let sphere = first(
+            "[[inhomogeneity]]\nkind = \"sphere\"\nx = 0\ny = 0\nz = 2e-6\nr = 1e-6\nE = 420e9\nnu = 0.3\n",
+        )
+        .unwrap();
+        assert_eq!(sphere.e, 420e9);
+        let e = first(
+            "[[inhomogeneity]]\nkind = \"sphere\"\nx = 0\ny = 0\nz = 2e-6\nr = 1e-6\ne = 420e9\nnu = 0.3\n",
+        )
+        .unwrap_err();
+        assert!(e.contains("unknown field `e`"), "{e}");
+        let e = first(
+            "[[inhomogeneity]]\nkind = \"cylinder\"\naxis = \"y\"\ny = 1e-6\nz = 2e-6\nr = 0.5e-6\nE = 1e9\nnu = 0.3\n",
+        )
+        .unwrap_err();
+        assert!(
+            e.starts_with("[[inhomogeneity]] 1: a cylinder has axis"),
+            "{e}"
+        );
+        let e =
+            first("inhomogeneity = [\"sphere:x=0,y=0,z=2e-6,r=abc,E=1e9,nu=0.3\"]\n").unwrap_err();
+        assert!(e.contains("r='abc' is not a number"), "{e}");
+    }
+
+    #[test]
+    fn a_config_from_data_names_the_offending_key() {
+        let mut table = toml::Table::new();
+        table.insert("grid".into(), toml::Value::String("big".into()));
+        let e = from_table::<LoopConfig>(table, "config").unwrap_err();
+        assert!(is_type_error(&e), "{e}");
+        assert!(
+            e.0.starts_with("config: `grid = \"big\"`: invalid type"),
+            "{e}"
+        );
+        let mut table = toml::Table::new();
+        table.insert("normal_steps".into(), toml::Value::Integer(-1));
+        let e = from_table::<LoopConfig>(table, "config").unwrap_err();
+        assert!(
+            !is_type_error(&e) && e.0.contains("normal_steps = -1"),
+            "{e}"
+        );
+    }
 }

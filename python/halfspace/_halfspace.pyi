@@ -1,0 +1,99 @@
+# The Rust extension (python/src/lib.rs), as built; checked against the module by
+# `python -m mypy.stubtest halfspace` in .ci/run.
+from typing import Any, final
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = [
+    "HalfspaceError",
+    "axisym",
+    "fretting_wear",
+    "contact3d",
+    "fretting_map",
+    "fretting_map_point",
+    "fretting_map_shape",
+    "MAP_FIELDS",
+    "_FrettingLoop",
+]
+
+class HalfspaceError(ValueError): ...
+
+MAP_FIELDS: list[str]
+
+def axisym(
+    profile: str,
+    material: str,
+    *,
+    force: float | None = None,
+    depth: float | None = None,
+    n: int = 2001,
+    method: str = "fft",
+    table: tuple[list[float], list[float]] | None = None,
+) -> dict[str, Any]: ...
+def fretting_wear(
+    *,
+    chi: float = 0.5,
+    n: int = 2001,
+    tol: float | None = None,
+    dtau: float | None = None,
+    tau_end: float = 30.0,
+    method: str = "fft",
+    material: str | None = None,
+    length: float | None = None,
+) -> dict[str, Any]: ...
+def contact3d(
+    indenter: str,
+    material: str,
+    *,
+    force: float | None = None,
+    depth: float | None = None,
+    indenter_material: str = "rigid",
+    shift_x: float | None = None,
+    tangential_force: float | None = None,
+    friction: float = 0.0,
+    grid: int = 128,
+    extent: float | None = None,
+    tol: float = 1e-10,
+    inhomogeneities: list[str] = ...,
+    subsurface: float | None = None,
+) -> tuple[dict[str, Any], dict[str, NDArray[np.float64]]]: ...
+def fretting_map(
+    config: dict[str, Any] | None,
+    case: str,
+    grid: int | None,
+    loads: list[float],
+    amplitudes: list[float],
+) -> dict[str, NDArray[np.float64]]: ...
+def fretting_map_shape(
+    config: dict[str, Any] | None,
+    case: str,
+    grid: int | None,
+    loads: list[float],
+    amplitudes: list[float],
+) -> tuple[int, int]: ...
+def fretting_map_point(
+    config: dict[str, Any] | None,
+    case: str,
+    grid: int | None,
+    loads: list[float],
+    amplitudes: list[float],
+    i: int,
+    j: int,
+) -> list[float]: ...
+
+@final
+class _FrettingLoop:
+    def __new__(
+        cls, config: dict[str, Any] | None = None, case: str = "homogeneous", grid: int | None = None
+    ) -> _FrettingLoop: ...
+    def __len__(self) -> int: ...
+    @property
+    def done(self) -> int: ...
+    def step(self) -> dict[str, float] | None: ...
+    def run(self) -> None: ...
+    def rows(self) -> dict[str, NDArray[np.float64]]: ...
+    def points(self) -> dict[str, dict[str, Any]]: ...
+    def metrics(self) -> dict[str, Any]: ...
+    @staticmethod
+    def point_labels() -> list[str]: ...
