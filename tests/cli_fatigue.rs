@@ -3,7 +3,7 @@
 //! bit (docs/fatigue.md, "On the fretting loop").
 mod common;
 
-use common::{arrays_equal, bad, ok_json, run};
+use common::{arrays_equal, bad, ok_json, run, svg_with_labels};
 
 const FATIGUE: &str =
     "[fatigue]\nf_minus1 = 400e6\nt_minus1 = 280e6\nfs_k = 0.5\nyield_stress = 600e6\n";
@@ -75,6 +75,34 @@ fn fatigue_maxima_and_fields_of_an_elastic_indenter_under_approach_control() {
     let max = crossland.iter().copied().fold(f64::MIN, f64::max);
     assert_eq!(max, j["crossland_max"].as_f64().unwrap());
     assert!(full.join("results.xdmf").exists());
+    // The figures (docs/fatigue.md#figures): sections through each maximum, depth profile.
+    for (key, unit) in [
+        ("crossland", "Crossland index"),
+        ("dang_van", "Dang Van index"),
+        ("swt", "SWT σn,max·εa (MPa)"),
+        ("fatemi_socie", "Fatemi–Socie parameter"),
+    ] {
+        svg_with_labels(
+            &full.join(format!("fatigue_section_{key}.svg")),
+            &[
+                "x (μm)",
+                "depth z (μm)",
+                unit,
+                "section through its maximum",
+            ],
+        );
+    }
+    svg_with_labels(
+        &full.join("fatigue_depth_profile.svg"),
+        &[
+            "depth z (μm)",
+            "layer maximum / overall maximum",
+            "Crossland (max",
+            "Dang Van (max",
+            "Smith–Watson–Topper (max",
+            "Fatemi–Socie (max",
+        ],
+    );
     // Killed mid-cycle (4 normal + 4 + 3 shift increments) and resumed: the same results.
     let killed = dir.path().join("killed");
     let k = killed.to_str().unwrap();

@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{arrays_equal, bad, ok_json, run};
+use common::{arrays_equal, bad, ok_json, run, svg_with_labels};
 
 /// The MDR twin of docs/wear3d.md (identical bodies, ν = 0, fixed approach, χ = 0.5) on 16²,
 /// N₀ = 1000 cycles, to τ = 1.
@@ -12,7 +12,7 @@ approach = 1e-7\nindenter_e = 210e9\nindenter_nu = 0.0\n\
 [wear]\nlaw = \"archard\"\ncoefficient = 1.5430335e-12\nbody = \"gap\"\ncycles = 1000\n\
 record_cycles = [100]\n";
 
-/// A run's JSON keys and results; a run stopped twice and resumed ends bit for bit where the
+/// A run's JSON keys, results and figures; a run stopped twice and resumed ends bit for bit where the
 /// uninterrupted run ends; a re-run into a directory holding a checkpoint is refused.
 #[test]
 fn wear3d_runs_and_resumes_bit_for_bit() {
@@ -47,6 +47,28 @@ fn wear3d_runs_and_resumes_bit_for_bit() {
     }
     assert_eq!(full["cycles"], 1000);
     assert!(full["wear_volume"].as_f64().unwrap() > 0.0);
+    // The figures (docs/wear3d.md#figures).
+    for (name, labels) in [
+        (
+            "wear_depth_map.svg",
+            &["x (μm)", "y (μm)", "worn depth h (μm)", "N = 1000"][..],
+        ),
+        (
+            "wear_depth_profiles.svg",
+            &[
+                "x (μm) left, y (μm) right",
+                "worn depth h (μm)",
+                "N = 100",
+                "N = 1000",
+            ],
+        ),
+        (
+            "wear_volume.svg",
+            &["cycles N", "wear volume (μm³)", "largest worn depth (μm)"],
+        ),
+    ] {
+        svg_with_labels(&a.join(name), labels);
+    }
     assert!(go(args(&b, &["--stop-after", "2"])).status.success());
     assert!(b.join("checkpoint.npz").is_file() && !b.join("results.h5").exists());
     let refused = go(args(&b, &[]));

@@ -189,6 +189,9 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
             .map_err(|e| CliError::Spec(format!("removing {}: {e}", checkpoint.display())))?;
     }
     draw_loop_figures(&args.out, &lp, reference.as_ref().map(|(r, _)| r))?;
+    if let Some(f) = &fatigue {
+        plot::fatigue_figures(&args.out, f)?;
+    }
     run_dir.complete_present()?;
     let mut summary = loop_summary(
         &lp,

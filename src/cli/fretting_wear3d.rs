@@ -24,7 +24,7 @@ use super::CliError;
 const WEAR_RUN: RunKind = RunKind {
     command: "fretting-wear3d",
     files: &["checkpoint.npz", "results.h5"],
-    figure_extensions: &[],
+    figure_extensions: &["svg"],
 };
 
 #[derive(Debug, Args)]
@@ -36,7 +36,8 @@ pub struct FrettingWear3dArgs {
     /// `inhomogeneity_depth_cells`.
     #[arg(long)]
     config: PathBuf,
-    /// Output directory (results.h5; checkpoint.npz while running).
+    /// Output directory (results.h5, the figures wear_depth_map.svg, wear_depth_profiles.svg,
+    /// wear_volume.svg; checkpoint.npz while running).
     #[arg(long, default_value = "fretting-wear3d-out")]
     out: PathBuf,
     /// Cells per side (overrides the config).
@@ -193,6 +194,8 @@ pub fn run(args: FrettingWear3dArgs) -> Result<(), CliError> {
         return Ok(());
     }
     write_record(&args.out.join("results.h5"), &results_record(&run))?;
+    // The figures (docs/wear3d.md#figures): worn-depth map, profiles, volume against cycles.
+    super::plot::wear3d_figures(&args.out, &run)?;
     if checkpoint.exists() {
         std::fs::remove_file(&checkpoint)
             .map_err(|e| CliError::Spec(format!("removing {}: {e}", checkpoint.display())))?;

@@ -437,26 +437,65 @@ fn colormap(t: f64) -> RGBColor {
     RGBColor(mix(c0.0, c1.0), mix(c0.1, c1.1), mix(c0.2, c1.2))
 }
 
-/// A map of `values[row][col]` over cells centred at `(xs[col], zs[row])` (z downward), with a
-/// colour bar; SVG or PNG by the extension.
+/// A map of `values[row][col]` over cells centred at `(xs[col], zs[row])` (z downward: a section
+/// below the surface), with a colour bar; non-finite cells are left blank. SVG or PNG by the
+/// extension.
 pub fn heatmap(
     path: &Path,
     title: &str,
-    (xlabel, zlabel, unit): (&str, &str, &str),
+    labels: (&str, &str, &str),
     xs: &[f64],
     zs: &[f64],
     values: &[Vec<f64>],
 ) -> PlotResult {
+    map_figure(path, title, labels, xs, zs, values, true)
+}
+
+/// A map of `values[row][col]` over cells centred at `(xs[col], ys[row])` with `y` upward (a
+/// surface map), with a colour bar; non-finite cells are left blank. SVG or PNG by the extension.
+pub fn surface_map(
+    path: &Path,
+    title: &str,
+    labels: (&str, &str, &str),
+    xs: &[f64],
+    ys: &[f64],
+    values: &[Vec<f64>],
+) -> PlotResult {
+    map_figure(path, title, labels, xs, ys, values, false)
+}
+
+fn map_figure(
+    path: &Path,
+    title: &str,
+    labels: (&str, &str, &str),
+    xs: &[f64],
+    zs: &[f64],
+    values: &[Vec<f64>],
+    downward: bool,
+) -> PlotResult {
+    if xs.is_empty() || zs.is_empty() {
+        return Err(format!("{title}: no cells to draw").into());
+    }
     atomic(path, |path| {
         register_font()?;
         if path.extension().and_then(|e| e.to_str()) == Some("png") {
             let root = BitMapBackend::new(path, (960, 480)).into_drawing_area();
-            draw_heatmap(root, title, (xlabel, zlabel, unit), xs, zs, values)
+            draw_heatmap(root, title, labels, xs, zs, values, downward)
         } else {
             let root = SVGBackend::new(path, (960, 480)).into_drawing_area();
-            draw_heatmap(root, title, (xlabel, zlabel, unit), xs, zs, values)
+            draw_heatmap(root, title, labels, xs, zs, values, downward)
         }
     })
+}
+
+/// A tick label: fixed-point in the readable range, otherwise scientific.
+fn tick(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || (1e-2..1e4).contains(&a) {
+        format!("{v:.3}")
+    } else {
+        format!("{v:.2e}")
+    }
 }
 
 fn draw_heatmap<DB: DrawingBackend>(
@@ -466,6 +505,7 @@ fn draw_heatmap<DB: DrawingBackend>(
     xs: &[f64],
     zs: &[f64],
     values: &[Vec<f64>],
+    downward: bool,
 ) -> PlotResult
 where
     DB::ErrorType: 'static,
@@ -477,14 +517,22 @@ where
     let dz = if zs.len() > 1 { zs[1] - zs[0] } else { 1.0 };
     let (x0, x1) = (xs[0] - 0.5 * dx, xs[xs.len() - 1] + 0.5 * dx);
     let (z0, z1) = (zs[0] - 0.5 * dz, zs[zs.len() - 1] + 0.5 * dz);
-    let vmax = values.iter().flatten().cloned().fold(f64::MIN, f64::max);
-    let vmin = values.iter().flatten().cloned().fold(f64::MAX, f64::min);
-    let span = (vmax - vmin).max(1e-300);
+    // The colour range of the finite cells (NaN cells, e.g. screened ones, stay blank).
+    let finite = || values.iter().flatten().copied().filter(|v| v.is_finite());
+    let (mut vmin, mut vmax) = (
+        finite().fold(f64::INFINITY, f64::min),
+        finite().fold(f64::NEG_INFINITY, f64::max),
+    );
+    if vmin > vmax {
+        (vmin, vmax) = (0.0, 1.0);
+    }
+    let span = (vmax - vmin).max(vmax.abs() * 1e-12).max(1e-300);
+    vmax = vmin + span;
     let mut chart = ChartBuilder::on(&main)
         .margin(12)
         .x_label_area_size(36)
         .y_label_area_size(64)
-        .build_cartesian_2d(x0..x1, z1..z0)?;
+        .build_cartesian_2d(x0..x1, if downward { z1..z0 } else { z0..z1 })?;
     chart
         .configure_mesh()
         .disable_mesh()
@@ -492,13 +540,16 @@ where
         .y_desc(zlabel)
         .draw()?;
     chart.draw_series(values.iter().enumerate().flat_map(|(r, row)| {
-        row.iter().enumerate().map(move |(c, v)| {
-            let (x, z) = (xs[c], zs[r]);
-            Rectangle::new(
-                [(x - 0.5 * dx, z - 0.5 * dz), (x + 0.5 * dx, z + 0.5 * dz)],
-                colormap((v - vmin) / span).filled(),
-            )
-        })
+        row.iter()
+            .enumerate()
+            .filter(|(_, v)| v.is_finite())
+            .map(move |(c, v)| {
+                let (x, z) = (xs[c], zs[r]);
+                Rectangle::new(
+                    [(x - 0.5 * dx, z - 0.5 * dz), (x + 0.5 * dx, z + 0.5 * dz)],
+                    colormap((v - vmin) / span).filled(),
+                )
+            })
     }))?;
     let mut cb = ChartBuilder::on(&bar)
         .margin(12)
@@ -510,6 +561,7 @@ where
         .disable_mesh()
         .disable_x_axis()
         .y_desc(unit)
+        .y_label_formatter(&|v| tick(*v))
         .y_label_style(("sans-serif", 12))
         .axis_desc_style(("sans-serif", 13))
         .draw()?;
@@ -642,4 +694,211 @@ where
     }
     root.present()?;
     Ok(())
+}
+
+/// The figures of a completed 3D fretting-wear run, written into `dir` (docs/wear3d.md#figures):
+/// `wear_depth_map.svg` (the worn depth h(x, y) at the end, μm, with a colour bar),
+/// `wear_depth_profiles.svg` (h along x through the row nearest y = 0 and along y through the
+/// column nearest x = 0, at every recorded cycle count and the end) and `wear_volume.svg` (the
+/// worn volume `A Σ h` and the largest depth against the cycles N, one point per computed cycle).
+pub fn wear3d_figures(
+    dir: &Path,
+    run: &halfspace::sam::drivers::fretting_wear3d::FrettingWear3d,
+) -> Result<(), super::CliError> {
+    let g = *run.grid();
+    let (n1, n2) = (g.n1, g.n2);
+    let um = 1e6;
+    let xs: Vec<f64> = (0..n1).map(|i| g.centre(i, 0).0 * um).collect();
+    let ys: Vec<f64> = (0..n2).map(|j| g.centre(0, j).1 * um).collect();
+    // The row/column nearest the axis (an even grid has no cell centred on it).
+    let nearest = |c: &[f64]| {
+        (0..c.len())
+            .min_by(|&a, &b| c[a].abs().total_cmp(&c[b].abs()))
+            .unwrap_or(0)
+    };
+    let (i0, j0) = (nearest(&xs), nearest(&ys));
+    let fail = |p: &Path, e: Box<dyn std::error::Error>| {
+        super::CliError::Plot(format!("{}: {e}", p.display()))
+    };
+    // (a) The worn depth at the end, rows along y (values[j][i] = h(x_i, y_j)).
+    let h = run.wear_depth();
+    let values: Vec<Vec<f64>> = (0..n2)
+        .map(|j| (0..n1).map(|i| h[i * n2 + j] * um).collect())
+        .collect();
+    let p = dir.join("wear_depth_map.svg");
+    surface_map(
+        &p,
+        &format!(
+            "Worn depth h(x, y) after N = {} cycles (max {:.4e} m)",
+            run.cycles(),
+            h.iter().copied().fold(0.0, f64::max)
+        ),
+        ("x (μm)", "y (μm)", "worn depth h (μm)"),
+        &xs,
+        &ys,
+        &values,
+    )
+    .map_err(|e| fail(&p, e))?;
+    // (b) Profiles at the recorded cycle counts and the end.
+    let mut snapshots: Vec<(u64, &[f64])> = run
+        .records()
+        .iter()
+        .map(|r| (r.cycles, r.wear_depth.as_slice()))
+        .collect();
+    if snapshots.last().map(|s| s.0) != Some(run.cycles()) {
+        snapshots.push((run.cycles(), h));
+    }
+    let along_x: Vec<(String, Vec<(f64, f64)>)> = snapshots
+        .iter()
+        .map(|(n, w)| {
+            let line = (0..n1).map(|i| (xs[i], w[i * n2 + j0] * um)).collect();
+            (format!("N = {n}"), line)
+        })
+        .collect();
+    let along_y: Vec<(String, Vec<(f64, f64)>)> = snapshots
+        .iter()
+        .map(|(n, w)| {
+            let line = (0..n2).map(|j| (ys[j], w[i0 * n2 + j] * um)).collect();
+            (format!("N = {n}"), line)
+        })
+        .collect();
+    let p = dir.join("wear_depth_profiles.svg");
+    curves(
+        &p,
+        &format!(
+            "Worn depth along x (y = {:.3} μm, left) and along y (x = {:.3} μm, right)",
+            ys[j0], xs[i0]
+        ),
+        "x (μm) left, y (μm) right",
+        ("worn depth h (μm)", &along_x),
+        ("worn depth h (μm)", &along_y),
+        false,
+    )
+    .map_err(|e| fail(&p, e))?;
+    // (c) Volume and largest depth against the cycles.
+    let rows = run.history();
+    let volume = [(
+        "wear volume".to_string(),
+        rows.iter()
+            .map(|r| (r.cycles as f64, r.wear_volume * 1e18))
+            .collect::<Vec<_>>(),
+    )];
+    let depth = [(
+        "largest worn depth".to_string(),
+        rows.iter()
+            .map(|r| (r.cycles as f64, r.max_wear_depth * um))
+            .collect::<Vec<_>>(),
+    )];
+    let p = dir.join("wear_volume.svg");
+    curves(
+        &p,
+        "Wear volume (left) and largest worn depth (right) against the cycles",
+        "cycles N",
+        ("wear volume (μm³)", &volume),
+        ("largest worn depth (μm)", &depth),
+        false,
+    )
+    .map_err(|e| fail(&p, e))
+}
+
+/// The fatigue figures of a fretting loop with `[fatigue]`, written into `dir`
+/// (docs/fatigue.md#figures): `fatigue_section_{crossland,dang_van,swt,fatemi_socie}.svg`, the
+/// x–z section of each index through the row of cells (y) holding its maximum (depth downward;
+/// cells the screen skipped, NaN, blank), and `fatigue_depth_profile.svg`, the largest value of
+/// each index over each layer against the depth, divided by the index's overall maximum.
+pub fn fatigue_figures(
+    dir: &Path,
+    f: &halfspace::loop_fatigue::LoopFatigue,
+) -> Result<(), super::CliError> {
+    let (n1, n2) = f.shape;
+    let um = 1e6;
+    let xs: Vec<f64> = f.x.iter().map(|x| x * um).collect();
+    let zs: Vec<f64> = f.z.iter().map(|z| z * um).collect();
+    let i = &f.indices;
+    // Name, display name, field, colour-bar label and its scale.
+    let fields: [(&str, &str, &[f64], &str, f64); 4] = [
+        (
+            "crossland",
+            "Crossland",
+            &i.crossland,
+            "Crossland index",
+            1.0,
+        ),
+        ("dang_van", "Dang Van", &i.dang_van, "Dang Van index", 1.0),
+        (
+            "swt",
+            "Smith–Watson–Topper",
+            &i.swt,
+            "SWT σn,max·εa (MPa)",
+            1e-6,
+        ),
+        (
+            "fatemi_socie",
+            "Fatemi–Socie",
+            &i.fatemi_socie,
+            "Fatemi–Socie parameter",
+            1.0,
+        ),
+    ];
+    let fail = |p: &Path, e: Box<dyn std::error::Error>| {
+        super::CliError::Plot(format!("{}: {e}", p.display()))
+    };
+    let mut profiles: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    for (k, (name, display, field, unit, scale)) in fields.into_iter().enumerate() {
+        let [mx, my, mz] = f.at[k];
+        let j = (0..n2)
+            .min_by(|&a, &b| (f.y[a] - my).abs().total_cmp(&(f.y[b] - my).abs()))
+            .unwrap_or(0);
+        let values: Vec<Vec<f64>> = (0..f.layers)
+            .map(|l| {
+                (0..n1)
+                    .map(|c| field[l * n1 * n2 + c * n2 + j] * scale)
+                    .collect()
+            })
+            .collect();
+        let max = field
+            .iter()
+            .copied()
+            .filter(|v| v.is_finite())
+            .fold(f64::NEG_INFINITY, f64::max);
+        let p = dir.join(format!("fatigue_section_{name}.svg"));
+        heatmap(
+            &p,
+            &format!(
+                "{display}: x–z section through its maximum {} at x = {:.3}, y = {:.3}, z = {:.3} μm",
+                tick(max * scale),
+                mx * um,
+                my * um,
+                mz * um
+            ),
+            ("x (μm)", "depth z (μm)", unit),
+            &xs,
+            &zs,
+            &values,
+        )
+        .map_err(|e| fail(&p, e))?;
+        let layer_max = (0..f.layers).map(|l| {
+            let layer = &field[l * n1 * n2..(l + 1) * n1 * n2];
+            let m = layer
+                .iter()
+                .copied()
+                .filter(|v| v.is_finite())
+                .fold(f64::NEG_INFINITY, f64::max);
+            (zs[l], if m.is_finite() { m / max } else { f64::NAN })
+        });
+        profiles.push((
+            format!("{display} (max {})", tick(max * scale)),
+            layer_max.collect(),
+        ));
+    }
+    let p = dir.join("fatigue_depth_profile.svg");
+    curves(
+        &p,
+        "Largest index over each layer against the depth (each over its overall maximum)",
+        "depth z (μm)",
+        ("layer maximum / overall maximum", &profiles),
+        ("", &[]),
+        false,
+    )
+    .map_err(|e| fail(&p, e))
 }

@@ -49,3 +49,51 @@ pub fn arrays_equal(a: &std::path::Path, b: &std::path::Path) {
         );
     }
 }
+
+/// Asserts that `path` is a non-empty SVG document (`<svg` … `</svg>`, its tags well nested, no
+/// bare `&`) whose text holds every one of `labels` (axis labels, titles).
+pub fn svg_with_labels(path: &std::path::Path, labels: &[&str]) {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let body = text.trim();
+    assert!(body.starts_with("<svg"), "{}: not an SVG", path.display());
+    assert!(body.ends_with("</svg>"), "{}: unterminated", path.display());
+    // Well-formedness of the element structure: every tag closed in order.
+    let mut open: Vec<String> = Vec::new();
+    let mut rest = body;
+    while let Some(start) = rest.find('<') {
+        let end = rest[start..]
+            .find('>')
+            .unwrap_or_else(|| panic!("{}: unclosed tag", path.display()))
+            + start;
+        let tag = &rest[start + 1..end];
+        assert!(!tag.contains('<'), "{}: '<' inside a tag", path.display());
+        if let Some(name) = tag.strip_prefix('/') {
+            assert_eq!(
+                open.pop().as_deref(),
+                Some(name.trim()),
+                "{}",
+                path.display()
+            );
+        } else if !(tag.starts_with('?') || tag.starts_with('!') || tag.ends_with('/')) {
+            let name = tag.split_whitespace().next().unwrap_or("");
+            open.push(name.to_string());
+        }
+        rest = &rest[end + 1..];
+    }
+    assert!(open.is_empty(), "{}: unclosed {open:?}", path.display());
+    for (k, _) in body.match_indices('&') {
+        let entity = &body[k..body.len().min(k + 12)];
+        assert!(
+            entity.contains(';'),
+            "{}: bare '&' at {k}: {entity:?}",
+            path.display()
+        );
+    }
+    for label in labels {
+        assert!(
+            body.contains(label),
+            "{}: lacks the label {label:?}",
+            path.display()
+        );
+    }
+}
