@@ -290,6 +290,10 @@ where
         for (k, (label, pts)) in lines.iter().enumerate() {
             let color = colors[k % colors.len()];
             let pts: Vec<(f64, f64)> = pts.iter().copied().filter(|p| p.1.is_finite()).collect();
+            // A line of one point draws nothing: mark it.
+            if pts.len() == 1 {
+                chart.draw_series(pts.iter().map(|p| Circle::new(*p, 4, color.filled())))?;
+            }
             chart
                 .draw_series(LineSeries::new(pts, color.stroke_width(2)))?
                 .label(label.as_str())
@@ -451,6 +455,14 @@ pub fn heatmap(
     map_figure(path, title, labels, xs, zs, values, true)
 }
 
+/// Sizes of a map figure: `(width, height)` and the width of the map's panel (the rest holds the
+/// colour bar).
+struct MapSize {
+    width: u32,
+    height: u32,
+    map: u32,
+}
+
 /// A map of `values[row][col]` over cells centred at `(xs[col], ys[row])` with `y` upward (a
 /// surface map), with a colour bar; non-finite cells are left blank. SVG or PNG by the extension.
 pub fn surface_map(
@@ -476,30 +488,53 @@ fn map_figure(
     if xs.is_empty() || zs.is_empty() {
         return Err(format!("{title}: no cells to draw").into());
     }
+    // A section is wide and shallow; a surface map of a square grid is drawn about square (equal
+    // scales on x and y when the extents are equal).
+    let size = if downward {
+        MapSize {
+            width: 960,
+            height: 480,
+            map: 830,
+        }
+    } else {
+        MapSize {
+            width: 720,
+            height: 600,
+            map: 590,
+        }
+    };
     atomic(path, |path| {
         register_font()?;
+        let dims = (size.width, size.height);
         if path.extension().and_then(|e| e.to_str()) == Some("png") {
-            let root = BitMapBackend::new(path, (960, 480)).into_drawing_area();
-            draw_heatmap(root, title, labels, xs, zs, values, downward)
+            let root = BitMapBackend::new(path, dims).into_drawing_area();
+            draw_heatmap(root, size.map, title, labels, xs, zs, values, downward)
         } else {
-            let root = SVGBackend::new(path, (960, 480)).into_drawing_area();
-            draw_heatmap(root, title, labels, xs, zs, values, downward)
+            let root = SVGBackend::new(path, dims).into_drawing_area();
+            draw_heatmap(root, size.map, title, labels, xs, zs, values, downward)
         }
     })
 }
 
 /// A tick label: fixed-point in the readable range, otherwise scientific.
 fn tick(v: f64) -> String {
-    let a = v.abs();
-    if a == 0.0 || (1e-2..1e4).contains(&a) {
+    tick_of_scale(v, v.abs())
+}
+
+/// A tick label for an axis whose largest magnitude is `scale`: every tick of the axis in the
+/// same notation (fixed-point when `1e-2 ≤ scale < 1e4`, else scientific).
+fn tick_of_scale(v: f64, scale: f64) -> String {
+    if scale == 0.0 || (1e-2..1e4).contains(&scale) {
         format!("{v:.3}")
     } else {
         format!("{v:.2e}")
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn draw_heatmap<DB: DrawingBackend>(
     root: DrawingArea<DB, plotters::coord::Shift>,
+    map_width: u32,
     title: &str,
     (xlabel, zlabel, unit): (&str, &str, &str),
     xs: &[f64],
@@ -512,7 +547,7 @@ where
 {
     root.fill(&WHITE)?;
     let root = root.titled(title, ("sans-serif", 15))?;
-    let (main, bar) = root.split_horizontally(830);
+    let (main, bar) = root.split_horizontally(map_width);
     let dx = if xs.len() > 1 { xs[1] - xs[0] } else { 1.0 };
     let dz = if zs.len() > 1 { zs[1] - zs[0] } else { 1.0 };
     let (x0, x1) = (xs[0] - 0.5 * dx, xs[xs.len() - 1] + 0.5 * dx);
@@ -561,7 +596,7 @@ where
         .disable_mesh()
         .disable_x_axis()
         .y_desc(unit)
-        .y_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick_of_scale(*v, vmin.abs().max(vmax.abs())))
         .y_label_style(("sans-serif", 12))
         .axis_desc_style(("sans-serif", 13))
         .draw()?;
