@@ -452,7 +452,7 @@ pub fn heatmap(
     zs: &[f64],
     values: &[Vec<f64>],
 ) -> PlotResult {
-    map_figure(path, title, labels, xs, zs, values, true)
+    map_figure(path, title, labels, xs, zs, values, true, None)
 }
 
 /// Sizes of a map figure: `(width, height)` and the width of the map's panel (the rest holds the
@@ -473,9 +473,11 @@ pub fn surface_map(
     ys: &[f64],
     values: &[Vec<f64>],
 ) -> PlotResult {
-    map_figure(path, title, labels, xs, ys, values, false)
+    map_figure(path, title, labels, xs, ys, values, false, None)
 }
 
+/// [`heatmap`] (`downward`) or [`surface_map`], with an optional cross at `marker` (a maximum).
+#[allow(clippy::too_many_arguments)]
 fn map_figure(
     path: &Path,
     title: &str,
@@ -484,6 +486,7 @@ fn map_figure(
     zs: &[f64],
     values: &[Vec<f64>],
     downward: bool,
+    marker: Option<(f64, f64)>,
 ) -> PlotResult {
     if xs.is_empty() || zs.is_empty() {
         return Err(format!("{title}: no cells to draw").into());
@@ -508,10 +511,14 @@ fn map_figure(
         let dims = (size.width, size.height);
         if path.extension().and_then(|e| e.to_str()) == Some("png") {
             let root = BitMapBackend::new(path, dims).into_drawing_area();
-            draw_heatmap(root, size.map, title, labels, xs, zs, values, downward)
+            draw_heatmap(
+                root, size.map, title, labels, xs, zs, values, downward, marker,
+            )
         } else {
             let root = SVGBackend::new(path, dims).into_drawing_area();
-            draw_heatmap(root, size.map, title, labels, xs, zs, values, downward)
+            draw_heatmap(
+                root, size.map, title, labels, xs, zs, values, downward, marker,
+            )
         }
     })
 }
@@ -541,6 +548,7 @@ fn draw_heatmap<DB: DrawingBackend>(
     zs: &[f64],
     values: &[Vec<f64>],
     downward: bool,
+    marker: Option<(f64, f64)>,
 ) -> PlotResult
 where
     DB::ErrorType: 'static,
@@ -586,6 +594,12 @@ where
                 )
             })
     }))?;
+    if let Some(at) = marker {
+        chart.draw_series([
+            Cross::new(at, 7, WHITE.stroke_width(4)),
+            Cross::new(at, 6, BLACK.stroke_width(2)),
+        ])?;
+    }
     let mut cb = ChartBuilder::on(&bar)
         .margin(12)
         .margin_top(20)
@@ -838,9 +852,10 @@ pub fn wear3d_figures(
 
 /// The fatigue figures of a fretting loop with `[fatigue]`, written into `dir`
 /// (docs/fatigue.md#figures): `fatigue_section_{crossland,dang_van,swt,fatemi_socie}.svg`, the
-/// x–z section of each index through the row of cells (y) holding its maximum (depth downward;
-/// cells the screen skipped, NaN, blank), and `fatigue_depth_profile.svg`, the largest value of
-/// each index over each layer against the depth, divided by the index's overall maximum.
+/// x–z section of each index through the row of cells (y) holding its maximum, the maximum
+/// marked by a cross (depth downward; cells the screen skipped, NaN, blank), and
+/// `fatigue_depth_profile.svg`, the largest value of each index over each layer against the
+/// depth, divided by the index's overall maximum.
 pub fn fatigue_figures(
     dir: &Path,
     f: &halfspace::loop_fatigue::LoopFatigue,
@@ -897,7 +912,7 @@ pub fn fatigue_figures(
             .filter(|v| v.is_finite())
             .fold(f64::NEG_INFINITY, f64::max);
         let p = dir.join(format!("fatigue_section_{name}.svg"));
-        heatmap(
+        map_figure(
             &p,
             &format!(
                 "{display}: x–z section through its maximum {} at x = {:.3}, y = {:.3}, z = {:.3} μm",
@@ -910,6 +925,8 @@ pub fn fatigue_figures(
             &xs,
             &zs,
             &values,
+            true,
+            Some((mx * um, mz * um)),
         )
         .map_err(|e| fail(&p, e))?;
         let layer_max = (0..f.layers).map(|l| {
