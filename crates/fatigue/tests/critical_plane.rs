@@ -310,15 +310,22 @@ fn search_errors() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(32))]
+    #![proptest_config(ProptestConfig {
+        cases: 32,
+        // Fixed, so that CI replays the same 32 cases (RustFFT-style fixed seeds); the
+        // tolerances below come from random seeds run outside CI.
+        rng_seed: proptest::test_runner::RngSeed::Fixed(20_261_126),
+        ..ProptestConfig::default()
+    })]
     /// SWT and Fatemi–Socie are invariant under a rotation of the stress path. This checks the
     /// criteria, so it runs a dense search (4000 normals, 8 candidates, 1e-7 rad): the default
     /// search can stop on a nearby lower local maximum on some paths (proptest found SWT 1.7e-5
     /// and FS 1.8e-3 below; docs/fatigue.md, "Accuracy of the critical-plane search"). The dense
-    /// search is still local: on seed 558594 the two frames' values differed by 3.8e-6 relative
-    /// (a maximum reached from two different coarse normals), so invariance is asserted to 1e-5 —
-    /// the dense search's accuracy, not the criteria's: a formula error (a missed factor, a wrong
-    /// strain from Hooke's law) changes the value by O(1).
+    /// search is still local: with random seeds the two frames' values differed by up to 3.8e-6
+    /// relative (SWT) and 1.3e-4 (Fatemi–Socie, seed 467030: 1.85490e-3 vs 1.85514e-3) — a
+    /// maximum reached from two different coarse normals — so invariance is asserted to 1e-5
+    /// (SWT) and 5e-4 (FS), the dense search's accuracy, not the criteria's: a formula error (a
+    /// missed factor, a wrong strain from Hooke's law) changes the value by O(1).
     #[test]
     fn rotation_invariance(seed in 0u64..1_000_000, g in prop::array::uniform9(-1.0f64..1.0)) {
         let mut rng = Rng::new(seed);
@@ -338,7 +345,7 @@ proptest! {
         prop_assert!((a.value - b.value).abs() <= 1e-5 * a.value.abs(), "{} {}", a.value, b.value);
         let a = fatemi_socie(&path, &m, &p, &mut s).unwrap();
         let b = fatemi_socie(&rotated, &m, &p, &mut s).unwrap();
-        prop_assert!((a.value - b.value).abs() <= 1e-5 * a.value.abs(), "{} {}", a.value, b.value);
+        prop_assert!((a.value - b.value).abs() <= 5e-4 * a.value.abs(), "{} {}", a.value, b.value);
     }
 }
 
