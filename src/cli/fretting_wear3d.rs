@@ -1,7 +1,7 @@
-//! `halfspace fretting-wear3d`: 3D fretting wear on the SAM solver (parse → `sam::drivers::
-//! fretting_wear3d` → write). The configuration is the fretting loop's TOML (`fretting-loop
-//! --config` keys) plus `approach`, `indenter_e`, `indenter_nu` and a `[wear]` table
-//! (docs/wear3d.md#the-command).
+//! `halfspace fretting-wear3d`: 3D fretting wear on the SAM solver — parse
+//! (`halfspace::config::Wear3dConfig`: the fretting loop's `--config` keys and a `[wear]` table,
+//! docs/wear3d.md#the-command) → run (`sam::drivers::fretting_wear3d`, checkpointed) → write
+//! (`halfspace::records::wear3d_*`: the summary, results.h5 and checkpoint.npz).
 
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
