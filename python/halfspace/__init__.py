@@ -27,6 +27,7 @@ from ._halfspace import fretting_map as _fretting_map
 from ._halfspace import fretting_map_point as _fretting_map_point
 from ._halfspace import fretting_map_shape as _fretting_map_shape
 from ._halfspace import fretting_wear as _fretting_wear
+from ._halfspace import fretting_wear3d as _fretting_wear3d
 
 __all__ = [
     "HalfspaceError",
@@ -43,11 +44,13 @@ __all__ = [
     "AxisymResult",
     "Contact3dResult",
     "WearResult",
+    "Wear3dResult",
     "LoopMetrics",
     "MapResult",
     "axisym",
     "contact3d",
     "fretting_wear",
+    "fretting_wear3d",
     "FrettingLoop",
     "fretting_map",
 ]
@@ -436,6 +439,36 @@ class WearResult(Result):
     loaded_radius_history: NDArray[np.float64]
 
 
+class Wear3dResult(Result):
+    """:func:`fretting_wear3d`: the keys of ``halfspace fretting-wear3d --json`` (without ``out``),
+    ``x``, ``y`` (cell centres, m), ``wear_depth`` (N₁, N₂; m) and the history per wear step,
+    ``{field}_history`` — the datasets of its results.h5 (``cycles``, ``wear_volume``, …)."""
+
+    cycles: int
+    wear_steps: int
+    wear_volume: float
+    # Of the last wear step (``None`` only for a run without one).
+    max_wear_depth: float | None
+    contact_radius: float | None
+    stick_radius: float | None
+    dissipated_energy_total: float | None
+    seconds: float
+    seconds_per_computed_cycle: float
+    x: NDArray[np.float64]
+    y: NDArray[np.float64]
+    wear_depth: NDArray[np.float64]
+    cycles_history: NDArray[np.float64]
+    delta_cycles_history: NDArray[np.float64]
+    wear_volume_history: NDArray[np.float64]
+    max_wear_depth_history: NDArray[np.float64]
+    contact_radius_history: NDArray[np.float64]
+    stick_radius_history: NDArray[np.float64]
+    dissipated_energy_history: NDArray[np.float64]
+    dissipated_energy_total_history: NDArray[np.float64]
+    max_slip_path_history: NDArray[np.float64]
+    max_rate_history: NDArray[np.float64]
+
+
 class LoopMetrics(Result):
     """:meth:`FrettingLoop.metrics`: the metrics of a completed loop (the keys of
     ``halfspace fretting-loop --json`` without its times)."""
@@ -590,6 +623,21 @@ def fretting_wear(
                                  dtau=_opt_real(dtau, "dtau"), tau_end=_real(tau_end, "tau_end"),
                                  method=_text(method, "method"), material=material,
                                  length=_opt_real(length, "length")))
+
+
+def fretting_wear3d(config: dict[str, Any], grid: int | None = None) -> Wear3dResult:
+    """3D fretting wear on the semi-analytical solver (docs/wear3d.md), as ``halfspace
+    fretting-wear3d``: the fretting loop's cycle, repeated with the worn depth h updated by
+    ``ḣ = k p |ṡ|`` (Archard) or ``k |q| |ṡ|`` (energy) in adaptive jumps of cycles
+    (docs/wear3d.md, "Wear steps"). ``config`` is a dict of the ``fretting-wear3d --config`` keys:
+    the fretting-loop keys (``force`` or ``approach``, ``indenter_e``/``indenter_nu``, …) and a
+    ``wear`` dict (``law``, ``coefficient``, ``body``, ``cycles``, ``record_cycles``,
+    ``step_fraction``, ``stability_fraction``, ``inhomogeneity_depth_cells``); ``grid`` overrides
+    its grid. Bad keys raise :class:`HalfspaceError` (``TypeError`` for a value of the wrong type)
+    naming the key. Runs with the GIL released; Ctrl-C stops after the wear step in progress."""
+    if not isinstance(config, dict):
+        raise TypeError(f"config must be a dict of the fretting-wear3d keys, got {config!r}")
+    return Wear3dResult(_fretting_wear3d(config, grid=_opt_count(grid, "grid")))
 
 
 def _config(config: Any) -> dict[str, Any] | None:

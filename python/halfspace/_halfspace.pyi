@@ -9,6 +9,7 @@ __all__ = [
     "HalfspaceError",
     "axisym",
     "fretting_wear",
+    "fretting_wear3d",
     "contact3d",
     "fretting_map",
     "fretting_map_point",
@@ -42,6 +43,7 @@ def fretting_wear(
     material: str | None = None,
     length: float | None = None,
 ) -> dict[str, Any]: ...
+def fretting_wear3d(config: dict[str, Any], grid: int | None = None) -> dict[str, Any]: ...
 def contact3d(
     indenter: str,
     material: str,

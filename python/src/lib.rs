@@ -19,15 +19,16 @@ use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
 use halfspace_cases as halfspace;
 
-use halfspace::config::{from_table, is_type_error, LoopConfig};
+use halfspace::config::{from_table, is_type_error, LoopConfig, Wear3dConfig};
 use halfspace::fretting::{FrettingParams, FrettingSimulation, TimeStepping};
 use halfspace::fretting_map::{run_map_until, MapError};
 use halfspace::mdr::{Backend, ContactParams, ContactSolver, Load, Profile};
 use halfspace::records::{
-    axisym_summary, contact_record, contact_summary, loop_summary, wear_summary,
+    axisym_summary, contact_record, contact_summary, loop_summary, wear3d_summary, wear_summary,
 };
 use halfspace::sam::drivers::fretting_loop::{FrettingLoop, LoopRow, POINT_LABELS};
 use halfspace::sam::drivers::fretting_map::{FrettingMap, MapPoint};
+use halfspace::sam::drivers::fretting_wear3d::{FrettingWear3d, WearRow};
 use halfspace::sam::drivers::one_contact::{solve_contact, ContactCase, TangentialLoad};
 use halfspace::sam::normal::NormalLoad;
 use halfspace::spec::{
@@ -532,19 +533,26 @@ fn loop_config(config: Option<&Bound<'_, PyAny>>) -> PyResult<LoopConfig> {
     let Some(config) = config.filter(|c| !c.is_none()) else {
         return Ok(LoopConfig::default());
     };
+    from_table(config_table(config, "fretting-loop")?, "config").map_err(config_error)
+}
+
+/// A config dict as TOML data (`what` names the keys it should hold in the error).
+fn config_table(config: &Bound<'_, PyAny>, what: &str) -> PyResult<toml::Table> {
     if !config.is_instance_of::<PyDict>() {
         return Err(PyTypeError::new_err(format!(
-            "config must be a dict of the fretting-loop keys, got {config}"
+            "config must be a dict of the {what} keys, got {config}"
         )));
     }
-    let config = config.cast::<PyDict>()?;
-    from_table(toml_table(config, "config")?, "config").map_err(|e| {
-        if is_type_error(&e) {
-            PyTypeError::new_err(e.0)
-        } else {
-            err(e)
-        }
-    })
+    toml_table(config.cast::<PyDict>()?, "config")
+}
+
+/// A refused configuration: `TypeError` for a value of the wrong type, else `HalfspaceError`.
+fn config_error(e: halfspace::spec::SpecError) -> PyErr {
+    if is_type_error(&e) {
+        PyTypeError::new_err(e.0)
+    } else {
+        err(e)
+    }
 }
 
 /// The fretting map of the config over `loads × amplitudes` (`LoopConfig::map`).
@@ -637,6 +645,59 @@ fn fretting_map_point(
     Ok(point.values().to_vec())
 }
 
+/// `fretting_wear3d(config, grid=None)`: 3D fretting wear on the SAM solver
+/// (`sam::drivers::fretting_wear3d`, docs/wear3d.md), as `halfspace fretting-wear3d`: `config` a
+/// dict of the fretting-loop keys and a `wear` dict (`halfspace_cases::config::Wear3dConfig`),
+/// `grid` overriding its grid. Runs every wear step with the GIL released (Ctrl-C stops after the
+/// step in progress: KeyboardInterrupt). Returns a dict: the CLI's JSON keys
+/// (`records::wear3d_summary`), `x`, `y` (cell centres, m), `wear_depth` (N₁, N₂; m) and the
+/// history per wear step, `{field}_history` for each field of `WearRow::FIELDS`.
+#[pyfunction]
+#[pyo3(signature = (config, grid=None))]
+fn fretting_wear3d<'py>(
+    py: Python<'py>,
+    config: &Bound<'py, PyAny>,
+    grid: Option<usize>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let table = config_table(config, "fretting-wear3d")?;
+    let case = Wear3dConfig::from_table(table, "config")
+        .map_err(config_error)?
+        .case(grid)
+        .map_err(err)?;
+    let start = std::time::Instant::now();
+    let run = interruptible(py, |cancel| {
+        let mut run = FrettingWear3d::new(case)?;
+        run.run(|_| {
+            if cancel.load(Ordering::Relaxed) {
+                std::ops::ControlFlow::Break(())
+            } else {
+                std::ops::ControlFlow::Continue(())
+            }
+        })?;
+        Ok::<_, halfspace::sam::SamError>(run)
+    })?
+    .map_err(err)?;
+    let d = json_dict(py, &wear3d_summary(&run, start.elapsed().as_secs_f64()))?;
+    let g = *run.grid();
+    d.set_item(
+        "x",
+        PyArray1::from_vec(py, (0..g.n1).map(|i| g.centre(i, 0).0).collect()),
+    )?;
+    d.set_item(
+        "y",
+        PyArray1::from_vec(py, (0..g.n2).map(|j| g.centre(0, j).1).collect()),
+    )?;
+    d.set_item(
+        "wear_depth",
+        PyArray1::from_vec(py, run.wear_depth().to_vec()).reshape([g.n1, g.n2])?,
+    )?;
+    for (f, name) in WearRow::FIELDS.iter().enumerate() {
+        let v: Vec<f64> = run.history().iter().map(|r| r.values()[f]).collect();
+        d.set_item(format!("{name}_history"), PyArray1::from_vec(py, v))?;
+    }
+    Ok(d)
+}
+
 fn row_dict<'py>(py: Python<'py>, r: &LoopRow) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     for (name, v) in LoopRow::FIELDS.iter().zip(r.values()) {
@@ -654,6 +715,7 @@ fn _halfspace(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("HalfspaceError", m.py().get_type::<HalfspaceError>())?;
     m.add_function(wrap_pyfunction!(axisym, m)?)?;
     m.add_function(wrap_pyfunction!(fretting_wear, m)?)?;
+    m.add_function(wrap_pyfunction!(fretting_wear3d, m)?)?;
     m.add_function(wrap_pyfunction!(contact3d, m)?)?;
     m.add_function(wrap_pyfunction!(fretting_map, m)?)?;
     m.add_function(wrap_pyfunction!(fretting_map_point, m)?)?;

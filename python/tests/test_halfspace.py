@@ -274,3 +274,63 @@ def test_the_examples_run(example):
     out = subprocess.run([sys.executable, str(ROOT / "examples" / example)], capture_output=True,
                          text=True, timeout=600)
     assert out.returncode == 0, out.stderr[-2000:]
+
+
+# The MDR twin of tests/cli_fretting_wear3d.rs (16², N = 1000 cycles).
+TWIN3D = {"radius": 105e-6, "e": 210e9, "nu": 0.0, "friction": 0.3, "normal_steps": 1,
+          "amplitude": 1.5e-8, "shift_step": 1.5e-8, "grid": 16, "extent_over_a": 3.2,
+          "approach": 1e-7, "indenter_e": 210e9, "indenter_nu": 0.0,
+          "wear": {"law": "archard", "coefficient": 1.5430335e-12, "body": "gap", "cycles": 1000,
+                   "record_cycles": [100]}}
+
+
+def test_fretting_wear3d_equals_the_cli_bit_for_bit(tmp_path):
+    text = toml({k: v for k, v in TWIN3D.items() if k != "wear"}) + "[wear]\n" + toml(TWIN3D["wear"])
+    (tmp_path / "wear.toml").write_text(text.replace("'", '"'))
+    ref = cli("fretting-wear3d", "--config", str(tmp_path / "wear.toml"), "--out", str(tmp_path / "out"))
+    w = hs.fretting_wear3d(TWIN3D)
+    assert isinstance(w, hs.Wear3dResult)
+    for key in ("cycles", "wear_steps", "wear_volume", "max_wear_depth", "contact_radius",
+                "stick_radius", "dissipated_energy_total"):
+        assert getattr(w, key) == ref[key], key
+        assert type(getattr(w, key)) is type(ref[key]), key
+    assert w.cycles == 1000 and w.wear_volume > 0.0
+    assert w.seconds > 0.0 and w.seconds_per_computed_cycle > 0.0
+    with h5py.File(tmp_path / "out" / "results.h5") as f:
+        assert w.wear_depth.shape == (16, 16)
+        assert np.array_equal(w.wear_depth, f["wear_depth"][:])
+        assert np.array_equal(w.x, f["x"][:]) and np.array_equal(w.y, f["y"][:])
+        for name in ("cycles", "delta_cycles", "wear_volume", "max_wear_depth", "contact_radius",
+                     "stick_radius", "dissipated_energy", "dissipated_energy_total",
+                     "max_slip_path", "max_rate"):
+            assert np.array_equal(getattr(w, f"{name}_history"), f[name][:]), name
+    assert len(w.cycles_history) == w.wear_steps and w.cycles_history[-1] == 1000
+    # The grid override is the CLI's --grid.
+    assert hs.fretting_wear3d(TWIN3D, grid=8).wear_depth.shape == (8, 8)
+
+
+def test_fretting_wear3d_errors_name_the_key():
+    def wear(**changes: object) -> dict:
+        return dict(TWIN3D, wear=dict(TWIN3D["wear"], **changes))
+
+    for cfg, kind, needle in [
+        ({k: v for k, v in TWIN3D.items() if k != "wear"}, hs.HalfspaceError, "[wear] table is required"),
+        (wear(law="hard"), hs.HalfspaceError, "wear law"),
+        (wear(cycles=0), hs.HalfspaceError, "cycles"),
+        (wear(coefficient=-1.0), hs.HalfspaceError, "coefficient"),
+        (wear(body="both"), hs.HalfspaceError, "wear body"),
+        (wear(colour=1), hs.HalfspaceError, "colour"),
+        (wear(cycles="many"), TypeError, "cycles"),
+        (dict(TWIN3D, approach="x"), TypeError, "approach"),
+        (dict(TWIN3D, colour=1), hs.HalfspaceError, "colour"),
+        (dict(TWIN3D, force=0.08), hs.HalfspaceError, "exactly one of force"),
+        (dict(TWIN3D, wear=3), TypeError, "wear"),
+        (dict(TWIN3D, fatigue={"f_minus1": 1.0, "t_minus1": 1.0, "fs_k": 1.0, "yield_stress": 1.0}),
+         hs.HalfspaceError, "[fatigue]"),
+    ]:
+        with pytest.raises(kind, match=re.escape(needle)):
+            hs.fretting_wear3d(cfg)
+    with pytest.raises(TypeError, match="dict of the fretting-wear3d keys"):
+        hs.fretting_wear3d("wear.toml")  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match="grid"):
+        hs.fretting_wear3d(TWIN3D, grid=2.5)  # type: ignore[arg-type]

@@ -173,8 +173,12 @@ def _interrupt(body: str, after: float) -> tuple[int, str, float]:
         """),
         "hs.fretting_map([0.02, 0.04, 0.06, 0.08], [1e-8, 2e-8, 4e-8, 8e-8],\n"
         "    config={'grid': 32, 'shift_step': 1e-10, 'subsurface_over_a': 0.0})",
+        # 10⁹ cycles of the MDR twin (16²): far more wear steps than a second holds.
+        "hs.fretting_wear3d({'approach': 1e-7, 'radius': 105e-6, 'nu': 0.0, 'grid': 16,\n"
+        "    'amplitude': 1.5e-8, 'shift_step': 1.5e-8, 'normal_steps': 1, 'extent_over_a': 3.2,\n"
+        "    'wear': {'coefficient': 1.5430335e-12, 'cycles': 10**9}})\nprint('finished')",
     ],
-    ids=["fretting_wear", "FrettingLoop.run", "fretting_map"],
+    ids=["fretting_wear", "FrettingLoop.run", "fretting_map", "fretting_wear3d"],
 )
 def test_ctrl_c_stops_a_long_call_within_a_second(body):
     code, output, seconds = _interrupt(body, 1.0)

@@ -10,6 +10,10 @@ use serde::Deserialize;
 use crate::fatigue::Material;
 use crate::sam::drivers::fretting_loop::LoopCase;
 use crate::sam::drivers::fretting_map::FrettingMap;
+use crate::sam::drivers::fretting_wear3d::{
+    WearCase, WearLaw, WornBody, DEFAULT_STABILITY_FRACTION, DEFAULT_STEP_FRACTION,
+    INHOMOGENEITY_DEPTH_CELLS,
+};
 use crate::sam::eim::{Axis, FibreLayout, Inhomogeneity, Shape};
 use crate::sam::kernels::surface::Body;
 use crate::spec::{parse_inhomogeneity, SpecError};
@@ -412,6 +416,112 @@ impl LoopConfig {
     }
 }
 
+/// The `[wear]` table of a 3D fretting-wear run (`fretting-wear3d --config`, the Python
+/// `fretting_wear3d`; docs/wear3d.md#the-command): the wear law (`"archard"` | `"energy"`) and its
+/// coefficient (m²/N), the worn body (`"gap"` | `"flat"` | `"indenter"`), the cycles N, the
+/// cycles at which the wear depth and pressure are recorded, and the step controls of
+/// [`WearCase`] (defaults: the driver's).
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct WearTable {
+    #[serde(default = "default_wear_law")]
+    pub law: String,
+    pub coefficient: f64,
+    #[serde(default = "default_worn_body")]
+    pub body: String,
+    pub cycles: u64,
+    #[serde(default)]
+    pub record_cycles: Vec<u64>,
+    #[serde(default = "default_step_fraction")]
+    pub step_fraction: f64,
+    #[serde(default = "default_stability_fraction")]
+    pub stability_fraction: f64,
+    #[serde(default = "default_depth_cells")]
+    pub inhomogeneity_depth_cells: f64,
+}
+
+fn default_wear_law() -> String {
+    "archard".into()
+}
+fn default_worn_body() -> String {
+    "gap".into()
+}
+fn default_step_fraction() -> f64 {
+    DEFAULT_STEP_FRACTION
+}
+fn default_stability_fraction() -> f64 {
+    DEFAULT_STABILITY_FRACTION
+}
+fn default_depth_cells() -> f64 {
+    INHOMOGENEITY_DEPTH_CELLS
+}
+
+/// The configuration of a 3D fretting-wear run: the fretting loop's keys ([`LoopConfig`]; the
+/// normal load by `force` or `approach`, an elastic indenter by `indenter_e`, `indenter_nu`) and
+/// the `[wear]` table ([`WearTable`]). Read from a TOML table (a file's, or a Python dict's
+/// data) by taking `wear` out and reading the rest as the loop's configuration (serde's `flatten`
+/// does not combine with `deny_unknown_fields`).
+#[derive(Debug, Clone)]
+pub struct Wear3dConfig {
+    pub fretting: LoopConfig,
+    pub wear: WearTable,
+}
+
+impl Wear3dConfig {
+    /// The configuration of TOML data; `what` names the source in errors. A missing `[wear]`
+    /// table, an unknown key or a value of the wrong type is refused naming the key
+    /// ([`from_table`]; a wrong type is [`is_type_error`]).
+    pub fn from_table(mut table: toml::Table, what: &str) -> Result<Self, SpecError> {
+        let wear = match table.remove("wear") {
+            Some(toml::Value::Table(t)) => from_table(t, &format!("{what}: [wear]"))?,
+            Some(other) => {
+                return Err(SpecError(format!(
+                    "{what}: invalid type: wear = {other} must be the [wear] table"
+                )))
+            }
+            None => {
+                return Err(SpecError(format!(
+                    "{what}: a [wear] table is required (law, coefficient, body, cycles)"
+                )))
+            }
+        };
+        let fretting = from_table(table, what)?;
+        Ok(Self { fretting, wear })
+    }
+
+    /// The configuration of a TOML text ([`Self::from_table`]).
+    pub fn from_toml(text: &str, what: &str) -> Result<Self, SpecError> {
+        let table: toml::Table =
+            toml::from_str(text).map_err(|e| SpecError(toml_message(what, text, &e)))?;
+        Self::from_table(table, what)
+    }
+
+    /// The library's case, validated ([`WearCase::validate`]); `grid` overrides the grid. The
+    /// surface is homogeneous or holds the `[[inhomogeneity]]` entries; `[fatigue]` is refused
+    /// (the wear run evaluates no fatigue criteria).
+    pub fn case(&self, grid: Option<usize>) -> Result<WearCase, SpecError> {
+        if self.fretting.fatigue.is_some() {
+            return Err(SpecError(
+                "fretting-wear3d config: [fatigue] belongs to fretting-loop (the wear run does \
+                 not evaluate fatigue criteria); remove it"
+                    .into(),
+            ));
+        }
+        let fretting = self.fretting.case("homogeneous", grid)?;
+        let w = &self.wear;
+        let sam = |e: crate::sam::SamError| SpecError(e.to_string());
+        let law = WearLaw::from_name(&w.law, w.coefficient).map_err(sam)?;
+        let mut case = WearCase::new(fretting, law, w.cycles);
+        case.body = WornBody::from_name(&w.body).map_err(sam)?;
+        case.record_cycles = w.record_cycles.clone();
+        case.step_fraction = w.step_fraction;
+        case.stability_fraction = w.stability_fraction;
+        case.inhomogeneity_depth_cells = w.inhomogeneity_depth_cells;
+        case.validate().map_err(sam)?;
+        Ok(case)
+    }
+}
+
 /// [`LoopConfig::case`].
 fn loop_case(
     cfg: &LoopConfig,
@@ -593,5 +703,36 @@ mod tests {
             !is_type_error(&e) && e.0.contains("normal_steps = -1"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn a_wear3d_config_takes_its_wear_table_out_and_names_bad_keys() {
+        let base = "approach = 1e-7\ngrid = 16\n[wear]\ncoefficient = 1e-12\ncycles = 10\n";
+        let cfg = Wear3dConfig::from_toml(base, "cfg").unwrap();
+        assert_eq!(cfg.wear.law, "archard");
+        assert_eq!(cfg.fretting.approach, Some(1e-7));
+        let case = cfg.case(Some(8)).unwrap();
+        assert_eq!((case.cycles, case.fretting.grid), (10, 8));
+        let e = Wear3dConfig::from_toml("grid = 16\n", "cfg").unwrap_err();
+        assert!(e.0.contains("a [wear] table is required"), "{e}");
+        let e = Wear3dConfig::from_toml(&base.replace("cycles = 10", "cycles = \"x\""), "cfg")
+            .unwrap_err();
+        assert!(
+            is_type_error(&e) && e.0.starts_with("cfg: [wear]: `cycles"),
+            "{e}"
+        );
+        let e = Wear3dConfig::from_toml(&format!("colour = 1\n{base}"), "cfg").unwrap_err();
+        assert!(e.0.contains("colour"), "{e}");
+        let e = Wear3dConfig::from_toml(
+            &base.replace(
+                "[wear]",
+                "[fatigue]\nf_minus1 = 1\nt_minus1 = 1\nfs_k = 1\nyield_stress = 1\n[wear]",
+            ),
+            "cfg",
+        )
+        .unwrap()
+        .case(None)
+        .unwrap_err();
+        assert!(e.0.contains("[fatigue] belongs to fretting-loop"), "{e}");
     }
 }

@@ -9,6 +9,7 @@ use crate::sam::drivers::fretting_loop::CycleStress;
 use crate::sam::drivers::fretting_loop::{
     FrettingLoop, LoopCase, LoopMetrics, LoopRow, LoopSnapshot, PointFields, POINT_LABELS,
 };
+use crate::sam::drivers::fretting_wear3d::{FrettingWear3d, WearRecord, WearRow, WearSnapshot};
 use crate::sam::drivers::one_contact::{ContactCase, ContactOutcome};
 use crate::sam::kernels::surface::Body;
 use crate::sam::subsurface::StressField;
@@ -728,5 +729,219 @@ pub fn axisym_summary(
         "iterations": sol.iterations,
         "profile": profile,
         "material": material_spec,
+    })
+}
+
+/// The summary of a 3D fretting-wear run (`halfspace fretting-wear3d --json`, the Python
+/// `fretting_wear3d`; docs/wear3d.md): the cycles run, the wear steps computed, the worn volume
+/// (m³), and of the last step the largest wear depth (m), the contact and stick radii (m) and the
+/// energy dissipated so far (J); `seconds` the caller's wall time of the run, and the wall time
+/// per computed cycle. Before any step the last step's keys are null.
+pub fn wear3d_summary(run: &FrettingWear3d, seconds: f64) -> serde_json::Value {
+    let last = run.history().last().copied();
+    json!({
+        "cycles": run.cycles(),
+        "wear_steps": run.history().len(),
+        "wear_volume": run.wear_volume(),
+        "max_wear_depth": last.map(|r| r.max_wear_depth),
+        "contact_radius": last.map(|r| r.contact_radius),
+        "stick_radius": last.map(|r| r.stick_radius),
+        "dissipated_energy_total": last.map(|r| r.dissipated_energy_total),
+        "seconds": seconds,
+        "seconds_per_computed_cycle": run.seconds().cycles / run.seconds().computed.max(1) as f64,
+    })
+}
+
+/// The results of a 3D fretting-wear run (`fretting-wear3d`'s results.h5): `x`, `y` (cell centres, m), `wear_depth` (N₁ × N₂, m), the history per computed
+/// cycle ([`WearRow::FIELDS`]) and the records (`record_cycles`, `record_wear_depth_{N}`,
+/// `record_pressure_{N}`).
+pub fn wear3d_results_record(run: &FrettingWear3d) -> Record {
+    let g = *run.grid();
+    let (n1, n2) = (g.n1, g.n2);
+    let mut rec = Record::default()
+        .array("x", (0..n1).map(|i| g.centre(i, 0).0).collect())
+        .array("y", (0..n2).map(|j| g.centre(0, j).1).collect())
+        .shaped("wear_depth", run.wear_depth().to_vec(), &[n1, n2])
+        .attr("config", AttrValue::Text(run.fingerprint()));
+    rec = wear3d_rows_record(rec, run.history());
+    rec = rec.array(
+        "record_cycles",
+        run.records().iter().map(|r| r.cycles as f64).collect(),
+    );
+    for r in run.records() {
+        rec = rec
+            .shaped(
+                &format!("record_wear_depth_{}", r.cycles),
+                r.wear_depth.clone(),
+                &[n1, n2],
+            )
+            .shaped(
+                &format!("record_pressure_{}", r.cycles),
+                r.pressure.clone(),
+                &[n1, n2],
+            );
+    }
+    rec
+}
+
+/// The history rows as one array per field of [`WearRow::FIELDS`].
+pub fn wear3d_rows_record(mut rec: Record, rows: &[WearRow]) -> Record {
+    for (f, name) in WearRow::FIELDS.iter().enumerate() {
+        rec = rec.array(name, rows.iter().map(|r| r.values()[f]).collect());
+    }
+    rec
+}
+
+/// The checkpoint of a 3D fretting-wear run (`fretting-wear3d`'s checkpoint.npz): the snapshot's
+/// members by name.
+pub fn wear3d_snapshot_record(s: &WearSnapshot) -> Record {
+    let st = &s.state;
+    let mut rec = wear3d_rows_record(Record::default(), &s.history)
+        .attr("config", AttrValue::Text(s.fingerprint.clone()))
+        .array(
+            "progress",
+            vec![
+                s.cycles as f64,
+                f64::from(u8::from(s.started)),
+                f64::from(u8::from(s.done)),
+            ],
+        )
+        .array("wear_depth", s.wear_depth.clone())
+        .array("state_pressure", st.pressure.clone())
+        .array("state_shear_x", st.shear[0].clone())
+        .array("state_shear_y", st.shear[1].clone())
+        .array("state_history_x", st.tangential_displacement[0].clone())
+        .array("state_history_y", st.tangential_displacement[1].clone())
+        .array("state_slip_x", st.slip[0].clone())
+        .array("state_slip_y", st.slip[1].clone())
+        .array(
+            "state_scalars",
+            vec![st.shift[0], st.shift[1], st.approach, st.force],
+        )
+        .array(
+            "record_cycles",
+            s.records.iter().map(|r| r.cycles as f64).collect(),
+        );
+    for (k, r) in s.records.iter().enumerate() {
+        rec = rec
+            .array(&format!("record_wear_depth_{k}"), r.wear_depth.clone())
+            .array(&format!("record_pressure_{k}"), r.pressure.clone());
+    }
+    if let Some(w) = &s.eigen {
+        let u = &w.eigen_displacement;
+        let (eps_prev, u_prev) = &w.previous;
+        rec = rec
+            .array("eigenstrain", w.eigenstrain.clone())
+            .array("eigen_displacement_1", u[0].clone())
+            .array("eigen_displacement_2", u[1].clone())
+            .array("eigen_displacement_3", u[2].clone())
+            .array("eigenstrain_previous", eps_prev.clone())
+            .array("eigen_displacement_previous_1", u_prev[0].clone())
+            .array("eigen_displacement_previous_2", u_prev[1].clone())
+            .array("eigen_displacement_previous_3", u_prev[2].clone())
+            .attr("committed", AttrValue::Int(w.committed as i64));
+    }
+    rec
+}
+
+/// The snapshot of a checkpoint (its content is checked by [`FrettingWear3d::resume`]; the inverse of [`wear3d_snapshot_record`]).
+pub fn wear3d_snapshot_from_record(rec: &Record) -> Result<WearSnapshot, String> {
+    let array = |name: &str| {
+        rec.get(name)
+            .map(|v| v.to_vec())
+            .ok_or_else(|| format!("member {name} is missing"))
+    };
+    let count = |name: &str, x: f64| -> Result<u64, String> {
+        if x.is_finite() && x >= 0.0 && x.fract() == 0.0 && x < 9.0e15 {
+            Ok(x as u64)
+        } else {
+            Err(format!("member {name}: {x} is not a whole count ≥ 0"))
+        }
+    };
+    let fingerprint = match rec.get_attr("config") {
+        Some(AttrValue::Text(t)) => t.clone(),
+        other => return Err(format!("attribute config is {other:?}")),
+    };
+    let columns = WearRow::FIELDS
+        .iter()
+        .map(|f| array(f))
+        .collect::<Result<Vec<_>, _>>()?;
+    let rows = columns[0].len();
+    if columns.iter().any(|c| c.len() != rows) {
+        return Err("member cycles: the history columns differ in length".into());
+    }
+    let history = (0..rows)
+        .map(|k| {
+            let mut v = [0.0; 10];
+            for (f, c) in columns.iter().enumerate() {
+                v[f] = c[k];
+            }
+            WearRow::from_values(v).ok_or_else(|| format!("member cycles: row {k} = {v:?}"))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let progress = array("progress")?;
+    if progress.len() != 3 || progress[1..].iter().any(|v| *v != 0.0 && *v != 1.0) {
+        return Err(format!("member progress: {progress:?}"));
+    }
+    let scalars = array("state_scalars")?;
+    if scalars.len() != 4 {
+        return Err(format!(
+            "member state_scalars: {} values, 4 expected",
+            scalars.len()
+        ));
+    }
+    let state = ContactState {
+        pressure: array("state_pressure")?,
+        shear: [array("state_shear_x")?, array("state_shear_y")?],
+        tangential_displacement: [array("state_history_x")?, array("state_history_y")?],
+        slip: [array("state_slip_x")?, array("state_slip_y")?],
+        shift: [scalars[0], scalars[1]],
+        approach: scalars[2],
+        force: scalars[3],
+    };
+    let records = array("record_cycles")?
+        .iter()
+        .enumerate()
+        .map(|(k, &c)| {
+            Ok(WearRecord {
+                cycles: count("record_cycles", c)?,
+                wear_depth: array(&format!("record_wear_depth_{k}"))?,
+                pressure: array(&format!("record_pressure_{k}"))?,
+            })
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    let eigen = match rec.get("eigenstrain") {
+        None => None,
+        Some(_) => Some(NestedWarmStart {
+            eigenstrain: array("eigenstrain")?,
+            eigen_displacement: [
+                array("eigen_displacement_1")?,
+                array("eigen_displacement_2")?,
+                array("eigen_displacement_3")?,
+            ],
+            previous: (
+                array("eigenstrain_previous")?,
+                [
+                    array("eigen_displacement_previous_1")?,
+                    array("eigen_displacement_previous_2")?,
+                    array("eigen_displacement_previous_3")?,
+                ],
+            ),
+            committed: match rec.get_attr("committed") {
+                Some(AttrValue::Int(v)) if *v >= 0 => *v as usize,
+                other => return Err(format!("attribute committed is {other:?}")),
+            },
+        }),
+    };
+    Ok(WearSnapshot {
+        fingerprint,
+        cycles: count("progress", progress[0])?,
+        started: progress[1] == 1.0,
+        done: progress[2] == 1.0,
+        wear_depth: array("wear_depth")?,
+        history,
+        records,
+        state,
+        eigen,
     })
 }
