@@ -137,9 +137,16 @@ proptest! {
         let r = common::rotation_from(g);
         let a = principal_values(&s);
         let b = principal_values(&rotate(&s, &r));
+        // Rounding, not the method, bounds the difference: R S Rᵀ in floating point is exact to
+        // about 18ε|S| per entry (two 3-term products, 3 × 3 sums) and Jacobi's values carry a
+        // backward error of a few ε|S|, so 64ε|S| (|S| the largest component) has margin. The
+        // former absolute 1e-6 was 6e-15 relative at |S| = 1.7e8, below that rounding: the
+        // saved case (a plane-stress tensor, tensor.proptest-regressions) failed it.
+        let size = s.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let tol = 64.0 * f64::EPSILON * size;
         for k in 0..3 {
-            prop_assert!((a[k] - b[k]).abs() <= 1e-6);
+            prop_assert!((a[k] - b[k]).abs() <= tol, "{:?} {:?} tol {:e}", a, b, tol);
         }
-        prop_assert!((a.iter().sum::<f64>() - (s[0] + s[1] + s[2])).abs() <= 1e-6);
+        prop_assert!((a.iter().sum::<f64>() - (s[0] + s[1] + s[2])).abs() <= tol);
     }
 }

@@ -64,7 +64,10 @@ pub fn rotation_from(g: [f64; 9]) -> [[f64; 3]; 3] {
         }
         b1 = orth(axis);
     }
-    let b = norm(b1);
+    // Gram–Schmidt twice ("twice is enough"): one pass leaves b off-orthogonal to a by
+    // ~ε/|b1|, and |b1| may be 1e-3, which would make R S Rᵀ change the principal values by
+    // ~1e3 ε|S| — the tests would measure the helper, not the code.
+    let b = norm(orth(norm(b1)));
     let c = [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],
