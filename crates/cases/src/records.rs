@@ -95,6 +95,22 @@ pub fn case_parameters(case: &LoopCase) -> serde_json::Value {
     v
 }
 
+/// The EIM warm start of a loop or wear snapshot (eigenstrains and eigen-displacements, now and at
+/// the previous commit) as arrays of `rec`; read back by the snapshot readers.
+fn warm_start_record(rec: Record, w: &NestedWarmStart) -> Record {
+    let u = &w.eigen_displacement;
+    let (eps_prev, u_prev) = &w.previous;
+    rec.array("eigenstrain", w.eigenstrain.clone())
+        .array("eigen_displacement_1", u[0].clone())
+        .array("eigen_displacement_2", u[1].clone())
+        .array("eigen_displacement_3", u[2].clone())
+        .array("eigenstrain_previous", eps_prev.clone())
+        .array("eigen_displacement_previous_1", u_prev[0].clone())
+        .array("eigen_displacement_previous_2", u_prev[1].clone())
+        .array("eigen_displacement_previous_3", u_prev[2].clone())
+        .attr("committed", AttrValue::Int(w.committed as i64))
+}
+
 /// Everything [`snapshot_from_record`] needs.
 pub fn snapshot_record(s: &LoopSnapshot, shape: (usize, usize)) -> Record {
     let st = &s.state;
@@ -121,18 +137,7 @@ pub fn snapshot_record(s: &LoopSnapshot, shape: (usize, usize)) -> Record {
         rec = point_record(rec, "point_", p, shape);
     }
     if let Some(w) = &s.eigen {
-        let u = &w.eigen_displacement;
-        let (eps_prev, u_prev) = &w.previous;
-        rec = rec
-            .array("eigenstrain", w.eigenstrain.clone())
-            .array("eigen_displacement_1", u[0].clone())
-            .array("eigen_displacement_2", u[1].clone())
-            .array("eigen_displacement_3", u[2].clone())
-            .array("eigenstrain_previous", eps_prev.clone())
-            .array("eigen_displacement_previous_1", u_prev[0].clone())
-            .array("eigen_displacement_previous_2", u_prev[1].clone())
-            .array("eigen_displacement_previous_3", u_prev[2].clone())
-            .attr("committed", AttrValue::Int(w.committed as i64));
+        rec = warm_start_record(rec, w);
     }
     if let Some(h) = &s.cycle_stress {
         let g = &h.grid;
@@ -828,18 +833,7 @@ pub fn wear3d_snapshot_record(s: &WearSnapshot) -> Record {
             .array(&format!("record_pressure_{k}"), r.pressure.clone());
     }
     if let Some(w) = &s.eigen {
-        let u = &w.eigen_displacement;
-        let (eps_prev, u_prev) = &w.previous;
-        rec = rec
-            .array("eigenstrain", w.eigenstrain.clone())
-            .array("eigen_displacement_1", u[0].clone())
-            .array("eigen_displacement_2", u[1].clone())
-            .array("eigen_displacement_3", u[2].clone())
-            .array("eigenstrain_previous", eps_prev.clone())
-            .array("eigen_displacement_previous_1", u_prev[0].clone())
-            .array("eigen_displacement_previous_2", u_prev[1].clone())
-            .array("eigen_displacement_previous_3", u_prev[2].clone())
-            .attr("committed", AttrValue::Int(w.committed as i64));
+        rec = warm_start_record(rec, w);
     }
     rec
 }
