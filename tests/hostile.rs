@@ -1315,3 +1315,107 @@ fn messages_name_the_input_the_rule_and_the_value() {
     }
     assert!(!out.exists(), "refused inputs create no output directory");
 }
+
+/// The inputs added with the elastic indenter, approach control, `[fatigue]` and `fretting-wear3d`:
+/// each bad value is refused before any work, exit 2, one line naming the key.
+#[test]
+fn indenter_approach_fatigue_and_wear3d_keys_are_refused_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = out.to_str().unwrap();
+    let fatigue = "[fatigue]\nf_minus1 = 3e8\nt_minus1 = 2e8\nfs_k = 0.5\nyield_stress = 8e8\n";
+    let wear = "[wear]\nlaw = \"archard\"\ncoefficient = 1e-15\ncycles = 10\n";
+    let loop_cases: Vec<(&str, String, Vec<&str>)> = vec![
+        (
+            "both",
+            "force = 0.08\napproach = 1e-7\n".into(),
+            vec!["force", "approach"],
+        ),
+        (
+            "half indenter",
+            "indenter_e = 2e11\n".into(),
+            vec!["indenter_nu"],
+        ),
+        (
+            "bad indenter nu",
+            "indenter_e = 2e11\nindenter_nu = 0.7\n".into(),
+            vec!["Poisson"],
+        ),
+        (
+            "negative approach",
+            "approach = -1e-7\n".into(),
+            vec!["approach"],
+        ),
+        (
+            "fatigue depth",
+            format!("{fatigue}depth_over_a = -1\n"),
+            vec!["depth_over_a", "-1"],
+        ),
+        (
+            "fatigue screen",
+            format!("{fatigue}screen_fraction = 2\n"),
+            vec!["screen_fraction", "2"],
+        ),
+        (
+            "fatigue key",
+            format!("{fatigue}f_minus_one = 1\n"),
+            vec!["f_minus_one"],
+        ),
+        (
+            "fatigue limit",
+            fatigue.replace("f_minus1 = 3e8", "f_minus1 = -3e8"),
+            vec!["fatigue"],
+        ),
+    ];
+    for (name, text, needles) in &loop_cases {
+        let cfg = write(
+            dir.path(),
+            &format!("{}.toml", name.replace(' ', "_")),
+            text,
+        );
+        refused(
+            &format!("fretting-loop {name}"),
+            &strings(&["fretting-loop", "--config", &cfg, "--out", o]),
+            &[],
+            needles,
+        );
+    }
+    let wear_cases: Vec<(&str, String, Vec<&str>)> = vec![
+        ("no wear table", "friction = 0.3\n".into(), vec!["[wear]"]),
+        ("law", wear.replace("archard", "hardness"), vec!["hardness"]),
+        (
+            "coefficient",
+            wear.replace("1e-15", "-1e-15"),
+            vec!["coefficient"],
+        ),
+        (
+            "cycles",
+            wear.replace("cycles = 10", "cycles = 0"),
+            vec!["cycles"],
+        ),
+        (
+            "fatigue in wear",
+            format!("{fatigue}{wear}"),
+            vec!["[fatigue]"],
+        ),
+        (
+            "both loads",
+            format!("force = 0.08\napproach = 1e-7\n{wear}"),
+            vec!["approach"],
+        ),
+    ];
+    for (name, text, needles) in &wear_cases {
+        let cfg = write(
+            dir.path(),
+            &format!("w_{}.toml", name.replace(' ', "_")),
+            text,
+        );
+        refused(
+            &format!("fretting-wear3d {name}"),
+            &strings(&["fretting-wear3d", "--config", &cfg, "--out", o]),
+            &[],
+            needles,
+        );
+    }
+    assert!(!out.join("results.h5").exists());
+}
