@@ -34,7 +34,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!(
         "{{\"n\":{nodes},\"k\":{k},\"chi\":{chi},\"edge_cells\":{on},\"steps\":{},\"rejected_steps\":{},\
          \"krylov_iterations\":{},\"contact_radius_over_a0\":{a},\"cells_beyond_limit\":{:.3},\
-         \"max_contact_radius_over_a0\":{},\"profile_at_a0_over_d\":{},\"volume_over_limit\":{},\
+         \"max_contact_radius_over_a0\":{},\"loaded_radius_over_a0\":{},\"profile_at_a0_over_d\":{},\"volume_over_limit\":{},\
          \"seconds\":{seconds}}}",
         state.step,
         state.rejected_steps,
@@ -45,6 +45,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .iter()
             .copied()
             .fold(0.0, f64::max),
+        state.loaded_radius_history.last().unwrap_or(&0.0),
         sim.profile_at_a0(),
         sim.wear_volume() / sim.limit_wear_volume()
     );

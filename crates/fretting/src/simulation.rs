@@ -259,8 +259,8 @@ impl FrettingSimulation {
     /// Experimental, off by default: the wear rate of the cells at the contact edge as the cell mean
     /// of `p Δu` with the edge pressure `π (a² − ξ)^{(1+k)/2}` integrated over the cell
     /// (docs/fretting-wear.md, "Edge cells"), instead of the nodal `p Δu`. Takes fewer adaptive
-    /// steps; not the default because it leaves open points listed there (the final loaded
-    /// radius, k = −0.5 at χ = 0.3 ends 2.4 cells inside r*, FFT and MVM agree to 5e-6 only). Not
+    /// steps; not the default because it leaves open points listed there (χ = 0.3 ends 1.6
+    /// cells inside r*, k = −0.5 at χ = 0.3 2.4 cells inside, FFT and MVM agree to 3e-6 only). Not
     /// part of the checkpointed state: a resumed run must set it again. Set before the first step.
     pub fn set_edge_cell_rates(&mut self, on: bool) {
         self.edge_cells = if on { EDGE_CELLS } else { 0 };
@@ -788,9 +788,10 @@ impl FrettingSimulation {
 /// `A₀ = (u₋^{1+γ} − u₊^{1+γ})/(1+γ)`, `A₁ = (a² − ξ_j) A₀ − (u₋^{2+γ} − u₊^{2+γ})/(2+γ)`,
 /// `u∓ = max(a² − ξ_j ± h/2, 0)`,
 ///
-/// with `π_j = σ_j/(a² − ξ_j)^γ` on the nodes before the last; at the last node its own value
-/// blended (linear in θ over `[1/4, 3/4]`) with the linear extrapolation from the two nodes before
-/// (its own `σ/(θh)^γ` is `0/0` as `θ → 0`); extrapolated linearly to the first node outside; `π'`
+/// with `π_j = p_j/(a² − ξ_j)^γ` (`p = max(σ, 0)`) on the nodes before the last; at the last node
+/// its own value, blended (linear in θ over [`BLEND`]) into the linear extrapolation from the two
+/// nodes before as `θ → 0` (where its own `p/(θh)^γ` is `0/0`; its own value throughout when that
+/// extrapolation is not positive — no load inside, a grazing or tensile annulus); extrapolated linearly to the first node outside; `π'`
 /// by backward differences (docs/fretting-wear.md, "Edge cells").
 fn edge_cell_means(
     grid: &SquaredGrid,
@@ -807,15 +808,17 @@ fn edge_cell_means(
     let first = last.saturating_sub(cells).max(2);
     let end = (last + 1).min(n - 1);
     for j in first - 2..last {
-        shape[j] = sigma[j] / (a2 - grid.squared(j)).powf(gamma);
+        shape[j] = sigma[j].max(0.0) / (a2 - grid.squared(j)).powf(gamma);
     }
-    let extrapolated = 2.0 * shape[last - 1] - shape[last - 2];
-    let blend = ((theta - 0.25) / 0.5).clamp(0.0, 1.0);
-    shape[last] = if blend > 0.0 {
-        blend * sigma[last] / (theta * h).powf(gamma) + (1.0 - blend) * extrapolated
-    } else {
-        extrapolated
-    };
+    let own = sigma[last].max(0.0) / (theta * h).powf(gamma);
+    let mut extrapolated = 2.0 * shape[last - 1] - shape[last - 2];
+    if extrapolated <= 0.0 {
+        // No load inside to extrapolate (a grazing or tensile annulus): the node's own value, so
+        // that a loaded last node always wears.
+        extrapolated = own;
+    }
+    let blend = ((theta - BLEND.0) / (BLEND.1 - BLEND.0)).clamp(0.0, 1.0);
+    shape[last] = blend * own + (1.0 - blend) * extrapolated;
     shape[end] = 2.0 * shape[last] - shape[last - 1];
     let (g1, g2) = (1.0 + gamma, 2.0 + gamma);
     for j in first..=end {
@@ -846,6 +849,10 @@ enum Stage {
 /// k = −0.5, χ = 0.9): none 25 176 / 58 713 / 1 025 082; w = 3: 13 864 / 29 158 / 429 077;
 /// w = 1 is worse than none (the central difference spreads the stencil over ±1 before `P`).
 const PRECONDITIONER_WIDTH: usize = 3;
+
+/// The edge positions `θ` over which the last node's `π` goes from the extrapolation of the two
+/// nodes before to its own `p/(θh)^γ` ([`edge_cell_means`]).
+const BLEND: (f64, f64) = (0.25, 0.75);
 
 /// The cells before the last contact node whose wear rate is the cell mean
 /// ([`FrettingSimulation::edge_cell_rates`]).
