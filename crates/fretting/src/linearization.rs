@@ -15,7 +15,9 @@
 //! `O(N log N)` or MVM). The first term is the stiff one: `f ↦ p` is of order `1 − k` in the
 //! radius, so its largest eigenvalue grows as `(L/h)^{1−k}`. Freezing the contact nodes and the
 //! clipping pattern makes `J` an approximation where they switch; ROS2 is a W-method (second order
-//! for any matrix in its place), so the step keeps its order.
+//! for any matrix in its place), so the step keeps its order. The same holds for the experimental
+//! edge cells (docs/fretting-wear.md, "Edge cells"): their rate is the cell mean of `p Δu`, `J`
+//! keeps the nodal form in those rows.
 
 use halfspace_mdr::{CellStressTransform, Material, MdrError, ProfileTransform};
 use halfspace_numerics::linop::LinearOperator;

@@ -241,3 +241,47 @@ fn adaptive_graded_runs_match_explicit_euler() {
         assert!(diff < 5e-3, "k = {k}: {diff:e}");
     }
 }
+
+#[test]
+fn edge_cells_take_fewer_steps_and_match_explicit_euler() {
+    // The experimental edge cells (docs/fretting-wear.md, "Edge cells"), χ = 0.5, N = 801 to
+    // τ = 1: the adaptive run against explicit Euler with the same rate (at half the default
+    // step), and fewer adaptive steps than the nodal rate.
+    let base = FrettingParams {
+        nodes: 801,
+        tau_end: 1.0,
+        snapshots: vec![0.1, 1.0],
+        ..FrettingParams::default()
+    };
+    let run_with = |params: FrettingParams, on: bool| {
+        let mut sim = FrettingSimulation::new(params).unwrap();
+        sim.set_edge_cell_rates(on);
+        sim.run(|_| false).unwrap();
+        sim
+    };
+    let cells = run_with(base.clone(), true);
+    let nodal = run_with(base.clone(), false);
+    let euler = run_with(
+        FrettingParams {
+            stepping: TimeStepping::ExplicitEuler {
+                dtau: 0.5 * FrettingParams::default_step(801, 1.6, 0.0),
+            },
+            ..base
+        },
+        true,
+    );
+    let (x, y) = (radius_and_depth(&cells), radius_and_depth(&euler));
+    let cell = cells.grid().step() / (2.0 * x[1].0);
+    println!(
+        "edge cells: {} steps ({} rejected) vs nodal {} ({}); a, f(a0) {x:?} vs Euler {y:?}",
+        cells.state().step,
+        cells.state().rejected_steps,
+        nodal.state().step,
+        nodal.state().rejected_steps
+    );
+    for (p, q) in x.iter().zip(&y) {
+        assert!((p.0 - q.0).abs() < cell, "a {} vs {}", p.0, q.0);
+        assert!((p.1 - q.1).abs() < 2e-4, "f(a0) {} vs {}", p.1, q.1);
+    }
+    assert!(cells.state().step < nodal.state().step);
+}
