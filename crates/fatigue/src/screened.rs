@@ -303,6 +303,10 @@ pub fn evaluate_screened(
     })
 }
 
+/// The `K` criteria of point `p` with a worker's path buffer and scratch.
+type PointCriteria<'a, const K: usize, S> =
+    dyn Fn(usize, &mut (Vec<Voigt>, S)) -> Result<[f64; K], FatigueError> + Sync + 'a;
+
 /// One screen (module doc): the points not yet `done`, in decreasing order of `bound`, evaluated
 /// by `eval` (`K` values per point into `fields`, `best` their running maxima) in parallel batches
 /// of 16, until the next bound is below `fraction × best[which]` (with `fraction > 0` and
@@ -314,7 +318,7 @@ fn screen<const K: usize, S: Default + Send>(
     best: &mut [f64; K],
     fields: &mut [Vec<f64>; K],
     done: &mut [bool],
-    eval: &(dyn Fn(usize, &mut (Vec<Voigt>, S)) -> Result<[f64; K], FatigueError> + Sync),
+    eval: &PointCriteria<'_, K, S>,
 ) -> Result<usize, FatigueError> {
     let mut order: Vec<usize> = (0..bound.len()).filter(|&p| !done[p]).collect();
     order.sort_by(|&a, &b| bound[b].total_cmp(&bound[a]));

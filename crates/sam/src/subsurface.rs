@@ -211,8 +211,8 @@ impl SubsurfacePlan {
         self.love.bytes()
     }
 
-    /// The six stress components `σ` (Voigt `(11, 22, 33, 23, 13, 12)`, per cell `k N₁N₂ + i N₂
-    /// + j`) and the material of each cell (0 the matrix, `m + 1` inclusion material `m`) of the
+    /// The six stress components `σ` (Voigt `(11, 22, 33, 23, 13, 12)`, per cell
+    /// `k N₁N₂ + i N₂ + j`) and the material of each cell (0 the matrix, `m + 1` inclusion material `m`) of the
     /// tractions `p` (and `q`) and, with `inclusions`, the eigenstrains `eps_star` (6 per
     /// inclusion cell): `ε = ε⁰[p + p_c, q] + ε⁽¹⁾[ε*] + ε⁽²⁾[ε*]`, `σ = C : ε` with the stiffness
     /// of the cell (module doc).

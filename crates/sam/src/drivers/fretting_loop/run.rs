@@ -478,12 +478,10 @@ impl FrettingLoop {
             let fields = self.point_fields(POINT_LABELS[m], k + 1)?;
             self.points.push(fields);
         }
-        if self.case.fatigue_depth.is_some() {
-            if k >= self.path.cycle_start() {
-                let t = Instant::now();
-                self.record_cycle_stress()?;
-                self.seconds.cycle_stress += t.elapsed().as_secs_f64();
-            }
+        if self.case.fatigue_depth.is_some() && k >= self.path.cycle_start() {
+            let t = Instant::now();
+            self.record_cycle_stress()?;
+            self.seconds.cycle_stress += t.elapsed().as_secs_f64();
         }
         Ok(self.rows.last())
     }
