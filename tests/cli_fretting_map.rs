@@ -181,3 +181,43 @@ fn the_example_config_runs() {
     assert_eq!(v["shape"], serde_json::json!([5, 6]));
     assert_eq!(v["grid"], 12);
 }
+
+#[test]
+fn a_crack_wear_map_writes_the_risk_and_the_material_response() {
+    // docs/fatigue.md, "Crack–wear fretting maps": a [fatigue] table adds crack_risk and
+    // material_response (with their thresholds) to the JSON, results.h5 and the figure.
+    let dir = tempfile::tempdir().unwrap();
+    let config = write_config(
+        dir.path(),
+        "grid = 16\nnormal_steps = 4\nshift_step = 0.01e-6\nsubsurface_over_a = 0.0\n\
+         [fatigue]\nf_minus1 = 400e6\nt_minus1 = 280e6\nfs_k = 0.5\nyield_stress = 600e6\n\
+         depth_over_a = 1.0\n[map]\nloads = [0.04, 0.08]\namplitudes = [0.01e-6, 0.08e-6]\n",
+    );
+    let out = dir.path().join("out");
+    let v = ok_json(&run(&[
+        "fretting-map",
+        "--config",
+        &config,
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ]));
+    assert_eq!(v["crack_risk_threshold"], 1.0);
+    assert_eq!(v["wear_energy_ratio_threshold"], 0.2);
+    let rec = halfspace::data::read_record(&out.join("results.h5")).unwrap();
+    let risk = rec.get("crack_risk").unwrap();
+    let response = rec.get("material_response").unwrap();
+    let ratio = rec.get("energy_ratio").unwrap();
+    for k in 0..4 {
+        let r = v["crack_risk"][k / 2][k % 2].as_f64().unwrap();
+        assert_eq!(r, risk[k]);
+        assert!(r.is_finite() && r > 0.0, "{r}");
+        let code = (u8::from(r >= 1.0) + 2 * u8::from(ratio[k] >= 0.2)) as f64;
+        assert_eq!(response[k], code);
+        assert_eq!(v["material_response"][k / 2][k % 2].as_f64().unwrap(), code);
+    }
+    // Gross slip at A = 0.08 μm wears; the partial-slip points do not.
+    assert!(response[1] >= 2.0 && response[3] >= 2.0 && response[2] < 2.0);
+    let svg = std::fs::read_to_string(out.join("fretting_map.svg")).unwrap();
+    assert!(svg.contains("material response"));
+}

@@ -503,6 +503,8 @@ class MapResult(Result):
     tangential_force_over_mu_w_at_amplitude: NDArray[np.float64]
     ratchet: NDArray[np.float64]
     seconds: NDArray[np.float64]
+    #: NaN: the Python map evaluates no fatigue criteria (``halfspace fretting-map`` does).
+    crack_risk: NDArray[np.float64]
 
 
 def axisym(

@@ -563,9 +563,16 @@ fn build_map(
     loads: Vec<f64>,
     amplitudes: Vec<f64>,
 ) -> PyResult<FrettingMap> {
-    loop_config(config)?
-        .map(case, grid, loads, amplitudes)
-        .map_err(err)
+    let cfg = loop_config(config)?;
+    if cfg.fatigue.is_some() {
+        // The CLI computes the crack risk (halfspace::fretting_map::run_map_with); refused here
+        // rather than computed and dropped.
+        return Err(err(
+            "config: [fatigue] in a fretting map is read by `halfspace fretting-map` only (not \
+             yet by Python); remove it",
+        ));
+    }
+    cfg.map(case, grid, loads, amplitudes).map_err(err)
 }
 
 /// `_fretting_map(config, case, grid, loads, amplitudes)`: every point of the fretting map

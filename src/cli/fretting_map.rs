@@ -8,7 +8,10 @@ use std::time::Instant;
 use clap::Args;
 use halfspace::config::map_config_from_toml;
 use halfspace::data::{write_atomic, write_record, DataError};
-use halfspace::fretting_map::{has_checkpoints, map_csv, map_record, run_map};
+use halfspace::fretting_map::{
+    has_checkpoints, map_csv, map_record, material_response, run_map_with, CRACK_RISK_THRESHOLD,
+    WEAR_ENERGY_RATIO_THRESHOLD,
+};
 use serde_json::json;
 
 use halfspace::run_dir::{RunDir, RunKind, Start};
@@ -75,11 +78,18 @@ pub fn run(args: FrettingMapArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::Spec(format!("--out {}: {e}", args.out.display())))?;
     let bar = (std::io::stderr().is_terminal() && !args.json)
         .then(|| indicatif::ProgressBar::new(map.len() as u64));
-    let result = run_map(&map, Some(&points_dir), args.stop_after, |done, _| {
-        if let Some(bar) = &bar {
-            bar.set_position(done as u64);
-        }
-    })
+    let result = run_map_with(
+        &map,
+        cfg.fatigue.as_ref(),
+        Some(&points_dir),
+        args.stop_after,
+        |done, _| {
+            if let Some(bar) = &bar {
+                bar.set_position(done as u64);
+            }
+        },
+        &|| false,
+    )
     .map_err(|e| CliError::Spec(e.to_string()))?;
     if let Some(bar) = &bar {
         bar.finish_and_clear();
@@ -101,6 +111,11 @@ pub fn run(args: FrettingMapArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::Spec(format!("removing {}: {e}", points_dir.display())))?;
     let column = |f: usize| -> Vec<f64> { points.iter().map(|p| p.values()[f]).collect() };
     let (regime, energy) = (column(2), column(3));
+    let (crack_risk, response): (Vec<f64>, Vec<f64>) = points
+        .iter()
+        .map(|p| (p.crack_risk, material_response(p)))
+        .unzip();
+    let with_risk = cfg.fatigue.is_some();
     let base = map.base();
     let title = format!(
         "Fretting map: sphere R = {:.0} μm, E = {:.0} GPa, μ = {}, {}² cells{}",
@@ -122,13 +137,14 @@ pub fn run(args: FrettingMapArgs) -> Result<(), CliError> {
             map.amplitudes(),
             &regime,
             &energy,
+            with_risk.then_some((&response[..], &crack_risk[..])),
         )
         .map_err(|e| CliError::Plot(e.to_string()))?;
     }
     run_dir.complete_present()?;
     let (rows, cols) = map.shape();
     let grid_of = |v: &[f64]| -> Vec<Vec<f64>> { v.chunks(cols).map(<[f64]>::to_vec).collect() };
-    let summary = json!({
+    let mut summary = json!({
         "loads": map.loads(),
         "amplitudes": map.amplitudes(),
         "shape": [rows, cols],
@@ -143,6 +159,21 @@ pub fn run(args: FrettingMapArgs) -> Result<(), CliError> {
         "extent": base.extent(),
         "inclusion_count": base.inhomogeneities.len(),
     });
+    if with_risk {
+        let codes = |v: &[f64]| -> Vec<Vec<i64>> {
+            grid_of(v)
+                .iter()
+                .map(|r| r.iter().map(|&x| x as i64).collect())
+                .collect()
+        };
+        summary["crack_risk"] = json!(grid_of(&crack_risk));
+        summary["crack_risk_definition"] =
+            json!("max(crossland_max, dang_van_max) over the fatigue box of the closed cycle");
+        summary["material_response"] = json!(codes(&response));
+        summary["material_response_codes"] = json!("0 no damage, 1 cracking, 2 wear, 3 both");
+        summary["crack_risk_threshold"] = json!(CRACK_RISK_THRESHOLD);
+        summary["wear_energy_ratio_threshold"] = json!(WEAR_ENERGY_RATIO_THRESHOLD);
+    }
     if args.json {
         println!("{summary}");
     } else {

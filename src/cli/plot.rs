@@ -636,15 +636,21 @@ pub fn fretting_map(
     amplitudes: &[f64],
     regime: &[f64],
     energy: &[f64],
+    response: Option<(&[f64], &[f64])>,
 ) -> PlotResult {
+    let size = if response.is_some() {
+        (1800, 520)
+    } else {
+        (1200, 520)
+    };
     atomic(path, |path| {
         register_font()?;
         if path.extension().and_then(|e| e.to_str()) == Some("png") {
-            let root = BitMapBackend::new(path, (1200, 520)).into_drawing_area();
-            draw_fretting_map(root, title, loads, amplitudes, regime, energy)
+            let root = BitMapBackend::new(path, size).into_drawing_area();
+            draw_fretting_map(root, title, loads, amplitudes, regime, energy, response)
         } else {
-            let root = SVGBackend::new(path, (1200, 520)).into_drawing_area();
-            draw_fretting_map(root, title, loads, amplitudes, regime, energy)
+            let root = SVGBackend::new(path, size).into_drawing_area();
+            draw_fretting_map(root, title, loads, amplitudes, regime, energy, response)
         }
     })
 }
@@ -656,13 +662,23 @@ fn draw_fretting_map<DB: DrawingBackend>(
     amplitudes: &[f64],
     regime: &[f64],
     energy: &[f64],
+    response: Option<(&[f64], &[f64])>,
 ) -> PlotResult
 where
     DB::ErrorType: 'static,
 {
     root.fill(&WHITE)?;
     let root = root.titled(title, ("sans-serif", 16))?;
-    let panels = root.split_evenly((1, 2));
+    let panels = root.split_evenly((1, if response.is_some() { 3 } else { 2 }));
+    // The material response (docs/fatigue.md, "Crack–wear fretting maps"): 0 no damage,
+    // 1 cracking, 2 wear, 3 both.
+    let response_colour = |r: f64| match r as i64 {
+        0 => RGBColor(200, 230, 201),
+        1 => RGBColor(239, 83, 80),
+        2 => RGBColor(255, 202, 40),
+        _ => RGBColor(171, 71, 188),
+    };
+    let (response, crack_risk) = response.unwrap_or((&[], &[]));
     let (nr, nc) = (loads.len(), amplitudes.len());
     let regime_colour = |r: f64| match r as i64 {
         0 => RGBColor(66, 133, 244),
@@ -673,10 +689,11 @@ where
         .iter()
         .fold((f64::MAX, f64::MIN), |(lo, hi), &e| (lo.min(e), hi.max(e)));
     let espan = (emax - emin).max(1e-300);
-    for (panel, name) in panels
-        .iter()
-        .zip(["regime", "dissipated energy per cycle (J)"])
-    {
+    for (panel, name) in panels.iter().zip([
+        "regime",
+        "dissipated energy per cycle (J)",
+        "material response: none, crack (risk ≥ 1), wear (E_d/4Q*δ* ≥ 0.2), both",
+    ]) {
         let mut chart = ChartBuilder::on(panel)
             .caption(name, ("sans-serif", 14))
             .margin(14)
@@ -711,10 +728,13 @@ where
             .draw()?;
         let cells = (0..nr).flat_map(|i| (0..nc).map(move |j| (i, j)));
         let is_regime = name == "regime";
+        let is_response = name.starts_with("material");
         chart.draw_series(cells.clone().map(|(i, j)| {
             let k = i * nc + j;
             let colour = if is_regime {
                 regime_colour(regime[k])
+            } else if is_response {
+                response_colour(response[k])
             } else {
                 colormap((energy[k] - emin) / espan)
             };
@@ -725,11 +745,17 @@ where
             let k = i * nc + j;
             let text = if is_regime {
                 ["PS", "mixed", "GS"][(regime[k] as usize).min(2)].to_string()
+            } else if is_response {
+                format!(
+                    "{} {:.2}",
+                    ["none", "crack", "wear", "both"][(response[k] as usize).min(3)],
+                    crack_risk[k]
+                )
             } else {
                 format!("{:.2e}", energy[k])
             };
-            // Black on the regime colours and on the light end of the colour map.
-            let colour = if is_regime || (energy[k] - emin) / espan > 0.6 {
+            // Black on the categorical colours and on the light end of the colour map.
+            let colour = if is_regime || is_response || (energy[k] - emin) / espan > 0.6 {
                 BLACK
             } else {
                 WHITE

@@ -384,7 +384,9 @@ pub fn map_config_from_toml(text: &str, what: &str) -> Result<(LoopConfig, MapAx
 impl LoopConfig {
     /// The fretting map of this configuration over `loads × amplitudes` ([`FrettingMap`]): the
     /// case (`homogeneous` or `composite`, `grid` overriding) is built with `force` = the largest
-    /// load, so the domain (`extent_over_a · a(W_max)`) and any composite fibres serve every point.
+    /// load, so the domain (`extent_over_a · a(W_max)`) and any composite fibres serve every point;
+    /// with `[fatigue]`, the fatigue box (`depth_over_a` at every point; the crack risk is computed
+    /// by [`crate::fretting_map::run_map_with`]).
     pub fn map(
         &self,
         case: &str,
@@ -392,13 +394,6 @@ impl LoopConfig {
         loads: Vec<f64>,
         amplitudes: Vec<f64>,
     ) -> Result<FrettingMap, SpecError> {
-        if self.fatigue.is_some() {
-            return Err(SpecError(
-                "fretting map config: [fatigue] is read by fretting-loop only (the crack-risk \
-                 map is not built yet); remove it"
-                    .into(),
-            ));
-        }
         if self.approach.is_some() {
             return Err(SpecError(
                 "fretting map config: the map's rows are normal loads ([map] loads): approach \

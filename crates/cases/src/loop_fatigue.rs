@@ -101,6 +101,7 @@ impl LoopFatigue {
                 "cells": i.crossland.len(),
                 "layers": self.layers,
                 "increments": self.increments,
+                "invariant_evaluated": i.invariant_evaluated,
                 "swt_evaluated": i.swt_evaluated,
                 "fatemi_socie_evaluated": i.fatemi_socie_evaluated,
                 "seconds": self.seconds,
@@ -108,8 +109,8 @@ impl LoopFatigue {
         })
     }
 
-    /// `rec` with `z` (layer depths, m) and the four volume fields `(layers, N₁, N₂)` (SWT and
-    /// Fatemi–Socie `NaN` where the screen skipped them), the maxima as attributes.
+    /// `rec` with `z` (layer depths, m) and the four volume fields `(layers, N₁, N₂)` (`NaN`
+    /// where the screen skipped them), the maxima as attributes.
     pub fn record(&self, rec: Record) -> Record {
         let shape = [self.layers, self.shape.0, self.shape.1];
         let i = &self.indices;

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use crate::data::{AttrValue, DataError, Record};
 use crate::sam::contact::{ContactProblem, ContactSolver, ContactState, NestedWarmStart};
-use crate::sam::drivers::fretting_loop::CycleStress;
+use crate::sam::drivers::fretting_loop::CycleSources;
 use crate::sam::drivers::fretting_loop::{
     FrettingLoop, LoopCase, LoopMetrics, LoopRow, LoopSnapshot, PointFields, POINT_LABELS,
 };
@@ -13,7 +13,6 @@ use crate::sam::drivers::fretting_wear3d::{FrettingWear3d, WearRecord, WearRow, 
 use crate::sam::drivers::one_contact::{ContactCase, ContactOutcome};
 use crate::sam::kernels::surface::Body;
 use crate::sam::subsurface::StressField;
-use crate::sam::SurfaceGrid;
 use serde_json::json;
 
 /// The rows as one array per field of [`LoopRow::FIELDS`], names prefixed by `prefix`.
@@ -139,29 +138,13 @@ pub fn snapshot_record(s: &LoopSnapshot, shape: (usize, usize)) -> Record {
     if let Some(w) = &s.eigen {
         rec = warm_start_record(rec, w);
     }
-    if let Some(h) = &s.cycle_stress {
-        let g = &h.grid;
+    if let Some(h) = &s.cycle_sources {
         rec = rec
-            .array("cycle_stress", h.stress.clone())
+            .array("cycle_tractions", h.tractions.clone())
+            .array("cycle_eigenstrain", h.eigenstrain.clone())
             .array(
-                "cycle_stress_material",
-                h.material.iter().map(|&m| f64::from(m)).collect(),
-            )
-            .array(
-                "cycle_stress_materials",
-                h.materials.iter().flat_map(|&(e, nu)| [e, nu]).collect(),
-            )
-            .array(
-                "cycle_stress_shape",
-                vec![
-                    g.n1 as f64,
-                    g.n2 as f64,
-                    g.half1,
-                    g.half2,
-                    h.layers as f64,
-                    h.increments as f64,
-                    h.recorded as f64,
-                ],
+                "cycle_sources_shape",
+                vec![h.cells as f64, h.eigen_len as f64, h.recorded as f64],
             );
     }
     rec
@@ -288,39 +271,26 @@ pub fn snapshot_from_record(rec: &Record, path: &Path) -> Result<LoopSnapshot, D
             rec.get_attr("max_transverse_slip")
         ))
     })?;
-    let cycle_stress = match rec.get("cycle_stress") {
+    let cycle_sources = match rec.get("cycle_tractions") {
         None => None,
-        Some(stress) => {
-            let shape = array("cycle_stress_shape")?;
-            let materials = array("cycle_stress_materials")?;
-            if shape.len() != 7 || materials.len() % 2 != 0 {
-                return Err(bad(
-                    "cycle_stress_shape must hold 7 values, cycle_stress_materials pairs".into(),
-                ));
+        Some(tractions) => {
+            let shape = array("cycle_sources_shape")?;
+            if shape.len() != 3 {
+                return Err(bad("cycle_sources_shape must hold 3 values".into()));
             }
             let count = |v: f64| {
                 if v.is_finite() && v >= 0.0 && v.fract() == 0.0 && v < 1e15 {
                     Ok(v as usize)
                 } else {
-                    Err(bad(format!("cycle_stress_shape holds {v}: a count")))
+                    Err(bad(format!("cycle_sources_shape holds {v}: a count")))
                 }
             };
-            Some(CycleStress {
-                grid: SurfaceGrid {
-                    n1: count(shape[0])?,
-                    n2: count(shape[1])?,
-                    half1: shape[2],
-                    half2: shape[3],
-                },
-                layers: count(shape[4])?,
-                increments: count(shape[5])?,
-                recorded: count(shape[6])?,
-                stress: stress.to_vec(),
-                material: array("cycle_stress_material")?
-                    .iter()
-                    .map(|&m| count(m).map(|m| m.min(u16::MAX as usize) as u16))
-                    .collect::<Result<_, _>>()?,
-                materials: materials.chunks_exact(2).map(|c| (c[0], c[1])).collect(),
+            Some(CycleSources {
+                cells: count(shape[0])?,
+                eigen_len: count(shape[1])?,
+                recorded: count(shape[2])?,
+                tractions: tractions.to_vec(),
+                eigenstrain: array("cycle_eigenstrain")?,
             })
         }
     };
@@ -331,7 +301,7 @@ pub fn snapshot_from_record(rec: &Record, path: &Path) -> Result<LoopSnapshot, D
         max_transverse_slip,
         state,
         eigen,
-        cycle_stress,
+        cycle_sources,
     })
 }
 

@@ -5,7 +5,8 @@ mod common;
 
 use common::{proportional_cycle, random_cycle, steel, Rng};
 use halfspace_fatigue::critical_plane::{fatemi_socie, swt, PlaneScratch};
-use halfspace_fatigue::screened::critical_plane_bounds;
+use halfspace_fatigue::invariant::{crossland_dang_van, InvariantScratch};
+use halfspace_fatigue::screened::{critical_plane_bounds, invariant_bounds};
 use halfspace_fatigue::{evaluate_field, evaluate_screened, FieldParams, Material, Voigt};
 
 fn paths(points: usize, increments: usize, seed: u64) -> Vec<Vec<Voigt>> {
@@ -42,6 +43,39 @@ fn bounds_bound_the_critical_plane_criteria() {
 }
 
 #[test]
+fn bounds_bound_crossland_and_dang_van() {
+    let m = steel();
+    let mut scratch = InvariantScratch::default();
+    for path in paths(60, 24, 91) {
+        let [bc, bdv] = invariant_bounds(&path, &m);
+        let (c, dv) = crossland_dang_van(&path, &m, &mut scratch).unwrap();
+        assert!(c.index <= bc, "Crossland {} above its bound {bc}", c.index);
+        assert!(
+            dv.index <= bdv,
+            "Dang Van {} above its bound {bdv}",
+            dv.index
+        );
+        // Not vacuous: the mean lies in the minimum ball, so the mean-centred radius is at most
+        // twice the minimum radius.
+        let radius = bc * m.t_minus1 - m.alpha_crossland() * c.hydrostatic_max;
+        assert!(
+            radius <= 2.0 * c.sqrt_j2_amplitude * (1.0 + 1e-8),
+            "{radius} vs √J₂,a = {}",
+            c.sqrt_j2_amplitude
+        );
+    }
+    // A symmetric proportional path: its mean is the ball's centre, the bound is tight to rounding.
+    let path = common::proportional_cycle([0.0; 6], [1e8, -5e7, 0.0, 2e7, 0.0, 1e7], 21);
+    let [bc, _] = invariant_bounds(&path, &m);
+    let (c, _) = crossland_dang_van(&path, &m, &mut scratch).unwrap();
+    assert!(
+        c.index <= bc && bc - c.index <= 1e-8 * c.index.abs(),
+        "{} vs {bc}",
+        c.index
+    );
+}
+
+#[test]
 fn screened_equals_full_where_evaluated() {
     let (points, increments) = (48, 20);
     let ps = paths(points, increments, 5);
@@ -57,6 +91,13 @@ fn screened_equals_full_where_evaluated() {
     let half = evaluate_screened(&flat, increments, &[m], &vec![0; points], &params, 0.5).unwrap();
     assert_eq!(half.swt_max, full.swt_max);
     assert_eq!(half.fatemi_socie_max, full.fatemi_socie_max);
+    assert_eq!(half.crossland_max, full.crossland_max);
+    assert_eq!(half.dang_van_max, full.dang_van_max);
+    assert_eq!(all.invariant_evaluated, points);
+    assert!(
+        half.invariant_evaluated < points,
+        "the Crossland/Dang Van screen skipped nothing"
+    );
     assert!(
         half.fatemi_socie_evaluated < points,
         "the screen skipped nothing"
@@ -68,6 +109,13 @@ fn screened_equals_full_where_evaluated() {
         if full.swt[p] >= 0.5 * full.swt_max.value {
             assert_eq!(half.swt[p], full.swt[p]);
         }
+        if full.crossland[p] >= 0.5 * full.crossland_max.value
+            || full.dang_van[p] >= 0.5 * full.dang_van_max.value
+        {
+            assert_eq!(half.crossland[p], full.crossland[p]);
+            assert_eq!(half.dang_van[p], full.dang_van[p]);
+        }
+        assert!(half.crossland[p].is_nan() || half.crossland[p] == full.crossland[p]);
         assert!(half.fatemi_socie[p].is_nan() || half.fatemi_socie[p] == full.fatemi_socie[p]);
     }
     // Two materials: each point is evaluated with its own.

@@ -6,13 +6,14 @@
 //!
 //! where `ε⁰` are Love's rectangle strains of the surface tractions (docs/theory-sam.md#love-rectangle-stresses) — with the
 //! correction pressure `p_c` of the eigenstrains added to `p` (field (3)) — and `ε⁽¹⁾ + ε⁽²⁾` the
-//! cuboid eigenstrains in infinite space and their mirror images. The layered products are streamed
-//! key by key ([`halfspace_numerics::layered::accumulate_streamed`]): a deep field needs no stored
-//! kernels. Von Mises `√(3J₂)`, Tresca `σ₁ − σ₃` and the principal stresses (eigenvalues of the 3 × 3
+//! cuboid eigenstrains in infinite space and their mirror images. Love's kernel spectra are stored
+//! once per plan ([`SubsurfacePlan`]: one key per layer, reused at every increment of a loop); the
+//! eigenstrain products are streamed key by key
+//! ([`halfspace_numerics::layered::accumulate_streamed`]). Von Mises `√(3J₂)`, Tresca `σ₁ − σ₃` and the principal stresses (eigenvalues of the 3 × 3
 //! tensor, trigonometric form) are computed per cell.
 
 use halfspace_numerics::fft2d::{Fft2d, C64};
-use halfspace_numerics::layered::{accumulate_streamed, Family, LayerKernel};
+use halfspace_numerics::layered::{accumulate_streamed, Family, LayerKernel, LayeredSpectra};
 
 use crate::eim::operator::{ImageStrain, InfiniteStrain, LoveStrain, SurfaceFields};
 use crate::eim::InclusionSet;
@@ -106,9 +107,252 @@ pub fn von_mises(s: &[f64; 6]) -> f64 {
 /// Memory above which a stress-field request is refused up front.
 pub const FIELD_LIMIT_BYTES: f64 = 8.0 * (1u64 << 30) as f64;
 
+/// Love's strain operator of the surface tractions on the box's layers with its kernel spectra
+/// stored (docs/theory-sam.md#love-rectangle-stresses, #layered-operators): built once, applied to
+/// every increment's `p, q` (the fretting loop's stress history, [`crate::drivers::fretting_loop`]).
+/// With inclusions, the eigenstrain fields (1) + (2) and `p_c` are streamed key by key at each
+/// application ([`halfspace_numerics::layered::accumulate_streamed`]). The one algorithm behind
+/// [`subsurface_stress`].
+pub struct SubsurfacePlan {
+    grid: SurfaceGrid,
+    e: f64,
+    nu: f64,
+    layers: usize,
+    targets: Vec<i64>,
+    fft: Fft2d,
+    love: LayeredSpectra,
+}
+
+impl SubsurfacePlan {
+    /// Layers of a box of depth `depth` on cells of half side `half`: `⌈depth / 2Δ⌉`, at least 1.
+    pub fn layers_for(depth: f64, half: f64) -> usize {
+        ((depth / (2.0 * half)).ceil() as usize).max(1)
+    }
+
+    /// Bytes of the stored Love spectra of `layers` layers on an `n1 × n2` grid: at most 18 blocks
+    /// (6 strains × 3 tractions) of `2N₁(N₂ + 1)` complex values per layer.
+    pub fn spectra_bytes(n1: usize, n2: usize, layers: usize) -> f64 {
+        (layers * 18) as f64 * 2.0 * n1 as f64 * (n2 + 1) as f64 * 16.0
+    }
+
+    /// Bytes of one application: the `6 · layers` strain spectra and the `15 · layers · N₁N₂`
+    /// values of the field and its invariants.
+    pub fn field_bytes(n1: usize, n2: usize, layers: usize) -> f64 {
+        (layers * 6) as f64 * 2.0 * n1 as f64 * (n2 + 1) as f64 * 16.0
+            + (layers * 15 * n1 * n2) as f64 * 8.0
+    }
+
+    /// The plan of the layers from the surface to `depth` below `grid` in the half-space
+    /// `(e, nu)`; refused up front above [`FIELD_LIMIT_BYTES`].
+    pub fn new(grid: &SurfaceGrid, e: f64, nu: f64, depth: f64) -> Result<Self, SamError> {
+        crate::error::positive("subsurface depth", depth)?;
+        crate::error::positive("Young's modulus", e)?;
+        if !(nu > -1.0 && nu < 0.5) {
+            return Err(SamError::InvalidParameter {
+                name: "Poisson ratio (subsurface stresses)",
+                value: nu,
+                allowed: "in (−1, 0.5)",
+            });
+        }
+        if (grid.half1 - grid.half2).abs() > 1e-12 * grid.half1 {
+            return Err(SamError::InvalidParameter {
+                name: "cell aspect ratio Δ₂/Δ₁ (subsurface stresses need cubic cells)",
+                value: grid.half2 / grid.half1,
+                allowed: "1",
+            });
+        }
+        let half = grid.half1;
+        let layers = Self::layers_for(depth, half);
+        let need = Self::spectra_bytes(grid.n1, grid.n2, layers)
+            + Self::field_bytes(grid.n1, grid.n2, layers);
+        if need > FIELD_LIMIT_BYTES {
+            return Err(SamError::InvalidParameter {
+                name: "memory for the subsurface stress field (bytes)",
+                value: need,
+                allowed: "≤ 8 GiB: a shallower subsurface depth or a coarser grid",
+            });
+        }
+        let targets: Vec<i64> = (0..layers).map(|k| (2 * k + 1) as i64).collect();
+        let mut fft = Fft2d::new(grid.n1, grid.n2)?;
+        let love_kernel = LoveStrain {
+            half,
+            nu,
+            s: compliance(e, nu),
+        };
+        let love = LayeredSpectra::new(
+            &mut fft,
+            &targets,
+            &[0],
+            &[(Family::Difference, &love_kernel)],
+        )?;
+        Ok(Self {
+            grid: *grid,
+            e,
+            nu,
+            layers,
+            targets,
+            fft,
+            love,
+        })
+    }
+
+    /// Layers of the box.
+    pub fn layers(&self) -> usize {
+        self.layers
+    }
+
+    /// The surface grid.
+    pub fn grid(&self) -> &SurfaceGrid {
+        &self.grid
+    }
+
+    /// Bytes held by the stored spectra.
+    pub fn bytes(&self) -> usize {
+        self.love.bytes()
+    }
+
+    /// The six stress components `σ` (Voigt `(11, 22, 33, 23, 13, 12)`, per cell
+    /// `k N₁N₂ + i N₂ + j`) and the material of each cell (0 the matrix, `m + 1` inclusion material `m`) of the
+    /// tractions `p` (and `q`) and, with `inclusions`, the eigenstrains `eps_star` (6 per
+    /// inclusion cell): `ε = ε⁰[p + p_c, q] + ε⁽¹⁾[ε*] + ε⁽²⁾[ε*]`, `σ = C : ε` with the stiffness
+    /// of the cell (module doc).
+    pub fn stress(
+        &mut self,
+        p: &[f64],
+        q: Option<[&[f64]; 2]>,
+        inclusions: Option<(&InclusionSet, &[f64])>,
+    ) -> Result<([Vec<f64>; 6], Vec<u16>), SamError> {
+        let grid = self.grid;
+        let (e, nu, layers) = (self.e, self.nu, self.layers);
+        let half = grid.half1;
+        let n = grid.len();
+        if p.len() != n || q.is_some_and(|q| q[0].len() != n || q[1].len() != n) {
+            return Err(SamError::Numerics(
+                halfspace_numerics::NumericsError::LengthMismatch {
+                    what: "surface traction field",
+                    expected: n,
+                    got: p.len(),
+                },
+            ));
+        }
+        let fft = &mut self.fft;
+        let targets = &self.targets;
+        let mut out: Vec<Vec<C64>> = (0..layers * 6).map(|_| fft.new_spectrum()).collect();
+        let mut pressure = p.to_vec();
+        let mut material = vec![0u16; layers * n];
+        if let Some((set, eps_star)) = inclusions {
+            if eps_star.len() != 6 * set.len() {
+                return Err(SamError::Numerics(
+                    halfspace_numerics::NumericsError::LengthMismatch {
+                        what: "eigenstrains (6 per inclusion cell)",
+                        expected: 6 * set.len(),
+                        got: eps_star.len(),
+                    },
+                ));
+            }
+            let sources: Vec<i64> = set.layers.iter().map(|k| (2 * k + 1) as i64).collect();
+            let mut fields = vec![vec![0.0; n]; sources.len() * 6];
+            for (c, cell) in set.cells.iter().enumerate() {
+                for o in 0..6 {
+                    fields[cell.layer * 6 + o][cell.flat] = eps_star[c * 6 + o];
+                }
+                let k = set.layers[cell.layer];
+                if k < layers {
+                    material[k * n + cell.flat] = cell.material as u16 + 1;
+                }
+            }
+            let mut hats: Vec<Vec<C64>> = fields.iter().map(|_| fft.new_spectrum()).collect();
+            let mut skip = vec![false; fields.len()];
+            for ((f, h), s) in fields.iter().zip(hats.iter_mut()).zip(skip.iter_mut()) {
+                *s = f.iter().all(|v| *v == 0.0);
+                if !*s {
+                    fft.forward(f, h)?;
+                }
+            }
+            // Fields (1) + (2).
+            let inf = InfiniteStrain { half, nu };
+            let img = ImageStrain(InfiniteStrain { half, nu });
+            let fam: [(Family, &dyn LayerKernel); 2] =
+                [(Family::Difference, &inf), (Family::Sum, &img)];
+            accumulate_streamed(fft, targets, &sources, &fam, &hats, &skip, &mut out)?;
+            // p_c, added to the pressure (field (3) is Love's field of p_c).
+            let sk = SurfaceFields {
+                half,
+                nu,
+                c: stiffness(e, nu),
+            };
+            let mut surf: Vec<Vec<C64>> = (0..3).map(|_| fft.new_spectrum()).collect();
+            accumulate_streamed(
+                fft,
+                &[0],
+                &sources,
+                &[(Family::Difference, &sk)],
+                &hats,
+                &skip,
+                &mut surf,
+            )?;
+            let mut pc = vec![0.0; n];
+            fft.inverse(&mut surf[0], &mut pc)?;
+            pressure.iter_mut().zip(&pc).for_each(|(a, b)| *a += b);
+        }
+        // Love's strains of (p + p_c, q₁, q₂).
+        let zero = vec![0.0; n];
+        let inputs: [&[f64]; 3] = match q {
+            Some([q1, q2]) => [&pressure, q1, q2],
+            None => [&pressure, &zero, &zero],
+        };
+        let mut hats: Vec<Vec<C64>> = (0..3).map(|_| fft.new_spectrum()).collect();
+        let mut skip = [false; 3];
+        for i in 0..3 {
+            skip[i] = inputs[i].iter().all(|v| *v == 0.0);
+            if !skip[i] {
+                fft.forward(inputs[i], &mut hats[i])?;
+            }
+        }
+        self.love.accumulate(&hats, &skip, &mut out)?;
+        // Strains → stresses.
+        let mut strain = vec![vec![0.0; n]; layers * 6];
+        for (h, f) in out.iter_mut().zip(strain.iter_mut()) {
+            fft.inverse(h, f)?;
+        }
+        drop(out);
+        let cm = stiffness(e, nu);
+        let ci: Vec<[[f64; 6]; 6]> = inclusions
+            .map(|(set, _)| {
+                set.materials
+                    .iter()
+                    .map(|&(a, b)| stiffness(a, b))
+                    .collect()
+            })
+            .unwrap_or_default();
+        let total = layers * n;
+        let mut stress: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; total]);
+        for k in 0..layers {
+            for c in 0..n {
+                let idx = k * n + c;
+                let mut eps = [0.0; 6];
+                for o in 0..6 {
+                    eps[o] = strain[k * 6 + o][c];
+                }
+                let m = material[idx];
+                let sig = if m == 0 {
+                    mul6(&cm, &eps)
+                } else {
+                    mul6(&ci[m as usize - 1], &eps)
+                };
+                for o in 0..6 {
+                    stress[o][idx] = sig[o];
+                }
+            }
+        }
+        Ok((stress, material))
+    }
+}
+
 /// The stress field of the surface tractions `p` (and `q`) and, with `inclusions`, of the
 /// eigenstrains `eps_star` (6 per inclusion cell) in the half-space `(e, nu)`, on the layers from
-/// the surface to `depth` (at least one layer).
+/// the surface to `depth` (at least one layer): [`SubsurfacePlan::stress`] of a new plan, with the
+/// invariants per cell.
 pub fn subsurface_stress(
     grid: &SurfaceGrid,
     e: f64,
@@ -118,167 +362,21 @@ pub fn subsurface_stress(
     depth: f64,
     inclusions: Option<(&InclusionSet, &[f64])>,
 ) -> Result<StressField, SamError> {
-    crate::error::positive("subsurface depth", depth)?;
-    crate::error::positive("Young's modulus", e)?;
-    if !(nu > -1.0 && nu < 0.5) {
-        return Err(SamError::InvalidParameter {
-            name: "Poisson ratio (subsurface stresses)",
-            value: nu,
-            allowed: "in (−1, 0.5)",
-        });
-    }
-    let n = grid.len();
-    if p.len() != n || q.is_some_and(|q| q[0].len() != n || q[1].len() != n) {
-        return Err(SamError::Numerics(
-            halfspace_numerics::NumericsError::LengthMismatch {
-                what: "surface traction field",
-                expected: n,
-                got: p.len(),
-            },
-        ));
-    }
-    if (grid.half1 - grid.half2).abs() > 1e-12 * grid.half1 {
-        return Err(SamError::InvalidParameter {
-            name: "cell aspect ratio Δ₂/Δ₁ (subsurface stresses need cubic cells)",
-            value: grid.half2 / grid.half1,
-            allowed: "1",
-        });
-    }
-    let half = grid.half1;
-    let layers = ((depth / (2.0 * half)).ceil() as usize).max(1);
-    let spectrum = 2.0 * grid.n1 as f64 * (grid.n2 + 1) as f64 * 16.0;
-    let need = (layers * 6) as f64 * spectrum + (layers * 15 * n) as f64 * 8.0;
-    if need > FIELD_LIMIT_BYTES {
-        return Err(SamError::InvalidParameter {
-            name: "memory for the subsurface stress field (bytes)",
-            value: need,
-            allowed: "≤ 8 GiB: a shallower subsurface depth or a coarser grid",
-        });
-    }
-    let targets: Vec<i64> = (0..layers).map(|k| (2 * k + 1) as i64).collect();
-    let mut fft = Fft2d::new(grid.n1, grid.n2)?;
-    let mut out: Vec<Vec<C64>> = (0..layers * 6).map(|_| fft.new_spectrum()).collect();
-    let mut pressure = p.to_vec();
-    let mut material = vec![0u16; layers * n];
-    if let Some((set, eps_star)) = inclusions {
-        if eps_star.len() != 6 * set.len() {
-            return Err(SamError::Numerics(
-                halfspace_numerics::NumericsError::LengthMismatch {
-                    what: "eigenstrains (6 per inclusion cell)",
-                    expected: 6 * set.len(),
-                    got: eps_star.len(),
-                },
-            ));
-        }
-        let sources: Vec<i64> = set.layers.iter().map(|k| (2 * k + 1) as i64).collect();
-        let mut fields = vec![vec![0.0; n]; sources.len() * 6];
-        for (c, cell) in set.cells.iter().enumerate() {
-            for o in 0..6 {
-                fields[cell.layer * 6 + o][cell.flat] = eps_star[c * 6 + o];
-            }
-            let k = set.layers[cell.layer];
-            if k < layers {
-                material[k * n + cell.flat] = cell.material as u16 + 1;
-            }
-        }
-        let mut hats: Vec<Vec<C64>> = fields.iter().map(|_| fft.new_spectrum()).collect();
-        let mut skip = vec![false; fields.len()];
-        for ((f, h), s) in fields.iter().zip(hats.iter_mut()).zip(skip.iter_mut()) {
-            *s = f.iter().all(|v| *v == 0.0);
-            if !*s {
-                fft.forward(f, h)?;
-            }
-        }
-        // Fields (1) + (2).
-        let inf = InfiniteStrain { half, nu };
-        let img = ImageStrain(InfiniteStrain { half, nu });
-        let fam: [(Family, &dyn LayerKernel); 2] =
-            [(Family::Difference, &inf), (Family::Sum, &img)];
-        accumulate_streamed(&mut fft, &targets, &sources, &fam, &hats, &skip, &mut out)?;
-        // p_c, added to the pressure (field (3) is Love's field of p_c).
-        let sk = SurfaceFields {
-            half,
-            nu,
-            c: stiffness(e, nu),
-        };
-        let mut surf: Vec<Vec<C64>> = (0..3).map(|_| fft.new_spectrum()).collect();
-        accumulate_streamed(
-            &mut fft,
-            &[0],
-            &sources,
-            &[(Family::Difference, &sk)],
-            &hats,
-            &skip,
-            &mut surf,
-        )?;
-        let mut pc = vec![0.0; n];
-        fft.inverse(&mut surf[0], &mut pc)?;
-        pressure.iter_mut().zip(&pc).for_each(|(a, b)| *a += b);
-    }
-    // Love's strains of (p + p_c, q₁, q₂).
-    let zero = vec![0.0; n];
-    let inputs: [&[f64]; 3] = match q {
-        Some([q1, q2]) => [&pressure, q1, q2],
-        None => [&pressure, &zero, &zero],
-    };
-    let mut hats: Vec<Vec<C64>> = (0..3).map(|_| fft.new_spectrum()).collect();
-    let mut skip = [false; 3];
-    for i in 0..3 {
-        skip[i] = inputs[i].iter().all(|v| *v == 0.0);
-        if !skip[i] {
-            fft.forward(inputs[i], &mut hats[i])?;
-        }
-    }
-    let love = LoveStrain {
-        half,
-        nu,
-        s: compliance(e, nu),
-    };
-    accumulate_streamed(
-        &mut fft,
-        &targets,
-        &[0],
-        &[(Family::Difference, &love)],
-        &hats,
-        &skip,
-        &mut out,
-    )?;
-    // Strains → stresses and invariants.
-    let mut strain = vec![vec![0.0; n]; layers * 6];
-    for (h, f) in out.iter_mut().zip(strain.iter_mut()) {
-        fft.inverse(h, f)?;
-    }
-    drop(out);
-    let cm = stiffness(e, nu);
-    let ci: Vec<[[f64; 6]; 6]> = inclusions
-        .map(|(set, _)| {
-            set.materials
-                .iter()
-                .map(|&(a, b)| stiffness(a, b))
-                .collect()
-        })
-        .unwrap_or_default();
-    let total = layers * n;
-    let mut stress: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; total]);
-    let mut vm = vec![0.0; total];
-    let mut tresca = vec![0.0; total];
-    let mut principal: [Vec<f64>; 3] = std::array::from_fn(|_| vec![0.0; total]);
-    for k in 0..layers {
-        for c in 0..n {
-            let idx = k * n + c;
-            let mut eps = [0.0; 6];
-            for o in 0..6 {
-                eps[o] = strain[k * 6 + o][c];
-            }
-            let m = material[idx];
-            let sig = if m == 0 {
-                mul6(&cm, &eps)
-            } else {
-                mul6(&ci[m as usize - 1], &eps)
-            };
-            for o in 0..6 {
-                stress[o][idx] = sig[o];
-            }
+    let mut plan = SubsurfacePlan::new(grid, e, nu, depth)?;
+    let (stress, material) = plan.stress(p, q, inclusions)?;
+    Ok(StressField::of(*grid, plan.layers, stress, material))
+}
+
+impl StressField {
+    /// The field of the stresses `stress` (and cell materials) with its invariants per cell:
+    /// von Mises, Tresca `σ₁ − σ₃`, the principal stresses.
+    pub fn of(grid: SurfaceGrid, layers: usize, stress: [Vec<f64>; 6], material: Vec<u16>) -> Self {
+        let total = stress[0].len();
+        let mut vm = vec![0.0; total];
+        let mut tresca = vec![0.0; total];
+        let mut principal: [Vec<f64>; 3] = std::array::from_fn(|_| vec![0.0; total]);
+        for idx in 0..total {
+            let sig: [f64; 6] = std::array::from_fn(|o| stress[o][idx]);
             let pr = principal_stresses(&sig);
             for o in 0..3 {
                 principal[o][idx] = pr[o];
@@ -286,16 +384,16 @@ pub fn subsurface_stress(
             vm[idx] = von_mises(&sig);
             tresca[idx] = pr[0] - pr[2];
         }
+        Self {
+            grid,
+            layers,
+            stress,
+            von_mises: vm,
+            tresca,
+            principal,
+            material,
+        }
     }
-    Ok(StressField {
-        grid: *grid,
-        layers,
-        stress,
-        von_mises: vm,
-        tresca,
-        principal,
-        material,
-    })
 }
 
 /// Eigenstrains for [`stress_at_points`]: the inclusion cells, their eigenstrains (6 per cell) and

@@ -42,11 +42,15 @@ pub struct MapPoint {
     pub ratchet: f64,
     /// Wall-clock seconds of the loop (not part of the result's identity).
     pub seconds: f64,
+    /// The crack risk: the larger of the Crossland and Dang Van maxima over the box below the
+    /// contact in the closed cycle (both ≥ 1 predict crack initiation; docs/fatigue.md,
+    /// "Crack–wear fretting maps"); `NaN` when the map evaluates no criteria.
+    pub crack_risk: f64,
 }
 
 impl MapPoint {
     /// Names of [`MapPoint::values`], in order (the columns of the map's table).
-    pub const FIELDS: [&'static str; 9] = [
+    pub const FIELDS: [&'static str; 10] = [
         "load",
         "amplitude",
         "regime",
@@ -56,10 +60,11 @@ impl MapPoint {
         "tangential_force_over_mu_w_at_amplitude",
         "ratchet",
         "seconds",
+        "crack_risk",
     ];
 
     /// The point as numbers in the order of [`MapPoint::FIELDS`] (regime 0, 1, 2).
-    pub fn values(&self) -> [f64; 9] {
+    pub fn values(&self) -> [f64; 10] {
         [
             self.load,
             self.amplitude,
@@ -70,11 +75,12 @@ impl MapPoint {
             self.tangential_force_over_mu_w_at_amplitude,
             self.ratchet,
             self.seconds,
+            self.crack_risk,
         ]
     }
 
     /// The inverse of [`MapPoint::values`]; `None` for a regime other than 0, 1, 2.
-    pub fn from_values(v: [f64; 9]) -> Option<Self> {
+    pub fn from_values(v: [f64; 10]) -> Option<Self> {
         let regime = [
             FrettingRegime::PartialSlip,
             FrettingRegime::Mixed,
@@ -92,6 +98,7 @@ impl MapPoint {
             tangential_force_over_mu_w_at_amplitude: v[6],
             ratchet: v[7],
             seconds: v[8],
+            crack_risk: v[9],
         })
     }
 }
@@ -136,7 +143,7 @@ impl FrettingMap {
         super::fretting_loop::LoopEstimate {
             loops,
             concurrent,
-            bytes: one.bytes * concurrent + loops * 2.0 * 9.0 * 8.0,
+            bytes: one.bytes * concurrent + loops * 2.0 * 10.0 * 8.0,
             work: one.work * loops,
             ..one
         }
@@ -174,7 +181,8 @@ impl FrettingMap {
 
     /// The loop case of point `(i, j)`: `base` with `W = loads[i]`, `A = amplitudes[j]`, shift
     /// step `A / q`, and `extent_over_a = base.extent() / a(W)` (the same physical domain and
-    /// cells); no subsurface fields.
+    /// cells); no subsurface fields; with `base.fatigue_depth`, the fatigue box scaled with the
+    /// contact, `depth · a(W)/a(W_base)` (the same depth over `a` at every point).
     pub fn point_case(&self, i: usize, j: usize) -> Result<LoopCase, SamError> {
         let (Some(&load), Some(&amplitude)) = (self.loads.get(i), self.amplitudes.get(j)) else {
             return Err(SamError::InvalidInput(format!(
@@ -184,6 +192,7 @@ impl FrettingMap {
             )));
         };
         let extent = self.base.extent();
+        let base_radius = self.base.hertz_radius();
         let mut case = LoopCase {
             force: load,
             approach: None,
@@ -194,6 +203,10 @@ impl FrettingMap {
             ..self.base.clone()
         };
         case.extent_over_a = extent / case.hertz_radius();
+        case.fatigue_depth = self
+            .base
+            .fatigue_depth
+            .map(|d| d / base_radius * case.hertz_radius());
         case.validate()?;
         Ok(case)
     }
@@ -211,6 +224,19 @@ impl FrettingMap {
         j: usize,
         cancelled: &(dyn Fn() -> bool + Sync),
     ) -> Result<MapPoint, SamError> {
+        self.run_point_with(i, j, cancelled, &|_| Ok(f64::NAN))
+    }
+
+    /// [`FrettingMap::run_point_until`] with the point's `crack_risk` from `risk` applied to the
+    /// completed loop (the application layer evaluates the fatigue criteria on its stress
+    /// history; `NaN` for none).
+    pub fn run_point_with(
+        &self,
+        i: usize,
+        j: usize,
+        cancelled: &(dyn Fn() -> bool + Sync),
+        risk: &(dyn Fn(&FrettingLoop) -> Result<f64, SamError> + Sync),
+    ) -> Result<MapPoint, SamError> {
         let start = Instant::now();
         let case = self.point_case(i, j)?;
         let mut lp = FrettingLoop::new(case)?;
@@ -225,6 +251,7 @@ impl FrettingMap {
             return Err(SamError::Cancelled);
         }
         let m = lp.metrics()?;
+        let crack_risk = risk(&lp)?;
         Ok(MapPoint {
             load: self.loads[i],
             amplitude: self.amplitudes[j],
@@ -235,6 +262,7 @@ impl FrettingMap {
             tangential_force_over_mu_w_at_amplitude: m.tangential_force_over_mu_w_at_amplitude,
             ratchet: m.ratchet,
             seconds: start.elapsed().as_secs_f64(),
+            crack_risk,
         })
     }
 
@@ -299,6 +327,7 @@ mod tests {
             tangential_force_over_mu_w_at_amplitude: 0.99,
             ratchet: 0.001,
             seconds: 2.0,
+            crack_risk: 0.7,
         };
         assert_eq!(MapPoint::from_values(p.values()), Some(p));
         let mut v = p.values();

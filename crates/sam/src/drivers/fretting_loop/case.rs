@@ -281,16 +281,19 @@ impl LoopCase {
         // The points A–D: eight surface fields each (and the von Mises layers, when asked).
         let points = 4.0 * cells * 8.0 * 8.0;
         // The stress history of the closed cycle (docs/fatigue.md, "On the fretting loop"): the
-        // path `cells · layers · (4q + 1) · 48 B`, three times (the loop's, the checkpoint
-        // snapshot's and its record's), and one stress field per increment (15 values per cell
-        // and six half-spectra of 2N₁(N₂ + 1) complex values per layer).
+        // path `cells · layers · (4q + 1) · 48 B` once (the checkpoints carry the increments'
+        // tractions instead, counted three times: the loop's, the snapshot's and its record's),
+        // Love's stored kernel spectra and one stress field per increment.
         let history = match self.fatigue_depth {
             Some(depth) => {
                 let cell = self.extent() / self.grid as f64;
-                let layers = super::CycleStress::layers_for(depth, cell) as f64;
+                let layers = super::CycleStress::layers_for(depth, cell);
                 let cycle = 4.0 * quarter_steps(self.amplitude, self.shift_step) + 1.0;
-                3.0 * super::CycleStress::bytes(cells, layers, cycle)
-                    + layers * cells * (15.0 * 8.0 + 6.0 * 2.0 * 16.0)
+                let n = self.grid;
+                super::CycleStress::bytes(cells, layers as f64, cycle)
+                    + 3.0 * super::CycleSources::bytes(cells, 0.0, cycle)
+                    + crate::subsurface::SubsurfacePlan::spectra_bytes(n, n, layers)
+                    + crate::subsurface::SubsurfacePlan::field_bytes(n, n, layers)
             }
             None => 0.0,
         };

@@ -6,7 +6,6 @@
 //! docs/theory-sam.md#love-rectangle-stresses) and, with inhomogeneities, the EIM disturbance
 //! (`σ = C_I : ε` in an inhomogeneity cell).
 
-use crate::subsurface::StressField;
 use crate::{SamError, SurfaceGrid};
 
 /// The stress path of every cell of the box over the closed cycle.
@@ -61,13 +60,16 @@ impl CycleStress {
         (2 * k + 1) as f64 * self.grid.half1
     }
 
-    /// An empty history of `increments` increments for the layers of `field`.
+    /// An empty history of `increments` increments on `layers` layers below `grid`, the cells of
+    /// materials `material` (0 the matrix, `m + 1` inclusion material `m` of `materials`).
     pub(super) fn new(
-        field: &StressField,
+        grid: SurfaceGrid,
+        layers: usize,
+        material: Vec<u16>,
         increments: usize,
         materials: Vec<(f64, f64)>,
     ) -> Result<Self, SamError> {
-        let points = field.layers * field.grid.len();
+        let points = layers * grid.len();
         let len = points
             .checked_mul(increments)
             .and_then(|v| v.checked_mul(6))
@@ -75,32 +77,79 @@ impl CycleStress {
                 SamError::InvalidInput("the cycle's stress history does not fit in memory".into())
             })?;
         Ok(Self {
-            grid: field.grid,
-            layers: field.layers,
+            grid,
+            layers,
             increments,
             recorded: 0,
             stress: vec![0.0; len],
-            material: field.material.clone(),
+            material,
             materials,
         })
     }
 
-    /// Stores `field` as the next increment.
-    pub(super) fn record(&mut self, field: &StressField) -> Result<(), SamError> {
+    /// Stores the six stress components `stress[c][p]` of the box as the next increment.
+    pub(super) fn record(&mut self, stress: &[Vec<f64>; 6]) -> Result<(), SamError> {
         let t = self.recorded;
-        if t >= self.increments || field.layers != self.layers || field.grid != self.grid {
+        let points = self.points();
+        if t >= self.increments || stress.iter().any(|s| s.len() != points) {
             return Err(SamError::InvalidInput(format!(
-                "cycle stress history: increment {t} of {} on {} layers, the field has {}",
-                self.increments, self.layers, field.layers
+                "cycle stress history: increment {t} of {} on {points} cells, the field has {}",
+                self.increments,
+                stress[0].len()
             )));
         }
         let n = self.increments;
-        for c in 0..6 {
-            for (p, v) in field.stress[c].iter().enumerate() {
+        for (c, field) in stress.iter().enumerate() {
+            for (p, v) in field.iter().enumerate() {
                 self.stress[(p * n + t) * 6 + c] = *v;
             }
         }
         self.recorded += 1;
         Ok(())
+    }
+}
+
+/// What the stress history is made of, per recorded increment of the cycle: the surface tractions
+/// `p, q₁, q₂` and, with inhomogeneities, the eigenstrains. The checkpoint carries these instead
+/// of the history (`2 · layers` times smaller without inhomogeneities); a resumed loop rebuilds the
+/// history from them with the same operator, bit for bit.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct CycleSources {
+    /// Surface cells `N₁N₂`.
+    pub cells: usize,
+    /// Eigenstrain values per increment (`6 ×` inclusion cells; 0 without inhomogeneities).
+    pub eigen_len: usize,
+    /// Increments recorded.
+    pub recorded: usize,
+    /// `tractions[(t · 3 + c) · cells + k]`: `c` = 0 the pressure, 1 and 2 the shear `q₁, q₂`.
+    pub tractions: Vec<f64>,
+    /// `eigenstrain[t · eigen_len + i]`.
+    pub eigenstrain: Vec<f64>,
+}
+
+impl CycleSources {
+    /// Appends one increment.
+    pub(super) fn push(&mut self, p: &[f64], q: [&[f64]; 2], eigenstrain: &[f64]) {
+        self.tractions.extend_from_slice(p);
+        self.tractions.extend_from_slice(q[0]);
+        self.tractions.extend_from_slice(q[1]);
+        self.eigenstrain.extend_from_slice(eigenstrain);
+        self.recorded += 1;
+    }
+
+    /// `(p, [q₁, q₂], ε*)` of increment `t`.
+    pub fn increment(&self, t: usize) -> (&[f64], [&[f64]; 2], &[f64]) {
+        let n = self.cells;
+        let tr = &self.tractions[t * 3 * n..(t + 1) * 3 * n];
+        let (p, q) = tr.split_at(n);
+        let (q1, q2) = q.split_at(n);
+        let e = &self.eigenstrain[t * self.eigen_len..(t + 1) * self.eigen_len];
+        (p, [q1, q2], e)
+    }
+
+    /// Bytes of `increments` increments on `cells` surface cells with `eigen_len` eigenstrain
+    /// values each.
+    pub fn bytes(cells: f64, eigen_len: f64, increments: f64) -> f64 {
+        (3.0 * cells + eigen_len) * increments * 8.0
     }
 }

@@ -24,7 +24,7 @@ pub use case::{
     work_limit_hours, LoadPath, LoopCase, LoopEstimate, CELL_INCREMENTS_PER_SECOND, POINT_LABELS,
     ROW_BYTES,
 };
-pub use history::CycleStress;
+pub use history::{CycleSources, CycleStress};
 pub use metrics::{FrettingRegime, LoopMetrics};
 pub use row::LoopRow;
 pub use run::{FrettingLoop, LoopSeconds, LoopSnapshot, PointFields};

@@ -4,7 +4,7 @@ use std::ops::ControlFlow;
 use std::time::Instant;
 
 use super::case::{LoadPath, LoopCase, POINT_LABELS};
-use super::history::CycleStress;
+use super::history::{CycleSources, CycleStress};
 use super::metrics::LoopMetrics;
 use super::row::LoopRow;
 use crate::contact::ContactSolver;
@@ -12,6 +12,7 @@ use crate::contact::{ContactParams, ContactProblem, ContactState};
 use crate::contact::{NestedParams, NestedWarmStart};
 use crate::kernels::surface::{Body, Compliance};
 use crate::normal::NormalLoad;
+use crate::subsurface::SubsurfacePlan;
 use crate::tangential::is_stick;
 use crate::{SamError, SurfaceGrid};
 
@@ -72,8 +73,9 @@ pub struct LoopSnapshot {
     pub state: ContactState,
     /// With inhomogeneities: the nested loop's warm start (eigenstrains, eigen-displacements).
     pub eigen: Option<NestedWarmStart>,
-    /// The closed cycle's stress history so far ([`LoopCase::fatigue_depth`]).
-    pub cycle_stress: Option<CycleStress>,
+    /// The tractions (and eigenstrains) of the closed cycle's increments so far
+    /// ([`LoopCase::fatigue_depth`]): the stress history is rebuilt from them on resume.
+    pub cycle_sources: Option<CycleSources>,
 }
 
 /// The fretting loop of a [`LoopCase`] (module doc of [`crate::drivers::fretting_loop`]).
@@ -86,6 +88,9 @@ pub struct FrettingLoop {
     max_transverse_slip: f64,
     seconds: LoopSeconds,
     cycle_stress: Option<CycleStress>,
+    cycle_sources: Option<CycleSources>,
+    /// Love's operator on the fatigue box, built at the cycle's first increment.
+    plan: Option<SubsurfacePlan>,
 }
 
 impl FrettingLoop {
@@ -126,6 +131,8 @@ impl FrettingLoop {
             max_transverse_slip: 0.0,
             seconds: LoopSeconds::default(),
             cycle_stress: None,
+            cycle_sources: None,
+            plan: None,
         })
     }
 
@@ -152,7 +159,16 @@ impl FrettingLoop {
         lp.rows = snapshot.rows;
         lp.points = snapshot.points;
         lp.max_transverse_slip = snapshot.max_transverse_slip;
-        lp.cycle_stress = snapshot.cycle_stress;
+        // The history of the increments done, rebuilt from their tractions by the same operator
+        // as the uninterrupted loop's (bit for bit).
+        if let Some(sources) = snapshot.cycle_sources {
+            let t = Instant::now();
+            for k in 0..sources.recorded {
+                lp.record_increment(&sources, k)?;
+            }
+            lp.cycle_sources = Some(sources);
+            lp.seconds.cycle_stress += t.elapsed().as_secs_f64();
+        }
         Ok(lp)
     }
 
@@ -336,42 +352,42 @@ impl FrettingLoop {
             }
         }
         let expected = rows.len().saturating_sub(self.path.cycle_start());
-        match (&snapshot.cycle_stress, self.case.fatigue_depth) {
+        match (&snapshot.cycle_sources, self.case.fatigue_depth) {
             (None, Some(_)) if expected > 0 => {
                 return Err(bad(
-                    "cycle_stress".into(),
+                    "cycle_tractions".into(),
                     format!("missing: {expected} increments of the cycle are done"),
                 ))
             }
             (Some(_), None) => {
                 return Err(bad(
-                    "cycle_stress".into(),
+                    "cycle_tractions".into(),
                     "present, but this loop records no stress history".into(),
                 ))
             }
-            (Some(h), Some(depth)) => {
-                let layers = CycleStress::layers_for(depth, 2.0 * grid.half1);
-                let cycle = self.path.len() - self.path.cycle_start();
+            (Some(h), Some(_)) => {
+                let eigen_len = self.solver.nested().map_or(0, |n| n.eigenstrain().len());
                 if h.recorded != expected
-                    || h.layers != layers
-                    || h.increments != cycle
-                    || h.grid != grid
-                    || h.stress.len() != layers * cells * cycle * 6
-                    || h.material.len() != layers * cells
+                    || h.cells != cells
+                    || h.eigen_len != eigen_len
+                    || h.tractions.len() != expected * 3 * cells
+                    || h.eigenstrain.len() != expected * eigen_len
                 {
                     return Err(bad(
-                        "cycle_stress".into(),
+                        "cycle_tractions".into(),
                         format!(
-                            "{} of {} increments on {} layers ({} values): this loop has {expected} \
-                             of {cycle} on {layers} layers",
+                            "{} increments of {} cells and {} eigenstrains ({} and {} values): \
+                             this loop has {expected} of {cells} cells and {eigen_len}",
                             h.recorded,
-                            h.increments,
-                            h.layers,
-                            h.stress.len()
+                            h.cells,
+                            h.eigen_len,
+                            h.tractions.len(),
+                            h.eigenstrain.len()
                         ),
                     ));
                 }
-                finite("cycle_stress".into(), &h.stress, None)?;
+                finite("cycle_tractions".into(), &h.tractions, None)?;
+                finite("cycle_eigenstrain".into(), &h.eigenstrain, None)?;
             }
             _ => {}
         }
@@ -462,12 +478,10 @@ impl FrettingLoop {
             let fields = self.point_fields(POINT_LABELS[m], k + 1)?;
             self.points.push(fields);
         }
-        if let Some(depth) = self.case.fatigue_depth {
-            if k >= self.path.cycle_start() {
-                let t = Instant::now();
-                self.record_cycle_stress(depth)?;
-                self.seconds.cycle_stress += t.elapsed().as_secs_f64();
-            }
+        if self.case.fatigue_depth.is_some() && k >= self.path.cycle_start() {
+            let t = Instant::now();
+            self.record_cycle_stress()?;
+            self.seconds.cycle_stress += t.elapsed().as_secs_f64();
         }
         Ok(self.rows.last())
     }
@@ -486,10 +500,46 @@ impl FrettingLoop {
         Ok(true)
     }
 
-    /// The stress field of the box at this increment into the cycle's history: the flat's
-    /// constants, the EIM disturbance with inhomogeneities ([`ContactSolver::subsurface`]).
-    fn record_cycle_stress(&mut self, depth: f64) -> Result<(), SamError> {
-        let field = self.solver.subsurface(self.case.e, self.case.nu, depth)?;
+    /// This increment's tractions (and eigenstrains) into the cycle's sources and its stress
+    /// field into the history ([`FrettingLoop::record_increment`]).
+    fn record_cycle_stress(&mut self) -> Result<(), SamError> {
+        let st = self.solver.problem().state();
+        let eigen = self.solver.nested().map_or(&[][..], |n| n.eigenstrain());
+        let sources = self.cycle_sources.get_or_insert_with(|| CycleSources {
+            cells: st.pressure.len(),
+            eigen_len: eigen.len(),
+            ..CycleSources::default()
+        });
+        sources.push(&st.pressure, [&st.shear[0], &st.shear[1]], eigen);
+        let sources = self.cycle_sources.take().unwrap_or_default();
+        let done = self.record_increment(&sources, sources.recorded - 1);
+        self.cycle_sources = Some(sources);
+        done
+    }
+
+    /// The stress field of increment `t` of `sources` into the history: Love's stresses of its
+    /// tractions and, with inhomogeneities, the EIM disturbance of its eigenstrains, with the
+    /// flat's constants ([`SubsurfacePlan::stress`]; the operator built at the first call).
+    fn record_increment(&mut self, sources: &CycleSources, t: usize) -> Result<(), SamError> {
+        let Some(depth) = self.case.fatigue_depth else {
+            return Ok(());
+        };
+        if self.plan.is_none() {
+            let grid = *self.solver.problem().grid();
+            self.plan = Some(SubsurfacePlan::new(
+                &grid,
+                self.case.e,
+                self.case.nu,
+                depth,
+            )?);
+        }
+        let Some(plan) = self.plan.as_mut() else {
+            return Ok(());
+        };
+        let (p, q, eigen) = sources.increment(t);
+        let q = (self.solver.problem().friction() > 0.0).then_some(q);
+        let inclusions = self.solver.nested().map(|n| (n.inclusions(), eigen));
+        let (stress, material) = plan.stress(p, q, inclusions)?;
         if self.cycle_stress.is_none() {
             let materials = self
                 .solver
@@ -497,10 +547,16 @@ impl FrettingLoop {
                 .map(|n| n.inclusions().materials.clone())
                 .unwrap_or_default();
             let increments = self.path.len() - self.path.cycle_start();
-            self.cycle_stress = Some(CycleStress::new(&field, increments, materials)?);
+            self.cycle_stress = Some(CycleStress::new(
+                *plan.grid(),
+                plan.layers(),
+                material,
+                increments,
+                materials,
+            )?);
         }
         match &mut self.cycle_stress {
-            Some(h) => h.record(&field),
+            Some(h) => h.record(&stress),
             None => Ok(()),
         }
     }
@@ -514,7 +570,7 @@ impl FrettingLoop {
             max_transverse_slip: self.max_transverse_slip,
             state: self.solver.problem().state().clone(),
             eigen: self.solver.nested().map(|n| n.warm_start()),
-            cycle_stress: self.cycle_stress.clone(),
+            cycle_sources: self.cycle_sources.clone(),
         }
     }
 
