@@ -122,3 +122,75 @@ fn wear3d_refuses_bad_configs() {
         );
     }
 }
+
+/// A run killed by SIGKILL while it works (not stopped politely: no `--stop-after`) and resumed
+/// ends bit for bit where the uninterrupted run ends (docs/wear3d.md#checkpoint-and-resume): the
+/// checkpoint is written atomically and the stale run.lock of the killed process is taken over.
+#[test]
+fn wear3d_killed_by_sigkill_resumes_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("wear.toml");
+    // The twin at 32² to τ = 3 (≈ 80 wear steps): long enough to be killed midway.
+    let text = TWIN
+        .replace("grid = 16", "grid = 32")
+        .replace("cycles = 1000", "cycles = 3000");
+    std::fs::write(&cfg, text).unwrap();
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    let base = |out: &std::path::Path| {
+        vec![
+            "fretting-wear3d".to_string(),
+            "--config".into(),
+            cfg.to_str().unwrap().into(),
+            "--out".into(),
+            out.to_str().unwrap().into(),
+            "--json".into(),
+        ]
+    };
+    let full = ok_json(&run(&base(&a)
+        .iter()
+        .map(|s| s.as_str())
+        .collect::<Vec<_>>()));
+    let mut killed = 0;
+    // Kill as soon as a checkpoint exists; retry with a resumed run until one is killed midway
+    // (a fast machine may finish first: then the run is complete and nothing is to resume).
+    for attempt in 0..20 {
+        let mut args = base(&b);
+        args.extend(["--checkpoint-seconds".into(), "0.05".into()]);
+        if attempt > 0 {
+            args.push("--resume".into());
+        }
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_halfspace"))
+            .args(&args)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        let start = std::time::Instant::now();
+        while !b.join("checkpoint.npz").is_file() && start.elapsed().as_secs_f64() < 30.0 {
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20 * (attempt as u64 + 1)));
+        child.kill().unwrap(); // SIGKILL on Unix
+        let status = child.wait().unwrap();
+        if !status.success() {
+            killed += 1;
+        }
+        if b.join("results.h5").is_file() || killed >= 2 {
+            break;
+        }
+    }
+    assert!(killed >= 1, "no run was killed midway");
+    if !b.join("results.h5").is_file() {
+        let resumed = ok_json(&run(&{
+            let mut v = base(&b);
+            v.push("--resume".into());
+            v
+        }
+        .iter()
+        .map(|s| s.as_str())
+        .collect::<Vec<_>>()));
+        assert_eq!(full["wear_volume"], resumed["wear_volume"]);
+        assert_eq!(full["wear_steps"], resumed["wear_steps"]);
+    }
+    arrays_equal(&a.join("results.h5"), &b.join("results.h5"));
+}

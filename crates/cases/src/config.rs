@@ -56,7 +56,28 @@ pub struct LoopConfig {
     /// `[fatigue]`: the fatigue criteria over the closed cycle (docs/fatigue.md, "On the
     /// fretting loop"; absent: none).
     pub fatigue: Option<FatigueConfig>,
+    /// How an inhomogeneous body's surface response enters each increment
+    /// (docs/theory-sam.md#surface-response-operator): `"nested"` (the contact ↔ EIM loop in every
+    /// increment, the reference and the default) or `"surface-operator"` (built once).
+    pub inhomogeneous_body: InhomogeneousBody,
+    /// With `inhomogeneous_body = "surface-operator"`: radius over a of the candidate region the
+    /// operator covers (default 1.3); refused with the nested loop.
+    pub surface_operator_radius_over_a: Option<f64>,
 }
+
+/// The `inhomogeneous_body` key of [`LoopConfig`].
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum InhomogeneousBody {
+    /// The nested contact ↔ EIM loop of [LN11] Fig. 2 in every increment (the reference path).
+    #[default]
+    Nested,
+    /// The surface-response operator, built once per body (one EIM solve per column).
+    SurfaceOperator,
+}
+
+/// The candidate radius over a of the surface-response operator when none is given.
+pub const DEFAULT_SURFACE_OPERATOR_RADIUS_OVER_A: f64 = 1.3;
 
 /// Fatigue constants of one material (docs/fatigue.md, "Material constants"): fully reversed
 /// bending and torsion limits `f_minus1`, `t_minus1` (Pa), Fatemi–Socie's `fs_k` and
@@ -145,6 +166,8 @@ impl Default for LoopConfig {
             fibre_e_ratio: None,
             subsurface_over_a: 1.0,
             fatigue: None,
+            inhomogeneous_body: InhomogeneousBody::Nested,
+            surface_operator_radius_over_a: None,
         }
     }
 }
@@ -492,8 +515,10 @@ impl Wear3dConfig {
     }
 
     /// The library's case, validated ([`WearCase::validate`]); `grid` overrides the grid. The
-    /// surface is homogeneous or holds the `[[inhomogeneity]]` entries; `[fatigue]` is refused
-    /// (the wear run evaluates no fatigue criteria).
+    /// surface is homogeneous or holds the `[[inhomogeneity]]` entries, or — when `layout` or
+    /// `fibre_e_ratio` is given — the composite preset of `fretting-loop --case composite`
+    /// (docs/wear3d.md#the-composite-case); `[fatigue]` is refused (the wear run evaluates no
+    /// fatigue criteria).
     pub fn case(&self, grid: Option<usize>) -> Result<WearCase, SpecError> {
         if self.fretting.fatigue.is_some() {
             return Err(SpecError(
@@ -502,7 +527,12 @@ impl Wear3dConfig {
                     .into(),
             ));
         }
-        let fretting = self.fretting.case("homogeneous", grid)?;
+        let preset = if self.fretting.layout.is_some() || self.fretting.fibre_e_ratio.is_some() {
+            "composite"
+        } else {
+            "homogeneous"
+        };
+        let fretting = self.fretting.case(preset, grid)?;
         let w = &self.wear;
         let sam = |e: crate::sam::SamError| SpecError(e.to_string());
         let law = WearLaw::from_name(&w.law, w.coefficient).map_err(sam)?;
@@ -564,6 +594,7 @@ fn loop_case(
             .collect::<Result<Vec<_>, _>>()?,
         subsurface_depth: None,
         fatigue_depth: None,
+        surface_operator_over_a: None,
     };
     if !(cfg.subsurface_over_a.is_finite() && cfg.subsurface_over_a >= 0.0) {
         return Err(SpecError(format!(
@@ -608,6 +639,20 @@ fn loop_case(
     }
     if let Some(g) = grid {
         case.grid = g;
+    }
+    match (cfg.inhomogeneous_body, cfg.surface_operator_radius_over_a) {
+        (InhomogeneousBody::Nested, Some(_)) => {
+            return Err(SpecError(
+                "fretting loop config: surface_operator_radius_over_a is read only with \
+                 inhomogeneous_body = \"surface-operator\"; without it the key would be ignored"
+                    .into(),
+            ))
+        }
+        (InhomogeneousBody::Nested, None) => {}
+        (InhomogeneousBody::SurfaceOperator, r) => {
+            case.surface_operator_over_a =
+                Some(r.unwrap_or(DEFAULT_SURFACE_OPERATOR_RADIUS_OVER_A));
+        }
     }
     case.validate()
         .map_err(|e| SpecError(format!("fretting loop config: {e}")))?;
@@ -729,5 +774,61 @@ mod tests {
         .case(None)
         .unwrap_err();
         assert!(e.0.contains("[fatigue] belongs to fretting-loop"), "{e}");
+    }
+
+    #[test]
+    fn the_body_response_key_selects_the_surface_operator_and_the_composite_wear_preset() {
+        let base = "grid = 8\n[wear]\nlaw = \"archard\"\ncoefficient = 1e-15\nbody = \"indenter\"\ncycles = 10\n";
+        let text = format!(
+            "layout = \"gap-centred\"\ninhomogeneous_body = \"surface-operator\"\n\
+             surface_operator_radius_over_a = 1.5\n{base}"
+        );
+        let case = Wear3dConfig::from_toml(&text, "cfg")
+            .unwrap()
+            .case(Some(16))
+            .unwrap();
+        assert_eq!(case.fretting.surface_operator_over_a, Some(1.5));
+        assert!(!case.fretting.inhomogeneities.is_empty());
+        let text =
+            format!("fibre_e_ratio = 0.5\ninhomogeneous_body = \"surface-operator\"\n{base}");
+        let case = Wear3dConfig::from_toml(&text, "cfg")
+            .unwrap()
+            .case(Some(16))
+            .unwrap();
+        assert_eq!(
+            case.fretting.surface_operator_over_a,
+            Some(DEFAULT_SURFACE_OPERATOR_RADIUS_OVER_A)
+        );
+        let plain = Wear3dConfig::from_toml(base, "cfg")
+            .unwrap()
+            .case(None)
+            .unwrap();
+        assert!(plain.fretting.inhomogeneities.is_empty());
+        assert_eq!(plain.fretting.surface_operator_over_a, None);
+        let e = Wear3dConfig::from_toml(&format!("inhomogeneous_body = \"fast\"\n{base}"), "cfg")
+            .unwrap_err();
+        assert!(
+            e.0.contains("inhomogeneous_body") || e.0.contains("surface-operator"),
+            "{e}"
+        );
+        let e = Wear3dConfig::from_toml(
+            &format!("surface_operator_radius_over_a = 1.2\n{base}"),
+            "cfg",
+        )
+        .unwrap()
+        .case(None)
+        .unwrap_err();
+        assert!(
+            e.0.contains("surface_operator_radius_over_a is read only"),
+            "{e}"
+        );
+        let e = Wear3dConfig::from_toml(
+            &format!("layout = \"fibre-centred\"\ninhomogeneous_body = \"surface-operator\"\nsurface_operator_radius_over_a = -1\n{base}"),
+            "cfg",
+        )
+        .unwrap()
+        .case(Some(16))
+        .unwrap_err();
+        assert!(e.0.contains("surface_operator_radius_over_a"), "{e}");
     }
 }

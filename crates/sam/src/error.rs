@@ -63,6 +63,17 @@ pub enum SamError {
         /// The limit (m).
         limit: f64,
     },
+    /// Tractions on cells outside the candidate region of the surface-response operator
+    /// (docs/theory-sam.md#surface-response-operator): the contact grew past the cells the operator
+    /// was built for.
+    #[error(
+        "the contact reached {cells} traction value(s) outside the surface-response operator's \
+         candidate region: enlarge surface_operator_radius_over_a or use inhomogeneous_body = \"nested\""
+    )]
+    ContactOutsideSurfaceOperator {
+        /// Traction values (cell × component) outside the region.
+        cells: usize,
+    },
     /// Grid shape or array length problems.
     #[error(transparent)]
     Numerics(#[from] NumericsError),

@@ -13,6 +13,7 @@
 use crate::contact::{shift_for_force, ContactProblem, IncrementInfo};
 use crate::eim::{
     Backend, EimFields, EimInfo, EimParams, EimSystem, InclusionSet, Inhomogeneity, Space,
+    SurfaceResponse,
 };
 use crate::normal::NormalLoad;
 use crate::SamError;
@@ -43,6 +44,27 @@ pub struct NestedParams {
     /// eigen-displacements of the last two increments (instead of `x_n`): on the loop's equal
     /// steps it removes most of the first outer change.
     pub predictor: bool,
+    /// How the body's surface response enters each increment: the nested contact ↔ EIM loop of
+    /// [LN11] Fig. 2 (the reference), or the surface-response operator built once
+    /// (docs/theory-sam.md#surface-response-operator).
+    pub body: BodyResponse,
+}
+
+/// How [`InhomogeneousContact`] obtains the surface eigen-displacements of the tractions.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum BodyResponse {
+    /// An EIM solve in every outer pass ([LN11] Fig. 2; docs/theory-sam.md#nested-loops): the
+    /// reference path.
+    Nested,
+    /// The dense surface-response operator [`SurfaceResponse`] over the cells whose centres lie
+    /// within `radius` (m) of the origin, built once (one EIM solve per column); the outer pass
+    /// applies it instead of solving the EIM. Tractions outside the region are refused
+    /// ([`SamError::ContactOutsideSurfaceOperator`]). The eigenstrains are solved from the
+    /// tractions only when asked ([`InhomogeneousContact::sync_eigenstrain`]).
+    SurfaceOperator {
+        /// Radius of the candidate region (m).
+        radius: f64,
+    },
 }
 
 /// What the next increment of the nested loop starts from: the eigenstrains (6 per inclusion cell)
@@ -72,6 +94,7 @@ impl Default for NestedParams {
             inexact_contact: true,
             anderson_depth: 3,
             predictor: true,
+            body: BodyResponse::Nested,
         }
     }
 }
@@ -92,6 +115,15 @@ impl NestedParams {
                 value: self.relaxation,
                 allowed: "in (0, 1]",
             });
+        }
+        if let BodyResponse::SurfaceOperator { radius } = self.body {
+            if !(radius.is_finite() && radius > 0.0) {
+                return Err(SamError::InvalidParameter {
+                    name: "surface-operator radius",
+                    value: radius,
+                    allowed: "finite and > 0",
+                });
+            }
         }
         if self.max_outer == 0 {
             return Err(SamError::InvalidParameter {
@@ -172,6 +204,11 @@ pub struct InhomogeneousContact {
     eps_prev: Vec<f64>,
     u_prev: [Vec<f64>; 3],
     committed: usize,
+    /// The surface-response operator ([`BodyResponse::SurfaceOperator`]).
+    response: Option<SurfaceResponse>,
+    /// Whether `eps_star` is the EIM solution of the current tractions (always on the nested
+    /// path; on the operator path after [`InhomogeneousContact::sync_eigenstrain`]).
+    eigenstrain_current: bool,
 }
 
 impl InhomogeneousContact {
@@ -210,8 +247,28 @@ impl InhomogeneousContact {
         let wl = set.window.len();
         let friction = problem.friction() > 0.0;
         let components = if friction { 3 } else { 1 };
+        let mut system = EimSystem::new(fields, set, e, nu)?;
+        let response = match params.body {
+            BodyResponse::Nested => None,
+            BodyResponse::SurfaceOperator { radius } => {
+                let cells = (0..n)
+                    .filter(|&k| {
+                        let (x, y) = grid.centre(k / grid.n2, k % grid.n2);
+                        x * x + y * y <= radius * radius
+                    })
+                    .collect();
+                Some(SurfaceResponse::build(
+                    &mut system,
+                    cells,
+                    friction,
+                    &params.eim,
+                )?)
+            }
+        };
         Ok(Self {
-            system: EimSystem::new(fields, set, e, nu)?,
+            system,
+            response,
+            eigenstrain_current: true,
             problem,
             params,
             friction,
@@ -246,7 +303,13 @@ impl InhomogeneousContact {
             return;
         }
         let extrapolate = self.committed >= 2;
-        let pairs = std::iter::once((&mut self.eps_star, &mut self.eps_prev))
+        // The operator path solves no eigenstrains per increment: only u^eig is predicted.
+        let eps = self
+            .response
+            .is_none()
+            .then_some((&mut self.eps_star, &mut self.eps_prev));
+        let pairs = eps
+            .into_iter()
             .chain(self.u_eig.iter_mut().zip(self.u_prev.iter_mut()));
         for (x, prev) in pairs {
             for (v, p) in x.iter_mut().zip(prev.iter_mut()) {
@@ -360,32 +423,55 @@ impl InhomogeneousContact {
             work.alternations += contact.alternations;
             work.normal_iterations += contact.normal.iterations;
             work.tangential_iterations += contact.tangential.iterations;
-            let t = clock();
-            let state = self.problem.state();
-            let q = if self.friction {
-                Some([state.shear[0].as_slice(), state.shear[1].as_slice()])
-            } else {
-                None
+            let last_eim = match &self.response {
+                Some(response) => {
+                    let t = clock();
+                    let state = self.problem.state();
+                    let q = if self.friction {
+                        Some([state.shear[0].as_slice(), state.shear[1].as_slice()])
+                    } else {
+                        None
+                    };
+                    let [a, b, c] = &mut self.u_new;
+                    response.apply(&state.pressure, q, [a, b, c])?;
+                    self.eigenstrain_current = false;
+                    seconds.disturbance += t.elapsed().as_secs_f64();
+                    EimInfo {
+                        iterations: 0,
+                        residual: 0.0,
+                        method: self.params.eim.method,
+                    }
+                }
+                None => {
+                    let t = clock();
+                    let state = self.problem.state();
+                    let q = if self.friction {
+                        Some([state.shear[0].as_slice(), state.shear[1].as_slice()])
+                    } else {
+                        None
+                    };
+                    self.system
+                        .fields()
+                        .traction_strain(&state.pressure, q, &mut self.applied)?;
+                    let eim = EimParams {
+                        tolerance: (1e-3 * last_change).clamp(self.params.eim.tolerance, 1e-3),
+                        ..self.params.eim
+                    };
+                    seconds.traction_strain += t.elapsed().as_secs_f64();
+                    let t = clock();
+                    let last_eim = self.system.solve(&self.applied, &mut self.eps_star, &eim)?;
+                    eim_iterations += last_eim.iterations;
+                    seconds.eim += t.elapsed().as_secs_f64();
+                    let t = clock();
+                    self.system.disturbance(&self.eps_star)?;
+                    {
+                        let [a, b, c] = &mut self.u_new;
+                        self.system.fields().eigen_displacements([a, b, c])?;
+                    }
+                    seconds.disturbance += t.elapsed().as_secs_f64();
+                    last_eim
+                }
             };
-            self.system
-                .fields()
-                .traction_strain(&state.pressure, q, &mut self.applied)?;
-            let eim = EimParams {
-                tolerance: (1e-3 * last_change).clamp(self.params.eim.tolerance, 1e-3),
-                ..self.params.eim
-            };
-            seconds.traction_strain += t.elapsed().as_secs_f64();
-            let t = clock();
-            let last_eim = self.system.solve(&self.applied, &mut self.eps_star, &eim)?;
-            eim_iterations += last_eim.iterations;
-            seconds.eim += t.elapsed().as_secs_f64();
-            let t = clock();
-            self.system.disturbance(&self.eps_star)?;
-            {
-                let [a, b, c] = &mut self.u_new;
-                self.system.fields().eigen_displacements([a, b, c])?;
-            }
-            seconds.disturbance += t.elapsed().as_secs_f64();
             let components = if self.friction { 0..3 } else { 2..3 };
             let mut change: f64 = 0.0;
             for c in components {
@@ -443,6 +529,38 @@ impl InhomogeneousContact {
         unreachable!("the loop returns")
     }
 
+    /// Brings the eigenstrains up to the current tractions (docs/theory-sam.md#surface-response-operator):
+    /// on the operator path ([`BodyResponse::SurfaceOperator`]), one EIM solve from the tractions
+    /// of the last increment to the full tolerance, warm-started from the last eigenstrains, when
+    /// the tractions changed since (`None` when nothing was solved); on the nested path the
+    /// eigenstrains are always current. Call it before reading [`InhomogeneousContact::eigenstrain`]
+    /// for stresses ([`crate::contact::ContactSolver::subsurface`] does).
+    pub fn sync_eigenstrain(&mut self) -> Result<Option<EimInfo>, SamError> {
+        if self.eigenstrain_current {
+            return Ok(None);
+        }
+        let state = self.problem.state();
+        let q = if self.friction {
+            Some([state.shear[0].as_slice(), state.shear[1].as_slice()])
+        } else {
+            None
+        };
+        self.system
+            .fields()
+            .traction_strain(&state.pressure, q, &mut self.applied)?;
+        let info = self
+            .system
+            .solve(&self.applied, &mut self.eps_star, &self.params.eim)?;
+        self.system.disturbance(&self.eps_star)?;
+        self.eigenstrain_current = true;
+        Ok(Some(info))
+    }
+
+    /// The surface-response operator, on the operator path.
+    pub fn surface_response(&self) -> Option<&SurfaceResponse> {
+        self.response.as_ref()
+    }
+
     /// The contact problem (state, grid).
     pub fn problem(&self) -> &ContactProblem {
         &self.problem
@@ -466,6 +584,9 @@ impl InhomogeneousContact {
             mine.copy_from_slice(theirs);
         }
         self.system.disturbance(&self.eps_star)?;
+        // On the operator path the restored eigenstrains are a warm start, not the solution of
+        // the restored tractions.
+        self.eigenstrain_current = self.response.is_none();
         Ok(())
     }
 
@@ -474,7 +595,8 @@ impl InhomogeneousContact {
         self.system.set()
     }
 
-    /// The eigenstrains, 6 per inclusion cell (Voigt, tensor shear).
+    /// The eigenstrains, 6 per inclusion cell (Voigt, tensor shear): of the current tractions on
+    /// the nested path, of the last [`InhomogeneousContact::sync_eigenstrain`] on the operator path.
     pub fn eigenstrain(&self) -> &[f64] {
         &self.eps_star
     }

@@ -10,8 +10,8 @@ pub mod solver;
 
 pub use force_control::shift_for_force;
 pub use inhomogeneous::{
-    ContactWork, InhomogeneousContact, NestedInfo, NestedParams, NestedSeconds, NestedWarmStart,
-    LOOSE_CONTACT_CEILING,
+    BodyResponse, ContactWork, InhomogeneousContact, NestedInfo, NestedParams, NestedSeconds,
+    NestedWarmStart, LOOSE_CONTACT_CEILING,
 };
 pub use problem::{ContactParams, ContactProblem, ContactState, IncrementInfo, INEXACT_CEILING};
 pub use solver::ContactSolver;

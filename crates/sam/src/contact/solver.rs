@@ -79,8 +79,13 @@ impl ContactSolver {
     }
 
     /// The stress field below the current state down to `depth` in the matrix `(e, nu)`: the
-    /// surface tractions and, with inhomogeneities, the eigenstrains ([`subsurface_stress`]).
-    pub fn subsurface(&self, e: f64, nu: f64, depth: f64) -> Result<StressField, SamError> {
+    /// surface tractions and, with inhomogeneities, the eigenstrains ([`subsurface_stress`]; on
+    /// the surface-operator path one EIM solve of the current tractions first,
+    /// [`InhomogeneousContact::sync_eigenstrain`]).
+    pub fn subsurface(&mut self, e: f64, nu: f64, depth: f64) -> Result<StressField, SamError> {
+        if let Self::Nested(n) = self {
+            n.sync_eigenstrain()?;
+        }
         let problem = self.problem();
         let st = problem.state();
         let q =

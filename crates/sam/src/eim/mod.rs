@@ -7,6 +7,7 @@
 pub mod geometry;
 pub mod operator;
 pub mod solve;
+pub mod surface_response;
 pub mod tractions;
 
 pub use geometry::{
@@ -15,4 +16,5 @@ pub use geometry::{
 };
 pub use operator::{Backend, EimFields, Space};
 pub use solve::{EimInfo, EimMethod, EimParams, EimSystem};
+pub use surface_response::SurfaceResponse;
 pub use tractions::{solve_under_tractions, TractionSolution};

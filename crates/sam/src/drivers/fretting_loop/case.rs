@@ -1,5 +1,6 @@
 //! The fretting-loop configuration and its load path.
 
+use crate::contact::{BodyResponse, NestedParams};
 use crate::eim::{
     composite_fibres, FibreLayout, Inhomogeneity, COMPOSITE_CELLS_PER_RADIUS,
     COMPOSITE_FIBRE_RADIUS,
@@ -59,6 +60,12 @@ pub struct LoopCase {
     /// Depth (m) of the box whose stress history over the closed cycle is recorded for the
     /// fatigue criteria ([`super::CycleStress`]; `None`: not recorded).
     pub fatigue_depth: Option<f64>,
+    /// How the inhomogeneous body's surface response enters the increments
+    /// (docs/theory-sam.md#surface-response-operator): `None` — the nested contact ↔ EIM loop of
+    /// [LN11] Fig. 2 in every increment (the reference path); `Some(r)` — the surface-response
+    /// operator, built once over the cells within `r · a` of the axis (`a` the Hertz radius),
+    /// applied instead of the EIM solves. Ignored without inhomogeneities.
+    pub surface_operator_over_a: Option<f64>,
 }
 
 impl Default for LoopCase {
@@ -79,6 +86,7 @@ impl Default for LoopCase {
             inhomogeneities: Vec::new(),
             subsurface_depth: None,
             fatigue_depth: None,
+            surface_operator_over_a: None,
         }
     }
 }
@@ -169,6 +177,20 @@ impl LoopCase {
             e_ratio,
         )?);
         Ok(self)
+    }
+
+    /// `base` with the body response of [`LoopCase::surface_operator_over_a`]
+    /// ([`BodyResponse`]): the nested loop, or the surface operator over the cells within `r · a`.
+    pub fn nested_params(&self, base: NestedParams) -> NestedParams {
+        NestedParams {
+            body: match self.surface_operator_over_a {
+                Some(r) => BodyResponse::SurfaceOperator {
+                    radius: r * self.hertz_radius(),
+                },
+                None => BodyResponse::Nested,
+            },
+            ..base
+        }
     }
 
     /// The same loop without inhomogeneities (the reference of [LN11] Figs. 5–10).
@@ -262,6 +284,9 @@ impl LoopCase {
         if let Some(d) = self.fatigue_depth {
             crate::error::positive("fatigue box depth", d)?;
         }
+        if let Some(r) = self.surface_operator_over_a {
+            crate::error::positive("surface_operator_radius_over_a", r)?;
+        }
         Ok(())
     }
 
@@ -297,12 +322,22 @@ impl LoopCase {
             }
             None => 0.0,
         };
+        // The surface-response operator: 3 × 3 values per grid cell and candidate cell
+        // (docs/theory-sam.md#surface-response-operator), the candidates those within r·a.
+        let operator = match self.surface_operator_over_a {
+            Some(r) if !self.inhomogeneities.is_empty() => {
+                let cells_per_a = self.grid as f64 / self.extent_over_a;
+                let candidates = std::f64::consts::PI * (r * cells_per_a).powi(2) + 1.0;
+                crate::eim::SurfaceResponse::bytes(cells as usize, candidates as usize, 3)
+            }
+            _ => 0.0,
+        };
         LoopEstimate {
             increments,
             cells,
             loops: 1.0,
             concurrent: 1.0,
-            bytes: frictional * cells + points + increments * ROW_BYTES + history,
+            bytes: frictional * cells + points + increments * ROW_BYTES + history + operator,
             work: increments * cells * weight,
         }
     }

@@ -121,6 +121,7 @@ impl FrettingLoop {
             ..ContactParams::default()
         };
         let problem = ContactProblem::new(grid, compliance, geometry, params)?;
+        let nested = case.nested_params(nested);
         let solver = ContactSolver::new(problem, case.e, case.nu, &case.inhomogeneities, nested)?;
         Ok(Self {
             path: case.path(),

@@ -212,6 +212,7 @@ impl FrettingWear3d {
             ..ContactParams::default()
         };
         let problem = ContactProblem::new(grid, compliance, unworn.clone(), params)?;
+        let nested = lc.nested_params(nested);
         let solver = ContactSolver::new(problem, lc.e, lc.nu, &lc.inhomogeneities, nested)?;
         let n = grid.len();
         let over_inhomogeneity = (0..n)

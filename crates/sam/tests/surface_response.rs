@@ -1,0 +1,234 @@
+//! The surface-response operator of an inhomogeneous body (docs/theory-sam.md#surface-response-operator):
+//! its columns against the EIM solve of the same tractions, its reciprocity, and the fretting
+//! loop on it against the nested contact ↔ EIM loop (the reference path), including the
+//! subsurface stresses at the points A–D and a resumed loop.
+
+use halfspace_sam::contact::{BodyResponse, ContactParams, ContactProblem};
+use halfspace_sam::contact::{InhomogeneousContact, NestedParams};
+use halfspace_sam::drivers::fretting_loop::{FrettingLoop, LoopCase};
+use halfspace_sam::eim::{solve_under_tractions, EimParams, FibreLayout, Inhomogeneity, Shape};
+use halfspace_sam::normal::NormalLoad;
+use halfspace_sam::{Body, Compliance, SamError, SurfaceGrid};
+
+const R: f64 = 105e-6;
+const E: f64 = 210e9;
+const NU: f64 = 0.3;
+
+fn hertz_radius(w: f64) -> f64 {
+    let e_star = E / (1.0 - NU * NU);
+    (3.0 * w * R / (4.0 * e_star)).cbrt()
+}
+
+fn sphere(a: f64, ratio: f64) -> Inhomogeneity {
+    Inhomogeneity {
+        shape: Shape::Sphere {
+            x: 0.1 * a,
+            y: -0.05 * a,
+            z: 0.45 * a,
+            r: 0.3 * a,
+        },
+        e: ratio * E,
+        nu: NU,
+    }
+}
+
+fn contact(grid: SurfaceGrid, inh: &[Inhomogeneity], body: BodyResponse) -> InhomogeneousContact {
+    let c = Compliance::pair(Body::Rigid, Body::elastic(E, NU).unwrap()).unwrap();
+    let geometry = (0..grid.len())
+        .map(|k| {
+            let (x, y) = grid.centre(k / grid.n2, k % grid.n2);
+            (x * x + y * y) / (2.0 * R)
+        })
+        .collect();
+    let problem = ContactProblem::new(grid, c, geometry, ContactParams::default()).unwrap();
+    let params = NestedParams {
+        body,
+        ..Default::default()
+    };
+    InhomogeneousContact::new(problem, E, NU, inh, params).unwrap()
+}
+
+/// A deterministic pseudo-random number in [−1, 1) (fixed seed, no dependency).
+fn lcg(state: &mut u64) -> f64 {
+    *state = state
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    ((*state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+}
+
+/// `T τ` of the built operator against the EIM solve of the same tractions (the matrix-free
+/// route of the nested loop), for random tractions on the candidate cells; and the reciprocity
+/// of the restricted operator.
+#[test]
+fn operator_columns_match_the_eim_solve_of_the_same_tractions() {
+    let a = hertz_radius(0.08);
+    let grid = SurfaceGrid::square(16, 4.0 * a).unwrap();
+    for ratio in [2.0, 0.5] {
+        let inh = [sphere(a, ratio)];
+        let solver = contact(
+            grid,
+            &inh,
+            BodyResponse::SurfaceOperator { radius: 1.2 * a },
+        );
+        let op = solver.surface_response().expect("operator path");
+        let m = op.cells().len();
+        assert!(m > 50 && m < 120, "{m} candidates");
+        let n = grid.len();
+        let mut seed = 20261126u64;
+        let mut t = [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+        for &k in op.cells() {
+            for f in &mut t {
+                f[k] = 1e9 * lcg(&mut seed);
+            }
+        }
+        let mut u = [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+        {
+            let [u1, u2, u3] = &mut u;
+            op.apply(&t[0], Some([&t[1], &t[2]]), [u1, u2, u3]).unwrap();
+        }
+        let direct = solve_under_tractions(
+            grid,
+            E,
+            NU,
+            &inh,
+            &t[0],
+            Some([&t[1], &t[2]]),
+            &EimParams::default(),
+        )
+        .unwrap();
+        let scale = u.iter().flatten().fold(0.0f64, |s, v| s.max(v.abs()));
+        let diff = u
+            .iter()
+            .flatten()
+            .zip(direct.eigen_displacements.iter().flatten())
+            .fold(0.0f64, |s, (x, y)| s.max((x - y).abs()));
+        let asym = op.asymmetry();
+        eprintln!(
+            "E_I/E = {ratio}: {m} candidates, build {} EIM applications; max|Tτ − EIM(τ)|/max|u| = {:.2e}; asymmetry {asym:.2e}",
+            op.build_iterations(),
+            diff / scale
+        );
+        // Both routes solve the same EIM to a relative residual of 1e-10.
+        assert!(diff <= 1e-8 * scale, "{} relative", diff / scale);
+        // Reciprocity (Betti) holds up to the collocation of the discretisation.
+        assert!(asym < 0.1, "asymmetry {asym}");
+    }
+}
+
+/// Tractions past the candidate region are refused with the typed error.
+#[test]
+fn contact_outside_the_candidate_region_is_refused() {
+    let a = hertz_radius(0.08);
+    let grid = SurfaceGrid::square(16, 4.0 * a).unwrap();
+    let inh = [sphere(a, 2.0)];
+    let mut solver = contact(
+        grid,
+        &inh,
+        BodyResponse::SurfaceOperator { radius: 0.5 * a },
+    );
+    let err = solver
+        .increment(NormalLoad::Force(0.08), [0.0; 2])
+        .unwrap_err();
+    assert!(
+        matches!(err, SamError::ContactOutsideSurfaceOperator { cells } if cells > 0),
+        "{err}"
+    );
+}
+
+/// The composite loop at 32² (2 cells per fibre radius), short path.
+fn composite(e_ratio: f64, operator: Option<f64>) -> LoopCase {
+    let mut case = LoopCase {
+        normal_steps: 4,
+        shift_step: 0.01e-6,
+        ..LoopCase::default()
+    }
+    .composite(FibreLayout::FibreCentred, e_ratio)
+    .unwrap();
+    case.grid = 32;
+    case.subsurface_depth = Some(0.5 * case.hertz_radius());
+    case.surface_operator_over_a = operator;
+    case
+}
+
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+}
+
+/// The loop on the operator against the nested loop, increment by increment: p, q₁, q₂ within
+/// 1e-6 p₀ at every increment; the von Mises fields at A–D (one EIM solve from the final
+/// tractions on the operator path) within 1e-6 of their largest value.
+#[test]
+fn the_loop_on_the_operator_reproduces_the_nested_loop() {
+    for ratio in [2.0, 0.5] {
+        let mut nested = FrettingLoop::new(composite(ratio, None)).unwrap();
+        let clock = std::time::Instant::now();
+        let mut fast = FrettingLoop::new(composite(ratio, Some(1.3))).unwrap();
+        let build = clock.elapsed().as_secs_f64();
+        let p0 = nested.case().hertz_pressure();
+        let mut worst: f64 = 0.0;
+        while nested.step().unwrap().is_some() {
+            fast.step().unwrap().unwrap();
+            let (s, f) = (
+                nested.solver().problem().state(),
+                fast.solver().problem().state(),
+            );
+            worst = worst
+                .max(max_diff(&s.pressure, &f.pressure))
+                .max(max_diff(&s.shear[0], &f.shear[0]))
+                .max(max_diff(&s.shear[1], &f.shear[1]));
+        }
+        assert!(fast.is_done());
+        let mut vm_worst: f64 = 0.0;
+        for (pn, pf) in nested.points().iter().zip(fast.points()) {
+            let (vn, vf) = (
+                pn.von_mises.as_ref().unwrap(),
+                pf.von_mises.as_ref().unwrap(),
+            );
+            let scale = vn.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            vm_worst = vm_worst.max(max_diff(vn, vf) / scale);
+        }
+        let outer = |lp: &FrettingLoop| lp.rows().iter().map(|r| r.outer_iterations).sum::<usize>();
+        eprintln!(
+            "E_I/E = {ratio}: max |Δp|, |Δq| over {} increments = {:.2e} p0; von Mises at A–D {:.2e}; outer passes {} (nested) / {} (operator); increments {:.2} s / {:.2} s, operator build {build:.1} s ({} columns, {} EIM applications)",
+            nested.rows().len(),
+            worst / p0,
+            vm_worst,
+            outer(&nested),
+            outer(&fast),
+            nested.seconds().increments,
+            fast.seconds().increments,
+            {
+                let op = fast.solver().nested().unwrap().surface_response().unwrap();
+                op.components() * op.cells().len()
+            },
+            fast.solver()
+                .nested()
+                .unwrap()
+                .surface_response()
+                .unwrap()
+                .build_iterations(),
+        );
+        assert!(worst <= 1e-6 * p0, "{} p0", worst / p0);
+        assert!(vm_worst <= 1e-6, "von Mises {vm_worst}");
+    }
+}
+
+/// A loop on the operator snapshotted midway and resumed (the operator rebuilt: it is
+/// deterministic) repeats the uninterrupted loop bit for bit.
+#[test]
+fn a_resumed_loop_on_the_operator_repeats_the_uninterrupted_one() {
+    let case = composite(2.0, Some(1.3));
+    let mut whole = FrettingLoop::new(case.clone()).unwrap();
+    let mut part = FrettingLoop::new(case.clone()).unwrap();
+    // Past the point A (an EIM sync) and into the shift.
+    for _ in 0..7 {
+        part.step().unwrap();
+    }
+    let mut resumed = FrettingLoop::resume(case, part.snapshot()).unwrap();
+    while whole.step().unwrap().is_some() {}
+    while resumed.step().unwrap().is_some() {}
+    assert_eq!(whole.snapshot(), resumed.snapshot());
+    assert_eq!(whole.rows(), resumed.rows());
+}
