@@ -736,3 +736,42 @@ mod tests {
         assert!(e.0.contains("[fatigue] belongs to fretting-loop"), "{e}");
     }
 }
+
+/// How the errors of a case name its keys: as the command line's flags (`--tau-end`) or as the
+/// keys of a file and Python's keyword arguments (`tau_end`). A configuration file's key is the
+/// flag's name with `_` for `-`, so one message serves both.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Names {
+    /// `--tau-end`.
+    Flags,
+    /// `tau_end`.
+    Keys,
+}
+
+impl Names {
+    /// The name of `key` (spelled with `_`).
+    pub fn of(self, key: &str) -> String {
+        match self {
+            Names::Flags => format!("--{}", key.replace('_', "-")),
+            Names::Keys => key.to_string(),
+        }
+    }
+
+    /// The name of `key` as an argument set to a value: `--force` or `force=`.
+    pub fn arg(self, key: &str) -> String {
+        match self {
+            Names::Flags => self.of(key),
+            Names::Keys => format!("{key}="),
+        }
+    }
+}
+
+/// A case's keys from a TOML text (a `--config` file); `what` names the source in errors.
+pub fn from_toml<T: serde::de::DeserializeOwned>(text: &str, what: &str) -> Result<T, SpecError> {
+    toml::from_str(text).map_err(|e| SpecError(toml_message(what, text, &e)))
+}
+
+/// A case's keys from a JSON text (the same keys as TOML; JSON holds no NaN or ±∞).
+pub fn from_json<T: serde::de::DeserializeOwned>(text: &str, what: &str) -> Result<T, SpecError> {
+    serde_json::from_str(text).map_err(|e| SpecError(format!("{what}: {e}")))
+}
