@@ -115,3 +115,82 @@ fn parameter_error(e: FrettingError, names: Names) -> SpecError {
         e => SpecError(e.to_string()),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::axisym::{AxisymConfig, ProfileEntry};
+    use crate::config::{from_json, from_toml};
+    use crate::contact3d::Contact3dConfig;
+
+    /// TOML and JSON read the same keys into the same case; flags override key by key; every
+    /// refusal names the key as the front end spells it.
+    #[test]
+    fn one_case_from_toml_json_and_flags() {
+        let toml: WearConfig = from_toml(
+            "chi = 0.4\nn = 301\ndtau = 0.01\nmaterial = \"graded:k=0.5,nu=0.3\"\n",
+            "t",
+        )
+        .unwrap();
+        let json: WearConfig = from_json(
+            r#"{"chi": 0.4, "n": 301, "dtau": 0.01, "material": "graded:k=0.5,nu=0.3"}"#,
+            "j",
+        )
+        .unwrap();
+        assert_eq!(toml, json);
+        let case = toml.case(Names::Keys).unwrap();
+        assert_eq!(
+            (case.params.chi, case.params.nodes, case.medium.k),
+            (0.4, 301, 0.5)
+        );
+        // The axisym material spec gives the same medium (E0, z0 set scales only).
+        let full = WearConfig {
+            material: Some("graded:E0=2e11,z0=1e-3,nu=0.3,k=0.5".into()),
+            ..toml.clone()
+        };
+        assert_eq!(full.case(Names::Keys).unwrap(), case);
+        let both = toml.clone().overlay(WearConfig {
+            tol: Some(1e-5),
+            ..WearConfig::default()
+        });
+        let e = both.case(Names::Flags).unwrap_err().0;
+        assert!(
+            e.contains("(--tol, adaptive steps)") && e.contains("(--dtau)"),
+            "{e}"
+        );
+        let e = both.case(Names::Keys).unwrap_err().0;
+        assert!(e.contains("(tol, adaptive steps)"), "{e}");
+        let e = from_toml::<WearConfig>("tau = 3.0\n", "t").unwrap_err().0;
+        assert!(e.contains("unknown field `tau`"), "{e}");
+
+        let a: AxisymConfig = from_toml(
+            "profile = { r = [0.0, 0.5, 1.0], f = [0.0, 0.25, 1.0] }\nmaterial = \"homogeneous:E=1e9,nu=0.3\"\nforce = 1.0\n",
+            "t",
+        )
+        .unwrap();
+        assert!(matches!(a.profile, Some(ProfileEntry::Table(_))));
+        assert_eq!(a.case(Names::Keys).unwrap().profile_spec, "table");
+        let e = a
+            .overlay(AxisymConfig {
+                depth: Some(1e-6),
+                ..AxisymConfig::default()
+            })
+            .case(Names::Keys)
+            .unwrap_err()
+            .0;
+        assert!(e.contains("exactly one of force= and depth="), "{e}");
+
+        let c: Contact3dConfig = from_toml(
+            "indenter = \"sphere:R=1e-4\"\nmaterial = \"homogeneous:E=2e11,nu=0.3\"\nforce = 0.08\n\
+             inhomogeneity = [\"sphere:x=0,y=0,z=2e-6,r=1e-6,E=4e11,nu=0.3\"]\n",
+            "t",
+        )
+        .unwrap();
+        let flags = Contact3dConfig {
+            inhomogeneity: c.inhomogeneity.clone(),
+            ..Contact3dConfig::default()
+        };
+        let case = c.overlay(flags).case(Names::Flags).unwrap();
+        assert_eq!((case.inhomogeneities.len(), case.grid), (2, 128));
+    }
+}
