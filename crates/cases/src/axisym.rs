@@ -52,24 +52,12 @@ pub struct ProfileTable {
 
 impl<'de> Deserialize<'de> for ProfileEntry {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct Entry;
-        impl<'de> serde::de::Visitor<'de> for Entry {
-            type Value = ProfileEntry;
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("a kind:key=value profile spec, or a table { r = [..], f = [..] }")
-            }
-            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Self::Value, E> {
-                Ok(ProfileEntry::Spec(v.to_string()))
-            }
-            fn visit_map<A: serde::de::MapAccess<'de>>(
-                self,
-                map: A,
-            ) -> Result<Self::Value, A::Error> {
-                ProfileTable::deserialize(serde::de::value::MapAccessDeserializer::new(map))
-                    .map(ProfileEntry::Table)
-            }
-        }
-        d.deserialize_any(Entry)
+        crate::config::spec_or_table(
+            d,
+            "a kind:key=value profile spec, or a table { r = [..], f = [..] }",
+            ProfileEntry::Spec,
+            ProfileEntry::Table,
+        )
     }
 }
 
