@@ -11,7 +11,9 @@ pub use halfspace_numerics as numerics;
 pub use halfspace_sam as sam;
 
 pub use halfspace_cases as cases;
-pub use halfspace_cases::{config, fretting_map, loop_fatigue, records, spec};
+pub use halfspace_cases::{
+    axisym, config, contact3d, fretting_map, fretting_wear, loop_fatigue, records, spec,
+};
 
 pub mod run_dir;
 pub mod wear3d_mdr;

@@ -521,3 +521,110 @@ fn graded_hertz_through_the_binary() {
         "Eq. 26",
     );
 }
+
+/// The JSON summary without the wall-clock keys.
+fn without_times(mut v: serde_json::Value) -> serde_json::Value {
+    if let Some(o) = v.as_object_mut() {
+        o.retain(|k, _| !k.contains("seconds"));
+    }
+    v
+}
+
+/// `--config FILE.toml` / `FILE.json` hold the flags' keys (docs/architecture.md, "The application
+/// layer"): the same run as the flags, bit for bit; a flag overrides its key; unknown keys,
+/// conflicting keys and wrong types are refused naming the key.
+#[test]
+fn config_files_are_the_flags_keys() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    // axisym: TOML and JSON equal the flags.
+    let flags = without_times(json(&run(&[&HERTZ[..], &["--json"]].concat())));
+    std::fs::write(
+        path("a.toml"),
+        "profile = \"sphere:R=105e-6\"\nmaterial = \"homogeneous:E=210e9,nu=0.3\"\nforce = 0.08\n",
+    )
+    .unwrap();
+    std::fs::write(
+        path("a.json"),
+        r#"{"profile": "sphere:R=105e-6", "material": "homogeneous:E=210e9,nu=0.3", "force": 0.08}"#,
+    )
+    .unwrap();
+    for file in ["a.toml", "a.json"] {
+        let got = json(&run(&["axisym", "--config", &path(file), "--json"]));
+        assert_eq!(without_times(got), flags, "{file}");
+    }
+    // A flag over the file's key.
+    let over = json(&run(&[
+        "axisym",
+        "--config",
+        &path("a.toml"),
+        "--n",
+        "801",
+        "--json",
+    ]));
+    assert_eq!(over["n"], 801);
+    assert_eq!(over["profile"], "sphere:R=105e-6");
+    std::fs::write(
+        path("t.toml"),
+        "profile = { r = [0.0, 1e-4, 2e-4], f = [0.0, 1e-8, 4e-8] }\n\
+         material = \"homogeneous:E=210e9,nu=0.3\"\ndepth = 1e-8\n",
+    )
+    .unwrap();
+    let table = json(&run(&["axisym", "--config", &path("t.toml"), "--json"]));
+    assert_eq!(table["profile"], "table");
+    // contact3d: a file with an inhomogeneity table equals the flags with its spec.
+    let c3 = [
+        "contact3d",
+        "--indenter",
+        "sphere:R=105e-6",
+        "--material",
+        "homogeneous:E=210e9,nu=0.3",
+        "--force",
+        "0.08",
+        "--grid",
+        "32",
+        "--json",
+    ];
+    let flags = without_times(json(&run(&[
+        &c3[..],
+        &[
+            "--friction",
+            "0.3",
+            "--shift-x",
+            "5e-9",
+            "--inhomogeneity",
+            "sphere:x=0,y=0,z=2.5e-6,r=1e-6,E=420e9,nu=0.3",
+        ],
+    ]
+    .concat())));
+    std::fs::write(
+        path("c.toml"),
+        "friction = 0.3\nshift_x = 5e-9\n\n[[inhomogeneity]]\nkind = \"sphere\"\n\
+         x = 0.0\ny = 0.0\nz = 2.5e-6\nr = 1e-6\nE = 420e9\nnu = 0.3\n",
+    )
+    .unwrap();
+    let got = json(&run(&[&c3[..], &["--config", &path("c.toml")]].concat()));
+    assert_eq!(without_times(got), flags);
+    // Refusals name the key.
+    std::fs::write(path("u.toml"), "profile = \"sphere:R=1e-4\"\nforse = 1.0\n").unwrap();
+    assert_bad(
+        &["axisym", "--config", &path("u.toml")],
+        "unknown field `forse`",
+    );
+    std::fs::write(path("w.toml"), "n = \"many\"\n").unwrap();
+    assert_bad(&["axisym", "--config", &path("w.toml")], "n = \"many\"");
+    assert_bad(
+        &["axisym", "--config", &path("a.toml"), "--depth", "1e-7"],
+        "exactly one of --force and --depth",
+    );
+    assert_bad(
+        &[
+            "contact3d",
+            "--config",
+            &path("c.toml"),
+            "--material",
+            "rigid",
+        ],
+        "give --indenter",
+    );
+}

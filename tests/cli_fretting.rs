@@ -278,7 +278,13 @@ fn bad_media_exit_2_with_the_reason() {
         ("graded:k=0.5,nu=0.7", "nu = 0.7 must be in (−1, 0.5]"),
         ("graded:k=0.5,nu=-1", "must be in (−1, 0.5]"),
         ("graded:k=0.5", "missing key 'nu'"),
-        ("graded:k=0.5,nu=0.3,E0=1", "unknown key 'E0'"),
+        ("graded:k=0.5,nu=0.3,E0=1", "E0 and z0 go together"),
+        (
+            "graded:k=0.5,nu=0.3,E0=1,z0=-1",
+            "z0 must be finite and > 0",
+        ),
+        ("homogeneous:Estar=1e9", "Estar is not used"),
+        ("graded:k=0.5,nu=0.3,E=1", "unknown key 'E'"),
         ("foam:k=0.5", "unknown medium 'foam'"),
     ] {
         bad(&["fretting-wear", "--material", m, "--out", o], needle);

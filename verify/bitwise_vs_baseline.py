@@ -33,6 +33,14 @@ shift_step = 0.01e-6
 subsurface_over_a = 0.0
 """
 
+WEAR_TOML = """chi = 0.4
+n = 301
+dtau = 0.01
+tau_end = 0.5
+snapshots = [0.1, 0.5]
+method = "mvm"
+"""
+
 MAP_TOML = """grid = 32
 normal_steps = 4
 amplitude = 0.02e-6
@@ -74,6 +82,13 @@ def cases(out):
                                      "--json"]),
         ("fretting-map", ["fretting-map", "--config", f"{out}/map.toml", "--out", f"{out}/map",
                           "--json"]),
+        ("fretting-wear", ["fretting-wear", "--chi", "0.5", "--n", "301", "--dtau", "0.005",
+                           "--tau-end", "1.0", "--out", f"{out}/wear", "--json"]),
+        ("fretting-wear-graded", ["fretting-wear", "--material", "graded:k=0.5,nu=0.3", "--n",
+                                  "301", "--tau-end", "0.3", "--out", f"{out}/wear-graded",
+                                  "--json"]),
+        ("fretting-wear-config", ["fretting-wear", "--config", f"{out}/wear.toml", "--out",
+                                  f"{out}/wear-config", "--json"]),
         ("axisym", ["axisym", "--profile", "sphere:R=1e-3", "--material", STEEL, "--force", "10",
                     "--json", "--out", f"{out}/axisym.h5"]),
         ("axisym-graded", ["axisym", "--profile", "sphere:R=1e-3", "--material",
@@ -165,6 +180,7 @@ def run(binary, root):
     (root / "loop.toml").write_text(LOOP_TOML)
     (root / "composite.toml").write_text(COMPOSITE_TOML)
     (root / "map.toml").write_text(MAP_TOML)
+    (root / "wear.toml").write_text(WEAR_TOML)
     results = {}
     for name, argv in cases(root):
         p = subprocess.run([binary, *argv], capture_output=True, text=True)

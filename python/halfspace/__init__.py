@@ -212,11 +212,14 @@ class Homogeneous(_Checked):
             )
 
     def spec(self) -> str:
+        """The keys given, as the ``kind:key=value`` spec the library reads (``axisym`` needs E
+        and nu or Estar; ``fretting_wear`` reads nu alone)."""
         if self.Estar is not None:
             return f"homogeneous:Estar={_num(self.Estar, 'Estar')}"
-        if self.E is None or self.nu is None:
-            raise HalfspaceError("Homogeneous needs E and nu, or Estar")
-        return f"homogeneous:E={_num(self.E, 'E')},nu={_num(self.nu, 'nu')}"
+        if self.E is None and self.nu is None:
+            return "homogeneous"
+        keys = [f"{k}={_num(v, k)}" for k, v in (("E", self.E), ("nu", self.nu)) if v is not None]
+        return "homogeneous:" + ",".join(keys)
 
 
 @dataclass(frozen=True)
@@ -520,14 +523,14 @@ def axisym(
     graded Eq. 23), the contact radius from the force or the depth, the pressure (Eq. 17; graded
     Eq. 29) and the surface displacement (Eqs. 12/13; graded 25/26) on ``n`` nodes, by FFT
     convolution (``method="fft"``) or the O(N²) products (``"mvm"``). As ``halfspace axisym``."""
-    force, depth = _opt_real(force, "force"), _opt_real(depth, "depth")
-    n, method = _count(n, "n"), _text(method, "method")
-    if isinstance(profile, Table):
-        values = _axisym("table", _spec(material, "material"), force=force, depth=depth, n=n,
-                         method=method, table=(profile.r.tolist(), profile.f.tolist()))
-    else:
-        values = _axisym(_spec(profile, "profile"), _spec(material, "material"), force=force,
-                         depth=depth, n=n, method=method)
+    # The keys of `halfspace axisym --config`: the library reads and checks them (one case, as
+    # the CLI); a profile object or a material goes as its spec, a Table as its arrays.
+    config = {"profile": ({"r": profile.r.tolist(), "f": profile.f.tolist()}
+                          if isinstance(profile, Table) else _spec(profile, "profile")),
+              "material": _spec(material, "material"),
+              "force": _opt_real(force, "force"), "depth": _opt_real(depth, "depth"),
+              "n": _count(n, "n"), "method": _text(method, "method")}
+    values = _axisym(config)
     return AxisymResult(values)
 
 
@@ -566,21 +569,22 @@ def contact3d(
         raise TypeError(
             f"inhomogeneities must be a list of Inhomogeneity or spec strings, got {inhomogeneities!r}"
         )
-    summary, arrays = _contact3d(
-        _spec(indenter, "indenter"),
-        _spec(material, "material"),
-        force=_opt_real(force, "force"),
-        depth=_opt_real(depth, "depth"),
-        indenter_material=_spec(indenter_material, "indenter_material"),
-        shift_x=_opt_real(shift_x, "shift_x"),
-        tangential_force=_opt_real(tangential_force, "tangential_force"),
-        friction=_real(friction, "friction"),
-        grid=_count(grid, "grid"),
-        extent=_opt_real(extent, "extent"),
-        tol=_real(tol, "tol"),
-        inhomogeneities=[_spec(i, f"inhomogeneities[{k}]") for k, i in enumerate(inhomogeneities)],
-        subsurface=_opt_real(subsurface, "subsurface"),
-    )
+    # The keys of `halfspace contact3d --config`, read and checked by the library (one case).
+    summary, arrays = _contact3d({
+        "indenter": _spec(indenter, "indenter"),
+        "material": _spec(material, "material"),
+        "force": _opt_real(force, "force"),
+        "depth": _opt_real(depth, "depth"),
+        "indenter_material": _spec(indenter_material, "indenter_material"),
+        "shift_x": _opt_real(shift_x, "shift_x"),
+        "tangential_force": _opt_real(tangential_force, "tangential_force"),
+        "friction": _real(friction, "friction"),
+        "grid": _count(grid, "grid"),
+        "extent": _opt_real(extent, "extent"),
+        "tol": _real(tol, "tol"),
+        "inhomogeneity": [_spec(i, f"inhomogeneities[{k}]") for k, i in enumerate(inhomogeneities)],
+        "subsurface": _opt_real(subsurface, "subsurface"),
+    })
     values = dict(summary)
     values.update(arrays)
     return Contact3dResult(values)
@@ -608,23 +612,17 @@ def fretting_wear(
     region; ``loaded_radius_history``: where p > 1e-3 max p), at ``tau_history``; ``steps`` counts
     the time steps; ``wear_volume`` and
     ``limit_wear_volume`` are V/(π a₀² d). As ``halfspace fretting-wear``."""
-    # A typed medium: only k and ν enter (E0, z0, E set the scales a0, F0, N0, not the run).
-    if isinstance(material, Graded):
-        material = f"graded:k={_num(material.k, 'k')},nu={_num(material.nu, 'nu')}"
-    elif isinstance(material, Homogeneous):
-        if material.Estar is not None:
-            raise HalfspaceError(
-                "fretting_wear: material Homogeneous(Estar=..) is not used by the normalized run; "
-                "give Homogeneous(nu=..) or None"
-            )
-        material = (f"homogeneous:nu={_num(material.nu, 'nu')}" if material.nu is not None
-                    else "homogeneous")
-    elif material is not None:
-        material = _text(material, "material")
-    return WearResult(_fretting_wear(chi=_real(chi, "chi"), n=_count(n, "n"), tol=_opt_real(tol, "tol"),
-                                 dtau=_opt_real(dtau, "dtau"), tau_end=_real(tau_end, "tau_end"),
-                                 method=_text(method, "method"), material=material,
-                                 length=_opt_real(length, "length")))
+    # The keys of `halfspace fretting-wear --config`, read and checked by the library (one case):
+    # a typed medium goes as its spec; only k and ν enter the run (E0, z0, E set the scales a0,
+    # F0, N0 and are not used; Estar, which gives no ν, is refused).
+    if material is not None and not isinstance(material, (str, Graded, Homogeneous)):
+        raise TypeError(f"material must be a spec string, Graded or Homogeneous, got {material!r}")
+    return WearResult(_fretting_wear({
+        "chi": _real(chi, "chi"), "n": _count(n, "n"), "tol": _opt_real(tol, "tol"),
+        "dtau": _opt_real(dtau, "dtau"), "tau_end": _real(tau_end, "tau_end"),
+        "method": _text(method, "method"),
+        "material": None if material is None else _spec(material, "material"),
+        "length": _opt_real(length, "length")}))
 
 
 def fretting_wear3d(config: dict[str, Any], grid: int | None = None) -> Wear3dResult:

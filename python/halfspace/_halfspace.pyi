@@ -22,43 +22,11 @@ class HalfspaceError(ValueError): ...
 
 MAP_FIELDS: list[str]
 
-def axisym(
-    profile: str,
-    material: str,
-    *,
-    force: float | None = None,
-    depth: float | None = None,
-    n: int = 2001,
-    method: str = "fft",
-    table: tuple[list[float], list[float]] | None = None,
-) -> dict[str, Any]: ...
-def fretting_wear(
-    *,
-    chi: float = 0.5,
-    n: int = 2001,
-    tol: float | None = None,
-    dtau: float | None = None,
-    tau_end: float = 30.0,
-    method: str = "fft",
-    material: str | None = None,
-    length: float | None = None,
-) -> dict[str, Any]: ...
+def axisym(config: dict[str, Any]) -> dict[str, Any]: ...
+def fretting_wear(config: dict[str, Any]) -> dict[str, Any]: ...
 def fretting_wear3d(config: dict[str, Any], grid: int | None = None) -> dict[str, Any]: ...
 def contact3d(
-    indenter: str,
-    material: str,
-    *,
-    force: float | None = None,
-    depth: float | None = None,
-    indenter_material: str = "rigid",
-    shift_x: float | None = None,
-    tangential_force: float | None = None,
-    friction: float = 0.0,
-    grid: int = 128,
-    extent: float | None = None,
-    tol: float = 1e-10,
-    inhomogeneities: list[str] = ...,
-    subsurface: float | None = None,
+    config: dict[str, Any],
 ) -> tuple[dict[str, Any], dict[str, NDArray[np.float64]]]: ...
 def fretting_map(
     config: dict[str, Any] | None,

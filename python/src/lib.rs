@@ -1,7 +1,8 @@
 //! `halfspace._halfspace`: the Rust side of the Python package, over the application layer
 //! (`halfspace-cases`, docs/architecture.md) and the libraries only — no CLI dependency. Thin:
-//! every function reads its inputs with the one spec parser (`spec`) or the configuration schema
-//! (`config`: a Python dict goes to serde as TOML data, [`toml_value`], never as text), calls the
+//! every function reads its inputs as a case of the application layer (`axisym`, `contact3d`,
+//! `fretting_wear`, `config`: a Python dict goes to serde as TOML data, [`toml_value`], never as
+//! text; `kind:key=value` values through the one parser, `spec`), validated there, calls the
 //! library's driver with the GIL released, and returns the application layer's summary (a dict)
 //! and NumPy arrays; the typed classes and result objects live in `halfspace/__init__.py`. Errors
 //! are `halfspace.HalfspaceError` (a `ValueError`) carrying the library's message, or `TypeError`
@@ -19,22 +20,19 @@ use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
 use halfspace_cases as halfspace;
 
-use halfspace::config::{from_table, is_type_error, LoopConfig, Wear3dConfig};
-use halfspace::fretting::{FrettingParams, FrettingSimulation, TimeStepping};
+use halfspace::axisym::AxisymConfig;
+use halfspace::config::{from_table, is_type_error, LoopConfig, Names, Wear3dConfig};
+use halfspace::contact3d::Contact3dConfig;
+use halfspace::fretting::FrettingSimulation;
 use halfspace::fretting_map::{run_map_until, MapError};
-use halfspace::mdr::{Backend, ContactParams, ContactSolver, Load, Profile};
+use halfspace::fretting_wear::{WearConfig, WearRunCase};
 use halfspace::records::{
-    axisym_summary, contact_record, contact_summary, loop_summary, wear3d_summary, wear_summary,
+    contact_record, contact_summary, loop_summary, wear3d_summary, wear_summary,
 };
 use halfspace::sam::drivers::fretting_loop::{FrettingLoop, LoopRow, POINT_LABELS};
 use halfspace::sam::drivers::fretting_map::{FrettingMap, MapPoint};
 use halfspace::sam::drivers::fretting_wear3d::{FrettingWear3d, WearRow};
-use halfspace::sam::drivers::one_contact::{solve_contact, ContactCase, TangentialLoad};
-use halfspace::sam::normal::NormalLoad;
-use halfspace::spec::{
-    parse_body, parse_indenter, parse_inhomogeneity, parse_material, parse_profile,
-    parse_wear_medium, WearMedium,
-};
+use halfspace::sam::drivers::one_contact::solve_contact;
 
 create_exception!(
     _halfspace,
@@ -125,60 +123,19 @@ fn json_py<'py>(py: Python<'py>, value: &serde_json::Value) -> PyResult<Bound<'p
     })
 }
 
-/// `axisym(profile, material, *, force=None, depth=None, n=2001, method="fft")`: axisymmetric
-/// normal contact by the MDR (Willert et al. 2021, Eqs. 7, 12/13, 17; graded media Eqs. 23–29),
-/// as `halfspace axisym`. Returns a dict: the CLI's JSON keys and the arrays `r`, `pressure`,
-/// `displacement` (m, Pa, m).
+/// `axisym(config)`: axisymmetric normal contact by the MDR (Willert et al. 2021, Eqs. 7, 12/13,
+/// 17; graded media Eqs. 23–29), as `halfspace axisym`: `config` a dict of its keys
+/// (`halfspace_cases::axisym::AxisymConfig`: `profile` a spec or `{r, f}` arrays, `material`,
+/// `force` or `depth`, `n`, `method`, `domain_ratio`). Returns a dict: the CLI's JSON keys and the
+/// arrays `r`, `pressure`, `displacement` (m, Pa, m).
 #[pyfunction]
-#[pyo3(signature = (profile, material, *, force=None, depth=None, n=2001, method="fft", table=None))]
-#[allow(clippy::too_many_arguments)]
-fn axisym<'py>(
-    py: Python<'py>,
-    profile: &str,
-    material: &str,
-    force: Option<f64>,
-    depth: Option<f64>,
-    n: usize,
-    method: &str,
-    table: Option<(Vec<f64>, Vec<f64>)>,
-) -> PyResult<Bound<'py, PyDict>> {
-    // A profile given as arrays `(r, f)` (the Python `Table`) is the `table:FILE.npy` profile
-    // without the file.
-    let profile_text = profile;
-    let profile = match &table {
-        Some((r, f)) => Profile::tabulated(r.clone(), f.clone())
-            .map_err(|e| err(format!("profile table: {e}")))?,
-        None => parse_profile(profile, "profile").map_err(err)?,
-    };
-    let (profile_spec, material_spec) = (profile_text, material);
-    let material = parse_material(material, "material").map_err(err)?;
-    let load = match (force, depth) {
-        (Some(f), None) => Load::Force(f),
-        (None, Some(d)) => Load::Depth(d),
-        _ => return Err(err("give exactly one of force= and depth=")),
-    };
-    let backend = match method {
-        "fft" => Backend::Fft,
-        "mvm" => Backend::Mvm,
-        other => return Err(err(format!("method '{other}': fft or mvm"))),
-    };
-    let params = ContactParams {
-        nodes: n,
-        backend,
-        ..ContactParams::default()
-    };
-    let sol = interruptible(py, |_| {
-        let mut solver = ContactSolver::new(material, params)?;
-        solver.solve(&profile, load)
-    })?
-    .map_err(err)?;
-    let profile_spec = if table.is_some() {
-        "table"
-    } else {
-        profile_spec
-    };
-    let summary = axisym_summary(&sol, &material, backend, n, profile_spec, material_spec);
-    let d = json_dict(py, &summary)?;
+fn axisym<'py>(py: Python<'py>, config: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+    let case = from_table::<AxisymConfig>(config_table(config, "axisym")?, "config")
+        .map_err(config_error)?
+        .case(Names::Keys)
+        .map_err(err)?;
+    let sol = interruptible(py, |_| case.solve())?.map_err(err)?;
+    let d = json_dict(py, &case.summary(&sol))?;
     d.set_item("r", PyArray1::from_vec(py, sol.radii()))?;
     d.set_item("pressure", PyArray1::from_vec(py, sol.pressure.clone()))?;
     d.set_item(
@@ -188,58 +145,19 @@ fn axisym<'py>(
     Ok(d)
 }
 
-/// `fretting_wear(*, chi=0.5, n=2001, tol=None, dtau=None, tau_end=30.0, method="fft")`: the MDR
-/// fretting-wear simulation of a parabolic indenter in partial slip (Willert et al. 2021,
-/// Section 4; docs/theory-mdr.md#fretting-wear), dimensionless, as `halfspace fretting-wear`. Returns a dict: the
-/// CLI's JSON keys and `r`, `profile` (final worn profile), `limiting_profile`, `tau_history`,
-/// `contact_radius_history` (a/a₀, the touching region, per step), `loaded_radius_history`.
-/// Adaptive steps at `tol` (default 1e-4) unless `dtau` fixes the step.
+/// `fretting_wear(config)`: the MDR fretting-wear simulation of a parabolic indenter in partial
+/// slip (Willert et al. 2021, Section 4; docs/theory-mdr.md#fretting-wear), dimensionless, as
+/// `halfspace fretting-wear`: `config` a dict of its keys
+/// (`halfspace_cases::fretting_wear::WearConfig`). Returns a dict: the CLI's JSON keys and `r`,
+/// `profile` (final worn profile), `limiting_profile`, `tau_history`, `contact_radius_history`
+/// (a/a₀, the touching region, per step), `loaded_radius_history`.
 #[pyfunction]
-#[pyo3(signature = (*, chi=0.5, n=2001, tol=None, dtau=None, tau_end=30.0, method="fft", material=None, length=None))]
-#[allow(clippy::too_many_arguments)]
-fn fretting_wear<'py>(
-    py: Python<'py>,
-    chi: f64,
-    n: usize,
-    tol: Option<f64>,
-    dtau: Option<f64>,
-    tau_end: f64,
-    method: &str,
-    material: Option<&str>,
-    length: Option<f64>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let backend = match method {
-        "fft" => Backend::Fft,
-        "mvm" => Backend::Mvm,
-        other => return Err(err(format!("method '{other}': fft or mvm"))),
-    };
-    let medium = match material {
-        Some(spec) => parse_wear_medium(spec, "material").map_err(err)?,
-        None => WearMedium { k: 0.0, nu: None },
-    };
-    let length = length.unwrap_or_else(|| FrettingParams::default_length(chi, medium.k));
-    let stepping = match (dtau, tol) {
-        (Some(_), Some(_)) => {
-            return Err(err(
-                "give tol (adaptive steps) or dtau (fixed step), not both".to_string(),
-            ))
-        }
-        (Some(dtau), None) => TimeStepping::Fixed { dtau },
-        (None, tol) => TimeStepping::Adaptive {
-            tolerance: tol.unwrap_or(TimeStepping::DEFAULT_TOLERANCE),
-        },
-    };
-    let mut params = FrettingParams {
-        chi,
-        k: medium.k,
-        nodes: n,
-        stepping,
-        tau_end,
-        backend,
-        length,
-        ..FrettingParams::default()
-    };
-    params.snapshots.retain(|t| *t <= tau_end + 1e-12);
+fn fretting_wear<'py>(py: Python<'py>, config: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+    let WearRunCase { params, medium } =
+        from_table::<WearConfig>(config_table(config, "fretting-wear")?, "config")
+            .map_err(config_error)?
+            .case(Names::Keys)
+            .map_err(err)?;
     // Ctrl-C: the run stops after the wear step it is in (KeyboardInterrupt).
     let sim = interruptible(py, |cancel| {
         let mut sim = FrettingSimulation::new(params)?;
@@ -270,64 +188,23 @@ fn fretting_wear<'py>(
     Ok(d)
 }
 
-/// `contact3d(indenter, material, ...)`: one 3D contact (`sam::drivers::one_contact::solve_contact`), as
-/// `halfspace contact3d`: returns `(summary, arrays)` — the CLI's JSON keys, and the arrays of
-/// `halfspace::records::contact_record` (what `contact3d --out` writes): the surface fields `x`,
-/// `y`, `pressure`, `shear_x/y`, `slip_x/y`, `stick` shaped (N₁, N₂), with `subsurface` the volume
-/// fields (`stress_xx` … `von_mises`, `tresca`, principal stresses, material, eigenstrains) shaped
-/// (layers, N₁, N₂), and with inhomogeneities the eigen-displacements `eigen_displacement_1..3`.
+/// `contact3d(config)`: one 3D contact (`sam::drivers::one_contact::solve_contact`), as
+/// `halfspace contact3d`: `config` a dict of its keys
+/// (`halfspace_cases::contact3d::Contact3dConfig`). Returns `(summary, arrays)` — the CLI's JSON
+/// keys, and the arrays of `halfspace::records::contact_record` (what `contact3d --out` writes):
+/// the surface fields `x`, `y`, `pressure`, `shear_x/y`, `slip_x/y`, `stick` shaped (N₁, N₂), with
+/// `subsurface` the volume fields (`stress_xx` … `von_mises`, `tresca`, principal stresses,
+/// material, eigenstrains) shaped (layers, N₁, N₂), and with inhomogeneities the
+/// eigen-displacements `eigen_displacement_1..3`.
 #[pyfunction]
-#[pyo3(signature = (indenter, material, *, force=None, depth=None, indenter_material="rigid",
-    shift_x=None, tangential_force=None, friction=0.0, grid=128, extent=None, tol=1e-10,
-    inhomogeneities=Vec::new(), subsurface=None))]
-#[allow(clippy::too_many_arguments)]
 fn contact3d<'py>(
     py: Python<'py>,
-    indenter: &str,
-    material: &str,
-    force: Option<f64>,
-    depth: Option<f64>,
-    indenter_material: &str,
-    shift_x: Option<f64>,
-    tangential_force: Option<f64>,
-    friction: f64,
-    grid: usize,
-    extent: Option<f64>,
-    tol: f64,
-    inhomogeneities: Vec<String>,
-    subsurface: Option<f64>,
+    config: &Bound<'py, PyAny>,
 ) -> PyResult<(Bound<'py, PyDict>, Bound<'py, PyDict>)> {
-    let load = match (force, depth) {
-        (Some(w), None) if w.is_finite() && w > 0.0 => NormalLoad::Force(w),
-        (None, Some(d)) if d.is_finite() && d > 0.0 => NormalLoad::Approach(d),
-        (Some(_), None) | (None, Some(_)) => {
-            return Err(err("force / depth must be finite and > 0"))
-        }
-        _ => return Err(err("give exactly one of force= and depth=")),
-    };
-    let tangential = match (shift_x, tangential_force) {
-        (Some(dx), None) => Some(TangentialLoad::Shift(dx)),
-        (None, Some(q)) => Some(TangentialLoad::Force(q)),
-        (None, None) => None,
-        _ => return Err(err("give at most one of shift_x= and tangential_force=")),
-    };
-    let case = ContactCase {
-        indenter: parse_indenter(indenter, "indenter").map_err(err)?,
-        indenter_body: parse_body(indenter_material, "indenter_material").map_err(err)?,
-        half_space: parse_body(material, "material").map_err(err)?,
-        load,
-        tangential,
-        friction,
-        grid,
-        extent,
-        tolerance: tol,
-        inhomogeneities: inhomogeneities
-            .iter()
-            .map(|s| parse_inhomogeneity(s, "inhomogeneity"))
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(err)?,
-        subsurface_depth: subsurface,
-    };
+    let case = from_table::<Contact3dConfig>(config_table(config, "contact3d")?, "config")
+        .map_err(config_error)?
+        .case(Names::Keys)
+        .map_err(err)?;
     let outcome = interruptible(py, |_| solve_contact(&case))?.map_err(err)?;
     let summary = contact_summary(&outcome, &case);
     let grid = *outcome.solver.problem().grid();

@@ -4,8 +4,10 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::{Args, ValueEnum};
+use halfspace::axisym::{AxisymCase, AxisymConfig, ProfileEntry};
+use halfspace::config::Names;
 use halfspace::data::{write_record, AttrValue, Record};
-use halfspace::mdr::{Backend, ContactParams, ContactSolution, ContactSolver, Load};
+use halfspace::mdr::ContactSolution;
 use serde_json::json;
 
 use super::{plot, CliError};
@@ -18,31 +20,44 @@ pub enum Method {
     Mvm,
 }
 
+impl Method {
+    /// The `method` key's value.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Fft => "fft",
+            Method::Mvm => "mvm",
+        }
+    }
+}
+
 #[derive(Debug, Args)]
-#[command(group(clap::ArgGroup::new("load").required(true).args(["depth", "force"])))]
 pub struct AxisymArgs {
+    /// TOML (or .json) file with any of the keys profile, material, depth, force, n, method,
+    /// domain_ratio; a flag given on the command line overrides its key (docs/architecture.md, "The application layer").
+    #[arg(long)]
+    config: Option<PathBuf>,
     /// Indenter: sphere:R=.. | cone:slope=.. | flat:a=.. | power:c=..,n=.. | table:FILE.npy
     #[arg(long)]
-    profile: String,
+    profile: Option<String>,
     /// Half-space: homogeneous:E=..,nu=.. | homogeneous:Estar=.. | graded:E0=..,z0=..,nu=..,k=..
     /// (E(z) = E0 (z/z0)^k, −1 < k < 1)
     #[arg(long)]
-    material: String,
+    material: Option<String>,
     /// Indentation depth δ in m.
     #[arg(long, allow_hyphen_values = true)]
     depth: Option<f64>,
     /// Normal force F in N.
     #[arg(long, allow_hyphen_values = true)]
     force: Option<f64>,
-    /// Grid nodes N (≥ 8).
-    #[arg(long, default_value_t = 2001, allow_hyphen_values = true)]
-    n: usize,
-    /// Backend of the transforms.
-    #[arg(long, value_enum, default_value_t = Method::Fft)]
-    method: Method,
-    /// Domain size over contact radius, L/a ≥ 1.
-    #[arg(long, default_value_t = 1.5, allow_hyphen_values = true)]
-    domain_ratio: f64,
+    /// Grid nodes N (≥ 8; default 2001).
+    #[arg(long, allow_hyphen_values = true)]
+    n: Option<usize>,
+    /// Backend of the transforms (default fft).
+    #[arg(long, value_enum)]
+    method: Option<Method>,
+    /// Domain size over contact radius, L/a ≥ 1 (default 1.5).
+    #[arg(long, allow_hyphen_values = true)]
+    domain_ratio: Option<f64>,
     /// Write r, pressure, displacement, x, g (and the inputs as metadata) to FILE.h5 or FILE.npz.
     #[arg(long)]
     out: Option<PathBuf>,
@@ -55,51 +70,33 @@ pub struct AxisymArgs {
 }
 
 pub fn run(args: AxisymArgs) -> Result<(), CliError> {
-    let profile = halfspace::spec::parse_profile(&args.profile, "--profile")?;
-    let material = halfspace::spec::parse_material(&args.material, "--material")?;
-    let load = match (args.depth, args.force) {
-        (Some(d), None) => Load::Depth(d),
-        (None, Some(f)) => Load::Force(f),
-        _ => {
-            return Err(CliError::Spec(
-                "give exactly one of --depth and --force".into(),
-            ))
-        }
+    let flags = AxisymConfig {
+        profile: args.profile.clone().map(ProfileEntry::Spec),
+        material: args.material.clone(),
+        depth: args.depth,
+        force: args.force,
+        n: args.n,
+        method: args.method.map(|m| m.name().to_string()),
+        domain_ratio: args.domain_ratio,
     };
-    let backend = match args.method {
-        Method::Fft => Backend::Fft,
-        Method::Mvm => Backend::Mvm,
-    };
+    let file: AxisymConfig = super::read_config(args.config.as_deref())?;
+    let case = file.overlay(flags).case(Names::Flags)?;
     if let Some(path) = &args.out {
         halfspace::data::Format::of(path)?;
     }
     if let Some(path) = &args.plot {
         plot::check_extension(path, "--plot", &["svg"])?;
     }
-    let params = ContactParams {
-        nodes: args.n,
-        backend,
-        domain_ratio: args.domain_ratio,
-        ..ContactParams::default()
-    };
     let start = Instant::now();
-    let mut solver = ContactSolver::new(material, params)?;
-    let sol = solver.solve(&profile, load)?;
+    let sol = case.solve()?;
     let seconds = start.elapsed().as_secs_f64();
-    let mut summary = halfspace::records::axisym_summary(
-        &sol,
-        &material,
-        backend,
-        args.n,
-        &args.profile,
-        &args.material,
-    );
+    let mut summary = case.summary(&sol);
     summary["seconds"] = json!(seconds);
     if let Some(path) = &args.out {
-        write_record(path, &record(&sol, &args, &summary))?;
+        write_record(path, &record(&sol, &case, &summary))?;
     }
     if let Some(path) = &args.plot {
-        plot::pressure_and_displacement(path, &sol, &args.profile)
+        plot::pressure_and_displacement(path, &sol, &case.profile_spec)
             .map_err(|e| CliError::Plot(format!("{}: {e}", path.display())))?;
     }
     if args.json {
@@ -112,15 +109,15 @@ pub fn run(args: AxisymArgs) -> Result<(), CliError> {
         println!("mean pressure     = {:.6e} Pa", sol.mean_pressure());
         println!(
             "N = {}, method = {}, {:.3} ms",
-            args.n,
-            backend.name(),
+            case.params.nodes,
+            case.params.backend.name(),
             1e3 * seconds
         );
     }
     Ok(())
 }
 
-fn record(sol: &ContactSolution, args: &AxisymArgs, summary: &serde_json::Value) -> Record {
+fn record(sol: &ContactSolution, case: &AxisymCase, summary: &serde_json::Value) -> Record {
     let r = sol.radii();
     let mut rec = Record::default()
         .array("r", r.clone())
@@ -147,5 +144,5 @@ fn record(sol: &ContactSolution, args: &AxisymArgs, summary: &serde_json::Value)
         "generator",
         AttrValue::Text(format!("halfspace {} axisym", env!("CARGO_PKG_VERSION"))),
     )
-    .attr("domain_ratio", AttrValue::Float(args.domain_ratio))
+    .attr("domain_ratio", AttrValue::Float(case.params.domain_ratio))
 }

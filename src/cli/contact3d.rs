@@ -5,34 +5,36 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
+use halfspace::config::{InhomogeneityEntry, Names};
+use halfspace::contact3d::Contact3dConfig;
 use halfspace::data::write_record;
 use halfspace::records::{contact_record, contact_summary, VOLUME_FIELDS};
 use halfspace::sam::contact::ContactSolver;
-use halfspace::sam::drivers::one_contact::{
-    solve_contact, ContactCase, ContactOutcome, TangentialLoad,
-};
+use halfspace::sam::drivers::one_contact::{solve_contact, ContactOutcome};
 use halfspace::sam::indenter::Indenter;
-use halfspace::sam::normal::NormalLoad;
 use halfspace::sam::subsurface::StressField;
-use halfspace::sam::Body;
 use halfspace::sam::SamError;
-use halfspace::spec::{parse_body, parse_indenter, parse_inhomogeneity};
 use serde_json::json;
 
 use super::{plot, CliError};
 
 #[derive(Debug, Args)]
-#[command(group(clap::ArgGroup::new("load").required(true).args(["force", "depth"])))]
 pub struct Contact3dArgs {
+    /// TOML (or .json) file with any of the keys indenter, material, indenter_material, force,
+    /// depth, shift_x, tangential_force, friction, inhomogeneity (a list), subsurface, grid,
+    /// extent, tol; a flag given on the command line overrides its key, --inhomogeneity adds to
+    /// the list (docs/architecture.md, "The application layer").
+    #[arg(long)]
+    config: Option<PathBuf>,
     /// sphere:R=.. | ellipsoid:Rx=..,Ry=.. | cone:slope=.. | flat:a=.. | table:FILE.npy (heights on the grid)
     #[arg(long)]
-    indenter: String,
+    indenter: Option<String>,
     /// Half-space: homogeneous:E=..,nu=..
     #[arg(long)]
-    material: String,
+    material: Option<String>,
     /// Indenter: rigid (default) or homogeneous:E=..,nu=..
-    #[arg(long, default_value = "rigid")]
-    indenter_material: String,
+    #[arg(long)]
+    indenter_material: Option<String>,
     /// Normal force W in N.
     #[arg(long, allow_hyphen_values = true)]
     force: Option<f64>,
@@ -57,15 +59,15 @@ pub struct Contact3dArgs {
     /// Compute the stress field below the surface down to DEPTH (m).
     #[arg(long, allow_hyphen_values = true)]
     subsurface: Option<f64>,
-    /// Cells per side.
-    #[arg(long, default_value_t = 128, allow_hyphen_values = true)]
-    grid: usize,
+    /// Cells per side (default 128).
+    #[arg(long, allow_hyphen_values = true)]
+    grid: Option<usize>,
     /// Side of the square domain in m (default: 4 estimated contact radii).
     #[arg(long, allow_hyphen_values = true)]
     extent: Option<f64>,
-    /// Relative tolerance of the normal and tangential solvers.
-    #[arg(long, default_value_t = 1e-10, allow_hyphen_values = true)]
-    tol: f64,
+    /// Relative tolerance of the normal and tangential solvers (default 1e-10).
+    #[arg(long, allow_hyphen_values = true)]
+    tol: Option<f64>,
     /// Print one JSON object on stdout.
     #[arg(long)]
     json: bool,
@@ -80,102 +82,38 @@ pub struct Contact3dArgs {
 
 pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
     let start = Instant::now();
-    if args.indenter.trim_start().starts_with("table:") && args.extent.is_none() {
-        return Err(CliError::Spec(
-            "--indenter table: give --extent (the side of the grid in m)".into(),
-        ));
-    }
+    let flags = Contact3dConfig {
+        indenter: args.indenter.clone(),
+        material: args.material.clone(),
+        indenter_material: args.indenter_material.clone(),
+        force: args.force,
+        depth: args.depth,
+        shift_x: args.shift_x,
+        tangential_force: args.tangential_force,
+        friction: args.friction,
+        inhomogeneity: args
+            .inhomogeneities
+            .iter()
+            .map(|s| InhomogeneityEntry::Spec(s.clone()))
+            .collect(),
+        subsurface: args.subsurface,
+        grid: args.grid,
+        extent: args.extent,
+        tol: args.tol,
+    };
+    let file: Contact3dConfig = super::read_config(args.config.as_deref())?;
+    let config = file.overlay(flags);
     if let Some(path) = &args.plot {
         plot::check_extension(path, "--plot", &["svg", "png"])?;
     }
-    let indenter = parse_indenter(&args.indenter, "--indenter")?;
-    let half = parse_body(&args.material, "--material")?;
-    let tool = parse_body(&args.indenter_material, "--indenter-material")?;
-    if matches!(half, Body::Rigid) {
-        return Err(CliError::Spec(
-            "--material: the half-space must be elastic".into(),
-        ));
-    }
-    let load = match (args.force, args.depth) {
-        (Some(w), None) => NormalLoad::Force(w),
-        (None, Some(d)) => NormalLoad::Approach(d),
-        _ => {
-            return Err(CliError::Spec(
-                "give exactly one of --force and --depth".into(),
-            ))
-        }
-    };
-    for (name, v) in [("--force", args.force), ("--depth", args.depth)] {
-        if let Some(v) = v {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(CliError::Spec(format!(
-                    "{name} must be finite and > 0, got {v}"
-                )));
-            }
-        }
-    }
-    let tangential_load = args.shift_x.is_some() || args.tangential_force.is_some();
-    let friction =
-        match args.friction {
-            Some(mu) if !(mu.is_finite() && mu >= 0.0) => {
-                return Err(CliError::Spec(format!(
-                    "--friction must be finite and ≥ 0, got {mu}"
-                )))
-            }
-            Some(mu) => mu,
-            None if tangential_load => return Err(CliError::Spec(
-                "--shift-x / --tangential-force need a friction coefficient: give --friction MU"
-                    .into(),
-            )),
-            None => 0.0,
-        };
-    if tangential_load && friction == 0.0 {
-        return Err(CliError::Spec(
-            "--shift-x / --tangential-force with --friction 0: a frictionless contact carries no tangential load".into(),
-        ));
-    }
-    if let Some(d) = args.subsurface {
-        if !(d.is_finite() && d > 0.0) {
-            return Err(CliError::Spec(format!(
-                "--subsurface must be a depth > 0 in m, got {d}"
-            )));
-        }
-    }
-    let inhomogeneities = args
-        .inhomogeneities
-        .iter()
-        .map(|s| parse_inhomogeneity(s, "--inhomogeneity"))
-        .collect::<Result<Vec<_>, _>>()?;
-    if !(args.tol.is_finite() && args.tol > 0.0 && args.tol < 1e-2) {
-        return Err(CliError::Spec(format!(
-            "--tol must be in (0, 1e-2), got {}",
-            args.tol
-        )));
-    }
+    let case = config.case(Names::Flags)?;
     if let Some(path) = &args.out {
         halfspace::data::Format::of(path)?;
     }
-    let case = ContactCase {
-        indenter: indenter.clone(),
-        indenter_body: tool,
-        half_space: half,
-        load,
-        tangential: match (args.shift_x, args.tangential_force) {
-            (Some(dx), _) => Some(TangentialLoad::Shift(dx)),
-            (None, Some(q)) => Some(TangentialLoad::Force(q)),
-            (None, None) => None,
-        },
-        friction,
-        grid: args.grid,
-        extent: args.extent,
-        tolerance: args.tol,
-        inhomogeneities,
-        subsurface_depth: args.subsurface,
-    };
     let outcome = solve_contact(&case).map_err(|e| match e {
         SamError::InvalidInput(m) if m.contains("height table") => CliError::Spec(format!(
             "--indenter '{}': {m} (--grid, --extent)",
-            args.indenter
+            config.indenter.as_deref().unwrap_or_default()
         )),
         other => other.into(),
     })?;
@@ -191,7 +129,7 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
     let state = solver.problem().state();
     let seconds = start.elapsed().as_secs_f64();
     if let Some(path) = &args.plot {
-        let hertz = match indenter {
+        let hertz = match case.indenter {
             Indenter::Ellipsoid { rx, ry } if rx == ry => Some((rx, state.force, *e_star)),
             _ => None,
         };

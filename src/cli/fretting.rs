@@ -2,17 +2,17 @@
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use clap::Args;
+use halfspace::config::Names;
 use halfspace::data::{read_record, write_record, AttrValue, Record};
 use halfspace::fretting::{
     FrettingParams, FrettingSimulation, FrettingState, Snapshot, TimeStepping,
 };
-use halfspace::mdr::Backend;
+use halfspace::fretting_wear::{WearConfig, WearRunCase};
 use halfspace::records::wear_summary;
-use halfspace::spec::{parse_wear_medium, WearMedium};
-use serde::Deserialize;
+use halfspace::spec::WearMedium;
 use serde_json::json;
 
 use halfspace::run_dir::{RunDir, RunKind, Start};
@@ -29,7 +29,8 @@ const WEAR_RUN: RunKind = RunKind {
 
 #[derive(Debug, Args)]
 pub struct FrettingArgs {
-    /// TOML file with any of: chi, n, tol, dtau, tau_end, length, snapshots, method, material.
+    /// TOML (or .json) file with any of: chi, n, tol, dtau, tau_end, length, snapshots, method,
+    /// material; a flag given on the command line overrides its key (docs/architecture.md, "The application layer").
     #[arg(long)]
     config: Option<PathBuf>,
     /// Output directory (results.h5, results.npz, worn_profiles.png/.svg, checkpoint.npz).
@@ -79,89 +80,23 @@ pub struct FrettingArgs {
 }
 
 /// The config file: every key optional, unknown keys refused by name.
-#[derive(Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct Config {
-    chi: Option<f64>,
-    n: Option<usize>,
-    tol: Option<f64>,
-    dtau: Option<f64>,
-    tau_end: Option<f64>,
-    length: Option<f64>,
-    snapshots: Option<Vec<f64>>,
-    method: Option<String>,
-    material: Option<String>,
-}
-
+/// The run's parameters: the `--config` file's keys ([`WearConfig`]) with the flags over them key
+/// by key, validated once by the case.
 fn params_of(args: &FrettingArgs) -> Result<(FrettingParams, WearMedium), CliError> {
-    let config: Config = super::read_config(args.config.as_deref())?;
-    let medium = match (&args.material, &config.material) {
-        (Some(spec), _) => parse_wear_medium(spec, "--material")?,
-        (None, Some(spec)) => parse_wear_medium(spec, "config material")?,
-        (None, None) => WearMedium { k: 0.0, nu: None },
+    let file: WearConfig = super::read_config(args.config.as_deref())?;
+    let flags = WearConfig {
+        chi: args.chi,
+        n: args.n,
+        tol: args.tol,
+        dtau: args.dtau,
+        tau_end: args.tau_end,
+        length: args.length,
+        snapshots: None,
+        method: args.method.map(|m| m.name().to_string()),
+        material: args.material.clone(),
     };
-    let mut p = FrettingParams::default();
-    let backend = |name: &str| match name {
-        "fft" => Ok(Backend::Fft),
-        "mvm" => Ok(Backend::Mvm),
-        other => Err(CliError::Spec(format!(
-            "config method = '{other}': use \"fft\" or \"mvm\""
-        ))),
-    };
-    if let Some(m) = &config.method {
-        p.backend = backend(m)?;
-    }
-    if let Some(m) = args.method {
-        p.backend = match m {
-            Method::Fft => Backend::Fft,
-            Method::Mvm => Backend::Mvm,
-        };
-    }
-    p.chi = args.chi.or(config.chi).unwrap_or(p.chi);
-    p.nodes = args.n.or(config.n).unwrap_or(p.nodes);
-    p.tau_end = args.tau_end.or(config.tau_end).unwrap_or(p.tau_end);
-    p.k = medium.k;
-    p.length = args
-        .length
-        .or(config.length)
-        .unwrap_or_else(|| FrettingParams::default_length(p.chi, p.k));
-    let tol = args.tol.or(config.tol);
-    p.stepping = match (args.dtau.or(config.dtau), tol) {
-        (Some(_), Some(_)) => {
-            return Err(CliError::Spec(
-                "give a tolerance (--tol, adaptive steps) or a fixed step (--dtau), not both"
-                    .into(),
-            ))
-        }
-        (Some(dtau), None) => TimeStepping::Fixed { dtau },
-        (None, tol) => TimeStepping::Adaptive {
-            tolerance: tol.unwrap_or(TimeStepping::DEFAULT_TOLERANCE),
-        },
-    };
-    if let Some(s) = config.snapshots {
-        p.snapshots = s;
-    }
-    p.snapshots.retain(|t| *t <= p.tau_end + 1e-12);
-    p.validate().map_err(parameter_error)?;
-    Ok((p, medium))
-}
-
-/// A parameter error naming the flag it came from (`--tol`, `--tau-end`, …; a config file's key
-/// is the flag's name with `_`); the others (`snapshots`, `k`, …) as the library names them.
-fn parameter_error(e: halfspace::fretting::FrettingError) -> CliError {
-    match e {
-        halfspace::fretting::FrettingError::InvalidParameter {
-            name,
-            value,
-            allowed,
-        } if ["chi", "n", "tol", "dtau", "tau_end", "length"].contains(&name) => {
-            CliError::Spec(format!(
-                "--{} must be {allowed}, got {value}",
-                name.replace('_', "-")
-            ))
-        }
-        e => fretting_error(e),
-    }
+    let WearRunCase { params, medium } = file.overlay(flags).case(Names::Flags)?;
+    Ok((params, medium))
 }
 
 fn fretting_error(e: halfspace::fretting::FrettingError) -> CliError {
@@ -300,12 +235,7 @@ fn state_from_checkpoint(path: &Path, params: &FrettingParams) -> Result<Frettin
 
 pub fn run(args: FrettingArgs) -> Result<(), CliError> {
     let (params, medium) = params_of(&args)?;
-    if !(args.checkpoint_seconds.is_finite() && args.checkpoint_seconds > 0.0) {
-        return Err(CliError::Spec(format!(
-            "--checkpoint-seconds must be finite and > 0, got {}",
-            args.checkpoint_seconds
-        )));
-    }
+    let every = super::Checkpoints::interval(args.checkpoint_seconds)?;
     let start_mode = Start::of_flags(args.resume, args.force)?;
     let mut manifest = serde_json::Map::new();
     for (name, value) in params_attrs(&params) {
@@ -347,10 +277,7 @@ pub fn run(args: FrettingArgs) -> Result<(), CliError> {
     } else {
         None
     };
-    let every = Duration::from_secs_f64(args.checkpoint_seconds);
-    let mut last_checkpoint = Instant::now();
-    let mut checkpoint_error = None;
-    let mut stopped = false;
+    let mut checkpoints = super::Checkpoints::new(&checkpoint, every);
     let result = sim.run(|s| {
         let step = s.state().step;
         if let Some(bar) = &bar {
@@ -360,28 +287,18 @@ pub fn run(args: FrettingArgs) -> Result<(), CliError> {
             }
         }
         let stop = args.stop_after.is_some_and(|k| step >= k);
-        if stop || last_checkpoint.elapsed() >= every {
-            if let Err(e) = write_record(&checkpoint, &checkpoint_record(s)) {
-                checkpoint_error = Some(e);
-                return true;
-            }
-            last_checkpoint = Instant::now();
-        }
-        stopped = stop;
-        stop
+        checkpoints.after_step(stop, || checkpoint_record(s))
     });
     if let Some(bar) = &bar {
         bar.finish_and_clear();
     }
-    if let Some(e) = checkpoint_error {
-        return Err(e.into());
-    }
+    checkpoints.check()?;
     if let Err(e) = result {
         // Keep what was done: the checkpoint holds the last good state.
         let _ = write_record(&checkpoint, &checkpoint_record(&sim));
         return Err(fretting_error(e));
     }
-    if stopped {
+    if checkpoints.stopped {
         return Ok(());
     }
     write_record(&checkpoint, &checkpoint_record(&sim))?;

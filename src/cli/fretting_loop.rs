@@ -3,7 +3,7 @@
 use std::io::IsTerminal;
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use clap::Args;
 use halfspace::config::LoopConfig;
@@ -69,6 +69,7 @@ pub struct FrettingLoopArgs {
 pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
     let start = Instant::now();
     let cfg: LoopConfig = super::read_config(args.config.as_deref())?;
+    let every = super::Checkpoints::interval(args.checkpoint_seconds)?;
     if !matches!(args.case.as_str(), "homogeneous" | "composite") {
         return Err(CliError::Spec(format!(
             "--case '{}': homogeneous or composite",
@@ -76,12 +77,6 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
         )));
     }
     let case = cfg.case(&args.case, args.grid)?;
-    if !(args.checkpoint_seconds.is_finite() && args.checkpoint_seconds > 0.0) {
-        return Err(CliError::Spec(format!(
-            "--checkpoint-seconds must be finite and > 0, got {}",
-            args.checkpoint_seconds
-        )));
-    }
     // Refused before the directory is touched: runaway work (the loop checks it again).
     case.estimate().check("the fretting loop")?;
     let start_mode = Start::of_flags(args.resume, args.force)?;
@@ -113,42 +108,25 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
         bar.set_position(lp.rows().len() as u64);
         bar
     });
-    let every = Duration::from_secs_f64(args.checkpoint_seconds);
-    let mut last_checkpoint = Instant::now();
-    let mut write_error = None;
-    let mut stopped = false;
+    let mut checkpoints = super::Checkpoints::new(&checkpoint, every);
     let outcome = lp.run(|l| {
         if let Some(bar) = &bar {
             bar.inc(1);
         }
         let done = l.rows().len();
         let stop = args.stop_after.is_some_and(|m| done >= m) && done < total;
-        if stop || last_checkpoint.elapsed() >= every {
-            if let Err(e) = write_record(&checkpoint, &snapshot_record(&l.snapshot(), (n, n))) {
-                write_error = Some(e);
-                return ControlFlow::Break(());
-            }
-            last_checkpoint = Instant::now();
-        }
-        stopped = stop;
-        if stop {
-            ControlFlow::Break(())
-        } else {
-            ControlFlow::Continue(())
-        }
+        super::flow(checkpoints.after_step(stop, || snapshot_record(&l.snapshot(), (n, n))))
     });
     if let Some(bar) = &bar {
         bar.finish_and_clear();
     }
-    if let Some(e) = write_error {
-        return Err(e.into());
-    }
+    checkpoints.check()?;
     if let Err(e) = outcome {
         // Keep what was done: the checkpoint holds the increments before the failing one.
         let _ = write_record(&checkpoint, &snapshot_record(&lp.snapshot(), (n, n)));
         return Err(e.into());
     }
-    if stopped {
+    if checkpoints.stopped {
         return Ok(());
     }
     let metrics = lp.metrics()?;

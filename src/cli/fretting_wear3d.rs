@@ -3,9 +3,8 @@
 //! docs/wear3d.md#the-command) → run (`sam::drivers::fretting_wear3d`, checkpointed) → write
 //! (`halfspace::records::wear3d_*`: the summary, results.h5 and checkpoint.npz).
 
-use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use clap::Args;
 use halfspace::config::Wear3dConfig;
@@ -69,12 +68,7 @@ fn read_case(path: &Path, grid: Option<usize>) -> Result<WearCase, CliError> {
 pub fn run(args: FrettingWear3dArgs) -> Result<(), CliError> {
     let start = Instant::now();
     let case = read_case(&args.config, args.grid)?;
-    if !(args.checkpoint_seconds.is_finite() && args.checkpoint_seconds > 0.0) {
-        return Err(CliError::Spec(format!(
-            "--checkpoint-seconds must be finite and > 0, got {}",
-            args.checkpoint_seconds
-        )));
-    }
+    let every = super::Checkpoints::interval(args.checkpoint_seconds)?;
     let manifest = json!({ "case": format!("{case:?}") });
     let run_dir = RunDir::claim(
         &args.out,
@@ -96,38 +90,21 @@ pub fn run(args: FrettingWear3dArgs) -> Result<(), CliError> {
     } else {
         FrettingWear3d::new(case)?
     };
-    let every = Duration::from_secs_f64(args.checkpoint_seconds);
-    let mut last = Instant::now();
-    let mut write_error = None;
-    let mut stopped = false;
+    let mut checkpoints = super::Checkpoints::new(&checkpoint, every);
     let mut steps = 0usize;
     let outcome = run.run(|r| {
         steps += 1;
         let stop = args.stop_after.is_some_and(|m| steps >= m) && !r.is_done();
-        if stop || last.elapsed() >= every {
-            if let Err(e) = write_record(&checkpoint, &wear3d_snapshot_record(&r.snapshot())) {
-                write_error = Some(e);
-                return ControlFlow::Break(());
-            }
-            last = Instant::now();
-        }
-        stopped = stop;
-        if stop {
-            ControlFlow::Break(())
-        } else {
-            ControlFlow::Continue(())
-        }
+        super::flow(checkpoints.after_step(stop, || wear3d_snapshot_record(&r.snapshot())))
     });
-    if let Some(e) = write_error {
-        return Err(e.into());
-    }
+    checkpoints.check()?;
     if let Err(e) = outcome {
         // What was done stays: the results so far, and the checkpoint of the last whole step
         // (the failing step's cycle is not in it).
         write_record(&args.out.join("results.h5"), &wear3d_results_record(&run))?;
         return Err(e.into());
     }
-    if stopped {
+    if checkpoints.stopped {
         return Ok(());
     }
     write_record(&args.out.join("results.h5"), &wear3d_results_record(&run))?;

@@ -73,7 +73,8 @@ impl From<halfspace::spec::SpecError> for CliError {
 /// The largest configuration file read (bytes): a TOML config is a few hundred bytes.
 pub const CONFIG_LIMIT: u64 = 16 << 20;
 
-/// A TOML config (unknown keys refused by the type), or the defaults without one.
+/// A configuration file (unknown keys refused by the type): TOML, or JSON when the file ends in
+/// `.json` (the same keys); the defaults without one.
 pub fn read_config<T: serde::de::DeserializeOwned + Default>(
     path: Option<&std::path::Path>,
 ) -> Result<T, CliError> {
@@ -82,13 +83,86 @@ pub fn read_config<T: serde::de::DeserializeOwned + Default>(
     };
     let text = halfspace::data::read_text_bounded(path, CONFIG_LIMIT)
         .map_err(|e| CliError::Spec(format!("--config {e}")))?;
-    toml::from_str(&text).map_err(|e| {
-        CliError::Spec(halfspace::config::toml_message(
-            &format!("--config {}", path.display()),
-            &text,
-            &e,
-        ))
+    let what = format!("--config {}", path.display());
+    let json = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    Ok(if json {
+        halfspace::config::from_json(&text, &what)?
+    } else {
+        halfspace::config::from_toml(&text, &what)?
     })
+}
+
+/// The periodic checkpoints of a long run (fretting-wear, fretting-loop, fretting-wear3d): a
+/// checkpoint every `--checkpoint-seconds` of work and when the testing hook `--stop-after`
+/// stops the run (as if killed); the run stops at the first write that fails.
+pub struct Checkpoints<'a> {
+    path: &'a std::path::Path,
+    every: std::time::Duration,
+    last: std::time::Instant,
+    /// The write that failed, if one did (the run stopped there).
+    pub error: Option<halfspace::data::DataError>,
+    /// Whether `--stop-after` stopped the run.
+    pub stopped: bool,
+}
+
+impl<'a> Checkpoints<'a> {
+    /// `--checkpoint-seconds` checked (finite, > 0), before the run claims its directory.
+    pub fn interval(seconds: f64) -> Result<std::time::Duration, CliError> {
+        if !(seconds.is_finite() && seconds > 0.0) {
+            return Err(CliError::Spec(format!(
+                "--checkpoint-seconds must be finite and > 0, got {seconds}"
+            )));
+        }
+        Ok(std::time::Duration::from_secs_f64(seconds))
+    }
+
+    /// Checkpoints written to `path` every `every` of work ([`Self::interval`]).
+    pub fn new(path: &'a std::path::Path, every: std::time::Duration) -> Self {
+        Self {
+            path,
+            every,
+            last: std::time::Instant::now(),
+            error: None,
+            stopped: false,
+        }
+    }
+
+    /// After a step of the run: writes `record()` when a checkpoint is due or `stop` is set;
+    /// whether the run stops (`stop`, or a failed write).
+    pub fn after_step(
+        &mut self,
+        stop: bool,
+        record: impl FnOnce() -> halfspace::data::Record,
+    ) -> bool {
+        if stop || self.last.elapsed() >= self.every {
+            if let Err(e) = halfspace::data::write_record(self.path, &record()) {
+                self.error = Some(e);
+                return true;
+            }
+            self.last = std::time::Instant::now();
+        }
+        self.stopped = stop;
+        stop
+    }
+
+    /// The first failed write as the run's error.
+    pub fn check(&mut self) -> Result<(), CliError> {
+        match self.error.take() {
+            Some(e) => Err(e.into()),
+            None => Ok(()),
+        }
+    }
+}
+
+/// An observer's answer: stop or go on.
+pub fn flow(stop: bool) -> std::ops::ControlFlow<()> {
+    if stop {
+        std::ops::ControlFlow::Break(())
+    } else {
+        std::ops::ControlFlow::Continue(())
+    }
 }
 
 /// The library's errors name parameters, not flags (the Python package shows them too); on the

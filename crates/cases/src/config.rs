@@ -227,25 +227,50 @@ pub enum InhomogeneityTable {
 
 impl<'de> Deserialize<'de> for InhomogeneityEntry {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct Entry;
-        impl<'de> serde::de::Visitor<'de> for Entry {
-            type Value = InhomogeneityEntry;
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("a table with kind = \"sphere\" | \"cylinder\" | \"cuboid\", or a kind:key=value spec")
-            }
-            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Self::Value, E> {
-                Ok(InhomogeneityEntry::Spec(v.to_string()))
-            }
-            fn visit_map<A: serde::de::MapAccess<'de>>(
-                self,
-                map: A,
-            ) -> Result<Self::Value, A::Error> {
-                InhomogeneityTable::deserialize(serde::de::value::MapAccessDeserializer::new(map))
-                    .map(InhomogeneityEntry::Table)
-            }
-        }
-        d.deserialize_any(Entry)
+        spec_or_table(
+            d,
+            "a table with kind = \"sphere\" | \"cylinder\" | \"cuboid\", or a kind:key=value spec",
+            InhomogeneityEntry::Spec,
+            InhomogeneityEntry::Table,
+        )
     }
+}
+
+/// A value given either as a `kind:key=value` spec string (`spec`) or as a table read by serde
+/// into `T` (`table`): an inhomogeneity entry, an `axisym` profile. `expecting` says both forms
+/// in the error of anything else.
+pub fn spec_or_table<'de, D, T, R>(
+    d: D,
+    expecting: &'static str,
+    spec: fn(String) -> R,
+    table: fn(T) -> R,
+) -> Result<R, D::Error>
+where
+    D: serde::Deserializer<'de>,
+    T: Deserialize<'de>,
+{
+    struct Entry<T, R> {
+        expecting: &'static str,
+        spec: fn(String) -> R,
+        table: fn(T) -> R,
+    }
+    impl<'de, T: Deserialize<'de>, R> serde::de::Visitor<'de> for Entry<T, R> {
+        type Value = R;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str(self.expecting)
+        }
+        fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<R, E> {
+            Ok((self.spec)(v.to_string()))
+        }
+        fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<R, A::Error> {
+            T::deserialize(serde::de::value::MapAccessDeserializer::new(map)).map(self.table)
+        }
+    }
+    d.deserialize_any(Entry {
+        expecting,
+        spec,
+        table,
+    })
 }
 
 impl InhomogeneityEntry {
@@ -830,5 +855,68 @@ mod tests {
         .case(Some(16))
         .unwrap_err();
         assert!(e.0.contains("surface_operator_radius_over_a"), "{e}");
+    }
+}
+
+/// How the errors of a case name its keys: as the command line's flags (`--tau-end`) or as the
+/// keys of a file and Python's keyword arguments (`tau_end`). A configuration file's key is the
+/// flag's name with `_` for `-`, so one message serves both.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Names {
+    /// `--tau-end`.
+    Flags,
+    /// `tau_end`.
+    Keys,
+}
+
+impl Names {
+    /// The name of `key` (spelled with `_`).
+    pub fn of(self, key: &str) -> String {
+        match self {
+            Names::Flags => format!("--{}", key.replace('_', "-")),
+            Names::Keys => key.to_string(),
+        }
+    }
+
+    /// The name of `key` as an argument set to a value: `--force` or `force=`.
+    pub fn arg(self, key: &str) -> String {
+        match self {
+            Names::Flags => self.of(key),
+            Names::Keys => format!("{key}="),
+        }
+    }
+}
+
+/// A case's keys from a TOML text (a `--config` file); `what` names the source in errors.
+pub fn from_toml<T: serde::de::DeserializeOwned>(text: &str, what: &str) -> Result<T, SpecError> {
+    toml::from_str(text).map_err(|e| SpecError(toml_message(what, text, &e)))
+}
+
+/// A case's keys from a JSON text (the same keys as TOML; JSON holds no NaN or ±∞).
+pub fn from_json<T: serde::de::DeserializeOwned>(text: &str, what: &str) -> Result<T, SpecError> {
+    serde_json::from_str(text).map_err(|e| SpecError(format!("{what}: {e}")))
+}
+
+#[cfg(test)]
+mod entry_tests {
+    use super::*;
+
+    /// An inhomogeneity entry is a spec string or a table by `kind`; anything else is refused
+    /// naming both forms.
+    #[test]
+    fn inhomogeneity_entries_are_specs_or_tables() {
+        let cfg: LoopConfig = from_toml(
+            "inhomogeneity = [\"sphere:x=0,y=0,z=2e-6,r=1e-6,E=4e11,nu=0.3\", \
+             { kind = \"sphere\", x = 0.0, y = 0.0, z = 2e-6, r = 1e-6, E = 4e11, nu = 0.3 }]\n",
+            "t",
+        )
+        .unwrap();
+        let [a, b] = [0, 1].map(|k| cfg.inhomogeneity[k].inhomogeneity(k + 1).unwrap());
+        assert_eq!(a, b);
+        assert!(matches!(cfg.inhomogeneity[1], InhomogeneityEntry::Table(_)));
+        let e = from_toml::<LoopConfig>("inhomogeneity = [3]\n", "t")
+            .unwrap_err()
+            .0;
+        assert!(e.contains("or a kind:key=value spec"), "{e}");
     }
 }

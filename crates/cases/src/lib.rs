@@ -7,7 +7,10 @@
 //!
 //! - [`spec`]: the `kind:key=value` parser (profiles, materials, indenters, bodies, inhomogeneities,
 //!   wear media);
-//! - [`config`]: the fretting-loop and fretting-map configurations (serde);
+//! - [`axisym`], [`contact3d`], [`fretting_wear`]: the cases of axisymmetric contact, one 3D
+//!   contact and MDR fretting wear (serde; flags, files and Python dicts read the same keys);
+//! - [`config`]: the fretting-loop, fretting-map and 3D-wear configurations (serde) and the
+//!   readers shared by every case;
 //! - [`records`]: summaries and records of axisymmetric contact, 3D contact, fretting wear and the
 //!   fretting loop;
 //! - [`fretting_map`]: the fretting map's parallel, checkpointed driver and its table and record;
@@ -19,8 +22,11 @@ pub use halfspace_mdr as mdr;
 pub use halfspace_numerics as numerics;
 pub use halfspace_sam as sam;
 
+pub mod axisym;
 pub mod config;
+pub mod contact3d;
 pub mod fretting_map;
+pub mod fretting_wear;
 pub mod loop_fatigue;
 pub mod records;
 pub mod spec;

@@ -204,7 +204,10 @@ impl WearMedium {
 }
 
 /// `homogeneous` (or `homogeneous:nu=..`) or `graded:k=..,nu=..` for `fretting-wear`: `k ∈ (−1, 1)`,
-/// `ν ∈ (−1, 1/2]` (where the graded tangential constant `c_T(k, ν)` is defined).
+/// `ν ∈ (−1, 1/2]` (where the graded tangential constant `c_T(k, ν)` is defined). The material
+/// specs of `axisym` are read too (`homogeneous:E=..,nu=..`, `graded:E0=..,z0=..,nu=..,k=..`):
+/// `E`, `E0`, `z0` set the scales a₀, F₀, N₀ (docs/fretting-wear.md, "Graded media"), not the
+/// normalized run, and are checked (> 0) but not used; `Estar` is refused (it gives no ν).
 pub fn parse_wear_medium(spec: &str, what: &str) -> Result<WearMedium, SpecError> {
     if spec.trim() == "homogeneous" {
         return Ok(WearMedium { k: 0.0, nu: None });
@@ -213,14 +216,40 @@ pub fn parse_wear_medium(spec: &str, what: &str) -> Result<WearMedium, SpecError
     let mut keys = Keys { spec, what, pairs };
     let (k, nu) = match kind.as_str() {
         "homogeneous" => {
+            if keys.take("Estar").is_some() {
+                return Err(SpecError(format!(
+                    "{what} '{spec}': Estar is not used by the normalized run and gives no ν; \
+                     give homogeneous:nu=.. or homogeneous"
+                )));
+            }
+            // E sets the scales (a₀, F₀, N₀), not the normalized run: accepted as in `axisym`.
+            if keys.pairs.iter().any(|(k, _)| k == "E") {
+                keys.positive("E")?;
+            }
             let nu = keys.number("nu")?;
-            keys.finish("nu")?;
+            keys.finish("nu (and E, which sets the scales only)")?;
             (0.0, nu)
         }
         "graded" => {
+            // E0 and z0 set the scales, not the normalized run: accepted together, as in the
+            // material spec of `axisym`.
+            let has = |keys: &Keys, key: &str| keys.pairs.iter().any(|(k, _)| k == key);
+            match (has(&keys, "E0"), has(&keys, "z0")) {
+                (true, true) => {
+                    keys.positive("E0")?;
+                    keys.positive("z0")?;
+                }
+                (false, false) => {}
+                _ => {
+                    return Err(SpecError(format!(
+                        "{what} '{spec}': E0 and z0 go together (the material spec of axisym, \
+                         E(z) = E0 (z/z0)^k) or not at all (the normalized run needs neither)"
+                    )))
+                }
+            }
             let k = keys.number("k")?;
             let nu = keys.number("nu")?;
-            keys.finish("k, nu (the normalized run needs no E0, z0)")?;
+            keys.finish("k, nu (and E0, z0, which set the scales only)")?;
             if !(k.is_finite() && k > -1.0 && k < 1.0) {
                 return Err(SpecError(format!(
                     "{what} '{spec}': k = {k} must be in (−1, 1) (E ∝ z^k)"
