@@ -46,6 +46,7 @@ __all__ = [
     "WearResult",
     "Wear3dResult",
     "LoopMetrics",
+    "FatigueResult",
     "MapResult",
     "axisym",
     "contact3d",
@@ -493,6 +494,37 @@ class LoopMetrics(Result):
     layers: int | None = None
 
 
+class FatigueResult(Result):
+    """:meth:`FrettingLoop.fatigue`: the fatigue indices of the loop's closed cycle (docs/fatigue.md,
+    "On the fretting loop") — the keys that a ``[fatigue]`` table adds to ``halfspace fretting-loop
+    --json`` (the same summary, ``halfspace_cases::loop_fatigue::LoopFatigue::summary``) and the
+    datasets it adds to results.h5 (the same record). ``*_max`` is the largest index over the box
+    (Crossland, Dang Van: dimensionless; SWT: Pa; Fatemi–Socie: dimensionless), ``None`` if not
+    finite; ``*_max_at`` its cell centre ``[x, y, z]`` (m, z the depth). ``fatigue``: the
+    evaluation's counts and seconds (``cells``, ``layers``, ``increments``,
+    ``invariant_evaluated``, ``swt_evaluated``, ``fatemi_socie_evaluated``, ``seconds``)."""
+
+    crossland_max: float | None
+    crossland_max_at: list[float]
+    dang_van_max: float | None
+    dang_van_max_at: list[float]
+    swt_max: float | None
+    swt_max_at: list[float]
+    fatemi_socie_max: float | None
+    fatemi_socie_max_at: list[float]
+    fatigue: dict[str, Any]
+    #: Cell centres (m): ``x`` (N₁), ``y`` (N₂), ``z`` (layers, the depth of each layer).
+    x: NDArray[np.float64]
+    y: NDArray[np.float64]
+    z: NDArray[np.float64]
+    #: The index fields shaped (layers, N₁, N₂); SWT and Fatemi–Socie are NaN where the screen
+    #: (``screen_fraction``) skipped the cell.
+    crossland: NDArray[np.float64]
+    dang_van: NDArray[np.float64]
+    swt: NDArray[np.float64]
+    fatemi_socie: NDArray[np.float64]
+
+
 class MapResult(Result):
     """:func:`fretting_map`: ``loads``, ``amplitudes`` and the fields shaped (len(loads),
     len(amplitudes))."""
@@ -659,7 +691,9 @@ class FrettingLoop:
     ``extent_over_a``, ``subsurface_over_a``, ``layout``, ``fibre_e_ratio``; ``inhomogeneity``: a
     list of tables ``{"kind": "sphere", "x": .., "E": ..}`` — the keys of the spec — or of
     :class:`Inhomogeneity` / spec strings); the dict goes to the library as data, which checks it.
-    ``case="composite"`` adds the paper's fibres. Iterating yields each increment's row (a dict);
+    ``fatigue``: a dict of the ``[fatigue]`` keys — the loop then records its closed cycle's stress
+    history and :meth:`fatigue` gives the fatigue indices. ``case="composite"`` adds the paper's
+    fibres. Iterating yields each increment's row (a dict);
     :meth:`run` does the rest with the GIL released.
     """
 
@@ -700,6 +734,18 @@ class FrettingLoop:
         """Dissipated energy, ratchet, regime (0 partial slip, 1 mixed, 2 gross slip), … of the
         completed loop."""
         return LoopMetrics(self._inner.metrics())
+
+    def fatigue(self) -> FatigueResult:
+        """The fatigue indices of the completed loop (Crossland, Dang Van, Smith–Watson–Topper,
+        Fatemi–Socie over the stress history of its closed cycle; docs/fatigue.md), as
+        ``halfspace fretting-loop`` with the same ``[fatigue]`` table: ``config["fatigue"]`` holds
+        its keys (``f_minus1``, ``t_minus1``, ``fs_k``, ``yield_stress``, ``depth_over_a``,
+        ``screen_fraction``, ``inhomogeneity``). Evaluated once (GIL released), then kept.
+        :class:`HalfspaceError` without a ``fatigue`` table or before the loop is done."""
+        summary, arrays = self._inner.fatigue()
+        values = dict(summary)
+        values.update(arrays)
+        return FatigueResult(values)
 
 
 

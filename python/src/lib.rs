@@ -21,11 +21,14 @@ use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use halfspace_cases as halfspace;
 
 use halfspace::axisym::AxisymConfig;
-use halfspace::config::{from_table, is_type_error, LoopConfig, Names, Wear3dConfig};
+use halfspace::config::{
+    from_table, is_type_error, FatigueConfig, LoopConfig, Names, Wear3dConfig,
+};
 use halfspace::contact3d::Contact3dConfig;
 use halfspace::fretting::FrettingSimulation;
 use halfspace::fretting_map::{run_map_until, MapError};
 use halfspace::fretting_wear::{WearConfig, WearRunCase};
+use halfspace::loop_fatigue::{evaluate_loop_fatigue, LoopFatigue, FATIGUE_FIELDS};
 use halfspace::records::{
     contact_record, contact_summary, loop_summary, wear3d_summary, wear_summary,
 };
@@ -233,6 +236,10 @@ fn contact3d<'py>(
 #[pyclass(name = "_FrettingLoop", module = "halfspace._halfspace")]
 struct PyFrettingLoop {
     inner: FrettingLoop,
+    /// The `[fatigue]` table of the config (the loop then records its cycle's stress history).
+    fatigue_config: Option<FatigueConfig>,
+    /// The indices once evaluated (`fatigue()`; the completed loop does not change).
+    fatigue: Option<LoopFatigue>,
 }
 
 #[pymethods]
@@ -242,17 +249,11 @@ impl PyFrettingLoop {
     #[pyo3(signature = (config=None, case="homogeneous", grid=None))]
     fn new(config: Option<&Bound<'_, PyAny>>, case: &str, grid: Option<usize>) -> PyResult<Self> {
         let config = loop_config(config)?;
-        if config.fatigue.is_some() {
-            // The indices are computed by the CLI (halfspace_cases::loop_fatigue); refused here
-            // rather than recorded and dropped.
-            return Err(err(
-                "config: [fatigue] is read by `halfspace fretting-loop` only (not yet by \
-                 FrettingLoop); remove it",
-            ));
-        }
         let case = config.case(case, grid).map_err(err)?;
         Ok(Self {
             inner: FrettingLoop::new(case).map_err(err)?,
+            fatigue_config: config.fatigue,
+            fatigue: None,
         })
     }
 
@@ -339,6 +340,50 @@ impl PyFrettingLoop {
     fn metrics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let m = self.inner.metrics().map_err(err)?;
         json_dict(py, &loop_summary(&self.inner, &m))
+    }
+
+    /// The fatigue indices of the completed loop (`[fatigue]`; docs/fatigue.md, "On the fretting
+    /// loop"): `halfspace_cases::loop_fatigue::evaluate_loop_fatigue` (GIL released) once, as
+    /// `halfspace fretting-loop`. Returns `(summary, arrays)`: the CLI's JSON keys
+    /// (`LoopFatigue::summary`: `crossland_max`, `crossland_max_at` [x, y, z] m, … and the
+    /// `fatigue` block) and the datasets of its results.h5 (`LoopFatigue::record`): `z` (layer
+    /// depths, m), the four fields (`FATIGUE_FIELDS`) shaped (layers, N₁, N₂), with `x`, `y`
+    /// (cell centres, m). An error without `[fatigue]` or before the loop is done.
+    fn fatigue<'py>(
+        &mut self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyDict>, Bound<'py, PyDict>)> {
+        if self.fatigue.is_none() {
+            let cfg = self.fatigue_config.as_ref().ok_or_else(|| {
+                err("fatigue: the config has no [fatigue] table (the criteria's constants)")
+            })?;
+            if self.inner.metrics().is_err() {
+                return Err(err(format!(
+                    "fatigue: the loop is not done ({} of {} increments); run it first",
+                    self.inner.rows().len(),
+                    self.inner.path().len()
+                )));
+            }
+            let inner = &mut self.inner;
+            let f = interruptible(py, |_| evaluate_loop_fatigue(inner, cfg))?.map_err(err)?;
+            self.fatigue = Some(f);
+        }
+        let Some(f) = &self.fatigue else {
+            return Err(err("fatigue: not evaluated"));
+        };
+        let d = PyDict::new(py);
+        d.set_item("x", PyArray1::from_vec(py, f.x.clone()))?;
+        d.set_item("y", PyArray1::from_vec(py, f.y.clone()))?;
+        // The record the CLI writes (one writer): `z` and the four fields.
+        let rec = f.record(halfspace::data::Record::default());
+        for (name, values) in &rec.arrays {
+            let array = PyArray1::from_vec(py, values.clone());
+            match rec.shape_of(name) {
+                Some(shape) if shape.len() > 1 => d.set_item(name, array.reshape(shape)?)?,
+                _ => d.set_item(name, array)?,
+            }
+        }
+        Ok((json_dict(py, &f.summary())?, d))
     }
 
     /// Labels of the points A–D.
@@ -605,6 +650,7 @@ fn _halfspace(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fretting_map_point, m)?)?;
     m.add_function(wrap_pyfunction!(fretting_map_shape, m)?)?;
     m.add("MAP_FIELDS", MapPoint::FIELDS.to_vec())?;
+    m.add("FATIGUE_FIELDS", FATIGUE_FIELDS.to_vec())?;
     m.add_class::<PyFrettingLoop>()?;
     Ok(())
 }

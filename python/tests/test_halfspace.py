@@ -25,7 +25,8 @@ def binary() -> str:
         return env
     # The newest of the two: a release binary left from an older checkout must not stand in for the
     # debug binary that `cargo test` just built.
-    built = [ROOT / "target" / profile / "halfspace" for profile in ("release", "debug")]
+    target = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
+    built = [target / profile / "halfspace" for profile in ("release", "debug")]
     built = [path for path in built if path.is_file()]
     if not built:
         pytest.skip("no halfspace binary: run cargo build first")
@@ -201,6 +202,60 @@ def test_fretting_loop_with_an_inhomogeneity_and_typed_inputs():
     table = {"kind": "sphere", "x": 0.0, "y": 0.0, "z": 0.6 * a, "r": 0.3 * a, "E": 420e9, "nu": 0.3}
     again = hs.FrettingLoop(dict(SMALL, grid=16, inhomogeneity=[table])).run()
     assert np.array_equal(again.rows()["tangential_force"], lp.rows()["tangential_force"])
+
+
+# The small loop of docs/fatigue.md ("On the fretting loop"; tests/cli_fatigue.rs): identical steel
+# bodies, approach 0.135 μm (W ≈ 80 mN), amplitude 0.02 μm, the box to depth a.
+FATIGUE_LOOP = {"grid": 32, "normal_steps": 4, "amplitude": 0.02e-6, "shift_step": 0.005e-6,
+                "subsurface_over_a": 0.0, "indenter_e": 210e9, "indenter_nu": 0.3, "approach": 1.35e-7}
+FATIGUE = {"f_minus1": 400e6, "t_minus1": 280e6, "fs_k": 0.5, "yield_stress": 600e6,
+           "depth_over_a": 1.0}
+INDICES = ("crossland", "dang_van", "swt", "fatemi_socie")
+
+
+def test_fretting_loop_fatigue_equals_the_cli_bit_for_bit(tmp_path):
+    (tmp_path / "loop.toml").write_text(toml(FATIGUE_LOOP) + "[fatigue]\n" + toml(FATIGUE))
+    out = tmp_path / "out"
+    ref = cli("fretting-loop", "--config", str(tmp_path / "loop.toml"), "--out", str(out))
+    lp = hs.FrettingLoop(dict(FATIGUE_LOOP, fatigue=FATIGUE))
+    with pytest.raises(hs.HalfspaceError, match="not done"):
+        lp.fatigue()
+    f = lp.run().fatigue()
+    assert isinstance(f, hs.FatigueResult)
+    assert lp.metrics().dissipated_energy == ref["dissipated_energy"]
+    for name in INDICES:
+        # The CLI's JSON keys and values (one summary, LoopFatigue::summary).
+        assert getattr(f, f"{name}_max") == ref[f"{name}_max"], name
+        assert getattr(f, f"{name}_max_at") == ref[f"{name}_max_at"], name
+        assert ref[f"{name}_max"] > 0, name
+    assert {k: v for k, v in f.fatigue.items() if k != "seconds"} == \
+        {k: v for k, v in ref["fatigue"].items() if k != "seconds"}
+    with h5py.File(out / "results.h5") as h5:
+        # The CLI's results.h5 datasets (one record, LoopFatigue::record), NaN where screened.
+        assert np.array_equal(f.z, h5["z"][:])
+        assert np.array_equal(f.x, h5["x"][:]) and np.array_equal(f.y, h5["y"][:])
+        for name in INDICES:
+            field = getattr(f, name)
+            assert field.shape == (f.z.size, 32, 32) == h5[name].shape, name
+            assert np.array_equal(field, h5[name][:], equal_nan=True), name
+    # Each maximum is its field's largest value, at the cell centre it names.
+    for name in INDICES:
+        field = getattr(f, name)
+        k, i, j = np.unravel_index(np.nanargmax(field), field.shape)
+        assert field[k, i, j] == getattr(f, f"{name}_max"), name
+        assert [f.x[i], f.y[j], f.z[k]] == getattr(f, f"{name}_max_at"), name
+    assert lp.fatigue().crossland_max == f.crossland_max  # kept, not evaluated again
+
+
+def test_fretting_loop_fatigue_errors_name_the_key():
+    with pytest.raises(hs.HalfspaceError, match="bogus"):
+        hs.FrettingLoop(dict(FATIGUE_LOOP, fatigue=dict(FATIGUE, bogus=1.0)))
+    with pytest.raises(hs.HalfspaceError, match="screen_fraction"):
+        hs.FrettingLoop(dict(FATIGUE_LOOP, fatigue=dict(FATIGUE, screen_fraction=2.0)))
+    with pytest.raises(TypeError, match="f_minus1"):
+        hs.FrettingLoop(dict(FATIGUE_LOOP, fatigue=dict(FATIGUE, f_minus1="high")))
+    with pytest.raises(hs.HalfspaceError, match=r"no \[fatigue\]"):
+        hs.FrettingLoop(dict(SMALL, grid=16)).run().fatigue()
 
 
 def test_solves_release_the_gil():
