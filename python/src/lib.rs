@@ -357,7 +357,7 @@ impl PyFrettingLoop {
             let cfg = self.fatigue_config.as_ref().ok_or_else(|| {
                 err("fatigue: the config has no [fatigue] table (the criteria's constants)")
             })?;
-            if self.inner.metrics().is_err() {
+            if self.inner.rows().len() < self.inner.path().len() {
                 return Err(err(format!(
                     "fatigue: the loop is not done ({} of {} increments); run it first",
                     self.inner.rows().len(),
