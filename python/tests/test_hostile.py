@@ -20,6 +20,7 @@ from halfspace import HalfspaceError
 M = "homogeneous:E=210e9,nu=0.3"
 SMALL = {"grid": 16, "normal_steps": 2, "shift_step": 0.02e-6, "subsurface_over_a": 0.0}
 NAN = float("nan")
+FATIGUE = {"f_minus1": 400e6, "t_minus1": 280e6, "fs_k": 0.5, "yield_stress": 600e6}
 
 
 def sphere_inh(**kw):
@@ -103,6 +104,20 @@ CASES = [
     (lambda: hs.FrettingLoop({"shift_step": -1e-9}), HalfspaceError, "shift_step"),
     (lambda: hs.fretting_map([0.08], [NAN], config=SMALL), HalfspaceError, "amplitudes"),
     (lambda: hs.fretting_map([], [4e-8], config=SMALL), HalfspaceError, "loads"),
+    # [fatigue] (FrettingLoop.fatigue): the library's checks, naming the key.
+    (lambda: hs.FrettingLoop(dict(SMALL, fatigue=dict(FATIGUE, f_minus1=-1.0))), HalfspaceError,
+     "f_minus1"),
+    (lambda: hs.FrettingLoop(dict(SMALL, fatigue=dict(FATIGUE, t_minus1=NAN))), HalfspaceError,
+     "t_minus1"),
+    (lambda: hs.FrettingLoop(dict(SMALL, fatigue={"f_minus1": 4e8, "t_minus1": 2.8e8,
+                                                  "yield_stress": 6e8})), HalfspaceError, "fs_k"),
+    (lambda: hs.FrettingLoop(dict(SMALL, fatigue=dict(FATIGUE, depth_over_a=0.0))),
+     HalfspaceError, "depth_over_a"),
+    (lambda: hs.FrettingLoop(dict(SMALL, fatigue=dict(FATIGUE, inhomogeneity={"f_minus1": 1e8}))),
+     HalfspaceError, "t_minus1"),
+    (lambda: hs.FrettingLoop(dict(SMALL, fatigue="high")), TypeError, "fatigue"),
+    (lambda: hs.FrettingLoop(dict(SMALL, fatigue=dict(FATIGUE, depth_over_a=1e6))),
+     HalfspaceError, "GiB"),
     # Runaway work: refused up front with the estimate, the interpreter does not grow.
     (lambda: hs.FrettingLoop({"shift_step": 1e-20}), HalfspaceError, "increments"),
     (lambda: hs.FrettingLoop({"normal_steps": 10**9}), HalfspaceError, "GiB"),
