@@ -257,6 +257,30 @@ def test_fretting_loop_fatigue_equals_the_cli_bit_for_bit(tmp_path):
     assert lp.fatigue().crossland_max == f.crossland_max  # kept, not evaluated again
 
 
+def test_fretting_loop_fatigue_with_an_inhomogeneity_and_its_constants_equals_the_cli(tmp_path):
+    """A stiff sphere below the contact with its own constants ([fatigue.inhomogeneity], nested
+    tables from a dict): the per-material path, against the CLI."""
+    a = 3.76e-6
+    sphere = {"kind": "sphere", "x": 0.0, "y": 0.0, "z": 0.5 * a, "r": 0.25 * a, "E": 420e9,
+              "nu": 0.3}
+    own = {"f_minus1": 500e6, "t_minus1": 330e6, "fs_k": 0.6, "yield_stress": 900e6}
+    cfg = dict(FATIGUE_LOOP, grid=16, inhomogeneity=[sphere], fatigue=dict(FATIGUE, inhomogeneity=own))
+    text = (toml(dict(FATIGUE_LOOP, grid=16)) + "[[inhomogeneity]]\n" + toml(sphere)
+            + "[fatigue]\n" + toml(FATIGUE) + "[fatigue.inhomogeneity]\n" + toml(own))
+    (tmp_path / "loop.toml").write_text(text)
+    ref = cli("fretting-loop", "--config", str(tmp_path / "loop.toml"), "--out", str(tmp_path / "out"))
+    f = hs.FrettingLoop(cfg).run().fatigue()
+    for name in INDICES:
+        assert getattr(f, f"{name}_max") == ref[f"{name}_max"], name
+        assert getattr(f, f"{name}_max_at") == ref[f"{name}_max_at"], name
+    with h5py.File(tmp_path / "out" / "results.h5") as h5:
+        for name in INDICES:
+            assert np.array_equal(getattr(f, name), h5[name][:], equal_nan=True), name
+    # The constants matter: the matrix's constants everywhere give another Crossland field.
+    plain = hs.FrettingLoop(dict(cfg, fatigue=FATIGUE)).run().fatigue()
+    assert not np.array_equal(plain.crossland, f.crossland)
+
+
 def test_fretting_loop_fatigue_errors_name_the_key():
     with pytest.raises(hs.HalfspaceError, match="bogus"):
         hs.FrettingLoop(dict(FATIGUE_LOOP, fatigue=dict(FATIGUE, bogus=1.0)))
