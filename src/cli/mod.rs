@@ -115,7 +115,11 @@ impl<'a> Checkpoints<'a> {
                 "--checkpoint-seconds must be finite and > 0, got {seconds}"
             )));
         }
-        Ok(std::time::Duration::from_secs_f64(seconds))
+        std::time::Duration::try_from_secs_f64(seconds).map_err(|_| {
+            CliError::Spec(format!(
+                "--checkpoint-seconds {seconds} is beyond what a duration can hold"
+            ))
+        })
     }
 
     /// Checkpoints written to `path` every `every` of work ([`Self::interval`]).

@@ -674,6 +674,14 @@ fn loop_case(
             ))
         }
         (InhomogeneousBody::Nested, None) => {}
+        (InhomogeneousBody::SurfaceOperator, _) if case.inhomogeneities.is_empty() => {
+            return Err(SpecError(
+                "fretting loop config: inhomogeneous_body = \"surface-operator\" needs \
+                 inhomogeneities (case = composite or [[inhomogeneity]]); without them the key \
+                 would be ignored"
+                    .into(),
+            ))
+        }
         (InhomogeneousBody::SurfaceOperator, r) => {
             case.surface_operator_over_a =
                 Some(r.unwrap_or(DEFAULT_SURFACE_OPERATOR_RADIUS_OVER_A));
@@ -855,6 +863,15 @@ mod tests {
         .case(Some(16))
         .unwrap_err();
         assert!(e.0.contains("surface_operator_radius_over_a"), "{e}");
+        // The operator path on a homogeneous body would be ignored: refused by name.
+        let e = Wear3dConfig::from_toml(
+            &format!("inhomogeneous_body = \"surface-operator\"\n{base}"),
+            "cfg",
+        )
+        .unwrap()
+        .case(None)
+        .unwrap_err();
+        assert!(e.0.contains("needs inhomogeneities"), "{e}");
     }
 }
 

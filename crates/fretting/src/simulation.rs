@@ -819,7 +819,10 @@ fn edge_cell_means(
     }
     let blend = ((theta - BLEND.0) / (BLEND.1 - BLEND.0)).clamp(0.0, 1.0);
     shape[last] = blend * own + (1.0 - blend) * extrapolated;
-    shape[end] = 2.0 * shape[last] - shape[last - 1];
+    if end > last {
+        // The first node outside (none when the edge sits in the grid's last cell).
+        shape[end] = 2.0 * shape[last] - shape[last - 1];
+    }
     let (g1, g2) = (1.0 + gamma, 2.0 + gamma);
     for j in first..=end {
         let xi = grid.squared(j);

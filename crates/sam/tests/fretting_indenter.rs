@@ -275,12 +275,18 @@ fn the_cycle_stress_history_is_the_field_at_each_increment_and_resumes_bit_for_b
             }
         }
     }
-    // The estimate counts the history (once: the checkpoints carry the tractions).
+    // The estimate counts the history once and the cycle's tractions three times (the loop's,
+    // the checkpoint snapshot's and its record's).
     let bytes = halfspace_sam::drivers::fretting_loop::CycleStress::bytes(
         256.0,
         h.layers as f64,
         h.increments as f64,
-    );
+    ) + 3.0
+        * halfspace_sam::drivers::fretting_loop::CycleSources::bytes(
+            256.0,
+            0.0,
+            h.increments as f64,
+        );
     let without = LoopCase {
         fatigue_depth: None,
         ..case.clone()

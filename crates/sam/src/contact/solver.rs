@@ -78,14 +78,22 @@ impl ContactSolver {
         }
     }
 
+    /// Brings the eigenstrains up to the current tractions before they are read for stresses
+    /// ([`InhomogeneousContact::sync_eigenstrain`]; nothing to do without inhomogeneities or on
+    /// the nested path, where they are always current).
+    pub fn sync_eigenstrain(&mut self) -> Result<(), SamError> {
+        if let Self::Nested(n) = self {
+            n.sync_eigenstrain()?;
+        }
+        Ok(())
+    }
+
     /// The stress field below the current state down to `depth` in the matrix `(e, nu)`: the
     /// surface tractions and, with inhomogeneities, the eigenstrains ([`subsurface_stress`]; on
     /// the surface-operator path one EIM solve of the current tractions first,
     /// [`InhomogeneousContact::sync_eigenstrain`]).
     pub fn subsurface(&mut self, e: f64, nu: f64, depth: f64) -> Result<StressField, SamError> {
-        if let Self::Nested(n) = self {
-            n.sync_eigenstrain()?;
-        }
+        self.sync_eigenstrain()?;
         let problem = self.problem();
         let st = problem.state();
         let q =

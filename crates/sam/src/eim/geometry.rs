@@ -165,7 +165,7 @@ impl Inhomogeneity {
 
     /// In-plane bounding box `[x_min, x_max, y_min, y_max]` (unbounded along a cylinder's axis) and
     /// the deepest point.
-    fn bounds(&self) -> ([f64; 4], f64) {
+    pub(crate) fn bounds(&self) -> ([f64; 4], f64) {
         match self.shape {
             Shape::Sphere { x, y, z, r } => ([x - r, x + r, y - r, y + r], z + r),
             Shape::Cylinder {

@@ -315,8 +315,21 @@ impl LoopCase {
                 let layers = super::CycleStress::layers_for(depth, cell);
                 let cycle = 4.0 * quarter_steps(self.amplitude, self.shift_step) + 1.0;
                 let n = self.grid;
+                // With inhomogeneities each increment also keeps 6 eigenstrains per inclusion
+                // cell; bounded by every cell of the layers down to the deepest inhomogeneity
+                // (the layers of `InclusionSet::new`).
+                let eigen_len = if self.inhomogeneities.is_empty() {
+                    0.0
+                } else {
+                    let deepest = self
+                        .inhomogeneities
+                        .iter()
+                        .map(|inh| inh.bounds().1)
+                        .fold(0.0f64, f64::max);
+                    6.0 * cells * ((deepest / cell).ceil() + 1.0)
+                };
                 super::CycleStress::bytes(cells, layers as f64, cycle)
-                    + 3.0 * super::CycleSources::bytes(cells, 0.0, cycle)
+                    + 3.0 * super::CycleSources::bytes(cells, eigen_len, cycle)
                     + crate::subsurface::SubsurfacePlan::spectra_bytes(n, n, layers)
                     + crate::subsurface::SubsurfacePlan::field_bytes(n, n, layers)
             }

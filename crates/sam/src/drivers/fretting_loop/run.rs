@@ -504,6 +504,8 @@ impl FrettingLoop {
     /// This increment's tractions (and eigenstrains) into the cycle's sources and its stress
     /// field into the history ([`FrettingLoop::record_increment`]).
     fn record_cycle_stress(&mut self) -> Result<(), SamError> {
+        // On the surface-operator path the eigenstrains follow the tractions only when synced.
+        self.solver.sync_eigenstrain()?;
         let st = self.solver.problem().state();
         let eigen = self.solver.nested().map_or(&[][..], |n| n.eigenstrain());
         let sources = self.cycle_sources.get_or_insert_with(|| CycleSources {
