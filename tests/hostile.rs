@@ -1366,6 +1366,11 @@ fn indenter_approach_fatigue_and_wear3d_keys_are_refused_in_one_line() {
             fatigue.replace("f_minus1 = 3e8", "f_minus1 = -3e8"),
             vec!["fatigue"],
         ),
+        (
+            "surface operator without inhomogeneities",
+            "inhomogeneous_body = \"surface-operator\"\n".into(),
+            vec!["inhomogeneous_body", "needs inhomogeneities"],
+        ),
     ];
     for (name, text, needles) in &loop_cases {
         let cfg = write(
@@ -1404,6 +1409,22 @@ fn indenter_approach_fatigue_and_wear3d_keys_are_refused_in_one_line() {
             vec!["approach"],
         ),
     ];
+    // A checkpoint interval beyond what a duration holds: refused, not a panic.
+    let cfg = write(dir.path(), "plain.toml", "friction = 0.3\n");
+    refused(
+        "fretting-loop checkpoint interval",
+        &strings(&[
+            "fretting-loop",
+            "--config",
+            &cfg,
+            "--out",
+            o,
+            "--checkpoint-seconds",
+            "1e20",
+        ]),
+        &[],
+        &["--checkpoint-seconds", "duration"],
+    );
     for (name, text, needles) in &wear_cases {
         let cfg = write(
             dir.path(),
