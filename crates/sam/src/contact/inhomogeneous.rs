@@ -444,15 +444,7 @@ impl InhomogeneousContact {
                 }
                 None => {
                     let t = clock();
-                    let state = self.problem.state();
-                    let q = if self.friction {
-                        Some([state.shear[0].as_slice(), state.shear[1].as_slice()])
-                    } else {
-                        None
-                    };
-                    self.system
-                        .fields()
-                        .traction_strain(&state.pressure, q, &mut self.applied)?;
+                    self.applied_strain_of_tractions()?;
                     let eim = EimParams {
                         tolerance: (1e-3 * last_change).clamp(self.params.eim.tolerance, 1e-3),
                         ..self.params.eim
@@ -529,6 +521,21 @@ impl InhomogeneousContact {
         unreachable!("the loop returns")
     }
 
+    /// The applied strain `ε⁰` at the inclusion cells from the current tractions `p` (and `q`
+    /// with friction), Love's solution (docs/theory-sam.md#love-rectangle-stresses), into
+    /// `self.applied`.
+    fn applied_strain_of_tractions(&mut self) -> Result<(), SamError> {
+        let state = self.problem.state();
+        let q = if self.friction {
+            Some([state.shear[0].as_slice(), state.shear[1].as_slice()])
+        } else {
+            None
+        };
+        self.system
+            .fields()
+            .traction_strain(&state.pressure, q, &mut self.applied)
+    }
+
     /// Brings the eigenstrains up to the current tractions (docs/theory-sam.md#surface-response-operator):
     /// on the operator path ([`BodyResponse::SurfaceOperator`]), one EIM solve from the tractions
     /// of the last increment to the full tolerance, warm-started from the last eigenstrains, when
@@ -539,15 +546,7 @@ impl InhomogeneousContact {
         if self.eigenstrain_current {
             return Ok(None);
         }
-        let state = self.problem.state();
-        let q = if self.friction {
-            Some([state.shear[0].as_slice(), state.shear[1].as_slice()])
-        } else {
-            None
-        };
-        self.system
-            .fields()
-            .traction_strain(&state.pressure, q, &mut self.applied)?;
+        self.applied_strain_of_tractions()?;
         let info = self
             .system
             .solve(&self.applied, &mut self.eps_star, &self.params.eim)?;
