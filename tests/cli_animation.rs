@@ -1,7 +1,8 @@
 //! The animations through the binary: `wear_depth.gif` of `fretting-wear3d`
 //! (docs/wear3d.md#figures) and `loop_pq.gif` of `fretting-loop` (docs/composite.md#animation),
 //! decoded with the image crate: one frame per record (per increment of the cycle), the frame
-//! size, frames that differ; `--no-animation` writes none.
+//! size, frames that differ; after a resume inside the cycle, one frame per loop point A–D;
+//! `--no-animation` writes none.
 
 mod common;
 
@@ -93,4 +94,38 @@ fn loop_animation_has_one_frame_per_increment_of_the_cycle() {
     assert_eq!(f.len(), (n + 5 * q) - (n + q - 1));
     check_frames(&f, (480, 260));
     assert!(std::fs::metadata(&gif).unwrap().len() < 2_000_000);
+    // Stopped inside the cycle and resumed: the increments before the stop were not observed,
+    // so the animation has one frame per loop point A–D.
+    let resumed = dir.path().join("resumed");
+    let go = |extra: &[&str]| {
+        let mut v = vec![
+            "fretting-loop",
+            "--config",
+            cfg.to_str().unwrap(),
+            "--out",
+            resumed.to_str().unwrap(),
+        ];
+        v.extend_from_slice(extra);
+        run(&v)
+    };
+    assert!(go(&["--stop-after", &(n + q + 2).to_string()])
+        .status
+        .success());
+    assert!(!resumed.join("loop_pq.gif").exists());
+    ok_json(&go(&["--resume", "--json"]));
+    let f = frames(&resumed.join("loop_pq.gif"));
+    assert_eq!(f.len(), 4, "A–D");
+    check_frames(&f, (480, 260));
+    // --no-animation: the figures, no GIF.
+    let none = dir.path().join("none");
+    ok_json(&run(&[
+        "fretting-loop",
+        "--config",
+        cfg.to_str().unwrap(),
+        "--out",
+        none.to_str().unwrap(),
+        "--json",
+        "--no-animation",
+    ]));
+    assert!(none.join("fretting_loop.svg").is_file() && !none.join("loop_pq.gif").exists());
 }
