@@ -92,7 +92,7 @@ fn loop_animation_has_one_frame_per_increment_of_the_cycle() {
     let gif = out.join("loop_pq.gif");
     let f = frames(&gif);
     assert_eq!(f.len(), (n + 5 * q) - (n + q - 1));
-    check_frames(&f, (480, 260));
+    check_frames(&f, (480, 232));
     assert!(std::fs::metadata(&gif).unwrap().len() < 2_000_000);
     // Stopped inside the cycle and resumed: the increments before the stop were not observed,
     // so the animation has one frame per loop point A–D.
@@ -115,7 +115,7 @@ fn loop_animation_has_one_frame_per_increment_of_the_cycle() {
     ok_json(&go(&["--resume", "--json"]));
     let f = frames(&resumed.join("loop_pq.gif"));
     assert_eq!(f.len(), 4, "A–D");
-    check_frames(&f, (480, 260));
+    check_frames(&f, (480, 232));
     // --no-animation: the figures, no GIF.
     let none = dir.path().join("none");
     ok_json(&run(&[

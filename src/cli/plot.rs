@@ -997,13 +997,14 @@ pub struct FrameMap<'a> {
     pub range: (f64, f64),
 }
 
-/// The pixel size of the animation frames (wide, at most 480 px): one map per frame
-/// (`wear_depth.gif`) or two side by side (`loop_pq.gif`).
+/// The pixel size of the animation frames (at most 480 px): one map per frame (`wear_depth.gif`)
+/// or two side by side (`loop_pq.gif`); the map areas about square (equal scales on x and y for
+/// a square window).
 pub fn frame_size(maps: usize) -> (u32, u32) {
     if maps <= 1 {
         (400, 360)
     } else {
-        (480, 260)
+        (480, 232)
     }
 }
 
