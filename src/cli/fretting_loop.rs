@@ -23,7 +23,7 @@ use super::plot::Curves;
 const LOOP_RUN: RunKind = RunKind {
     command: "fretting-loop",
     files: &["checkpoint.npz", "results.h5"],
-    figure_extensions: &["svg", "png"],
+    figure_extensions: &["svg", "png", "gif"],
 };
 
 /// One labelled curve.
@@ -64,6 +64,9 @@ pub struct FrettingLoopArgs {
     /// Print one JSON object on stdout.
     #[arg(long)]
     json: bool,
+    /// Do not write the animation loop_pq.gif.
+    #[arg(long)]
+    no_animation: bool,
 }
 
 pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
@@ -109,9 +112,15 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
         bar
     });
     let mut checkpoints = super::Checkpoints::new(&checkpoint, every);
+    // The animation's frames: p and |q| over the window at every increment of the cycle, taken
+    // from the solver's state after each increment (docs/composite.md#animation).
+    let mut frames = (!args.no_animation).then(|| CycleFrames::new(&lp));
     let outcome = lp.run(|l| {
         if let Some(bar) = &bar {
             bar.inc(1);
+        }
+        if let Some(f) = frames.as_mut() {
+            f.observe(l);
         }
         let done = l.rows().len();
         let stop = args.stop_after.is_some_and(|m| done >= m) && done < total;
@@ -167,6 +176,9 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
             .map_err(|e| CliError::Spec(format!("removing {}: {e}", checkpoint.display())))?;
     }
     draw_loop_figures(&args.out, &lp, reference.as_ref().map(|(r, _)| r))?;
+    if let Some(f) = &frames {
+        f.write(&args.out.join("loop_pq.gif"), &lp)?;
+    }
     if let Some(f) = &fatigue {
         plot::fatigue_figures(&args.out, f)?;
     }
@@ -436,4 +448,151 @@ fn draw_loop_figures(
         .map_err(|e| fail(&path, e))?;
     }
     Ok(())
+}
+
+/// A map `[row][col]` of the window.
+type WindowMap = Vec<Vec<f64>>;
+/// A frame of `loop_pq.gif`: its key (increment or title), `p/p0` and `|q|/(μ p0)`.
+type PqFrame<K> = (K, WindowMap, WindowMap);
+
+/// The frames of `loop_pq.gif` (docs/composite.md#animation): the pressure `p/p0` and the shear
+/// magnitude `|q|/(μ p0)` over `|x|, |y| ≤ 1.3a` at every increment of the cycle (the loop's
+/// rows from `cycle_start`), kept as the loop runs (`2 × window cells × (4q + 1)` values).
+struct CycleFrames {
+    /// Columns (x) and rows (y) of the window.
+    cols: Vec<usize>,
+    rows: Vec<usize>,
+    /// `(increment, p/p0, |q|/(μ p0))`, each `[row][col]`.
+    frames: Vec<PqFrame<usize>>,
+}
+
+impl CycleFrames {
+    fn new(lp: &FrettingLoop) -> Self {
+        let grid = *lp.solver().problem().grid();
+        let a = lp.case().hertz_radius();
+        let cols = (0..grid.n1)
+            .filter(|&i| (grid.centre(i, 0).0 / a).abs() <= 1.3)
+            .collect();
+        let rows = (0..grid.n2)
+            .filter(|&j| (grid.centre(0, j).1 / a).abs() <= 1.3)
+            .collect();
+        Self {
+            cols,
+            rows,
+            frames: Vec::new(),
+        }
+    }
+
+    /// After an increment: its fields, if it belongs to the cycle.
+    fn observe(&mut self, lp: &FrettingLoop) {
+        let k = lp.rows().len() - 1;
+        if k < lp.path().cycle_start() {
+            return;
+        }
+        let n2 = lp.solver().problem().grid().n2;
+        let p0 = lp.case().hertz_pressure();
+        let mu_p0 = lp.case().friction * p0;
+        let st = lp.solver().problem().state();
+        let field = |f: &dyn Fn(usize) -> f64| -> Vec<Vec<f64>> {
+            self.rows
+                .iter()
+                .map(|&j| self.cols.iter().map(|&i| f(i * n2 + j)).collect())
+                .collect()
+        };
+        let p = field(&|c| st.pressure[c] / p0);
+        let q = field(&|c| st.shear[0][c].hypot(st.shear[1][c]) / mu_p0);
+        self.frames.push((k, p, q));
+    }
+
+    /// Writes the animation: one frame per increment of the cycle when all were observed; after
+    /// a resume that missed some, one frame per loop point A–D (the fields the loop keeps).
+    fn write(&self, path: &Path, lp: &FrettingLoop) -> Result<(), CliError> {
+        let grid = *lp.solver().problem().grid();
+        let n2 = grid.n2;
+        let a = lp.case().hertz_radius();
+        let p0 = lp.case().hertz_pressure();
+        let mu_p0 = lp.case().friction * p0;
+        let mu_w = lp.case().friction * lp.case().hertz_force();
+        let complete = self.frames.len() == lp.path().len() - lp.path().cycle_start();
+        let field = |v: &[f64], s: f64| -> Vec<Vec<f64>> {
+            self.rows
+                .iter()
+                .map(|&j| self.cols.iter().map(|&i| v[i * n2 + j] / s).collect())
+                .collect()
+        };
+        let frames: Vec<PqFrame<String>> = if complete {
+            let start = lp.path().cycle_start();
+            self.frames
+                .iter()
+                .map(|(k, p, q)| {
+                    let row = &lp.rows()[*k];
+                    (
+                        format!(
+                            "Increment {} of {}: δx = {:.4} μm, Q/μW = {:.3}",
+                            k - start,
+                            self.frames.len() - 1,
+                            row.d * 1e6,
+                            row.q[0] / mu_w
+                        ),
+                        p.clone(),
+                        q.clone(),
+                    )
+                })
+                .collect()
+        } else {
+            lp.points()
+                .iter()
+                .map(|f| {
+                    let q: Vec<f64> = f.shear[0]
+                        .iter()
+                        .zip(&f.shear[1])
+                        .map(|(a, b)| a.hypot(*b))
+                        .collect();
+                    (
+                        format!("Point {} (increment {})", f.label, f.increment),
+                        field(&f.pressure, p0),
+                        field(&q, mu_p0),
+                    )
+                })
+                .collect()
+        };
+        let top = |pick: fn(&PqFrame<String>) -> &WindowMap| {
+            frames
+                .iter()
+                .flat_map(|f| pick(f).iter().flatten().copied())
+                .fold(0.0, f64::max)
+        };
+        let (pmax, qmax) = (top(|f| &f.1), top(|f| &f.2));
+        let xs: Vec<f64> = self.cols.iter().map(|&i| grid.centre(i, 0).0 / a).collect();
+        let ys: Vec<f64> = self.rows.iter().map(|&j| grid.centre(0, j).1 / a).collect();
+        let fail =
+            |e: Box<dyn std::error::Error>| CliError::Plot(format!("{}: {e}", path.display()));
+        let images = frames
+            .into_iter()
+            .map(|(title, p, q)| {
+                plot::render_frame(
+                    &title,
+                    ("x / a", "y / a"),
+                    &[
+                        plot::FrameMap {
+                            caption: &format!("p / p0 (0 to {pmax:.3})"),
+                            xs: &xs,
+                            ys: &ys,
+                            values: p,
+                            range: (0.0, pmax),
+                        },
+                        plot::FrameMap {
+                            caption: &format!("|q| / (μ p0) (0 to {qmax:.3})"),
+                            xs: &xs,
+                            ys: &ys,
+                            values: q,
+                            range: (0.0, qmax),
+                        },
+                    ],
+                )
+                .map_err(fail)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        plot::write_gif(path, images, 150)
+    }
 }

@@ -21,7 +21,7 @@ use super::CliError;
 const WEAR_RUN: RunKind = RunKind {
     command: "fretting-wear3d",
     files: &["checkpoint.npz", "results.h5"],
-    figure_extensions: &["svg"],
+    figure_extensions: &["svg", "gif"],
 };
 
 #[derive(Debug, Args)]
@@ -34,7 +34,7 @@ pub struct FrettingWear3dArgs {
     #[arg(long)]
     config: PathBuf,
     /// Output directory (results.h5, the figures wear_depth_map.svg, wear_depth_profiles.svg,
-    /// wear_volume.svg; checkpoint.npz while running).
+    /// wear_volume.svg, the animation wear_depth.gif; checkpoint.npz while running).
     #[arg(long, default_value = "fretting-wear3d-out")]
     out: PathBuf,
     /// Cells per side (overrides the config).
@@ -55,6 +55,9 @@ pub struct FrettingWear3dArgs {
     /// Print one JSON object on stdout.
     #[arg(long)]
     json: bool,
+    /// Do not write the animation wear_depth.gif.
+    #[arg(long)]
+    no_animation: bool,
 }
 
 /// The case of a config file (`halfspace::config::Wear3dConfig`).
@@ -110,6 +113,9 @@ pub fn run(args: FrettingWear3dArgs) -> Result<(), CliError> {
     write_record(&args.out.join("results.h5"), &wear3d_results_record(&run))?;
     // The figures (docs/wear3d.md#figures): worn-depth map, profiles, volume against cycles.
     super::plot::wear3d_figures(&args.out, &run)?;
+    if !args.no_animation {
+        super::plot::wear3d_animation(&args.out, &run)?;
+    }
     if checkpoint.exists() {
         std::fs::remove_file(&checkpoint)
             .map_err(|e| CliError::Spec(format!("removing {}: {e}", checkpoint.display())))?;

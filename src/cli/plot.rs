@@ -980,3 +980,219 @@ pub fn fatigue_figures(
     )
     .map_err(|e| fail(&p, e))
 }
+
+/// One map of an animation frame: `values[row][col]` over cells centred at `(xs[col], ys[row])`,
+/// coloured on the fixed range `range` (the same in every frame, so that the frames compare),
+/// with its caption and a narrow colour bar.
+pub struct FrameMap<'a> {
+    /// The caption above the map (the field and its unit).
+    pub caption: &'a str,
+    /// Cell centres along the horizontal axis.
+    pub xs: &'a [f64],
+    /// Cell centres along the vertical axis.
+    pub ys: &'a [f64],
+    /// `values[row][col]`.
+    pub values: Vec<Vec<f64>>,
+    /// The colour range `(min, max)`, fixed over the animation.
+    pub range: (f64, f64),
+}
+
+/// The pixel size of the animation frames (at most 480 px): one map per frame (`wear_depth.gif`)
+/// or two side by side (`loop_pq.gif`); the map areas about square (equal scales on x and y for
+/// a square window).
+pub fn frame_size(maps: usize) -> (u32, u32) {
+    if maps <= 1 {
+        (400, 360)
+    } else {
+        (480, 232)
+    }
+}
+
+/// Renders one frame: `title` on top, `maps` side by side below, axes labelled `(xlabel,
+/// ylabel)` (the plotters bitmap backend, the embedded font); returns the RGBA pixels.
+pub fn render_frame(
+    title: &str,
+    (xlabel, ylabel): (&str, &str),
+    maps: &[FrameMap],
+) -> Result<image::RgbaImage, Box<dyn std::error::Error>> {
+    register_font()?;
+    let (w, h) = frame_size(maps.len());
+    let mut rgb = vec![0u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let root = root.titled(title, ("sans-serif", 13))?;
+        let panels = root.split_evenly((1, maps.len().max(1)));
+        for (area, m) in panels.iter().zip(maps) {
+            draw_frame_map(area, m, (xlabel, ylabel))?;
+        }
+        root.present()?;
+    }
+    let rgba = rgb
+        .chunks_exact(3)
+        .flat_map(|c| [c[0], c[1], c[2], 255])
+        .collect();
+    image::RgbaImage::from_raw(w, h, rgba).ok_or_else(|| "frame buffer size".into())
+}
+
+fn draw_frame_map<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    m: &FrameMap,
+    (xlabel, ylabel): (&str, &str),
+) -> PlotResult
+where
+    DB::ErrorType: 'static,
+{
+    let (xs, ys) = (m.xs, m.ys);
+    if xs.is_empty() || ys.is_empty() {
+        return Err(format!("{}: no cells to draw", m.caption).into());
+    }
+    let (width, _) = area.dim_in_pixel();
+    let (main, bar) = area.split_horizontally(width.saturating_sub(66));
+    let dx = if xs.len() > 1 { xs[1] - xs[0] } else { 1.0 };
+    let dy = if ys.len() > 1 { ys[1] - ys[0] } else { 1.0 };
+    let (vmin, vmax) = m.range;
+    let span = (vmax - vmin).max(vmax.abs() * 1e-12).max(1e-300);
+    let vmax = vmin + span;
+    let small = ("sans-serif", 10);
+    let mut chart = ChartBuilder::on(&main)
+        .caption(m.caption, ("sans-serif", 12))
+        .margin(4)
+        .x_label_area_size(26)
+        .y_label_area_size(34)
+        .build_cartesian_2d(
+            xs[0] - 0.5 * dx..xs[xs.len() - 1] + 0.5 * dx,
+            ys[0] - 0.5 * dy..ys[ys.len() - 1] + 0.5 * dy,
+        )?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_labels(5)
+        .y_labels(5)
+        .x_desc(xlabel)
+        .y_desc(ylabel)
+        .label_style(small)
+        .axis_desc_style(small)
+        .draw()?;
+    chart.draw_series(m.values.iter().enumerate().flat_map(|(r, row)| {
+        row.iter()
+            .enumerate()
+            .filter(|(_, v)| v.is_finite())
+            .map(move |(c, v)| {
+                let (x, y) = (xs[c], ys[r]);
+                Rectangle::new(
+                    [(x - 0.5 * dx, y - 0.5 * dy), (x + 0.5 * dx, y + 0.5 * dy)],
+                    colormap((v - vmin) / span).filled(),
+                )
+            })
+    }))?;
+    // The colour bar: a strip, its labels drawn beside it in pixels (three significant digits
+    // of the scale, fixed-point: short enough for the narrow bar).
+    let (strip, labels) = bar.split_horizontally(18);
+    let (top, bottom) = (22, 30);
+    let mut cb = ChartBuilder::on(&strip)
+        .margin(4)
+        .margin_top(top)
+        .margin_bottom(bottom)
+        .build_cartesian_2d(0.0..1.0, vmin..vmax)?;
+    cb.draw_series((0..64).map(|k| {
+        let (a, b) = (
+            vmin + span * k as f64 / 64.0,
+            vmin + span * (k + 1) as f64 / 64.0,
+        );
+        Rectangle::new([(0.0, a), (1.0, b)], colormap(k as f64 / 63.0).filled())
+    }))?;
+    let digits = (2 - vmin.abs().max(vmax.abs()).log10().floor() as i32).clamp(0, 6) as usize;
+    let (_, height) = labels.dim_in_pixel();
+    let length = height.saturating_sub(top + bottom) as f64;
+    for k in 0..=4 {
+        let t = k as f64 / 4.0;
+        let y = top as f64 + (1.0 - t) * length;
+        labels.draw(&Text::new(
+            format!("{:.digits$}", vmin + t * span),
+            (2, y as i32 - 5),
+            small.into_font(),
+        ))?;
+    }
+    Ok(())
+}
+
+/// Writes `frames` as a looping GIF animation, `delay_ms` per frame, atomically (a temporary file
+/// renamed over `path`). The image crate's encoder quantises each frame to 256 colours (NeuQuant,
+/// speed 10: the frames are flat colour maps, which it renders without visible banding).
+pub fn write_gif(
+    path: &Path,
+    frames: Vec<image::RgbaImage>,
+    delay_ms: u32,
+) -> Result<(), super::CliError> {
+    use image::codecs::gif::{GifEncoder, Repeat};
+    let fail = |m: String| super::CliError::Plot(format!("{}: {m}", path.display()));
+    if frames.is_empty() {
+        return Err(fail("no frames".into()));
+    }
+    halfspace::data::write_atomic(path, |tmp| {
+        let format = |e: image::ImageError| halfspace::data::DataError::Format {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        };
+        let file = std::fs::File::create(tmp).map_err(|source| halfspace::data::DataError::Io {
+            path: tmp.to_path_buf(),
+            source,
+        })?;
+        let mut encoder = GifEncoder::new_with_speed(std::io::BufWriter::new(file), 10);
+        encoder.set_repeat(Repeat::Infinite).map_err(format)?;
+        let delay = image::Delay::from_numer_denom_ms(delay_ms, 1);
+        encoder
+            .encode_frames(
+                frames
+                    .into_iter()
+                    .map(|f| image::Frame::from_parts(f, 0, 0, delay)),
+            )
+            .map_err(format)
+    })
+    .map_err(|e| fail(e.to_string()))
+}
+
+/// `wear_depth.gif` (docs/wear3d.md#figures): the worn depth h(x, y) at every record of the run
+/// (the record cycles and the end, [`wear3d_figures`]' snapshots), on one colour scale from 0 to
+/// the final largest depth, the cycle count in each frame's title.
+pub fn wear3d_animation(
+    dir: &Path,
+    run: &halfspace::sam::drivers::fretting_wear3d::FrettingWear3d,
+) -> Result<(), super::CliError> {
+    let g = *run.grid();
+    let (n1, n2) = (g.n1, g.n2);
+    let um = 1e6;
+    let xs: Vec<f64> = (0..n1).map(|i| g.centre(i, 0).0 * um).collect();
+    let ys: Vec<f64> = (0..n2).map(|j| g.centre(0, j).1 * um).collect();
+    let records = run.records();
+    let top = records
+        .iter()
+        .flat_map(|r| r.wear_depth.iter().copied())
+        .fold(0.0, f64::max)
+        * um;
+    let p = dir.join("wear_depth.gif");
+    let fail =
+        |e: Box<dyn std::error::Error>| super::CliError::Plot(format!("{}: {e}", p.display()));
+    let frames = records
+        .iter()
+        .map(|r| {
+            let values = (0..n2)
+                .map(|j| (0..n1).map(|i| r.wear_depth[i * n2 + j] * um).collect())
+                .collect();
+            render_frame(
+                &format!("Worn depth h (μm), N = {} of {}", r.cycles, run.cycles()),
+                ("x (μm)", "y (μm)"),
+                &[FrameMap {
+                    caption: &format!("scale 0 to {top:.4} μm"),
+                    xs: &xs,
+                    ys: &ys,
+                    values,
+                    range: (0.0, top),
+                }],
+            )
+            .map_err(fail)
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    write_gif(&p, frames, 400)
+}
