@@ -538,7 +538,8 @@ class MapResult(Result):
     tangential_force_over_mu_w_at_amplitude: NDArray[np.float64]
     ratchet: NDArray[np.float64]
     seconds: NDArray[np.float64]
-    #: NaN: the Python map evaluates no fatigue criteria (``halfspace fretting-map`` does).
+    #: With a ``fatigue`` dict in the config: each point's largest of its loop's Crossland and
+    #: Dang Van maxima (docs/fatigue.md, "Crack–wear fretting maps"); NaN without one.
     crack_risk: NDArray[np.float64]
 
 

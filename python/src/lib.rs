@@ -26,7 +26,7 @@ use halfspace::config::{
 };
 use halfspace::contact3d::Contact3dConfig;
 use halfspace::fretting::FrettingSimulation;
-use halfspace::fretting_map::{run_map_until, MapError};
+use halfspace::fretting_map::{crack_risk, run_map_with, MapError};
 use halfspace::fretting_wear::{WearConfig, WearRunCase};
 use halfspace::loop_fatigue::{evaluate_loop_fatigue, LoopFatigue, FATIGUE_FIELDS};
 use halfspace::records::{
@@ -477,24 +477,18 @@ fn config_error(e: halfspace::spec::SpecError) -> PyErr {
     }
 }
 
-/// The fretting map of the config over `loads × amplitudes` (`LoopConfig::map`).
+/// The fretting map of the config over `loads × amplitudes` (`LoopConfig::map`) and its
+/// `[fatigue]` constants, if any (each point's `crack_risk`, as `halfspace fretting-map`).
 fn build_map(
     config: Option<&Bound<'_, PyAny>>,
     case: &str,
     grid: Option<usize>,
     loads: Vec<f64>,
     amplitudes: Vec<f64>,
-) -> PyResult<FrettingMap> {
+) -> PyResult<(FrettingMap, Option<FatigueConfig>)> {
     let cfg = loop_config(config)?;
-    if cfg.fatigue.is_some() {
-        // The CLI computes the crack risk (halfspace::fretting_map::run_map_with); refused here
-        // rather than computed and dropped.
-        return Err(err(
-            "config: [fatigue] in a fretting map is read by `halfspace fretting-map` only (not \
-             yet by Python); remove it",
-        ));
-    }
-    cfg.map(case, grid, loads, amplitudes).map_err(err)
+    let map = cfg.map(case, grid, loads, amplitudes).map_err(err)?;
+    Ok((map, cfg.fatigue))
 }
 
 /// `_fretting_map(config, case, grid, loads, amplitudes)`: every point of the fretting map
@@ -511,9 +505,9 @@ fn fretting_map<'py>(
     loads: Vec<f64>,
     amplitudes: Vec<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let map = build_map(config, case, grid, loads, amplitudes)?;
+    let (map, fatigue) = build_map(config, case, grid, loads, amplitudes)?;
     let run = interruptible(py, |cancel| {
-        run_map_until(&map, None, None, |_, _| {}, &|| {
+        run_map_with(&map, fatigue.as_ref(), None, None, |_, _| {}, &|| {
             cancel.load(Ordering::Relaxed)
         })
     })?
@@ -547,7 +541,7 @@ fn fretting_map_shape(
     loads: Vec<f64>,
     amplitudes: Vec<f64>,
 ) -> PyResult<(usize, usize)> {
-    let map = build_map(config, case, grid, loads, amplitudes)?;
+    let (map, _) = build_map(config, case, grid, loads, amplitudes)?;
     Ok(map.shape())
 }
 
@@ -566,9 +560,13 @@ fn fretting_map_point(
     i: usize,
     j: usize,
 ) -> PyResult<Vec<f64>> {
-    let map = build_map(config, case, grid, loads, amplitudes)?;
+    let (map, fatigue) = build_map(config, case, grid, loads, amplitudes)?;
+    let risk = |lp: &FrettingLoop| match &fatigue {
+        Some(cfg) => crack_risk(lp, cfg),
+        None => Ok(f64::NAN),
+    };
     let point = interruptible(py, |cancel| {
-        map.run_point_until(i, j, &|| cancel.load(Ordering::Relaxed))
+        map.run_point_with(i, j, &|| cancel.load(Ordering::Relaxed), &risk)
     })?
     .map_err(err)?;
     Ok(point.values().to_vec())

@@ -348,6 +348,30 @@ def test_fretting_map_on_a_local_dask_cluster_equals_the_serial_map():
     assert dist.regime.dtype == serial.regime.dtype
 
 
+def test_a_crack_wear_map_equals_the_cli_bit_for_bit(tmp_path):
+    """A ``fatigue`` dict in a map's config: each point's ``crack_risk`` (max of its loop's Crossland
+    and Dang Van maxima) as ``halfspace fretting-map`` writes it, on the local cores and through the
+    per-point task of a distributed map (tests/cli_fretting_map.rs's map)."""
+    cfg = {"grid": 16, "normal_steps": 4, "shift_step": 0.01e-6, "subsurface_over_a": 0.0}
+    loads, amplitudes = [0.04, 0.08], [0.01e-6, 0.08e-6]
+    text = (toml(cfg) + f"\n[map]\nloads = {loads!r}\namplitudes = {amplitudes!r}\n"
+            + "[fatigue]\n" + toml(FATIGUE))
+    (tmp_path / "map.toml").write_text(text)
+    ref = cli("fretting-map", "--config", str(tmp_path / "map.toml"), "--out", str(tmp_path / "out"))
+    got = hs.fretting_map(loads, amplitudes, config=dict(cfg, fatigue=FATIGUE))
+    with h5py.File(tmp_path / "out" / "results.h5") as f:
+        assert np.array_equal(got.crack_risk, f["crack_risk"][:])
+        assert np.array_equal(got.dissipated_energy, f["dissipated_energy"][:])
+    assert np.all(np.isfinite(got.crack_risk)) and np.all(got.crack_risk > 0)
+    assert ref["crack_risk_threshold"] == 1.0
+    fields = list(hs._MAP_FIELDS)
+    point = hs._map_point(dict(cfg, fatigue=FATIGUE), "homogeneous", None, loads, amplitudes, 1, 0)
+    assert point[fields.index("crack_risk")] == got.crack_risk[1, 0]
+    # Without the table the risk is NaN, as before.
+    plain = hs.fretting_map(loads[:1], amplitudes[:1], config=cfg)
+    assert np.isnan(plain.crack_risk).all()
+
+
 def test_fretting_map_errors():
     with pytest.raises(hs.HalfspaceError, match=r"at least one of its amplitudes"):
         hs.fretting_map([0.08], [], config=MAP)
