@@ -771,6 +771,21 @@ where
     Ok(())
 }
 
+/// The cell centres of a surface grid along x and y, in μm (the axes of the wear maps).
+fn cell_centres_um(g: &halfspace::sam::SurfaceGrid) -> (Vec<f64>, Vec<f64>) {
+    let xs = (0..g.n1).map(|i| g.centre(i, 0).0 * 1e6).collect();
+    let ys = (0..g.n2).map(|j| g.centre(0, j).1 * 1e6).collect();
+    (xs, ys)
+}
+
+/// A field `f[i·N₂ + j]` (m) as rows along y, `values[j][i] = f(x_i, y_j)` in μm (the layout of
+/// [`surface_map`] and the animation frames).
+fn rows_along_y_um(f: &[f64], n1: usize, n2: usize) -> Vec<Vec<f64>> {
+    (0..n2)
+        .map(|j| (0..n1).map(|i| f[i * n2 + j] * 1e6).collect())
+        .collect()
+}
+
 /// The figures of a completed 3D fretting-wear run, written into `dir` (docs/wear3d.md#figures):
 /// `wear_depth_map.svg` (the worn depth h(x, y) at the end, μm, with a colour bar),
 /// `wear_depth_profiles.svg` (h along x through the row nearest y = 0 and along y through the
@@ -780,11 +795,9 @@ pub fn wear3d_figures(
     dir: &Path,
     run: &halfspace::sam::drivers::fretting_wear3d::FrettingWear3d,
 ) -> Result<(), super::CliError> {
-    let g = *run.grid();
-    let (n1, n2) = (g.n1, g.n2);
+    let (xs, ys) = cell_centres_um(run.grid());
+    let (n1, n2) = (xs.len(), ys.len());
     let um = 1e6;
-    let xs: Vec<f64> = (0..n1).map(|i| g.centre(i, 0).0 * um).collect();
-    let ys: Vec<f64> = (0..n2).map(|j| g.centre(0, j).1 * um).collect();
     // The row/column nearest the axis (an even grid has no cell centred on it).
     let nearest = |c: &[f64]| {
         (0..c.len())
@@ -797,9 +810,7 @@ pub fn wear3d_figures(
     };
     // (a) The worn depth at the end, rows along y (values[j][i] = h(x_i, y_j)).
     let h = run.wear_depth();
-    let values: Vec<Vec<f64>> = (0..n2)
-        .map(|j| (0..n1).map(|i| h[i * n2 + j] * um).collect())
-        .collect();
+    let values = rows_along_y_um(h, n1, n2);
     let p = dir.join("wear_depth_map.svg");
     surface_map(
         &p,
@@ -1160,11 +1171,9 @@ pub fn wear3d_animation(
     dir: &Path,
     run: &halfspace::sam::drivers::fretting_wear3d::FrettingWear3d,
 ) -> Result<(), super::CliError> {
-    let g = *run.grid();
-    let (n1, n2) = (g.n1, g.n2);
+    let (xs, ys) = cell_centres_um(run.grid());
+    let (n1, n2) = (xs.len(), ys.len());
     let um = 1e6;
-    let xs: Vec<f64> = (0..n1).map(|i| g.centre(i, 0).0 * um).collect();
-    let ys: Vec<f64> = (0..n2).map(|j| g.centre(0, j).1 * um).collect();
     let records = run.records();
     let top = records
         .iter()
@@ -1177,9 +1186,7 @@ pub fn wear3d_animation(
     let frames = records
         .iter()
         .map(|r| {
-            let values = (0..n2)
-                .map(|j| (0..n1).map(|i| r.wear_depth[i * n2 + j] * um).collect())
-                .collect();
+            let values = rows_along_y_um(&r.wear_depth, n1, n2);
             render_frame(
                 &format!("Worn depth h (μm), N = {} of {}", r.cycles, run.cycles()),
                 ("x (μm)", "y (μm)"),

@@ -1,7 +1,8 @@
 //! The contact solver with or without inhomogeneities behind one interface.
 
+use crate::contact::ContactState;
 use crate::contact::{ContactProblem, IncrementInfo};
-use crate::contact::{InhomogeneousContact, NestedInfo, NestedParams};
+use crate::contact::{InhomogeneousContact, NestedInfo, NestedParams, NestedWarmStart};
 use crate::eim::Inhomogeneity;
 use crate::normal::NormalLoad;
 use crate::subsurface::{subsurface_stress, StressField};
@@ -75,6 +76,26 @@ impl ContactSolver {
         match self {
             Self::Plain(_) => None,
             Self::Nested(n) => Some(n),
+        }
+    }
+
+    /// Restores a checkpoint's converged state and, with inhomogeneities, the nested loop's warm
+    /// start ([`ContactProblem::restore_state`], [`InhomogeneousContact::set_warm_start`]); the
+    /// warm start must be present exactly when the solver has inhomogeneities.
+    pub fn restore(
+        &mut self,
+        state: &ContactState,
+        eigen: Option<&NestedWarmStart>,
+    ) -> Result<(), SamError> {
+        self.problem_mut().restore_state(state)?;
+        match (self, eigen) {
+            (Self::Nested(n), Some(w)) => n.set_warm_start(w),
+            (Self::Plain(_), None) => Ok(()),
+            _ => Err(SamError::InvalidInput(
+                "checkpoint member eigenstrain: the checkpoint's eigenstrains do not match the \
+                 inhomogeneities"
+                    .into(),
+            )),
         }
     }
 

@@ -147,16 +147,8 @@ impl FrettingLoop {
             ));
         }
         lp.check_snapshot(&snapshot)?;
-        lp.solver.problem_mut().restore_state(&snapshot.state)?;
-        match (&mut lp.solver, &snapshot.eigen) {
-            (ContactSolver::Nested(n), Some(w)) => n.set_warm_start(w)?,
-            (ContactSolver::Plain(_), None) => {}
-            _ => {
-                return Err(SamError::InvalidInput(
-                    "the checkpoint's eigenstrains do not match the inhomogeneities".into(),
-                ))
-            }
-        }
+        lp.solver
+            .restore(&snapshot.state, snapshot.eigen.as_ref())?;
         lp.rows = snapshot.rows;
         lp.points = snapshot.points;
         lp.max_transverse_slip = snapshot.max_transverse_slip;

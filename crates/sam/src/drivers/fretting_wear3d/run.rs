@@ -253,18 +253,8 @@ impl FrettingWear3d {
             ));
         }
         run.check_snapshot(&snapshot)?;
-        run.solver.problem_mut().restore_state(&snapshot.state)?;
-        match (&mut run.solver, &snapshot.eigen) {
-            (ContactSolver::Nested(n), Some(w)) => n.set_warm_start(w)?,
-            (ContactSolver::Plain(_), None) => {}
-            _ => {
-                return Err(SamError::InvalidInput(
-                    "checkpoint member eigenstrain: the checkpoint's eigenstrains do not match \
-                     the inhomogeneities"
-                        .into(),
-                ))
-            }
-        }
+        run.solver
+            .restore(&snapshot.state, snapshot.eigen.as_ref())?;
         run.wear = snapshot.wear_depth;
         run.cycles = snapshot.cycles;
         run.started = snapshot.started;
