@@ -63,18 +63,27 @@ fn fatigue_maxima_and_fields_of_an_elastic_indenter_under_approach_control() {
         assert!(v.is_finite() && v > 0.0, "{key}_max = {v}");
         let at = j[format!("{key}_max_at")].as_array().unwrap();
         assert_eq!(at.len(), 3);
-        assert!(at[2].as_f64().unwrap() > 0.0, "{key}: z below the surface");
+        assert!(at[2].as_f64().unwrap() >= 0.0, "{key}: z in the body");
     }
     let rec = halfspace::data::read_record(&full.join("results.h5")).unwrap();
-    let layers = rec.get("z").unwrap().len();
-    assert!(layers >= 1);
+    let z = rec.get("z").unwrap();
+    let layers = z.len();
+    assert!(layers >= 2);
+    // The surface layer first (docs/fatigue.md, "The surface layer"), then (2k + 1)Δ.
+    assert_eq!(z[0], 0.0);
+    assert!((z[2] - 3.0 * z[1]).abs() < 1e-12 * z[2], "{z:?}");
+    assert_eq!(j["fatigue"]["surface_layer"], true);
     for key in ["crossland", "dang_van", "swt", "fatemi_socie"] {
         assert_eq!(rec.shape_of(key).unwrap(), vec![layers, 16, 16]);
     }
     let crossland = rec.get("crossland").unwrap();
     let max = crossland.iter().copied().fold(f64::MIN, f64::max);
     assert_eq!(max, j["crossland_max"].as_f64().unwrap());
-    assert!(full.join("results.xdmf").exists());
+    let xdmf = std::fs::read_to_string(full.join("results.xdmf")).unwrap();
+    assert!(xdmf.contains(&format!(
+        r#"TopologyType="3DRectMesh" Dimensions="{layers} 16 16""#
+    )));
+    assert!(xdmf.contains("results.h5:/z") && xdmf.contains("results.h5:/crossland"));
     // The figures (docs/fatigue.md#figures): sections through each maximum, depth profile.
     for (key, unit) in [
         ("crossland", "Crossland index"),

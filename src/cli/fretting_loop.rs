@@ -162,7 +162,7 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
     let results = args.out.join("results.h5");
     write_record(&results, &rec)?;
     if let Some(f) = &fatigue {
-        halfspace::data::write_xdmf(
+        halfspace::data::write_xdmf_rectilinear(
             &results.with_extension("xdmf"),
             &results,
             &f.volume(),

@@ -557,9 +557,25 @@ where
     let root = root.titled(title, ("sans-serif", 15))?;
     let (main, bar) = root.split_horizontally(map_width);
     let dx = if xs.len() > 1 { xs[1] - xs[0] } else { 1.0 };
-    let dz = if zs.len() > 1 { zs[1] - zs[0] } else { 1.0 };
+    // Row r spans the midpoints to its neighbours (rows may be unequally spaced: the fatigue
+    // box's surface layer z = 0 lies Δ above its first layer, those below are 2Δ apart).
+    let nz = zs.len();
+    let row_edges: Vec<(f64, f64)> = (0..nz)
+        .map(|r| {
+            let below = if r + 1 < nz {
+                zs[r + 1] - zs[r]
+            } else if r > 0 {
+                zs[r] - zs[r - 1]
+            } else {
+                1.0
+            };
+            let above = if r > 0 { zs[r] - zs[r - 1] } else { below };
+            (zs[r] - 0.5 * above, zs[r] + 0.5 * below)
+        })
+        .collect();
     let (x0, x1) = (xs[0] - 0.5 * dx, xs[xs.len() - 1] + 0.5 * dx);
-    let (z0, z1) = (zs[0] - 0.5 * dz, zs[zs.len() - 1] + 0.5 * dz);
+    let (z0, z1) = (row_edges[0].0, row_edges[nz - 1].1);
+    let row_edges = &row_edges;
     // The colour range of the finite cells (NaN cells, e.g. screened ones, stay blank).
     let finite = || values.iter().flatten().copied().filter(|v| v.is_finite());
     let (mut vmin, mut vmax) = (
@@ -587,9 +603,9 @@ where
             .enumerate()
             .filter(|(_, v)| v.is_finite())
             .map(move |(c, v)| {
-                let (x, z) = (xs[c], zs[r]);
+                let (x, (za, zb)) = (xs[c], row_edges[r]);
                 Rectangle::new(
-                    [(x - 0.5 * dx, z - 0.5 * dz), (x + 0.5 * dx, z + 0.5 * dz)],
+                    [(x - 0.5 * dx, za), (x + 0.5 * dx, zb)],
                     colormap((v - vmin) / span).filled(),
                 )
             })

@@ -17,13 +17,14 @@ use crate::spec::SpecError;
 /// The four index fields of a loop and where they peak.
 #[derive(Debug, Clone)]
 pub struct LoopFatigue {
-    /// The fields and maxima (cells in the order of [`CycleStress`], layer slow).
+    /// The fields and maxima, layer slow, the layers in the order of `z`: the surface layer
+    /// `z = 0` first, then the layers below (the maxima's `point` in this order).
     pub indices: ScreenedIndices,
-    /// Layers and surface grid of the box.
+    /// Layers of the fields: the surface layer and the layers below the surface.
     pub layers: usize,
     /// Cells per side `(N₁, N₂)`.
     pub shape: (usize, usize),
-    /// Cell centres: `x` (N₁), `y` (N₂), `z` (layers) (m).
+    /// Cell centres: `x` (N₁), `y` (N₂), `z` (layers: 0, then `(2k + 1)Δ`) (m).
     pub x: Vec<f64>,
     pub y: Vec<f64>,
     pub z: Vec<f64>,
@@ -61,19 +62,55 @@ pub fn evaluate_loop_fatigue(
     .map_err(|e| SpecError(format!("fatigue: {e}")))?;
     let g = h.grid;
     let at = |m: &Maximum| h.position(m.point);
+    let at = [
+        at(&indices.crossland_max),
+        at(&indices.dang_van_max),
+        at(&indices.swt_max),
+        at(&indices.fatemi_socie_max),
+    ];
+    // The history holds the surface layer after the layers below; the fields list the layers
+    // by depth, the surface first.
+    let per = g.len();
+    let order: Vec<usize> = if h.surface {
+        std::iter::once(h.layers).chain(0..h.layers).collect()
+    } else {
+        (0..h.layers).collect()
+    };
+    let by_depth = |v: &[f64]| -> Vec<f64> {
+        order
+            .iter()
+            .flat_map(|&k| v[k * per..(k + 1) * per].iter().copied())
+            .collect()
+    };
+    let slot = |p: usize| {
+        let k = order.iter().position(|&k| k == p / per).unwrap_or(0);
+        k * per + p % per
+    };
+    let mut indices = indices;
+    for f in [
+        &mut indices.crossland,
+        &mut indices.dang_van,
+        &mut indices.swt,
+        &mut indices.fatemi_socie,
+    ] {
+        *f = by_depth(f);
+    }
+    for m in [
+        &mut indices.crossland_max,
+        &mut indices.dang_van_max,
+        &mut indices.swt_max,
+        &mut indices.fatemi_socie_max,
+    ] {
+        m.point = slot(m.point);
+    }
     Ok(LoopFatigue {
-        at: [
-            at(&indices.crossland_max),
-            at(&indices.dang_van_max),
-            at(&indices.swt_max),
-            at(&indices.fatemi_socie_max),
-        ],
+        at,
         indices,
-        layers: h.layers,
+        layers: order.len(),
         shape: (g.n1, g.n2),
         x: (0..g.n1).map(|i| g.centre(i, 0).0).collect(),
         y: (0..g.n2).map(|j| g.centre(0, j).1).collect(),
-        z: (0..h.layers).map(|k| h.depth(k)).collect(),
+        z: order.iter().map(|&k| h.depth(k)).collect(),
         increments: h.increments,
         seconds: start.elapsed().as_secs_f64(),
     })
@@ -100,6 +137,7 @@ impl LoopFatigue {
             "fatigue": {
                 "cells": i.crossland.len(),
                 "layers": self.layers,
+                "surface_layer": self.z.first() == Some(&0.0),
                 "increments": self.increments,
                 "invariant_evaluated": i.invariant_evaluated,
                 "swt_evaluated": i.swt_evaluated,
@@ -109,7 +147,8 @@ impl LoopFatigue {
         })
     }
 
-    /// `rec` with `z` (layer depths, m) and the four volume fields `(layers, N₁, N₂)` (`NaN`
+    /// `rec` with `z` (layer depths, m: 0 the surface layer, then `(2k + 1)Δ`) and the four
+    /// volume fields `(layers, N₁, N₂)` (`NaN`
     /// where the screen skipped them), the maxima as attributes.
     pub fn record(&self, rec: Record) -> Record {
         let shape = [self.layers, self.shape.0, self.shape.1];
@@ -141,17 +180,13 @@ impl LoopFatigue {
         rec
     }
 
-    /// The XDMF description of the volume fields (axes Z Y X = depth, x, y).
-    pub fn volume(&self) -> crate::data::UniformVolume {
-        let d = if self.z.len() > 1 {
-            self.z[1] - self.z[0]
-        } else {
-            2.0 * self.z[0]
-        };
-        crate::data::UniformVolume {
+    /// The XDMF description of the volume fields (axes Z Y X = depth, x, y): a rectilinear
+    /// lattice on the datasets `z`, `x`, `y` of results.h5 (the surface layer at `z = 0` is `Δ`
+    /// above the first layer, the layers below `2Δ` apart).
+    pub fn volume(&self) -> crate::data::RectilinearVolume {
+        crate::data::RectilinearVolume {
             dims: [self.layers, self.shape.0, self.shape.1],
-            origin: [self.z[0], self.x[0], self.y[0]],
-            spacing: [d, d, d],
+            axes: ["z".into(), "x".into(), "y".into()],
         }
     }
 }

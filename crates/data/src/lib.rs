@@ -21,7 +21,7 @@ pub use error::DataError;
 pub use manifest::Manifest;
 pub use npy::{read_npy_1d, read_npy_2d, read_profile_table};
 pub use record::{AttrValue, Record};
-pub use xdmf::{write_xdmf, UniformVolume};
+pub use xdmf::{write_xdmf, write_xdmf_rectilinear, RectilinearVolume, UniformVolume};
 
 use std::path::Path;
 

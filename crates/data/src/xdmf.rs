@@ -19,6 +19,66 @@ pub struct UniformVolume {
     pub spacing: [f64; 3],
 }
 
+/// A rectilinear lattice of `dims = (n_slow, n_mid, n_fast)` points whose coordinates along each
+/// axis are the 1D datasets `axes` (slowest first, of lengths `dims`) of the same HDF5 file
+/// (XDMF's `3DRectMesh` with `VXVYVZ` geometry: unequal spacings, e.g. a surface layer above
+/// uniformly spaced layers).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RectilinearVolume {
+    /// Points per axis, slowest first.
+    pub dims: [usize; 3],
+    /// Names of the coordinate datasets, slowest axis first.
+    pub axes: [String; 3],
+}
+
+/// Writes `xdmf_path` describing the datasets `fields` (each of shape `dims`, C order) of the HDF5
+/// file `h5_path` on the lattice `volume` whose coordinates are datasets of that file
+/// ([`RectilinearVolume`]). Atomic.
+pub fn write_xdmf_rectilinear(
+    xdmf_path: &Path,
+    h5_path: &Path,
+    volume: &RectilinearVolume,
+    fields: &[&str],
+    note: &str,
+) -> Result<(), DataError> {
+    let h5_name = file_name(h5_path);
+    let d = volume.dims;
+    let dims = format!("{} {} {}", d[0], d[1], d[2]);
+    let mut x = header(note);
+    let _ = writeln!(
+        x,
+        r#"      <Topology TopologyType="3DRectMesh" Dimensions="{dims}"/>"#
+    );
+    let _ = writeln!(x, r#"      <Geometry GeometryType="VXVYVZ">"#);
+    // X is the fastest axis.
+    for k in [2, 1, 0] {
+        let _ = writeln!(
+            x,
+            r#"        <DataItem Dimensions="{}" NumberType="Float" Precision="8" Format="HDF">{h5_name}:/{}</DataItem>"#,
+            d[k], volume.axes[k]
+        );
+    }
+    let _ = writeln!(x, "      </Geometry>");
+    finish(xdmf_path, x, &h5_name, &dims, fields)
+}
+
+fn file_name(h5_path: &Path) -> String {
+    h5_path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+fn header(note: &str) -> String {
+    let mut x = String::new();
+    let _ = writeln!(x, r#"<?xml version="1.0" ?>"#);
+    let _ = writeln!(x, r#"<Xdmf Version="3.0">"#);
+    let _ = writeln!(x, "  <!-- {} -->", note.replace("--", "-"));
+    let _ = writeln!(x, "  <Domain>");
+    let _ = writeln!(x, r#"    <Grid Name="volume" GridType="Uniform">"#);
+    x
+}
+
 /// Writes `xdmf_path` describing the datasets `fields` (each of shape `dims`, C order) of the HDF5
 /// file `h5_path` (referenced by file name, so the two files travel together). Atomic.
 pub fn write_xdmf(
@@ -28,18 +88,10 @@ pub fn write_xdmf(
     fields: &[&str],
     note: &str,
 ) -> Result<(), DataError> {
-    let h5_name = h5_path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
+    let h5_name = file_name(h5_path);
     let d = volume.dims;
     let dims = format!("{} {} {}", d[0], d[1], d[2]);
-    let mut x = String::new();
-    let _ = writeln!(x, r#"<?xml version="1.0" ?>"#);
-    let _ = writeln!(x, r#"<Xdmf Version="3.0">"#);
-    let _ = writeln!(x, "  <!-- {} -->", note.replace("--", "-"));
-    let _ = writeln!(x, "  <Domain>");
-    let _ = writeln!(x, r#"    <Grid Name="volume" GridType="Uniform">"#);
+    let mut x = header(note);
     let _ = writeln!(
         x,
         r#"      <Topology TopologyType="3DCoRectMesh" Dimensions="{dims}"/>"#
@@ -58,6 +110,17 @@ pub fn write_xdmf(
         s[0], s[1], s[2]
     );
     let _ = writeln!(x, "      </Geometry>");
+    finish(xdmf_path, x, &h5_name, &dims, fields)
+}
+
+/// The attributes and the closing tags, written atomically.
+fn finish(
+    xdmf_path: &Path,
+    mut x: String,
+    h5_name: &str,
+    dims: &str,
+    fields: &[&str],
+) -> Result<(), DataError> {
     for f in fields {
         let _ = writeln!(
             x,

@@ -159,3 +159,34 @@ fn xdmf_describes_the_volume_datasets() {
     assert!(text.contains(r#"TopologyType="3DCoRectMesh" Dimensions="2 3 4""#));
     assert!(text.contains("v.h5:/von_mises"));
 }
+
+#[test]
+fn xdmf_describes_a_rectilinear_volume_on_coordinate_datasets() {
+    let dir = tempfile::tempdir().unwrap();
+    let xdmf = dir.path().join("r.xdmf");
+    let volume = halfspace_data::RectilinearVolume {
+        dims: [3, 4, 5],
+        axes: ["z".into(), "x".into(), "y".into()],
+    };
+    halfspace_data::write_xdmf_rectilinear(
+        &xdmf,
+        &dir.path().join("r.h5"),
+        &volume,
+        &["crossland"],
+        "test",
+    )
+    .unwrap();
+    let text = std::fs::read_to_string(&xdmf).unwrap();
+    assert!(text.contains(r#"TopologyType="3DRectMesh" Dimensions="3 4 5""#));
+    // VXVYVZ: the fastest axis first.
+    let (vx, vy, vz) = (
+        text.find("r.h5:/y").unwrap(),
+        text.find("r.h5:/x").unwrap(),
+        text.find("r.h5:/z").unwrap(),
+    );
+    assert!(vx < vy && vy < vz);
+    assert!(text.contains(
+        r#"<DataItem Dimensions="5" NumberType="Float" Precision="8" Format="HDF">r.h5:/y"#
+    ));
+    assert!(text.contains("r.h5:/crossland"));
+}

@@ -118,6 +118,9 @@ pub struct SubsurfacePlan {
     e: f64,
     nu: f64,
     layers: usize,
+    /// Whether the surface layer `z = 0` follows the `layers` layers (docs/fatigue.md, "The
+    /// surface layer").
+    surface: bool,
     targets: Vec<i64>,
     fft: Fft2d,
     love: LayeredSpectra,
@@ -145,6 +148,24 @@ impl SubsurfacePlan {
     /// The plan of the layers from the surface to `depth` below `grid` in the half-space
     /// `(e, nu)`; refused up front above [`FIELD_LIMIT_BYTES`].
     pub fn new(grid: &SurfaceGrid, e: f64, nu: f64, depth: f64) -> Result<Self, SamError> {
+        Self::with_surface(grid, e, nu, depth, false)
+    }
+
+    /// [`SubsurfacePlan::new`] and, with `surface`, the surface layer `z = 0` after the
+    /// `layers` layers (cells `layers · N₁N₂ + i N₂ + j`; docs/fatigue.md, "The surface layer"):
+    /// Love's rectangle stresses (docs/theory-sam.md#love-rectangle-stresses) in the limit
+    /// `z → 0⁺` at the cell centres, where a cell's own traction gives `σ₃₃ = −p`,
+    /// `σ₁₃ = −q₁`, `σ₂₃ = −q₂` and the in-plane stresses are the corner sums of the
+    /// primitives at `z = 0` (`Φ_z = ∓π/2`, finite logarithms and arctangents: the corners
+    /// `c_α = x_α ± Δ` of a cell centre are never 0). The stresses of the layers below are bit
+    /// for bit those without it (each target depth is an independent product).
+    pub fn with_surface(
+        grid: &SurfaceGrid,
+        e: f64,
+        nu: f64,
+        depth: f64,
+        surface: bool,
+    ) -> Result<Self, SamError> {
         crate::error::positive("subsurface depth", depth)?;
         crate::error::positive("Young's modulus", e)?;
         if !(nu > -1.0 && nu < 0.5) {
@@ -163,8 +184,9 @@ impl SubsurfacePlan {
         }
         let half = grid.half1;
         let layers = Self::layers_for(depth, half);
-        let need = Self::spectra_bytes(grid.n1, grid.n2, layers)
-            + Self::field_bytes(grid.n1, grid.n2, layers);
+        let levels = layers + usize::from(surface);
+        let need = Self::spectra_bytes(grid.n1, grid.n2, levels)
+            + Self::field_bytes(grid.n1, grid.n2, levels);
         if need > FIELD_LIMIT_BYTES {
             return Err(SamError::InvalidParameter {
                 name: "memory for the subsurface stress field (bytes)",
@@ -172,7 +194,11 @@ impl SubsurfacePlan {
                 allowed: "≤ 8 GiB: a shallower subsurface depth or a coarser grid",
             });
         }
-        let targets: Vec<i64> = (0..layers).map(|k| (2 * k + 1) as i64).collect();
+        // Depth keys in units of Δ: (2k + 1) for layer k, then 0 for the surface layer.
+        let targets: Vec<i64> = (0..layers)
+            .map(|k| (2 * k + 1) as i64)
+            .chain(surface.then_some(0))
+            .collect();
         let mut fft = Fft2d::new(grid.n1, grid.n2)?;
         let love_kernel = LoveStrain {
             half,
@@ -190,15 +216,21 @@ impl SubsurfacePlan {
             e,
             nu,
             layers,
+            surface,
             targets,
             fft,
             love,
         })
     }
 
-    /// Layers of the box.
+    /// Layers of the box below the surface.
     pub fn layers(&self) -> usize {
         self.layers
+    }
+
+    /// Whether the surface layer `z = 0` follows them ([`SubsurfacePlan::with_surface`]).
+    pub fn surface(&self) -> bool {
+        self.surface
     }
 
     /// The surface grid.
@@ -223,7 +255,9 @@ impl SubsurfacePlan {
         inclusions: Option<(&InclusionSet, &[f64])>,
     ) -> Result<([Vec<f64>; 6], Vec<u16>), SamError> {
         let grid = self.grid;
-        let (e, nu, layers) = (self.e, self.nu, self.layers);
+        let (e, nu) = (self.e, self.nu);
+        // The layers and, last, the surface layer (z = 0, the matrix).
+        let layers = self.layers + usize::from(self.surface);
         let half = grid.half1;
         let n = grid.len();
         if p.len() != n || q.is_some_and(|q| q[0].len() != n || q[1].len() != n) {
@@ -250,6 +284,17 @@ impl SubsurfacePlan {
                     },
                 ));
             }
+            if self.surface && set.layers.contains(&0) {
+                // The surface point z = 0 would lie on the top face of an inclusion cuboid,
+                // where the strain of its eigenstrain jumps.
+                return Err(SamError::InvalidInput(
+                    "the fatigue box's surface layer z = 0: an inhomogeneity reaches the first \
+                     layer of cells below the surface, whose top face is the surface (its \
+                     stress there is not defined by the cell model); use a finer grid or a \
+                     deeper inhomogeneity"
+                        .into(),
+                ));
+            }
             let sources: Vec<i64> = set.layers.iter().map(|k| (2 * k + 1) as i64).collect();
             let mut fields = vec![vec![0.0; n]; sources.len() * 6];
             for (c, cell) in set.cells.iter().enumerate() {
@@ -257,7 +302,7 @@ impl SubsurfacePlan {
                     fields[cell.layer * 6 + o][cell.flat] = eps_star[c * 6 + o];
                 }
                 let k = set.layers[cell.layer];
-                if k < layers {
+                if k < self.layers {
                     material[k * n + cell.flat] = cell.material as u16 + 1;
                 }
             }

@@ -236,11 +236,12 @@ fn with_history() -> LoopCase {
 
 #[test]
 fn the_cycle_stress_history_is_the_field_at_each_increment_and_resumes_bit_for_bit() {
-    use halfspace_sam::subsurface::subsurface_stress;
+    use halfspace_sam::subsurface::{subsurface_stress, SubsurfacePlan};
     let case = with_history();
     let mut lp = FrettingLoop::new(case.clone()).unwrap();
     let start = lp.path().cycle_start();
     let mut direct = Vec::new();
+    let mut surface_tractions = Vec::new();
     let mut snapshot = None;
     while lp.step().unwrap().is_some() {
         let k = lp.rows().len() - 1;
@@ -257,6 +258,7 @@ fn the_cycle_stress_history_is_the_field_at_each_increment_and_resumes_bit_for_b
             )
             .unwrap();
             direct.push(f);
+            surface_tractions.push((st.pressure.clone(), st.shear.clone()));
         }
         if k == start + 3 {
             snapshot = Some(lp.snapshot());
@@ -268,10 +270,30 @@ fn the_cycle_stress_history_is_the_field_at_each_increment_and_resumes_bit_for_b
     assert_eq!(h.increments, 4 * lp.path().quarter + 1);
     // Layers to depth a on cells of 4.16a/16: ⌈a / cell⌉.
     assert_eq!(h.layers, (16.0 / 4.16f64).ceil() as usize);
+    // The layers below the surface, then the surface layer z = 0 (docs/fatigue.md, "The
+    // surface layer").
+    assert!(h.surface);
+    assert_eq!(h.points(), (h.layers + 1) * 256);
+    assert_eq!(h.position(h.layers * 256 + 3)[2], 0.0);
+    let top = SubsurfacePlan::with_surface(
+        lp.solver().problem().grid(),
+        case.e,
+        case.nu,
+        case.fatigue_depth.unwrap(),
+        true,
+    );
+    let mut top = top.unwrap();
     for (t, f) in direct.iter().enumerate() {
-        for p in [0, 37, h.points() - 1] {
+        for p in [0, 37, h.layers * 256 - 1] {
             for c in 0..6 {
                 assert_eq!(h.stress[(p * h.increments + t) * 6 + c], f.stress[c][p]);
+            }
+        }
+        let (pr, q) = (&surface_tractions[t].0, &surface_tractions[t].1);
+        let (s, _) = top.stress(pr, Some([&q[0], &q[1]]), None).unwrap();
+        for (c, field) in s.iter().enumerate() {
+            for (p, v) in field.iter().enumerate().skip(h.layers * 256) {
+                assert_eq!(h.stress[(p * h.increments + t) * 6 + c], *v);
             }
         }
     }
@@ -279,7 +301,7 @@ fn the_cycle_stress_history_is_the_field_at_each_increment_and_resumes_bit_for_b
     // the checkpoint snapshot's and its record's).
     let bytes = halfspace_sam::drivers::fretting_loop::CycleStress::bytes(
         256.0,
-        h.layers as f64,
+        (h.layers + 1) as f64,
         h.increments as f64,
     ) + 3.0
         * halfspace_sam::drivers::fretting_loop::CycleSources::bytes(

@@ -328,10 +328,12 @@ impl LoopCase {
                         .fold(0.0f64, f64::max);
                     6.0 * cells * ((deepest / cell).ceil() + 1.0)
                 };
-                super::CycleStress::bytes(cells, layers as f64, cycle)
+                // The layers and the surface layer z = 0.
+                let levels = layers + 1;
+                super::CycleStress::bytes(cells, levels as f64, cycle)
                     + 3.0 * super::CycleSources::bytes(cells, eigen_len, cycle)
-                    + crate::subsurface::SubsurfacePlan::spectra_bytes(n, n, layers)
-                    + crate::subsurface::SubsurfacePlan::field_bytes(n, n, layers)
+                    + crate::subsurface::SubsurfacePlan::spectra_bytes(n, n, levels)
+                    + crate::subsurface::SubsurfacePlan::field_bytes(n, n, levels)
             }
             None => 0.0,
         };

@@ -4,7 +4,8 @@
 //! [`crate::subsurface::subsurface_stress`]), at every increment of the last full cycle
 //! `+A → −A → +A`, from the loop's tractions (Love's rectangle stresses,
 //! docs/theory-sam.md#love-rectangle-stresses) and, with inhomogeneities, the EIM disturbance
-//! (`σ = C_I : ε` in an inhomogeneity cell).
+//! (`σ = C_I : ε` in an inhomogeneity cell); after the layers, the surface layer `z = 0`
+//! (docs/fatigue.md, "The surface layer").
 
 use crate::{SamError, SurfaceGrid};
 
@@ -15,11 +16,15 @@ pub struct CycleStress {
     pub grid: SurfaceGrid,
     /// Layers below the surface.
     pub layers: usize,
+    /// Whether the surface layer `z = 0` follows them (cells `layers · N₁N₂ + i N₂ + j`,
+    /// [`crate::subsurface::SubsurfacePlan::with_surface`]).
+    pub surface: bool,
     /// Increments of the closed cycle (`4q + 1`).
     pub increments: usize,
     /// Increments recorded so far.
     pub recorded: usize,
-    /// `stress[(p · increments + t) · 6 + c]`: cell `p = k N₁N₂ + i N₂ + j` (layer slow),
+    /// `stress[(p · increments + t) · 6 + c]`: cell `p = k N₁N₂ + i N₂ + j` (layer slow; the
+    /// surface layer, if any, is `k = layers`),
     /// increment `t` of the cycle, Voigt component `c` of `(11, 22, 33, 23, 13, 12)` (Pa,
     /// tension positive) — the layout of `halfspace_fatigue::evaluate_field`.
     pub stress: Vec<f64>,
@@ -42,34 +47,44 @@ impl CycleStress {
         cells * layers * increments * 48.0
     }
 
-    /// Cells of the box.
-    pub fn points(&self) -> usize {
-        self.layers * self.grid.len()
+    /// Layers stored: the layers below the surface and the surface layer.
+    pub fn levels(&self) -> usize {
+        self.layers + usize::from(self.surface)
     }
 
-    /// The centre `(x, y, z)` of cell `p` (z the depth, m).
+    /// Cells of the box (with the surface layer).
+    pub fn points(&self) -> usize {
+        self.levels() * self.grid.len()
+    }
+
+    /// The centre `(x, y, z)` of cell `p` (z the depth, m; 0 on the surface layer).
     pub fn position(&self, p: usize) -> [f64; 3] {
         let per = self.grid.len();
         let (k, flat) = (p / per, p % per);
         let (x, y) = self.grid.centre(flat / self.grid.n2, flat % self.grid.n2);
-        [x, y, (2 * k + 1) as f64 * self.grid.half1]
+        [x, y, self.depth(k)]
     }
 
-    /// Depth of layer `k`, `(2k + 1)Δ`.
+    /// Depth of layer `k`: `(2k + 1)Δ` below the surface, 0 for the surface layer `k = layers`.
     pub fn depth(&self, k: usize) -> f64 {
-        (2 * k + 1) as f64 * self.grid.half1
+        if k >= self.layers {
+            0.0
+        } else {
+            (2 * k + 1) as f64 * self.grid.half1
+        }
     }
 
-    /// An empty history of `increments` increments on `layers` layers below `grid`, the cells of
-    /// materials `material` (0 the matrix, `m + 1` inclusion material `m` of `materials`).
+    /// An empty history of `increments` increments on `layers` layers below `grid` (and the
+    /// surface layer after them with `surface`), the cells of materials `material` (0 the
+    /// matrix, `m + 1` inclusion material `m` of `materials`).
     pub(super) fn new(
         grid: SurfaceGrid,
-        layers: usize,
+        (layers, surface): (usize, bool),
         material: Vec<u16>,
         increments: usize,
         materials: Vec<(f64, f64)>,
     ) -> Result<Self, SamError> {
-        let points = layers * grid.len();
+        let points = (layers + usize::from(surface)) * grid.len();
         let len = points
             .checked_mul(increments)
             .and_then(|v| v.checked_mul(6))
@@ -79,6 +94,7 @@ impl CycleStress {
         Ok(Self {
             grid,
             layers,
+            surface,
             increments,
             recorded: 0,
             stress: vec![0.0; len],

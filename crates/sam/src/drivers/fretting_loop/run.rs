@@ -521,11 +521,13 @@ impl FrettingLoop {
         };
         if self.plan.is_none() {
             let grid = *self.solver.problem().grid();
-            self.plan = Some(SubsurfacePlan::new(
+            // With the surface layer z = 0 (docs/fatigue.md, "The surface layer").
+            self.plan = Some(SubsurfacePlan::with_surface(
                 &grid,
                 self.case.e,
                 self.case.nu,
                 depth,
+                true,
             )?);
         }
         let Some(plan) = self.plan.as_mut() else {
@@ -544,7 +546,7 @@ impl FrettingLoop {
             let increments = self.path.len() - self.path.cycle_start();
             self.cycle_stress = Some(CycleStress::new(
                 *plan.grid(),
-                plan.layers(),
+                (plan.layers(), plan.surface()),
                 material,
                 increments,
                 materials,
