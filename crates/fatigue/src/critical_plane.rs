@@ -479,7 +479,7 @@ pub fn fatemi_socie(
         .map(|p| p.0)
         .fold(f64::NEG_INFINITY, f64::max);
     let factor = (std::f64::consts::FRAC_PI_2 / params.coarse_directions as f64).cos();
-    let screened = path.len() <= DIAMETER_PAIRS_UP_TO;
+    let screened = path.len() <= PAIR_SCREEN_UP_TO;
     if screened {
         pair_norms(path, &mut scratch.pair_norms);
     }
@@ -497,7 +497,7 @@ pub fn fatemi_socie(
         };
         let mut exact = |n: &[f64; 3], h: f64| {
             if screened {
-                fs_plane_screened(path, n, h, g, kq, &mut shear, &mut screen)
+                fs_plane_screened(path, n, h, g, kq, &mut shear, &mut hull, &mut screen)
             } else {
                 fs_plane_exact(path, n, g, kq, &mut shear, &mut hull).0
             }
@@ -592,6 +592,7 @@ struct Screen<'a> {
 /// Fatemi–Socie on the plane `n`, exact over in-plane directions, with pair screening: a step
 /// `h ≤ SCREEN_ABOVE_STEP` farther than the screening radius from the anchor re-anchors at `n`
 /// with radius `4h`; larger steps scan all pairs.
+#[allow(clippy::too_many_arguments)]
 fn fs_plane_screened(
     path: &[Voigt],
     n: &[f64; 3],
@@ -599,6 +600,7 @@ fn fs_plane_screened(
     g: f64,
     k_over_sy: f64,
     shear: &mut Vec<[f64; 2]>,
+    hull: &mut Vec<[f64; 2]>,
     screen: &mut Screen,
 ) -> f64 {
     let (smax, _, _) = shear_path(path, n, shear);
@@ -608,7 +610,11 @@ fn fs_plane_screened(
     });
     let d2 = |p: &[f64; 2], q: &[f64; 2]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
     let mut best: f64 = 0.0;
-    if !inside && h > SCREEN_ABOVE_STEP {
+    if !inside && h > SCREEN_ABOVE_STEP && shear.len() > DIAMETER_PAIRS_UP_TO {
+        // Large steps on long paths: the diameter as the full evaluation computes it (the hull;
+        // the same value as `fs_plane_exact`).
+        best = diameter_hull(shear, hull).0;
+    } else if !inside && h > SCREEN_ABOVE_STEP {
         // Large steps (probes, the first compass steps): the list would keep most pairs; one
         // plain pass over all pairs.
         for i in 0..shear.len() {
@@ -761,6 +767,13 @@ fn refine<F: FnMut(&[f64; 3], f64) -> f64>(
 
 /// Up to this many points [`diameter`] compares all pairs (measured faster than the hull).
 pub const DIAMETER_PAIRS_UP_TO: usize = 64;
+
+/// Up to this many increments the phase-2 refinement of Fatemi–Socie screens increment pairs
+/// (docs/fatigue.md, "Critical-plane search", step 4; `N(N − 1)/2` pair norms of scratch, 33 k
+/// at 256): near an anchor only the few pairs that can attain the diameter are compared, which
+/// beats the hull (its sort) also above [`DIAMETER_PAIRS_UP_TO`] (the fretting loop's cycles
+/// have 4q + 1 = 81 increments).
+pub const PAIR_SCREEN_UP_TO: usize = 256;
 
 /// The largest squared distance between two of `points` and the difference vector of that
 /// pair, by the convex hull (Andrew's monotone chain) and rotating calipers (Shamos 1978):
@@ -949,37 +962,56 @@ mod tests {
         let (mut shear, mut hull, mut norms, mut active) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut checked = 0;
-        for _ in 0..50 {
-            let c: [[f64; 6]; 3] =
-                std::array::from_fn(|_| std::array::from_fn(|_| 1e8 * uniform()));
-            let path: Vec<Voigt> = (0..40)
-                .map(|i| {
-                    let w = 2.0 * std::f64::consts::PI * i as f64 / 40.0;
-                    std::array::from_fn(|k| c[0][k] + c[1][k] * w.cos() + c[2][k] * (2.0 * w).sin())
-                })
-                .collect();
-            pair_norms(&path, &mut norms);
-            let n0 = normalize([uniform(), uniform(), uniform()]);
-            for h in [0.05, 0.01, 1e-3, 1e-4] {
-                let mut screen = Screen {
-                    anchor: None,
-                    radius: 0.0,
-                    norms: &norms,
-                    active: &mut active,
-                };
-                let full = fs_plane_exact(&path, &n0, g, kq, &mut shear, &mut hull).0;
-                let anchored = fs_plane_screened(&path, &n0, h, g, kq, &mut shear, &mut screen);
-                assert_eq!(full, anchored);
-                for _ in 0..40 {
-                    let scale = 6.0 * h * uniform().abs();
-                    let n = normalize(std::array::from_fn(|k| n0[k] + scale * uniform()));
-                    let full = fs_plane_exact(&path, &n, g, kq, &mut shear, &mut hull).0;
-                    let s = fs_plane_screened(&path, &n, h, g, kq, &mut shear, &mut screen);
-                    assert!((s - full).abs() <= 1e-15 * full, "{s} vs {full}");
-                    checked += 1;
+        // 40 increments (all pairs in the full evaluation) and 81, the fretting loop's cycle
+        // (the hull: equal to 1e-12, the collinearity tolerance of `diameter_hull`).
+        for (len, tol) in [(40usize, 1e-15), (81, 1e-12)] {
+            for _ in 0..50 {
+                let c: [[f64; 6]; 3] =
+                    std::array::from_fn(|_| std::array::from_fn(|_| 1e8 * uniform()));
+                let path: Vec<Voigt> = (0..len)
+                    .map(|i| {
+                        let w = 2.0 * std::f64::consts::PI * i as f64 / len as f64;
+                        std::array::from_fn(|k| {
+                            c[0][k] + c[1][k] * w.cos() + c[2][k] * (2.0 * w).sin()
+                        })
+                    })
+                    .collect();
+                pair_norms(&path, &mut norms);
+                let n0 = normalize([uniform(), uniform(), uniform()]);
+                for h in [0.05, 0.01, 1e-3, 1e-4] {
+                    let mut screen = Screen {
+                        anchor: None,
+                        radius: 0.0,
+                        norms: &norms,
+                        active: &mut active,
+                    };
+                    let full = fs_plane_exact(&path, &n0, g, kq, &mut shear, &mut hull).0;
+                    let anchored =
+                        fs_plane_screened(&path, &n0, h, g, kq, &mut shear, &mut hull, &mut screen);
+                    assert!(
+                        (full - anchored).abs() <= tol * full,
+                        "{anchored} vs {full}"
+                    );
+                    for _ in 0..40 {
+                        let scale = 6.0 * h * uniform().abs();
+                        let n = normalize(std::array::from_fn(|k| n0[k] + scale * uniform()));
+                        let full = fs_plane_exact(&path, &n, g, kq, &mut shear, &mut hull).0;
+                        let s = fs_plane_screened(
+                            &path,
+                            &n,
+                            h,
+                            g,
+                            kq,
+                            &mut shear,
+                            &mut hull,
+                            &mut screen,
+                        );
+                        assert!((s - full).abs() <= tol * full, "{len}: {s} vs {full}");
+                        checked += 1;
+                    }
                 }
             }
         }
-        assert_eq!(checked, 50 * 4 * 40);
+        assert_eq!(checked, 2 * 50 * 4 * 40);
     }
 }

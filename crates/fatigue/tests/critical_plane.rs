@@ -244,6 +244,43 @@ fn search_matches_brute_force() {
     );
 }
 
+/// The same on cycles of 81 increments — the fretting loop's 4q + 1 — where the phase-2 pair
+/// screening (`PAIR_SCREEN_UP_TO`) replaces the hull above `DIAMETER_PAIRS_UP_TO` = 64.
+#[test]
+fn search_matches_brute_force_on_the_loops_81_increments() {
+    let mut rng = Rng::new(8181);
+    let m = steel();
+    let step = 0.25f64.to_radians();
+    let mut worst = [0.0f64; 2];
+    let mut worst_grid = [f64::INFINITY; 2];
+    for trial in 0..4 {
+        let path = if trial == 3 {
+            let mean: Voigt = std::array::from_fn(|_| rng.range(-1e8, 1e8));
+            let a: Voigt = std::array::from_fn(|_| rng.range(-2e8, 2e8));
+            proportional_cycle(mean, a, 81)
+        } else {
+            random_cycle(&mut rng, 81, 1e8, 1e8)
+        };
+        assert_eq!(path.len(), 81);
+        let (sw, fs) = compare(&path, &m, step);
+        for (k, c) in [sw, fs].iter().enumerate() {
+            worst[k] = worst[k].max(c.below_reference);
+            worst_grid[k] = worst_grid[k].min(c.above_grid);
+        }
+    }
+    eprintln!(
+        "81 increments: SWT at most {:.2e} below the reference, FS {:.2e}; vs the 0.25° grid: \
+         SWT ≥ grid·(1 {:+.2e}), FS ≥ grid·(1 {:+.2e})",
+        worst[0], worst[1], worst_grid[0], worst_grid[1]
+    );
+    assert!(worst[0] < 1e-7, "{worst:?}");
+    assert!(worst[1] < 5e-4, "{worst:?}");
+    assert!(
+        worst_grid[0] > -1e-12 && worst_grid[1] > -1e-12,
+        "{worst_grid:?}"
+    );
+}
+
 #[test]
 fn search_errors() {
     let m = steel();

@@ -124,6 +124,10 @@ pub struct SubsurfacePlan {
     targets: Vec<i64>,
     fft: Fft2d,
     love: LayeredSpectra,
+    /// Scratch of one application, kept between the applications of a loop (no fresh pages
+    /// per increment): the strain spectra and the strains of every layer.
+    spectra: Vec<Vec<C64>>,
+    strain: Vec<Vec<f64>>,
 }
 
 impl SubsurfacePlan {
@@ -220,6 +224,8 @@ impl SubsurfacePlan {
             targets,
             fft,
             love,
+            spectra: Vec::new(),
+            strain: Vec::new(),
         })
     }
 
@@ -271,7 +277,13 @@ impl SubsurfacePlan {
         }
         let fft = &mut self.fft;
         let targets = &self.targets;
-        let mut out: Vec<Vec<C64>> = (0..layers * 6).map(|_| fft.new_spectrum()).collect();
+        // The strain spectra, zeroed (the products are added into them).
+        let mut out = std::mem::take(&mut self.spectra);
+        if out.len() == layers * 6 {
+            out.iter_mut().for_each(|o| o.fill(C64::default()));
+        } else {
+            out = (0..layers * 6).map(|_| fft.new_spectrum()).collect();
+        }
         let mut pressure = p.to_vec();
         let mut material = vec![0u16; layers * n];
         if let Some((set, eps_star)) = inclusions {
@@ -356,11 +368,14 @@ impl SubsurfacePlan {
         }
         self.love.accumulate(&hats, &skip, &mut out)?;
         // Strains → stresses.
-        let mut strain = vec![vec![0.0; n]; layers * 6];
+        let mut strain = std::mem::take(&mut self.strain);
+        if strain.len() != layers * 6 {
+            strain = vec![vec![0.0; n]; layers * 6];
+        }
         for (h, f) in out.iter_mut().zip(strain.iter_mut()) {
             fft.inverse(h, f)?;
         }
-        drop(out);
+        self.spectra = out;
         let cm = stiffness(e, nu);
         let ci: Vec<[[f64; 6]; 6]> = inclusions
             .map(|(set, _)| {

@@ -115,9 +115,12 @@ impl CycleStress {
             )));
         }
         let n = self.increments;
-        for (c, field) in stress.iter().enumerate() {
-            for (p, v) in field.iter().enumerate() {
-                self.stress[(p * n + t) * 6 + c] = *v;
+        // Cell by cell, its six components together (one cache line of the path, not six
+        // sweeps over the whole history).
+        for (p, out) in self.stress.chunks_exact_mut(6 * n).enumerate() {
+            let out = &mut out[6 * t..6 * t + 6];
+            for (o, field) in out.iter_mut().zip(stress.iter()) {
+                *o = field[p];
             }
         }
         self.recorded += 1;
