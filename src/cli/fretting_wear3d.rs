@@ -55,7 +55,9 @@ pub struct FrettingWear3dArgs {
     /// Print one JSON object on stdout.
     #[arg(long)]
     json: bool,
-    /// Do not write the animation wear_depth.gif.
+    /// Do not write the animation wear_depth.gif (one frame per record — each record_cycles
+    /// entry and the end — up to 60; with more records, 60 frames evenly spaced over them,
+    /// the first and the last always included).
     #[arg(long)]
     no_animation: bool,
 }
