@@ -15,5 +15,6 @@ pub use halfspace_cases::{
     axisym, config, contact3d, fretting_map, fretting_wear, loop_fatigue, records, spec,
 };
 
+pub mod animation;
 pub mod run_dir;
 pub mod wear3d_mdr;

@@ -2,7 +2,9 @@
 //! (docs/wear3d.md#figures) and `loop_pq.gif` of `fretting-loop` (docs/composite.md#animation),
 //! decoded with the image crate: one frame per record (per increment of the cycle), the frame
 //! size, frames that differ; after a resume inside the cycle, one frame per loop point A–D;
-//! `--no-animation` writes none.
+//! `--no-animation` writes none. A wear run with more records than
+//! `halfspace::animation::MAX_FRAMES` draws that many frames, chosen by `frame_records` (its rule
+//! checked here over all small cases).
 
 mod common;
 
@@ -69,6 +71,79 @@ fn wear3d_animation_has_one_frame_per_record() {
     let none = dir.path().join("none");
     go(&none, &["--no-animation"]);
     assert!(none.join("wear_depth_map.svg").is_file() && !none.join("wear_depth.gif").exists());
+}
+
+/// The frame rule of docs/wear3d.md#figures, for every record count up to 300 and every cap up
+/// to 70: `min(n, most)` frames, strictly increasing record indices, the first and the last
+/// record drawn, each index within half a record of `j (n − 1) / (most − 1)` (evenly spaced).
+#[test]
+fn frame_records_are_evenly_spaced_with_the_first_and_the_last() {
+    use halfspace::animation::{frame_records, MAX_FRAMES};
+    assert_eq!(MAX_FRAMES, 60);
+    for n in 0..=300usize {
+        for most in 0..=70usize {
+            let k = frame_records(n, most);
+            assert_eq!(k.len(), n.min(most), "n = {n}, most = {most}");
+            assert!(k.windows(2).all(|w| w[0] < w[1]), "n = {n}, most = {most}");
+            assert!(k.iter().all(|&i| i < n));
+            if k.is_empty() {
+                continue;
+            }
+            assert_eq!(
+                *k.last().unwrap(),
+                n - 1,
+                "the last record, n = {n}, most = {most}"
+            );
+            if most >= 2 {
+                assert_eq!(k[0], 0, "the first record, n = {n}, most = {most}");
+            }
+            if n > most && most >= 2 {
+                // |i − j (n − 1)/(most − 1)| ≤ 1/2, in integers (exact at the halves).
+                let (span, gaps) = ((n - 1) as i64, (most - 1) as i64);
+                for (j, &i) in k.iter().enumerate() {
+                    let off = 2 * gaps * i as i64 - 2 * j as i64 * span;
+                    assert!(off.abs() <= gaps, "n = {n}, most = {most}, j = {j}");
+                }
+            }
+        }
+    }
+    // 150 records (the size of run that passed 2 MB): spacing 149/59 ≈ 2.53.
+    let k = frame_records(150, 60);
+    assert_eq!(&k[..5], &[0, 3, 5, 8, 10]);
+    assert_eq!(&k[55..], &[139, 141, 144, 146, 149]);
+}
+
+/// More records than frames: the twin recorded every 10 cycles (99 records with the end) draws
+/// `MAX_FRAMES` = 60 frames, each differing from the one before, well under 2 MB.
+#[test]
+fn wear3d_animation_caps_the_frames() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("wear.toml");
+    let records: Vec<String> = (1..99).map(|k| (10 * k).to_string()).collect();
+    let toml = TWIN.replace(
+        "record_cycles = [100, 300, 600]",
+        &format!("record_cycles = [{}]", records.join(", ")),
+    );
+    assert_ne!(toml, TWIN);
+    std::fs::write(&cfg, toml).unwrap();
+    let out = dir.path().join("w");
+    ok_json(&run(&[
+        "fretting-wear3d",
+        "--config",
+        cfg.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ]));
+    let gif = out.join("wear_depth.gif");
+    let f = frames(&gif);
+    assert_eq!(
+        f.len(),
+        halfspace::animation::MAX_FRAMES,
+        "99 records, 60 frames"
+    );
+    check_frames(&f, (400, 360));
+    assert!(std::fs::metadata(&gif).unwrap().len() < 2_000_000);
 }
 
 #[test]

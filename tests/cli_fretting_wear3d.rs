@@ -194,3 +194,43 @@ fn wear3d_killed_by_sigkill_resumes_bit_for_bit() {
     }
     arrays_equal(&a.join("results.h5"), &b.join("results.h5"));
 }
+
+/// `--estimate` runs nothing and writes nothing; its numbers are the rule of
+/// docs/wear3d.md#the-work-estimate by hand for the twin: `p₀ = 2E*a/(πR) = 2.062 GPa`
+/// (`E* = 105 GPa`, `a = √(Rδ) = 3.240 μm`), `k p₀ 4A = 1.909e-10 m` per cycle,
+/// `ΔN₁ = ⌊0.01 · 0.1 μm / 1.909e-10 m⌋ = ⌊5.24⌋ = 5` (accuracy binds: the stability bound is
+/// larger), `1 + ⌈100/5⌉ + ⌈900/5⌉ = 201` steps, `n + q + 201 · 4q = 806` increments (n = q = 1);
+/// and it errs towards more steps: the run computes 13 (docs/wear3d.md, measured ratio 15).
+#[test]
+fn wear3d_estimate_counts_the_computed_cycles_before_running() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("wear.toml");
+    std::fs::write(&cfg, TWIN).unwrap();
+    let out = dir.path().join("w");
+    let go = |extra: &[&str]| {
+        let mut v = vec![
+            "fretting-wear3d",
+            "--config",
+            cfg.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--json",
+        ];
+        v.extend_from_slice(extra);
+        ok_json(&run(&v))
+    };
+    let e = go(&["--estimate"]);
+    assert!(!out.exists(), "--estimate writes nothing");
+    assert_eq!(e["cycles"], 1000);
+    assert_eq!(e["first_delta_cycles"], 5.0);
+    assert_eq!(e["wear_steps"], 201.0);
+    assert_eq!(e["computed_cycles"], 201.0);
+    assert_eq!(e["increments_per_cycle"], 4.0);
+    assert_eq!(e["increments"], 806.0);
+    assert_eq!(e["cells"], 256.0);
+    assert!(e["bytes"].as_f64().unwrap() > 0.0 && e["hours"].as_f64().unwrap() > 0.0);
+    let done = go(&[]);
+    let steps = done["wear_steps"].as_u64().unwrap();
+    assert!(steps as f64 <= 201.0, "the run computed {steps} steps");
+    assert_eq!(done["cycles"], 1000);
+}

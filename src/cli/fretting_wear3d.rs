@@ -10,7 +10,8 @@ use clap::Args;
 use halfspace::config::Wear3dConfig;
 use halfspace::data::{read_record, write_record};
 use halfspace::records::{
-    wear3d_results_record, wear3d_snapshot_from_record, wear3d_snapshot_record, wear3d_summary,
+    wear3d_estimate_summary, wear3d_results_record, wear3d_snapshot_from_record,
+    wear3d_snapshot_record, wear3d_summary,
 };
 use halfspace::run_dir::{RunDir, RunKind, Start};
 use halfspace::sam::drivers::fretting_wear3d::{FrettingWear3d, WearCase};
@@ -55,7 +56,14 @@ pub struct FrettingWear3dArgs {
     /// Print one JSON object on stdout.
     #[arg(long)]
     json: bool,
-    /// Do not write the animation wear_depth.gif.
+    /// Print the estimate of the run and run nothing: wear steps (computed cycles, each one
+    /// fretting cycle of 4q increments standing for ΔN cycles), increments, memory and hours of
+    /// work (docs/wear3d.md#the-work-estimate; the step count errs towards more steps).
+    #[arg(long)]
+    estimate: bool,
+    /// Do not write the animation wear_depth.gif (one frame per record — each record_cycles
+    /// entry and the end — up to 60; with more records, 60 frames evenly spaced over them,
+    /// the first and the last always included).
     #[arg(long)]
     no_animation: bool,
 }
@@ -71,6 +79,15 @@ fn read_case(path: &Path, grid: Option<usize>) -> Result<WearCase, CliError> {
 pub fn run(args: FrettingWear3dArgs) -> Result<(), CliError> {
     let start = Instant::now();
     let case = read_case(&args.config, args.grid)?;
+    if args.estimate {
+        let summary = wear3d_estimate_summary(&case, &case.estimate()?);
+        if args.json {
+            println!("{summary}");
+        } else {
+            println!("{summary:#}");
+        }
+        return Ok(());
+    }
     let every = super::Checkpoints::interval(args.checkpoint_seconds)?;
     let manifest = json!({ "case": format!("{case:?}") });
     let run_dir = RunDir::claim(

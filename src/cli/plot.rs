@@ -1180,9 +1180,11 @@ pub fn write_gif(
     .map_err(|e| fail(e.to_string()))
 }
 
-/// `wear_depth.gif` (docs/wear3d.md#figures): the worn depth h(x, y) at every record of the run
-/// (the record cycles and the end, [`wear3d_figures`]' snapshots), on one colour scale from 0 to
-/// the final largest depth, the cycle count in each frame's title.
+/// `wear_depth.gif` (docs/wear3d.md#figures): the worn depth h(x, y) at the records of the run
+/// (the record cycles and the end, [`wear3d_figures`]' snapshots) — every record up to
+/// [`halfspace::animation::MAX_FRAMES`], else that many evenly spaced with the first and the last
+/// ([`halfspace::animation::frame_records`]) — on one colour scale from 0 to the final largest
+/// depth (over all records, drawn or not), the cycle count in each frame's title.
 pub fn wear3d_animation(
     dir: &Path,
     run: &halfspace::sam::drivers::fretting_wear3d::FrettingWear3d,
@@ -1199,23 +1201,25 @@ pub fn wear3d_animation(
     let p = dir.join("wear_depth.gif");
     let fail =
         |e: Box<dyn std::error::Error>| super::CliError::Plot(format!("{}: {e}", p.display()));
-    let frames = records
-        .iter()
-        .map(|r| {
-            let values = rows_along_y_um(&r.wear_depth, n1, n2);
-            render_frame(
-                &format!("Worn depth h (μm), N = {} of {}", r.cycles, run.cycles()),
-                ("x (μm)", "y (μm)"),
-                &[FrameMap {
-                    caption: &format!("scale 0 to {top:.4} μm"),
-                    xs: &xs,
-                    ys: &ys,
-                    values,
-                    range: (0.0, top),
-                }],
-            )
-            .map_err(fail)
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    let frames =
+        halfspace::animation::frame_records(records.len(), halfspace::animation::MAX_FRAMES)
+            .into_iter()
+            .map(|k| {
+                let r = &records[k];
+                let values = rows_along_y_um(&r.wear_depth, n1, n2);
+                render_frame(
+                    &format!("Worn depth h (μm), N = {} of {}", r.cycles, run.cycles()),
+                    ("x (μm)", "y (μm)"),
+                    &[FrameMap {
+                        caption: &format!("scale 0 to {top:.4} μm"),
+                        xs: &xs,
+                        ys: &ys,
+                        values,
+                        range: (0.0, top),
+                    }],
+                )
+                .map_err(fail)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
     write_gif(&p, frames, 400)
 }

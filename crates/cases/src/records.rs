@@ -9,7 +9,9 @@ use crate::sam::drivers::fretting_loop::CycleSources;
 use crate::sam::drivers::fretting_loop::{
     FrettingLoop, LoopCase, LoopMetrics, LoopRow, LoopSnapshot, PointFields, POINT_LABELS,
 };
-use crate::sam::drivers::fretting_wear3d::{FrettingWear3d, WearRecord, WearRow, WearSnapshot};
+use crate::sam::drivers::fretting_wear3d::{
+    FrettingWear3d, WearCase, WearEstimate, WearRecord, WearRow, WearSnapshot,
+};
 use crate::sam::drivers::one_contact::{ContactCase, ContactOutcome};
 use crate::sam::kernels::surface::Body;
 use crate::sam::subsurface::StressField;
@@ -704,6 +706,25 @@ pub fn axisym_summary(
         "iterations": sol.iterations,
         "profile": profile,
         "material": material_spec,
+    })
+}
+
+/// The up-front estimate of a 3D fretting-wear run (`halfspace fretting-wear3d --estimate`;
+/// docs/wear3d.md#the-work-estimate): the cycles asked, the wear steps (computed cycles, the
+/// final one included) and the first step's cycles per computed cycle, the increments per
+/// computed cycle and of the whole run, the surface cells, the peak memory (bytes) and the hours
+/// of work on this machine's cores.
+pub fn wear3d_estimate_summary(case: &WearCase, estimate: &WearEstimate) -> serde_json::Value {
+    json!({
+        "cycles": case.cycles,
+        "wear_steps": estimate.wear_steps,
+        "computed_cycles": estimate.wear_steps,
+        "first_delta_cycles": estimate.first_delta_cycles,
+        "increments_per_cycle": estimate.increments_per_cycle,
+        "increments": estimate.increments,
+        "cells": estimate.run.cells,
+        "bytes": estimate.run.bytes,
+        "hours": estimate.hours(),
     })
 }
 

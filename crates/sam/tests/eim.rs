@@ -119,6 +119,63 @@ fn layered_operators_equal_their_dense_twin_and_the_window_equals_the_full_grid(
     }
 }
 
+/// The surface-only disturbance (what the outer loop's eigen-displacements read) gives the
+/// correction pressure and the eigen-displacements of the full disturbance bit for bit, on the
+/// windowed FFT, the dense twin and the shared whole-grid path.
+#[test]
+fn the_surface_disturbance_is_the_full_disturbances_surface_bit_for_bit() {
+    let grid = SurfaceGrid::square(8, 8.0).unwrap();
+    let (sources, targets) = ([1usize, 2, 4], [1usize, 2, 4]);
+    let n = grid.len();
+    let sub = Window {
+        i0: 2,
+        n1: 4,
+        j0: 1,
+        n2: 5,
+    };
+    for (window, backend) in [
+        (sub, Backend::Fft),
+        (sub, Backend::Dense),
+        (Window::full(&grid), Backend::Fft),
+    ] {
+        let eigen: Vec<Vec<f64>> = (0..sources.len() * 6)
+            .map(|k| lcg(k as u64 + 11, window.len()))
+            .collect();
+        let mut f = EimFields::new(
+            grid,
+            E,
+            NU,
+            &sources,
+            &targets,
+            window,
+            Space::HalfSpace,
+            backend,
+        )
+        .unwrap();
+        let u_of = |f: &mut EimFields| {
+            let mut u = vec![vec![0.0; n]; 3];
+            let [a, b, c] = &mut u[..] else {
+                unreachable!()
+            };
+            f.eigen_displacements([a, b, c]).unwrap();
+            (f.correction_pressure().to_vec(), u)
+        };
+        let mut strain = vec![vec![0.0; window.len()]; targets.len() * 6];
+        f.disturbance(&eigen, &mut strain).unwrap();
+        let full = u_of(&mut f);
+        // Overwrite the surface fields with another disturbance first, so nothing is left over.
+        let other: Vec<Vec<f64>> = eigen
+            .iter()
+            .map(|e| e.iter().map(|v| -v).collect())
+            .collect();
+        f.disturbance(&other, &mut strain).unwrap();
+        f.surface_disturbance(&eigen).unwrap();
+        let surface = u_of(&mut f);
+        assert!(full.0.iter().any(|v| *v != 0.0));
+        assert_eq!(full, surface, "{backend:?}, window {window:?}");
+    }
+}
+
 /// Mean interior stress of a cell-discretised sphere of `radius` cells, centred on a lattice
 /// vertex, `E_I = ratio E`, under a remote uniaxial `σ₃₃ = 1`, in infinite space.
 fn eshelby_sphere(

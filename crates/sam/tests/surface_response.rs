@@ -241,3 +241,55 @@ fn a_resumed_loop_on_the_operator_repeats_the_uninterrupted_one() {
     assert_eq!(whole.snapshot(), resumed.snapshot());
     assert_eq!(whole.rows(), resumed.rows());
 }
+
+/// The nested loop with its EIM solves loosened to 10⁻² (instead of 10⁻³) of the last outer change
+/// (`NestedParams::eim_change_factor`, docs/theory-sam.md#outer-loop-tolerances) against the
+/// reference nested loop, increment by increment: p, q₁, q₂ within 1e-6 p₀ with fewer EIM
+/// applications; a factor outside (0, 1] is refused.
+#[test]
+fn the_loop_with_looser_eim_solves_reproduces_the_reference() {
+    let case = composite(2.0, None);
+    let mut reference = FrettingLoop::new(case.clone()).unwrap();
+    let loose = NestedParams {
+        eim_change_factor: 1e-2,
+        ..NestedParams::default()
+    };
+    let mut fast = FrettingLoop::with_params(case.clone(), loose).unwrap();
+    let p0 = reference.case().hertz_pressure();
+    let mut worst: f64 = 0.0;
+    while reference.step().unwrap().is_some() {
+        fast.step().unwrap().unwrap();
+        let (s, f) = (
+            reference.solver().problem().state(),
+            fast.solver().problem().state(),
+        );
+        worst = worst
+            .max(max_diff(&s.pressure, &f.pressure))
+            .max(max_diff(&s.shear[0], &f.shear[0]))
+            .max(max_diff(&s.shear[1], &f.shear[1]));
+    }
+    assert!(fast.is_done());
+    let eim = |lp: &FrettingLoop| lp.rows().iter().map(|r| r.eim_iterations).sum::<usize>();
+    let outer = |lp: &FrettingLoop| lp.rows().iter().map(|r| r.outer_iterations).sum::<usize>();
+    eprintln!(
+        "EIM factor 1e-2 vs 1e-3: max |Δp|, |Δq| over {} increments = {:.2e} p0; EIM applications {} / {}; outer passes {} / {}",
+        reference.rows().len(),
+        worst / p0,
+        eim(&fast),
+        eim(&reference),
+        outer(&fast),
+        outer(&reference),
+    );
+    assert!(worst <= 1e-6 * p0, "{} p0", worst / p0);
+    assert!(eim(&fast) < eim(&reference));
+    for bad in [0.0, -1e-2, 1.5, f64::NAN] {
+        let params = NestedParams {
+            eim_change_factor: bad,
+            ..NestedParams::default()
+        };
+        let err = FrettingLoop::with_params(case.clone(), params)
+            .err()
+            .expect("refused");
+        assert!(err.to_string().contains("EIM change factor"), "{err}");
+    }
+}

@@ -567,6 +567,79 @@ impl EimFields {
         )
     }
 
+    /// Only the surface fields `p_c` and `2u_α⁽¹⁾` of [`EimFields::disturbance`] (what
+    /// [`EimFields::eigen_displacements`] and [`EimFields::correction_pressure`] read;
+    /// docs/theory-sam.md#eigen-displacements): the same transforms and products in the same
+    /// order, so the fields are bit for bit those of the full disturbance, without the strain at
+    /// the inclusion layers (the volume and Love products, most of an operator application). Zero
+    /// work in infinite space (no surface fields).
+    pub fn surface_disturbance(&mut self, eigen: &[Vec<f64>]) -> Result<(), SamError> {
+        let wl = self.window.len();
+        if eigen.len() != self.sources.len() * 6 || eigen.iter().any(|f| f.len() != wl) {
+            return Err(SamError::Numerics(
+                halfspace_numerics::NumericsError::LengthMismatch {
+                    what: "eigenstrain fields (6 per layer, window-sized)",
+                    expected: self.sources.len() * 6,
+                    got: eigen.len(),
+                },
+            ));
+        }
+        let Some(surface) = &self.surface else {
+            return Ok(());
+        };
+        let shared = self.window.is_full(&self.grid)
+            && matches!(
+                (&self.volume, &self.love, surface),
+                (Layered::Fast(_), Layered::Fast(_), Layered::Fast(_))
+            );
+        if shared {
+            // As in `disturbance_shared`: the eigenstrain spectra, the surface accumulation.
+            let Layered::Fast(surface) = surface else {
+                unreachable!("matched above")
+            };
+            let vw = &mut self.volume_work;
+            for ((f, hat), sk) in eigen
+                .iter()
+                .zip(vw.x_hat.iter_mut())
+                .zip(vw.skip.iter_mut())
+            {
+                *sk = f.iter().all(|v| *v == 0.0);
+                if !*sk {
+                    self.fft.forward(f, hat)?;
+                }
+            }
+            let zero = C64::new(0.0, 0.0);
+            let sw = &mut self.surface_work;
+            sw.y_hat.iter_mut().for_each(|s| s.fill(zero));
+            surface.accumulate(&vw.x_hat, &vw.skip, &mut sw.y_hat)?;
+            for (hat, field) in sw.y_hat.iter_mut().zip(self.surface_fields.iter_mut()) {
+                self.fft.inverse(hat, field)?;
+            }
+            return Ok(());
+        }
+        // As in `disturbance`: p_c and 2u_α⁽¹⁾ on the whole surface, from the scattered eigenstrains.
+        for (local, full) in eigen.iter().zip(self.scattered.iter_mut()) {
+            self.window.scatter(&self.grid, local, full);
+        }
+        let x: Vec<&[f64]> = self.scattered.iter().map(|v| v.as_slice()).collect();
+        let mut y: Vec<&mut [f64]> = self
+            .surface_fields
+            .iter_mut()
+            .map(|v| v.as_mut_slice())
+            .collect();
+        let w = &mut self.surface_work;
+        let rows = self.window.i0..self.window.i0 + self.window.n1;
+        surface.apply(
+            &mut self.fft,
+            &x,
+            &mut w.x_hat,
+            &mut w.skip,
+            &mut w.y_hat,
+            &mut y,
+            (rows, 0..usize::MAX),
+        )
+    }
+
     /// [`EimFields::disturbance`] when the window is the whole grid (FFT backend, half-space): the
     /// eigenstrain spectra serve the volume and the surface operators, and field (3) is added to the
     /// volume's output spectra before the one inverse transform per output (2 × 6 N_s fewer FFTs).

@@ -276,6 +276,17 @@ impl EimSystem {
         Ok(&self.strain)
     }
 
+    /// Only the surface fields of the disturbance of `eps_star` ([`EimFields::surface_disturbance`]:
+    /// bit for bit those of [`EimSystem::disturbance`], without the strain at the inclusion
+    /// layers), for [`EimFields::eigen_displacements`].
+    pub fn surface_disturbance(&mut self, eps_star: &[f64]) -> Result<(), SamError> {
+        let mut eigen = std::mem::take(&mut self.eigen);
+        self.scatter(eps_star, &mut eigen);
+        let r = self.fields.surface_disturbance(&eigen);
+        self.eigen = eigen;
+        r
+    }
+
     /// The field operators (for eigen-displacements after a solve).
     pub fn fields(&mut self) -> &mut EimFields {
         &mut self.fields

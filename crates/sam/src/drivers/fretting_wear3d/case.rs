@@ -1,10 +1,11 @@
 //! The configuration of a 3D fretting-wear run (docs/wear3d.md).
 
 use super::laws::{WearLaw, WornBody};
-use crate::drivers::fretting_loop::{LoadPath, LoopCase};
+use crate::drivers::fretting_loop::{LoadPath, LoopCase, LoopEstimate};
 use crate::eim::Shape;
+use crate::kernels::surface::Compliance;
 use crate::normal::NormalLoad;
-use crate::{Body, SamError};
+use crate::{Body, SamError, SurfaceGrid};
 
 /// The default largest depth increment of a wear step over the elastic approach, `η`
 /// (docs/wear3d.md#the-wear-step-and-cycle-jumping): the measured change of the worn profile when it is halved is
@@ -49,6 +50,84 @@ pub struct WearCase {
     /// The worn depth of the flat over an inhomogeneity, in cells, at which the run stops
     /// ([`INHOMOGENEITY_DEPTH_CELLS`] by default; smaller is stricter).
     pub inhomogeneity_depth_cells: f64,
+}
+
+/// What a wear run will compute, estimated from the configuration before anything is solved
+/// (docs/wear3d.md#the-work-estimate). The step count takes the first wear step's `ΔN` for every
+/// step: Hertz's `p₀ = 2E*a/(πR)` as the largest pressure and the gross-slip path `4A` as the
+/// largest slip path of a cycle, so `max r ≤ rate(p₀, μp₀, 4A)` and
+/// `ΔN₁ = ⌊min(η δ / rate(p₀, μp₀, 4A), β C_min / (k_p · 4A))⌋ ≥ 1`
+/// (docs/wear3d.md#the-wear-step-and-cycle-jumping); the wear then spreads the pressure and
+/// `ΔN` grows, so for a homogeneous pair this errs towards more steps (inhomogeneities can raise
+/// the pressure above `p₀`, and then it may err the other way).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WearEstimate {
+    /// Wear steps, each one computed cycle `+A → −A → +A`, the final state's cycle included:
+    /// `Σ_segments ⌈L / ΔN₁⌉ + 1` over the segments `L` between 0, the record cycles and `cycles`.
+    pub wear_steps: f64,
+    /// `ΔN₁`: cycles a computed cycle stands for at the first wear step.
+    pub first_delta_cycles: f64,
+    /// Increments of one computed cycle, `4q`.
+    pub increments_per_cycle: f64,
+    /// Increments of the run: the loading `n + q` and `wear_steps · 4q`.
+    pub increments: f64,
+    /// One fretting loop's estimate ([`LoopCase::estimate`]: its memory is the run's, its work
+    /// per increment the run's), with `increments` and `work` those of the whole run.
+    pub run: LoopEstimate,
+}
+
+impl WearEstimate {
+    /// Hours of work on this machine's cores ([`LoopEstimate::hours`]).
+    pub fn hours(&self) -> f64 {
+        self.run.hours()
+    }
+}
+
+impl WearCase {
+    /// The computed cycles and the work of the run ([`WearEstimate`]), before anything is
+    /// solved: the surface grid and its checkerboard compliance `C_min` are evaluated (no
+    /// contact solve). Refuses nothing but an invalid case.
+    pub fn estimate(&self) -> Result<WearEstimate, SamError> {
+        self.validate()?;
+        let lc = &self.fretting;
+        let grid = SurfaceGrid::square(lc.grid, self.extent())?;
+        let compliance = Compliance::pair(lc.indenter, Body::elastic(lc.e, lc.nu)?)?;
+        let checkerboard = super::run::checkerboard_compliance(&compliance, &grid);
+        let a = self.reference_radius();
+        let p0 = 2.0 * self.e_star() * a / (std::f64::consts::PI * lc.radius);
+        let path_length = 4.0 * lc.amplitude;
+        let max_rate = self.law.rate(p0, lc.friction * p0, path_length);
+        let accuracy = self.step_fraction * self.approach_scale() / max_rate;
+        let stability = self.stability_fraction * checkerboard
+            / (self.law.pressure_coefficient(lc.friction) * path_length);
+        let dn = accuracy.min(stability).floor().max(1.0);
+        let mut ends: Vec<u64> = self.record_cycles.clone();
+        ends.push(self.cycles);
+        ends.sort_unstable();
+        ends.dedup();
+        let mut start = 0u64;
+        let mut wear_steps = 1.0; // the final state's cycle
+        for end in ends {
+            wear_steps += ((end - start) as f64 / dn).ceil();
+            start = end;
+        }
+        let path = self.path();
+        let quarter = path.quarter as f64;
+        let increments_per_cycle = 4.0 * quarter;
+        let increments = (path.cycle_start() + 1) as f64 + wear_steps * increments_per_cycle;
+        let one = lc.estimate();
+        Ok(WearEstimate {
+            wear_steps,
+            first_delta_cycles: dn,
+            increments_per_cycle,
+            increments,
+            run: LoopEstimate {
+                increments,
+                work: one.work / one.increments * increments,
+                ..one
+            },
+        })
+    }
 }
 
 impl WearCase {

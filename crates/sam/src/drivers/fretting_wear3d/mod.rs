@@ -15,7 +15,8 @@ mod laws;
 mod run;
 
 pub use case::{
-    WearCase, DEFAULT_STABILITY_FRACTION, DEFAULT_STEP_FRACTION, INHOMOGENEITY_DEPTH_CELLS,
+    WearCase, WearEstimate, DEFAULT_STABILITY_FRACTION, DEFAULT_STEP_FRACTION,
+    INHOMOGENEITY_DEPTH_CELLS,
 };
 pub use laws::{WearLaw, WornBody};
 pub use run::{

@@ -1,0 +1,142 @@
+//! What the outer contact ↔ EIM loop of the composite fretting loop costs with each setting of
+//! its inner solves (docs/performance.md#the-composite-fretting-loop-issue-11, issue 21): [LN11]'s stiff
+//! fibres (fibre-centred, `E_I = 2E`) at `N²`, the reference nested loop and variants of the
+//! Anderson depth `m`, the EIM change factor `η` (each pass's EIM solved to `η` × the last outer
+//! change, docs/theory-sam.md#outer-loop-tolerances) and the EIM method, stepped in lockstep
+//! (interleaved, so the machine's load falls on all alike): per variant the outer passes, EIM
+//! applications, process CPU seconds of the increments, the largest `|Δp|, |Δq|` against the
+//! reference over every increment (in `p₀`) and a hash of the final state's bits (equal hashes
+//! from two binaries: bit for bit the same loop).
+//!
+//! Run: `cargo run --release -p halfspace-sam --example composite_outer -- N [increments] [m,η[,g] ...]`
+//! (`increments` 0: the whole loop; `g`: GMRES; default variant `3,1e-2`). Single thread for CPU
+//! comparisons: `RAYON_NUM_THREADS=1`.
+
+use halfspace_sam::contact::NestedParams;
+use halfspace_sam::drivers::fretting_loop::{FrettingLoop, LoopCase};
+use halfspace_sam::eim::{EimMethod, EimParams, FibreLayout};
+
+/// CPU seconds of this process (utime + stime of /proc/self/stat, 100 ticks per second).
+fn thread_cpu() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    let after = stat.rsplit(')').next().unwrap_or("");
+    let fields: Vec<&str> = after.split_whitespace().collect();
+    let ticks = |i: usize| {
+        fields
+            .get(i)
+            .and_then(|v| v.parse::<f64>().ok())
+            .unwrap_or(0.0)
+    };
+    // Fields after the command: state is 0, utime 11, stime 12.
+    (ticks(11) + ticks(12)) / 100.0
+}
+
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let n = args.first().and_then(|v| v.parse().ok()).unwrap_or(32);
+    let limit = args.get(1).and_then(|v| v.parse().ok()).unwrap_or(0);
+    // Variants `m,η[,g]`: Anderson depth, EIM change factor, and `g` for GMRES instead of the
+    // automatic EIM method (block Jacobi for these fibres).
+    let specs: Vec<(usize, f64, bool)> = args
+        .iter()
+        .skip(2)
+        .map(|v| {
+            let f: Vec<&str> = v.split(',').collect();
+            (
+                f[0].parse().unwrap(),
+                f[1].parse().unwrap(),
+                f.get(2) == Some(&"g"),
+            )
+        })
+        .collect();
+    let specs = if specs.is_empty() {
+        vec![(3, 1e-2, false)]
+    } else {
+        specs
+    };
+    let mut case = LoopCase::default()
+        .composite(FibreLayout::FibreCentred, 2.0)
+        .unwrap();
+    case.grid = n;
+    let p0 = case.hertz_pressure();
+    let mut variants: Vec<(String, FrettingLoop)> = vec![(
+        "reference (per-increment Anderson, depth 3)".into(),
+        FrettingLoop::with_params(case.clone(), NestedParams::default()).unwrap(),
+    )];
+    for &(m, eta, gmres) in &specs {
+        let base = NestedParams::default();
+        let params = NestedParams {
+            eim: EimParams {
+                method: if gmres {
+                    EimMethod::Gmres
+                } else {
+                    base.eim.method
+                },
+                ..base.eim
+            },
+            anderson_depth: m,
+            eim_change_factor: eta,
+            ..base
+        };
+        variants.push((
+            format!("depth {m}, EIM factor {eta:e}, GMRES {gmres}"),
+            FrettingLoop::with_params(case.clone(), params).unwrap(),
+        ));
+    }
+    let mut cpu = vec![0.0; variants.len()];
+    let mut worst = vec![0.0f64; variants.len()];
+    let mut steps = 0;
+    loop {
+        if limit > 0 && steps == limit {
+            break;
+        }
+        let mut done = false;
+        for (i, (_, lp)) in variants.iter_mut().enumerate() {
+            let t = thread_cpu();
+            done |= lp.step().unwrap().is_none();
+            cpu[i] += thread_cpu() - t;
+        }
+        if done {
+            break;
+        }
+        steps += 1;
+        let reference = variants[0].1.solver().problem().state().clone();
+        for (i, (_, lp)) in variants.iter().enumerate().skip(1) {
+            let s = lp.solver().problem().state();
+            worst[i] = worst[i]
+                .max(max_diff(&s.pressure, &reference.pressure))
+                .max(max_diff(&s.shear[0], &reference.shear[0]))
+                .max(max_diff(&s.shear[1], &reference.shear[1]));
+        }
+    }
+    println!("composite loop (stiff fibres, fibre-centred) at {n}², {steps} increments");
+    println!(
+        "| variant | outer passes | EIM applications | CPU (s) | max |Δp|, |Δq| / p₀ | state bits |"
+    );
+    println!("|---|---:|---:|---:|---:|---|");
+    for (i, (name, lp)) in variants.iter().enumerate() {
+        let outer: usize = lp.rows().iter().map(|r| r.outer_iterations).sum();
+        let eim: usize = lp.rows().iter().map(|r| r.eim_iterations).sum();
+        // The final state's bits (FNV-1a of p, q₁, q₂): equal across binaries = bit for bit.
+        let s = lp.solver().problem().state();
+        let bits = s
+            .pressure
+            .iter()
+            .chain(&s.shear[0])
+            .chain(&s.shear[1])
+            .fold(0xcbf2_9ce4_8422_2325u64, |h, v| {
+                (h ^ v.to_bits()).wrapping_mul(0x100_0000_01b3)
+            });
+        println!(
+            "| {name} | {outer} | {eim} | {:.1} | {:.2e} | {bits:016x} |",
+            cpu[i],
+            worst[i] / p0
+        );
+    }
+}
