@@ -221,3 +221,84 @@ fn a_crack_wear_map_writes_the_risk_and_the_material_response() {
     let svg = std::fs::read_to_string(out.join("fretting_map.svg")).unwrap();
     assert!(svg.contains("material response"));
 }
+
+#[test]
+fn a_crack_wear_map_with_fibres_holds_each_points_composite_loop_risk() {
+    // docs/fatigue.md, "Crack–wear fretting maps": with case = "composite" every point's crack
+    // risk is that of its own nested loop with the paper's fibres (sized for the largest load,
+    // here the only one), the fibre cells with their own E and [fatigue.inhomogeneity]
+    // constants; and the fibres change it.
+    let dir = tempfile::tempdir().unwrap();
+    // The composite preset sets its own grid (4 cells per fibre radius, 128²): `--grid 32`
+    // (1 cell per fibre radius) keeps the test small.
+    let keys = "normal_steps = 4\namplitude = 0.04e-6\nshift_step = 0.01e-6\n\
+                subsurface_over_a = 0.0\n[fatigue]\nf_minus1 = 400e6\nt_minus1 = 280e6\n\
+                fs_k = 0.5\nyield_stress = 600e6\ndepth_over_a = 1.0\n\
+                [fatigue.inhomogeneity]\nf_minus1 = 500e6\nt_minus1 = 330e6\nfs_k = 0.5\n\
+                yield_stress = 800e6\n";
+    let map = |case: &str| {
+        let config = dir.path().join(format!("map-{case}.toml"));
+        std::fs::write(
+            &config,
+            format!(
+                "{keys}[map]\nloads = [0.08]\namplitudes = [0.01e-6, 0.08e-6]\ncase = \"{case}\"\n"
+            ),
+        )
+        .unwrap();
+        let out = dir.path().join(case);
+        ok_json(&run(&[
+            "fretting-map",
+            "--grid",
+            "32",
+            "--config",
+            config.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--json",
+        ]))
+    };
+    let (fibres, homogeneous) = (map("composite"), map("homogeneous"));
+    assert!(fibres["inclusion_count"].as_u64().unwrap() > 0, "{fibres}");
+    assert_eq!(homogeneous["inclusion_count"].as_u64().unwrap(), 0);
+    for (j, amplitude) in [1e-8f64, 8e-8].iter().enumerate() {
+        // The point's own loop: `fretting-loop --case composite`, 4 steps per quarter cycle.
+        let config = dir.path().join(format!("loop-{j}.toml"));
+        let loop_keys = keys
+            .replace("amplitude = 0.04e-6", &format!("amplitude = {amplitude:e}"))
+            .replace(
+                "shift_step = 0.01e-6",
+                &format!("shift_step = {:e}", amplitude / 4.0),
+            );
+        std::fs::write(&config, format!("force = 0.08\n{loop_keys}")).unwrap();
+        let out = dir.path().join(format!("loop-{j}"));
+        let v = ok_json(&run(&[
+            "fretting-loop",
+            "--case",
+            "composite",
+            "--grid",
+            "32",
+            "--config",
+            config.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--json",
+            "--no-animation",
+        ]));
+        let want = v["crossland_max"]
+            .as_f64()
+            .unwrap()
+            .max(v["dang_van_max"].as_f64().unwrap());
+        let got = fibres["crack_risk"][0][j].as_f64().unwrap();
+        let plain = homogeneous["crack_risk"][0][j].as_f64().unwrap();
+        eprintln!(
+            "A = {amplitude:e} m: crack risk {got} with fibres (loop {want}), {plain} homogeneous"
+        );
+        // The same case up to the rounding of the shift step (amplitude / 4 here, the map's
+        // amplitude / quarter there).
+        assert!((got - want).abs() <= 1e-9 * want, "{got} vs {want}");
+        assert!(
+            (got - plain).abs() > 1e-3 * plain,
+            "the fibres change nothing: {got} vs {plain}"
+        );
+    }
+}
