@@ -183,6 +183,39 @@ fn the_example_config_runs() {
 }
 
 #[test]
+fn the_fibre_example_config_runs() {
+    // examples/fretting_map_fibres.toml (docs/fatigue.md, "With fibres") on 32², the coarsest grid
+    // the fibres allow (16² puts them in the first layer: refused): the 11 fibres, a risk at every
+    // point, and the material responses of the docs' 32² run (the same as at 64²).
+    let dir = tempfile::tempdir().unwrap();
+    let example = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/fretting_map_fibres.toml"
+    );
+    let v = ok_json(&run(&[
+        "fretting-map",
+        "--config",
+        example,
+        "--grid",
+        "32",
+        "--out",
+        dir.path().to_str().unwrap(),
+        "--json",
+    ]));
+    assert_eq!(v["shape"], serde_json::json!([3, 3]));
+    assert_eq!(v["inclusion_count"], 11);
+    assert_eq!(
+        v["material_response"],
+        serde_json::json!([[0, 3, 3], [0, 3, 3], [0, 1, 3]])
+    );
+    for row in v["crack_risk"].as_array().unwrap() {
+        for r in row.as_array().unwrap() {
+            assert!(r.as_f64().unwrap().is_finite(), "{v}");
+        }
+    }
+}
+
+#[test]
 fn a_crack_wear_map_writes_the_risk_and_the_material_response() {
     // docs/fatigue.md, "Crack–wear fretting maps": a [fatigue] table adds crack_risk and
     // material_response (with their thresholds) to the JSON, results.h5 and the figure.
