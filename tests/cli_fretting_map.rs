@@ -183,6 +183,39 @@ fn the_example_config_runs() {
 }
 
 #[test]
+fn the_fibre_example_config_runs() {
+    // examples/fretting_map_fibres.toml (docs/fatigue.md, "With fibres") on 32², the coarsest grid
+    // the fibres allow (16² puts them in the first layer: refused): the 11 fibres, a risk at every
+    // point, and the material responses of the docs' 32² run (the same as at 64²).
+    let dir = tempfile::tempdir().unwrap();
+    let example = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/fretting_map_fibres.toml"
+    );
+    let v = ok_json(&run(&[
+        "fretting-map",
+        "--config",
+        example,
+        "--grid",
+        "32",
+        "--out",
+        dir.path().to_str().unwrap(),
+        "--json",
+    ]));
+    assert_eq!(v["shape"], serde_json::json!([3, 3]));
+    assert_eq!(v["inclusion_count"], 11);
+    assert_eq!(
+        v["material_response"],
+        serde_json::json!([[0, 3, 3], [0, 3, 3], [0, 1, 3]])
+    );
+    for row in v["crack_risk"].as_array().unwrap() {
+        for r in row.as_array().unwrap() {
+            assert!(r.as_f64().unwrap().is_finite(), "{v}");
+        }
+    }
+}
+
+#[test]
 fn a_crack_wear_map_writes_the_risk_and_the_material_response() {
     // docs/fatigue.md, "Crack–wear fretting maps": a [fatigue] table adds crack_risk and
     // material_response (with their thresholds) to the JSON, results.h5 and the figure.
@@ -220,4 +253,85 @@ fn a_crack_wear_map_writes_the_risk_and_the_material_response() {
     assert!(response[1] >= 2.0 && response[3] >= 2.0 && response[2] < 2.0);
     let svg = std::fs::read_to_string(out.join("fretting_map.svg")).unwrap();
     assert!(svg.contains("material response"));
+}
+
+#[test]
+fn a_crack_wear_map_with_fibres_holds_each_points_composite_loop_risk() {
+    // docs/fatigue.md, "Crack–wear fretting maps": with case = "composite" every point's crack
+    // risk is that of its own nested loop with the paper's fibres (sized for the largest load,
+    // here the only one), the fibre cells with their own E and [fatigue.inhomogeneity]
+    // constants; and the fibres change it.
+    let dir = tempfile::tempdir().unwrap();
+    // The composite preset sets its own grid (4 cells per fibre radius, 128²): `--grid 32`
+    // (1 cell per fibre radius) keeps the test small.
+    let keys = "normal_steps = 4\namplitude = 0.04e-6\nshift_step = 0.01e-6\n\
+                subsurface_over_a = 0.0\n[fatigue]\nf_minus1 = 400e6\nt_minus1 = 280e6\n\
+                fs_k = 0.5\nyield_stress = 600e6\ndepth_over_a = 1.0\n\
+                [fatigue.inhomogeneity]\nf_minus1 = 500e6\nt_minus1 = 330e6\nfs_k = 0.5\n\
+                yield_stress = 800e6\n";
+    let map = |case: &str| {
+        let config = dir.path().join(format!("map-{case}.toml"));
+        std::fs::write(
+            &config,
+            format!(
+                "{keys}[map]\nloads = [0.08]\namplitudes = [0.01e-6, 0.08e-6]\ncase = \"{case}\"\n"
+            ),
+        )
+        .unwrap();
+        let out = dir.path().join(case);
+        ok_json(&run(&[
+            "fretting-map",
+            "--grid",
+            "32",
+            "--config",
+            config.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--json",
+        ]))
+    };
+    let (fibres, homogeneous) = (map("composite"), map("homogeneous"));
+    assert!(fibres["inclusion_count"].as_u64().unwrap() > 0, "{fibres}");
+    assert_eq!(homogeneous["inclusion_count"].as_u64().unwrap(), 0);
+    for (j, amplitude) in [1e-8f64, 8e-8].iter().enumerate() {
+        // The point's own loop: `fretting-loop --case composite`, 4 steps per quarter cycle.
+        let config = dir.path().join(format!("loop-{j}.toml"));
+        let loop_keys = keys
+            .replace("amplitude = 0.04e-6", &format!("amplitude = {amplitude:e}"))
+            .replace(
+                "shift_step = 0.01e-6",
+                &format!("shift_step = {:e}", amplitude / 4.0),
+            );
+        std::fs::write(&config, format!("force = 0.08\n{loop_keys}")).unwrap();
+        let out = dir.path().join(format!("loop-{j}"));
+        let v = ok_json(&run(&[
+            "fretting-loop",
+            "--case",
+            "composite",
+            "--grid",
+            "32",
+            "--config",
+            config.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--json",
+            "--no-animation",
+        ]));
+        let want = v["crossland_max"]
+            .as_f64()
+            .unwrap()
+            .max(v["dang_van_max"].as_f64().unwrap());
+        let got = fibres["crack_risk"][0][j].as_f64().unwrap();
+        let plain = homogeneous["crack_risk"][0][j].as_f64().unwrap();
+        eprintln!(
+            "A = {amplitude:e} m: crack risk {got} with fibres (loop {want}), {plain} homogeneous"
+        );
+        // The same case up to the rounding of the shift step (amplitude / 4 here, the map's
+        // amplitude / quarter there).
+        assert!((got - want).abs() <= 1e-9 * want, "{got} vs {want}");
+        assert!(
+            (got - plain).abs() > 1e-3 * plain,
+            "the fibres change nothing: {got} vs {plain}"
+        );
+    }
 }

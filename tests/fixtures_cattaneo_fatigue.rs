@@ -2,16 +2,40 @@
 //! W = 80 mN, μ = 0.3, Q*/μW = 0.5) against the independent cubature of the Boussinesq/Cerruti
 //! stresses of the closed-form Mindlin–Deresiewicz tractions (verify/cattaneo_fatigue.py →
 //! datasets/cattaneo_fatigue.json): the stress paths of the closed cycle at three cells and the
-//! four fatigue indices of those paths, on 32² and 64² (docs/fatigue.md, "Checks").
+//! four fatigue indices of those paths, on 32² and 64²; and the maxima of the four indices over the
+//! fatigue box and their locations against the same cubature over a window of cells around them
+//! (verify/cattaneo_fatigue_maxima.py → datasets/cattaneo_fatigue_maxima.json), on 32², 64² and
+//! 128² (docs/fatigue.md, "Checks").
 
+use halfspace::config::FatigueConfig;
 use halfspace::fatigue::{evaluate_field, FieldParams, Material};
+use halfspace::loop_fatigue::evaluate_loop_fatigue;
 use halfspace::sam::drivers::fretting_loop::{FrettingLoop, LoopCase};
 use halfspace::sam::Body;
 
 fn fixture() -> serde_json::Value {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("datasets/cattaneo_fatigue.json");
+    read_dataset("datasets/cattaneo_fatigue.json")
+}
+
+fn read_dataset(name: &str) -> serde_json::Value {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(name);
     serde_json::from_str(&std::fs::read_to_string(path).expect("the fixture")).unwrap()
+}
+
+/// The completed Cattaneo–Mindlin loop on `n²` with its stress history down to 0.6a.
+fn cattaneo_loop(n: usize) -> FrettingLoop {
+    let mut case = LoopCase {
+        indenter: Body::Elastic { e: 210e9, nu: 0.3 },
+        normal_steps: 8,
+        grid: n,
+        ..LoopCase::default()
+    };
+    case.amplitude = case.mindlin_slip_shift() * (1.0 - 0.5f64.powf(2.0 / 3.0));
+    case.shift_step = case.amplitude / 10.0;
+    case.fatigue_depth = Some(0.6 * case.hertz_radius());
+    let mut lp = FrettingLoop::new(case).unwrap();
+    lp.run(|_| std::ops::ControlFlow::Continue(())).unwrap();
+    lp
 }
 
 fn steel() -> Material {
@@ -30,19 +54,9 @@ fn cattaneo_mindlin_cycle_matches_the_cubature_of_the_closed_form_tractions() {
     let fx = fixture();
     let mut errors = Vec::new();
     for n in [32usize, 64] {
-        let mut case = LoopCase {
-            indenter: Body::Elastic { e: 210e9, nu: 0.3 },
-            normal_steps: 8,
-            grid: n,
-            ..LoopCase::default()
-        };
-        case.amplitude = case.mindlin_slip_shift() * (1.0 - 0.5f64.powf(2.0 / 3.0));
-        case.shift_step = case.amplitude / 10.0;
-        case.fatigue_depth = Some(0.6 * case.hertz_radius());
-        let a = case.hertz_radius();
-        let p0 = case.hertz_pressure();
-        let mut lp = FrettingLoop::new(case).unwrap();
-        lp.run(|_| std::ops::ControlFlow::Continue(())).unwrap();
+        let lp = cattaneo_loop(n);
+        let a = lp.case().hertz_radius();
+        let p0 = lp.case().hertz_pressure();
         let h = lp.cycle_stress().unwrap();
         assert_eq!(h.increments, 41);
         let mut worst_path: f64 = 0.0;
@@ -124,4 +138,221 @@ fn cattaneo_mindlin_cycle_matches_the_cubature_of_the_closed_form_tractions() {
     for (k, tol) in [5e-3, 5e-3, 2e-4, 5e-3].iter().enumerate() {
         assert!(e64.1[k] < *tol, "64²: index {k} off by {:e}", e64.1[k]);
     }
+}
+
+/// The values of a field at the named points of a `[points × 41 × 6]` path set: the four indices.
+fn indices_of(paths: &[f64], points: usize) -> [Vec<f64>; 4] {
+    let f = evaluate_field(paths, points, 41, &steel(), &FieldParams::default()).unwrap();
+    [f.crossland, f.dang_van, f.swt, f.fatemi_socie]
+}
+
+#[test]
+fn cattaneo_mindlin_maxima_and_their_locations_converge_to_the_cubature() {
+    const NAMES: [&str; 4] = ["Crossland", "Dang Van", "SWT", "Fatemi–Socie"];
+    let fx = read_dataset("datasets/cattaneo_fatigue_maxima.json");
+    let cfg = FatigueConfig {
+        f_minus1: 400e6,
+        t_minus1: 280e6,
+        fs_k: 0.5,
+        yield_stress: 600e6,
+        depth_over_a: 0.6,
+        screen_fraction: 0.5,
+        inhomogeneity: None,
+    };
+    // errors[grid][criterion]: (|box max − reference window max| (relative for SWT, FS),
+    // max over the window of the per-cell index error (same scale)).
+    let mut errors = Vec::new();
+    let mut box_maxima = Vec::new();
+    for n in [32usize, 64, 128] {
+        let lp = cattaneo_loop(n);
+        let (a, p0) = (lp.case().hertz_radius(), lp.case().hertz_pressure());
+        let cell = 4.16 / n as f64; // cell side over a (the loop's extent_over_a)
+        let fatigue = evaluate_loop_fatigue(&lp, &cfg).unwrap();
+        let h = lp.cycle_stress().unwrap();
+        let grid = &fx["grids"][n.to_string()];
+        let cells: Vec<[usize; 3]> = grid["cells"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| {
+                let c: Vec<usize> = c
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|v| v.as_u64().unwrap() as usize)
+                    .collect();
+                [c[0], c[1], c[2]]
+            })
+            .collect();
+        let points: Vec<[f64; 3]> = grid["points"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| {
+                let p: Vec<f64> = p
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|v| v.as_f64().unwrap())
+                    .collect();
+                [p[0], p[1], p[2]]
+            })
+            .collect();
+        let reference: Vec<f64> = grid["stress"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(|path| path.as_array().unwrap().clone())
+            .flat_map(|row| {
+                row.as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|v| v.as_f64().unwrap() * p0)
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        let mut computed = Vec::with_capacity(reference.len());
+        for (c, want) in cells.iter().zip(&points) {
+            let p = c[2] * n * n + c[0] * n + c[1];
+            let pos = h.position(p);
+            for k in 0..3 {
+                assert!((pos[k] / a - want[k]).abs() < 1e-9, "{pos:?} vs {want:?}");
+            }
+            computed.extend_from_slice(&h.stress[p * 41 * 6..(p + 1) * 41 * 6]);
+        }
+        let want = indices_of(&reference, cells.len());
+        let got = indices_of(&computed, cells.len());
+        let maxima = [
+            fatigue.indices.crossland_max.value,
+            fatigue.indices.dang_van_max.value,
+            fatigue.indices.swt_max.value,
+            fatigue.indices.fatemi_socie_max.value,
+        ];
+        let (window_x, window_y) = (
+            points.iter().map(|p| p[0]).fold(f64::INFINITY, f64::min)
+                ..=points
+                    .iter()
+                    .map(|p| p[0])
+                    .fold(f64::NEG_INFINITY, f64::max),
+            points
+                .iter()
+                .map(|p| p[1])
+                .fold(f64::NEG_INFINITY, f64::max),
+        );
+        let mut row = [Row::default(); 4];
+        for k in 0..4 {
+            let (best, best_value) =
+                want[k]
+                    .iter()
+                    .enumerate()
+                    .fold(
+                        (0, f64::NEG_INFINITY),
+                        |b, (i, &v)| if v > b.1 { (i, v) } else { b },
+                    );
+            let r = points[best];
+            // The reference's maximum is inside its window (not on its lateral edges), so the
+            // window holds a maximum of the cubature's field.
+            assert!(
+                r[0] > *window_x.start() + 1e-9
+                    && r[0] < *window_x.end() - 1e-9
+                    && r[1] < window_y - 1e-9,
+                "{n}²: {}: the reference's maximum {r:?} is on the window's edge",
+                NAMES[k]
+            );
+            // The solver's maximum over its whole box, mirrored into the window (the case is
+            // mirror-symmetric in x and in y): it must be one of the window's cells.
+            let at = fatigue.at[k];
+            let s = [at[0].abs() / a, at[1].abs() / a, at[2] / a];
+            let own = points
+                .iter()
+                .position(|p| (0..3).all(|c| (p[c] - s[c]).abs() < 1e-6))
+                .unwrap_or_else(|| {
+                    panic!(
+                        "{n}²: {} maximum at {s:?} a is outside the window",
+                        NAMES[k]
+                    )
+                });
+            let scale = if k < 2 { 1.0 } else { best_value.abs() };
+            row[k] = Row {
+                max_error: (maxima[k] - best_value).abs() / scale,
+                field_error: want[k]
+                    .iter()
+                    .zip(&got[k])
+                    .map(|(w, g)| (w - g).abs())
+                    .fold(0.0, f64::max)
+                    / scale,
+                cells_apart: (0..3)
+                    .map(|c| ((s[c] - r[c]) / cell).abs().round())
+                    .fold(0.0, f64::max),
+                shortfall: (best_value - want[k][own]) / scale,
+            };
+            eprintln!(
+                "{n}²: {:<12} box max {:.6e} at {:?} a; reference {:.6e} at {:?} a; {:?}{}",
+                NAMES[k],
+                maxima[k],
+                s.map(|v| (v * 1e4).round() / 1e4),
+                best_value,
+                r.map(|v| (v * 1e4).round() / 1e4),
+                row[k],
+                if k < 2 { " (abs.)" } else { " (rel.)" }
+            );
+        }
+        errors.push(row);
+        box_maxima.push(maxima);
+    }
+    for k in 0..4 {
+        let e: Vec<f64> = errors.iter().map(|r| r[k].max_error).collect();
+        let f: Vec<f64> = errors.iter().map(|r| r[k].field_error).collect();
+        let apart: Vec<f64> = errors.iter().map(|r| r[k].cells_apart).collect();
+        eprintln!(
+            "{}: |Δmax| {:.2e} {:.2e} {:.2e}, window field {:.2e} {:.2e} {:.2e}; observed orders \
+             (field) {:.2}, {:.2}; maxima cells apart {apart:?}",
+            NAMES[k],
+            e[0],
+            e[1],
+            e[2],
+            f[0],
+            f[1],
+            f[2],
+            (f[0] / f[1]).log2(),
+            (f[1] / f[2]).log2()
+        );
+    }
+    for k in 0..4 {
+        for r in &errors {
+            // Where the solver puts the maximum, the reference is within twice the solver's
+            // field error of its own maximum (the field is flat along y near the edge: the two
+            // maxima are up to 5 cells apart in y on 128², measured).
+            assert!(
+                r[k].shortfall <= 2.0 * r[k].field_error,
+                "{}: {r:?}",
+                NAMES[k]
+            );
+        }
+        // The maxima sit in the first layer, half a cell below the surface, which the finer
+        // grids bring closer to the contact edge: both the solver's and the reference's maxima
+        // grow with the grid (towards the surface value, like √z).
+        assert!(box_maxima[2][k] > box_maxima[1][k] && box_maxima[1][k] > box_maxima[0][k]);
+        // Measured on 64² and 128² (docs/fatigue.md, "Checks"): |box max − reference| ≤ 2.2e-2
+        // (Crossland, Dang Van absolute; SWT, Fatemi–Socie relative), the worst cell of the
+        // window 5.8e-2. The first layer's error does not decrease with the grid (it sits at
+        // z = h/2, where the piecewise-constant tractions' error does not shrink relative to the
+        // field); these bounds are regression bounds at the measured level, not a convergence.
+        for r in &errors[1..] {
+            assert!(r[k].max_error < 2.5e-2, "{}: {r:?}", NAMES[k]);
+            assert!(r[k].field_error < 6.5e-2, "{}: {r:?}", NAMES[k]);
+        }
+    }
+}
+
+/// One criterion on one grid: |box max − the reference's window max|, the largest per-cell error
+/// over the window, how many cells apart the two maxima are, and how far below its own maximum
+/// the reference is at the solver's location (Crossland and Dang Van absolute, SWT and
+/// Fatemi–Socie relative to the reference's maximum).
+#[derive(Clone, Copy, Debug, Default)]
+struct Row {
+    max_error: f64,
+    field_error: f64,
+    cells_apart: f64,
+    shortfall: f64,
 }
