@@ -62,9 +62,15 @@ impl RosenbrockMatrix {
         chi: f64,
     ) -> Result<Self, MdrError> {
         let n = grid.len();
+        // The Jacobian runs on the contact nodes only (about half the grid and less): shorter
+        // FFT plans for them.
+        let mut profile_tf = ProfileTransform::new(n, material, backend)?;
+        profile_tf.plan_shorter_lengths();
+        let mut stress_tf = CellStressTransform::new(n, material, backend)?;
+        stress_tf.plan_shorter_lengths();
         Ok(Self {
-            profile_tf: ProfileTransform::new(n, material, backend)?,
-            stress_tf: CellStressTransform::new(n, material, backend)?,
+            profile_tf,
+            stress_tf,
             grid,
             modulus,
             slip_slope: 4.0 / chi,
@@ -141,11 +147,8 @@ impl RosenbrockMatrix {
     /// The pressure part of `J v`, `Δu ⊙ δp` with `δp = 1[σ > 0] ⊙ (S_θ[−c̃_N 1[g < 1] ⊙ P[D v]]
     /// + ∂_θσ δθ)`.
     fn pressure_response(&mut self, v: &[f64], out: &mut [f64]) -> Result<(), MdrError> {
-        let h = self.grid.step();
-        derivative_uniform(v, h, &mut self.slope)?;
-        self.profile_tf
-            .slope_to_equivalent(&self.grid, &mut self.slope, &mut self.g)?;
         let m = self.contact_nodes;
+        self.equivalent_near_contact(m, v)?;
         for i in 0..m {
             self.q[i] = if self.open_gap[i] {
                 -self.modulus * self.g[i]
@@ -176,6 +179,21 @@ impl RosenbrockMatrix {
         Ok(())
     }
 
+    /// `δg = P[D v]` on the nodes `0..=m` (`m` contact nodes and the next), from `v` on the first
+    /// `m + 3` nodes only: the central difference `D` reaches one node out, the causal sum of `P`
+    /// (Eq. 7 / 23) none (its kernel `b_0 = 0`), and `P`'s own difference one more, so these
+    /// nodes are those of the whole grid's `P[D v]` (to the FFT's rounding: the transform runs
+    /// on `m + 3` nodes, with a shorter plan). `self.g[..m + 3]` holds it.
+    fn equivalent_near_contact(&mut self, m: usize, v: &[f64]) -> Result<(), MdrError> {
+        let h = self.grid.step();
+        let len = (m + 3).max(SquaredGrid::MIN_NODES).min(self.grid.len());
+        let prefix = SquaredGrid::with_step(len, h)?;
+        derivative_uniform(&v[..len], h, &mut self.slope[..len])?;
+        self.profile_tf
+            .slope_to_equivalent(&prefix, &mut self.slope[..len], &mut self.g[..len])?;
+        Ok(())
+    }
+
     /// `K v = S₁[−c̃_N P[D v]]` on the contact nodes `0..m` (0 beyond): the stress response to a
     /// profile change with the edge at the node `m − 1` (`θ = 1`) and every contact node open
     /// (`g < 1`), a function of `m` and the grid alone. `J` without the moving-edge term is
@@ -186,10 +204,7 @@ impl RosenbrockMatrix {
         v: &[f64],
         out: &mut [f64],
     ) -> Result<(), MdrError> {
-        let h = self.grid.step();
-        derivative_uniform(v, h, &mut self.slope)?;
-        self.profile_tf
-            .slope_to_equivalent(&self.grid, &mut self.slope, &mut self.g)?;
+        self.equivalent_near_contact(m, v)?;
         for (q, g) in self.q[..m].iter_mut().zip(&self.g) {
             *q = -self.modulus * g;
         }
@@ -217,8 +232,9 @@ impl RosenbrockMatrix {
         let colours = 2 * width + 1;
         band.fill(0.0);
         for c in 0..colours {
-            for (j, p) in probe.iter_mut().enumerate() {
-                *p = if j % colours == c { 1.0 } else { 0.0 };
+            probe.fill(0.0);
+            for p in probe.iter_mut().skip(c).step_by(colours) {
+                *p = 1.0;
             }
             self.edge_node_response(m, probe, response)?;
             for (i, r) in response.iter().enumerate().take(m) {
@@ -271,6 +287,11 @@ pub(crate) struct BandPreconditioner {
     lu: Vec<f64>,
     /// Whether `lu` holds a usable factorization (false: `M⁻¹ = I`).
     factored: bool,
+    /// `1/U_ii` (a multiplication on the back substitution's chain instead of a division).
+    inverse_pivot: Vec<f64>,
+    /// Rows `0..active` of `J_w` may be nonzero (the contact nodes); `M` is the identity on the
+    /// rows beyond, where factoring and substituting leave every value as it is, so both stop there.
+    pub(crate) active: usize,
     pub(crate) probe: Vec<f64>,
     pub(crate) response: Vec<f64>,
 }
@@ -286,6 +307,8 @@ impl BandPreconditioner {
             probed_for: 0,
             lu: vec![0.0; n * colours],
             factored: false,
+            inverse_pivot: vec![1.0; n],
+            active: n,
             probe: vec![0.0; n],
             response: vec![0.0; n],
         }
@@ -308,14 +331,17 @@ impl BandPreconditioner {
             self.lu[i * colours + w] += 1.0;
         }
         self.factored = true;
-        for k in 0..n {
+        let active = self.active.min(n);
+        for k in 0..active {
             let pivot = self.lu[k * colours + w];
             if !(pivot.is_finite() && pivot > 1e-8) {
                 self.factored = false;
                 return;
             }
+            self.inverse_pivot[k] = 1.0 / pivot;
             let last = (k + w).min(n - 1);
-            for i in k + 1..=last {
+            // Rows from `active` on have no entries left of the diagonal: nothing to eliminate.
+            for i in k + 1..=last.min(active - 1) {
                 // Row i, column k sits at l = k + w − i.
                 let lik = self.lu[i * colours + (k + w - i)] / pivot;
                 self.lu[i * colours + (k + w - i)] = lik;
@@ -344,21 +370,25 @@ impl LinearOperator for BandPreconditioner {
         }
         let (n, w) = (self.n, self.width);
         let colours = 2 * w + 1;
-        for i in 0..n {
-            let row = &self.lu[i * colours..(i + 1) * colours];
+        // Rows from `active` on are those of the identity (`y_i = x_i`).
+        let active = self.active.min(n);
+        for i in 0..active {
+            let lo = i.saturating_sub(w);
+            let lower = &self.lu[i * colours + lo + w - i..i * colours + w];
             let mut s = y[i];
-            for j in i.saturating_sub(w)..i {
-                s -= row[j + w - i] * y[j];
+            for (l, yj) in lower.iter().zip(&y[lo..i]) {
+                s -= l * yj;
             }
             y[i] = s;
         }
-        for i in (0..n).rev() {
+        for i in (0..active).rev() {
+            let hi = (i + w + 1).min(n);
             let row = &self.lu[i * colours..(i + 1) * colours];
             let mut s = y[i];
-            for j in i + 1..(i + w + 1).min(n) {
-                s -= row[j + w - i] * y[j];
+            for (u, yj) in row[w + 1..w + hi - i].iter().zip(&y[i + 1..hi]) {
+                s -= u * yj;
             }
-            y[i] = s / row[w];
+            y[i] = s * self.inverse_pivot[i];
         }
         Ok(())
     }
