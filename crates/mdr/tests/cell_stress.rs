@@ -152,3 +152,45 @@ fn bad_edges_and_sizes_are_errors() {
     let big = SquaredGrid::new(200, 1.0).unwrap();
     assert!(tf.line_load_to_stress(&big, &q, 0.5, &mut s).is_err());
 }
+
+/// Reuse: one transform applied at a repeated edge position `θ` with contacts of changing size
+/// (the kept partial-cell powers), and with the shorter FFT plans, against a fresh transform for
+/// every call — the same bits without the shorter plans, the same values to rounding with them.
+#[test]
+fn repeated_edges_and_shorter_plans_give_the_fresh_transform() {
+    let n = 2001;
+    let grid = SquaredGrid::new(n, 1.6).unwrap();
+    for k in [-0.5, 0.0] {
+        let mut kept = CellStressTransform::new(n, &material(k), Backend::Fft).unwrap();
+        let mut short = CellStressTransform::new(n, &material(k), Backend::Fft).unwrap();
+        short.plan_shorter_lengths();
+        for (m, theta) in [(900, 0.3), (1200, 0.3), (700, 0.3), (700, 1.0), (1800, 0.3)] {
+            let q: Vec<f64> = (0..m)
+                .map(|i| (1.0 - grid.squared(i) / grid.squared(m)).powf(1.5) + 0.1)
+                .collect();
+            let mut fresh = CellStressTransform::new(n, &material(k), Backend::Fft).unwrap();
+            let (mut want, mut got, mut shorter) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
+            fresh
+                .line_load_to_stress(&grid, &q, theta, &mut want)
+                .unwrap();
+            kept.line_load_to_stress(&grid, &q, theta, &mut got)
+                .unwrap();
+            short
+                .line_load_to_stress(&grid, &q, theta, &mut shorter)
+                .unwrap();
+            assert!(want
+                .iter()
+                .zip(&got)
+                .all(|(a, b)| a.to_bits() == b.to_bits()));
+            let scale = want.iter().fold(0.0f64, |s, v| s.max(v.abs()));
+            let diff = want
+                .iter()
+                .zip(&shorter)
+                .fold(0.0f64, |s, (a, b)| s.max((a - b).abs()));
+            assert!(
+                diff < 1e-13 * scale,
+                "k = {k}, m = {m}: {diff:e} of {scale:e}"
+            );
+        }
+    }
+}

@@ -5,7 +5,9 @@
 //! Two backends evaluate the *same* sum (design.md: they agree to rounding):
 //! * [`Backend::Fft`]: zero-padded to a 5-smooth length `P ≥ 2n − 1` (docs/theory-mdr.md#p7-fft-details: without the
 //!   padding the product is circular), kernel spectrum computed once, `apply` allocation-free;
-//!   O(P log P).
+//!   O(P log P). With [`ToeplitzConvolution::plan_shorter_lengths`] it also plans a ladder of
+//!   shorter lengths `P_l ≥ 2c_l − 1` (`c_l` falling by 4/5 a rung) and an input of length
+//!   `m ≤ c_l` uses the shortest such plan: the same sum, `O(m log m)` for short inputs.
 //! * [`Backend::Mvm`]: the lower-triangular Toeplitz matrix–vector product, O(m²), with four
 //!   independent accumulators per row.
 
@@ -56,6 +58,8 @@ pub fn fast_length(min: usize) -> usize {
 }
 
 struct FftPlan {
+    /// Longest input (the kernel entries it holds).
+    capacity: usize,
     forward: Arc<dyn RealToComplex<f64>>,
     inverse: Arc<dyn ComplexToReal<f64>>,
     /// FFT(b) / P: the normalization of the inverse transform is folded in.
@@ -66,9 +70,14 @@ struct FftPlan {
 }
 
 enum Engine {
-    Fft(Box<FftPlan>),
+    /// The plans by increasing length; the last one takes the whole capacity.
+    Fft(Vec<FftPlan>),
     Mvm,
 }
+
+/// Shortest capacity `c_l` of a rung of [`ToeplitzConvolution::plan_shorter_lengths`]; below it
+/// one FFT costs little more than the copies around it.
+const SHORTEST_RUNG: usize = 256;
 
 /// Causal linear convolution with a fixed kernel `b_0 … b_{n−1}` (see the module docs).
 /// Built once (plans and kernel spectrum); [`ToeplitzConvolution::apply`] does not allocate.
@@ -96,7 +105,10 @@ impl ToeplitzConvolution {
         }
         let engine = match backend {
             Backend::Mvm => Engine::Mvm,
-            Backend::Fft => Engine::Fft(Box::new(FftPlan::new(&kernel))),
+            Backend::Fft => {
+                let p = fast_length(2 * kernel.len() - 1);
+                Engine::Fft(vec![FftPlan::new(&kernel, p)])
+            }
         };
         Ok(Self { kernel, engine })
     }
@@ -119,12 +131,56 @@ impl ToeplitzConvolution {
         }
     }
 
-    /// Padded FFT length (`None` for the MVM backend).
+    /// Padded FFT length of a full-capacity input (`None` for the MVM backend).
     pub fn padded_length(&self) -> Option<usize> {
+        self.padded_length_for(self.capacity())
+    }
+
+    /// Padded FFT length used for an input of length `m ≤ capacity` (`None` for the MVM backend).
+    pub fn padded_length_for(&self, m: usize) -> Option<usize> {
         match &self.engine {
-            Engine::Fft(plan) => Some(plan.time.len()),
+            Engine::Fft(plans) => plans
+                .iter()
+                .find(|plan| plan.capacity >= m)
+                .map(|plan| plan.time.len()),
             Engine::Mvm => None,
         }
+    }
+
+    /// Adds FFT plans for shorter inputs (no effect with the MVM backend): for `c = ⌊(4/5)^l n⌋ ≥ 256`
+    /// a rung zero-padded to `P_l = fast_length(2c − 1)` that holds the kernel `b_0 … b_{c_l−1}`,
+    /// `c_l = ⌈P_l/2⌉ ≥ c` (for inputs of length `m ≤ c_l` the outputs `i < m` need no more, and
+    /// `P_l ≥ m + c_l − 1` keeps the product linear). An input of length `m` then uses the
+    /// shortest plan with `c_l ≥ m`: the same sum, in `O(m log m)`; the result differs from the
+    /// full-length plan's by rounding only. For callers whose inputs are much shorter than the
+    /// capacity (the implicit wear steps' Jacobian on the contact nodes, docs/fretting-wear.md,
+    /// "Time integration").
+    pub fn plan_shorter_lengths(&mut self) {
+        let Engine::Fft(plans) = &mut self.engine else {
+            return;
+        };
+        if plans.len() > 1 {
+            return;
+        }
+        let mut rungs = Vec::new();
+        let mut c = self.kernel.len();
+        let mut longest = plans[0].time.len();
+        loop {
+            c = c * 4 / 5;
+            if c < SHORTEST_RUNG {
+                break;
+            }
+            let p = fast_length(2 * c - 1);
+            if p < longest {
+                // The plan holds every input its padding allows: c = ⌈P/2⌉.
+                let capacity = p.div_ceil(2).min(self.kernel.len());
+                rungs.push(FftPlan::new(&self.kernel[..capacity], p));
+                longest = p;
+            }
+        }
+        rungs.reverse();
+        rungs.append(plans);
+        *plans = rungs;
     }
 
     /// `y_i = Σ_{j=0}^{i} x_j b_{i−j}`, `i = 0..m−1`, with `m = x.len() = y.len() ≤ capacity`.
@@ -146,16 +202,21 @@ impl ToeplitzConvolution {
         }
         match &mut self.engine {
             Engine::Mvm => toeplitz_lower_mvm(&self.kernel, x, y),
-            Engine::Fft(plan) => plan.apply(x, y),
+            Engine::Fft(plans) => plans
+                .iter_mut()
+                .find(|plan| plan.capacity >= m)
+                .expect("the last plan takes the whole capacity")
+                .apply(x, y),
         }
         Ok(())
     }
 }
 
 impl FftPlan {
-    fn new(kernel: &[f64]) -> Self {
+    /// The plan of length `p ≥ 2 kernel.len() − 1` for inputs up to `kernel.len()`.
+    fn new(kernel: &[f64], p: usize) -> Self {
         let n = kernel.len();
-        let p = fast_length(2 * n - 1);
+        debug_assert!(p + 1 >= 2 * n);
         let mut planner = RealFftPlanner::<f64>::new();
         let forward = planner.plan_fft_forward(p);
         let inverse = planner.plan_fft_inverse(p);
@@ -173,6 +234,7 @@ impl FftPlan {
         }
         let freq = forward.make_output_vec();
         Self {
+            capacity: n,
             forward,
             inverse,
             spectrum,
@@ -288,6 +350,49 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The ladder of shorter plans: every input length from 1 to the capacity against the naive
+    /// sum (fixed seeds), the shortest plan that fits is used, and a full-length input gives the
+    /// full plan's bits.
+    #[test]
+    fn shorter_plans_match_the_naive_sum() {
+        let n = 1500;
+        let b = lcg(7, n);
+        let x = lcg(8, n);
+        let mut full = ToeplitzConvolution::new(b.clone(), Backend::Fft).unwrap();
+        let mut ladder = ToeplitzConvolution::new(b.clone(), Backend::Fft).unwrap();
+        ladder.plan_shorter_lengths();
+        assert_eq!(ladder.padded_length(), full.padded_length());
+        // n = 1500: rungs of capacity 1200, 960, 768, 625, 500, 400, 313 (P = 2400 … 625).
+        assert_eq!(ladder.padded_length_for(256), Some(625));
+        assert_eq!(ladder.padded_length_for(1201), Some(3000));
+        let want = naive(&b, &x);
+        let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1.0);
+        for m in (1..=n)
+            .step_by(37)
+            .chain([255, 256, 257, 300, 301, 1199, 1200, 1201, n])
+        {
+            let p = ladder.padded_length_for(m).unwrap();
+            assert!(p + 1 >= 2 * m, "m = {m}: P = {p}");
+            let mut y = vec![0.0; m];
+            ladder.apply(&x[..m], &mut y).unwrap();
+            for i in 0..m {
+                assert!(
+                    (y[i] - want[i]).abs() <= 1e-13 * scale * (n as f64).sqrt(),
+                    "m = {m}, P = {p}, i = {i}: {} vs {}",
+                    y[i],
+                    want[i]
+                );
+            }
+        }
+        let (mut y_full, mut y_ladder) = (vec![0.0; n], vec![0.0; n]);
+        full.apply(&x, &mut y_full).unwrap();
+        ladder.apply(&x, &mut y_ladder).unwrap();
+        assert!(y_full
+            .iter()
+            .zip(&y_ladder)
+            .all(|(a, c)| a.to_bits() == c.to_bits()));
     }
 
     #[test]

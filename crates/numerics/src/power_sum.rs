@@ -37,6 +37,12 @@ impl PowerSum {
         })
     }
 
+    /// Plans shorter FFT lengths for inputs much shorter than the capacity
+    /// ([`ToeplitzConvolution::plan_shorter_lengths`]; the same sums to rounding).
+    pub fn plan_shorter_lengths(&mut self) {
+        self.conv.plan_shorter_lengths();
+    }
+
     /// The exponent `γ`.
     pub fn gamma(&self) -> f64 {
         self.gamma

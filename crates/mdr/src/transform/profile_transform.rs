@@ -38,6 +38,12 @@ impl ProfileTransform {
         })
     }
 
+    /// Plans shorter FFT lengths, for grids much shorter than the capacity (the same transform to
+    /// rounding; `halfspace_numerics::PowerSum::plan_shorter_lengths`).
+    pub fn plan_shorter_lengths(&mut self) {
+        self.sum.plan_shorter_lengths();
+    }
+
     /// Largest grid accepted.
     pub fn capacity(&self) -> usize {
         self.sum.capacity()

@@ -29,6 +29,11 @@ pub struct CellStressTransform {
     conv: ToeplitzConvolution,
     reversed: Vec<f64>,
     sums: Vec<f64>,
+    /// `(n + θ)^γ − n^γ` for `n < edge_cells` at `θ = edge_theta` (kept while `θ` stays: the
+    /// implicit wear steps apply the transform many times at one frozen edge).
+    edge_powers: Vec<f64>,
+    edge_theta: f64,
+    edge_cells: usize,
 }
 
 /// Beyond this distance (in cells) from the edge `(n + θ)^γ − n^γ` is summed as a series.
@@ -46,7 +51,16 @@ impl CellStressTransform {
             powers,
             reversed: vec![0.0; capacity],
             sums: vec![0.0; capacity],
+            edge_powers: vec![0.0; capacity + 1],
+            edge_theta: f64::NAN,
+            edge_cells: 0,
         })
+    }
+
+    /// Plans shorter FFT lengths, for contacts much shorter than the capacity (the same transform
+    /// to rounding; `halfspace_numerics::ToeplitzConvolution::plan_shorter_lengths`).
+    pub fn plan_shorter_lengths(&mut self) {
+        self.conv.plan_shorter_lengths();
     }
 
     /// Largest contact accepted (nodes `0..M`).
@@ -110,13 +124,22 @@ impl CellStressTransform {
         let h = grid.step();
         let scale = h.powf(self.gamma - 1.0) / (std::f64::consts::PI * self.gamma);
         let edge_slope = q[m - 1] / theta;
+        if theta.to_bits() != self.edge_theta.to_bits() {
+            self.edge_theta = theta;
+            self.edge_cells = 0;
+        }
+        for n in self.edge_cells..=cells {
+            let power = self.partial_cell_power(n, theta);
+            self.edge_powers[n] = power;
+        }
+        self.edge_cells = self.edge_cells.max(cells + 1);
         for (j, s) in sigma.iter_mut().enumerate() {
             let cell_sum = if j < cells {
                 self.sums[cells - 1 - j]
             } else {
                 0.0
             };
-            *s = scale * (edge_slope * self.partial_cell_power(cells - j, theta) - cell_sum);
+            *s = scale * (edge_slope * self.edge_powers[cells - j] - cell_sum);
         }
         Ok(())
     }
