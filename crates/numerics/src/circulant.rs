@@ -5,7 +5,7 @@
 //! ([`Circulant2d::inverse_half_space`]; Vollebregt 2014, J. Comput. Phys. 257, §4).
 //! Applying does not allocate.
 
-use crate::fft2d::{Fft2d, Mode, C64};
+use crate::fft2d::{Fft2d, Mode, SingleProduct, C64};
 use crate::op::{GridOperator, OperatorShape};
 use crate::NumericsError;
 
@@ -15,6 +15,8 @@ pub struct Circulant2d {
     /// `σ(m, n) / (N₁N₂)` in the spectrum layout ([`Fft2d::symbol_spectrum`]).
     symbol: Vec<f64>,
     hat: Vec<C64>,
+    /// The single-precision product, built at its first use.
+    single: Option<SingleProduct>,
 }
 
 impl Circulant2d {
@@ -42,6 +44,7 @@ impl Circulant2d {
             symbol: fft.symbol_spectrum(sigma)?,
             hat: fft.new_spectrum(),
             fft,
+            single: None,
         })
     }
 
@@ -101,6 +104,31 @@ impl Circulant2d {
         // Forward transform, product with the symbol and inverse, fused (bit for bit).
         self.fft.convolve_real(x, &self.symbol, &mut self.hat, y)
     }
+
+    /// [`Circulant2d::apply`] in single precision (relative error of order `1e-7`; the `f32` core
+    /// planned at the first call), for the early iterations of a solver (docs/performance.md,
+    /// "Mixed precision").
+    pub fn apply_single(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), NumericsError> {
+        let (n1, n2) = self.fft.shape();
+        for v in [x.len(), y.len()] {
+            if v != n1 * n2 {
+                return Err(NumericsError::LengthMismatch {
+                    what: "circulant field",
+                    expected: n1 * n2,
+                    got: v,
+                });
+            }
+        }
+        if self.single.is_none() {
+            self.single = Some(SingleProduct::new(&self.fft, &self.symbol)?);
+        }
+        self.single.as_mut().expect("built above").apply(x, y)
+    }
+
+    /// Frees what [`Circulant2d::apply_single`] holds.
+    pub fn drop_single(&mut self) {
+        self.single = None;
+    }
 }
 
 impl GridOperator for Circulant2d {
@@ -138,7 +166,9 @@ mod tests {
             let at = |i: isize, j: isize| {
                 x[(i.rem_euclid(n1 as isize) as usize) * n2 + j.rem_euclid(n2 as isize) as usize]
             };
-            let mut worst: f64 = 0.0;
+            let mut single = vec![0.0; n1 * n2];
+            op.apply_single(&x, &mut single).unwrap();
+            let (mut worst, mut worst_single): (f64, f64) = (0.0, 0.0);
             for i in 0..n1 as isize {
                 for j in 0..n2 as isize {
                     let s = a * at(i, j)
@@ -148,10 +178,14 @@ mod tests {
                             + at(i - 1, j + 1)
                             + at(i + 1, j - 1)
                             + at(i + 1, j + 1));
-                    worst = worst.max((s - y[i as usize * n2 + j as usize]).abs());
+                    let k = i as usize * n2 + j as usize;
+                    worst = worst.max((s - y[k]).abs());
+                    worst_single = worst_single.max((s - single[k]).abs());
                 }
             }
             assert!(worst < 1e-12, "{n1}×{n2}: {worst:e}");
+            // The single-precision product: f32 rounding of values up to ~40 (ε·40·log₂N ≈ 3e-5).
+            assert!(worst_single < 1e-4, "{n1}×{n2} single: {worst_single:e}");
         }
     }
 }

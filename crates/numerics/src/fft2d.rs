@@ -22,6 +22,12 @@
 //! Rows and columns are transformed in parallel (rayon) on grids of at least 128² cells, each thread
 //! with its own preallocated scratch; below that, sequentially. Transforms do not allocate (after
 //! the first).
+//!
+//! **Precision.** A core computes in `f64` (`Fft2d`, the default) or in `f32` (`Fft2d<f32>`,
+//! [`Fft2d::single`]): the same algorithm on the plans of the other type. Fields in and out are
+//! `f64` in both (converted row by row while padding and cropping, no extra pass), so a
+//! single-precision product is a drop-in for the early iterations of a solver
+//! (docs/performance.md, "Mixed precision").
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
@@ -34,21 +40,70 @@ use crate::NumericsError;
 
 /// A complex spectrum value.
 pub type C64 = Complex<f64>;
+/// A complex spectrum value in single precision.
+pub type C32 = Complex<f32>;
+
+/// The floating-point type a core computes in: `f64` or `f32` (each with its own plan cache).
+pub trait Precision: rustfft::FftNum + Copy + Send + Sync + 'static {
+    /// `v` rounded to this type.
+    fn round_from(v: f64) -> Self;
+    /// `self` as `f64` (exact).
+    fn widen(self) -> f64;
+    /// The process-wide plan cache of this type ([`plans`]).
+    fn cache() -> &'static PlanCache<Self>;
+}
+
+/// Plans by transform shape, one cache per [`Precision`].
+#[doc(hidden)]
+pub type PlanCache<T> = Mutex<HashMap<(usize, usize), Arc<Plans<T>>>>;
+
+impl Precision for f64 {
+    #[inline(always)]
+    fn round_from(v: f64) -> Self {
+        v
+    }
+    #[inline(always)]
+    fn widen(self) -> f64 {
+        self
+    }
+    fn cache() -> &'static PlanCache<f64> {
+        static CACHE: OnceLock<PlanCache<f64>> = OnceLock::new();
+        CACHE.get_or_init(|| Mutex::new(HashMap::new()))
+    }
+}
+
+impl Precision for f32 {
+    #[inline(always)]
+    fn round_from(v: f64) -> Self {
+        v as f32
+    }
+    #[inline(always)]
+    fn widen(self) -> f64 {
+        self as f64
+    }
+    fn cache() -> &'static PlanCache<f32> {
+        static CACHE: OnceLock<PlanCache<f32>> = OnceLock::new();
+        CACHE.get_or_init(|| Mutex::new(HashMap::new()))
+    }
+}
 
 /// A scratch buffer of complex values.
-type Scratch = Vec<C64>;
+type Scratch<T> = Vec<Complex<T>>;
 /// One thread's share of a row transform: (chunk index, ((row spectra, padded real row),
 /// scratch)).
-type RowChunk<'a> = (usize, ((&'a mut [C64], &'a mut Vec<f64>), &'a mut Scratch));
+type RowChunk<'a, T> = (
+    usize,
+    ((&'a mut [Complex<T>], &'a mut Vec<T>), &'a mut Scratch<T>),
+);
 /// One thread's share of a column transform: (chunk index, (columns, scratch)).
-type ColChunk<'a> = (usize, (&'a mut [C64], &'a mut Scratch));
+type ColChunk<'a, T> = (usize, (&'a mut [Complex<T>], &'a mut Scratch<T>));
 /// One thread's share of the inverse row transforms: (chunk index, (((complex rows, output rows),
 /// padded real row), scratch)).
-type InverseRowChunk<'a> = (
+type InverseRowChunk<'a, T> = (
     usize,
     (
-        ((&'a mut [C64], &'a mut [f64]), &'a mut Vec<f64>),
-        &'a mut Scratch,
+        ((&'a mut [Complex<T>], &'a mut [f64]), &'a mut Vec<T>),
+        &'a mut Scratch<T>,
     ),
 );
 
@@ -72,23 +127,22 @@ pub enum Mode {
 
 /// The RustFFT/realfft plans of one transform shape `P₁ × P₂` (rows of `P₂` real values, columns of
 /// `P₁` complex values), shared by every core of that shape.
-struct Plans {
-    row_fwd: Arc<dyn RealToComplex<f64>>,
-    row_inv: Arc<dyn ComplexToReal<f64>>,
-    col_fwd: Arc<dyn Fft<f64>>,
-    col_inv: Arc<dyn Fft<f64>>,
+#[doc(hidden)]
+pub struct Plans<T: Precision> {
+    row_fwd: Arc<dyn RealToComplex<T>>,
+    row_inv: Arc<dyn ComplexToReal<T>>,
+    col_fwd: Arc<dyn Fft<T>>,
+    col_inv: Arc<dyn Fft<T>>,
 }
 
-/// The plans of transform shape `(p1, p2)`, planned at the first request of the process.
-fn plans(p1: usize, p2: usize) -> Arc<Plans> {
-    type Cache = Mutex<HashMap<(usize, usize), Arc<Plans>>>;
-    static CACHE: OnceLock<Cache> = OnceLock::new();
-    let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
-    let mut map = cache.lock().unwrap_or_else(|e| e.into_inner());
+/// The plans of transform shape `(p1, p2)` in precision `T`, planned at the first request of the
+/// process.
+fn plans<T: Precision>(p1: usize, p2: usize) -> Arc<Plans<T>> {
+    let mut map = T::cache().lock().unwrap_or_else(|e| e.into_inner());
     map.entry((p1, p2))
         .or_insert_with(|| {
-            let mut rplanner = RealFftPlanner::<f64>::new();
-            let mut cplanner = FftPlanner::<f64>::new();
+            let mut rplanner = RealFftPlanner::<T>::new();
+            let mut cplanner = FftPlanner::<T>::new();
             Arc::new(Plans {
                 row_fwd: rplanner.plan_fft_forward(p2),
                 row_inv: rplanner.plan_fft_inverse(p2),
@@ -100,20 +154,20 @@ fn plans(p1: usize, p2: usize) -> Arc<Plans> {
 }
 
 /// The work buffers of one core (allocated at the first transform).
-struct Work {
+struct Work<T: Precision> {
     /// One real row (`P₂` values) per worker thread: fields are padded row by row, so no
     /// `P₁ × P₂` real array is held.
-    row_real: Vec<Vec<f64>>,
+    row_real: Vec<Vec<T>>,
     /// Row transforms, `P₁ × (P₂/2 + 1)` row-major.
-    rows: Vec<C64>,
+    rows: Vec<Complex<T>>,
     /// One scratch buffer per worker thread.
-    row_scratch: Vec<Scratch>,
-    col_scratch: Vec<Scratch>,
+    row_scratch: Vec<Scratch<T>>,
+    col_scratch: Vec<Scratch<T>>,
 }
 
-/// A real 2D FFT of `N₁ × N₂` fields (padded or periodic), planned once; clones share it.
-#[derive(Clone)]
-pub struct Fft2d {
+/// A real 2D FFT of `N₁ × N₂` fields (padded or periodic) computing in precision `T` (`f64` by
+/// default), planned once; clones share it.
+pub struct Fft2d<T: Precision = f64> {
     n1: usize,
     n2: usize,
     mode: Mode,
@@ -121,8 +175,18 @@ pub struct Fft2d {
     p1: usize,
     p2: usize,
     threads: usize,
-    plans: Arc<Plans>,
-    work: Arc<Mutex<Option<Work>>>,
+    plans: Arc<Plans<T>>,
+    work: Arc<Mutex<Option<Work<T>>>>,
+}
+
+impl<T: Precision> Clone for Fft2d<T> {
+    fn clone(&self) -> Self {
+        Self {
+            plans: self.plans.clone(),
+            work: self.work.clone(),
+            ..*self
+        }
+    }
 }
 
 impl Fft2d {
@@ -139,72 +203,14 @@ impl Fft2d {
     /// The core of `n1 × n2` fields in `mode`, with the cached plans of its transform shape; its
     /// work buffers are allocated at the first transform.
     pub fn with_mode(n1: usize, n2: usize, mode: Mode) -> Result<Self, NumericsError> {
-        if n1 < 2 || n2 < 2 {
-            return Err(NumericsError::TooFewNodes {
-                what: match mode {
-                    Mode::Padded => "a DC-FFT grid side",
-                    Mode::Periodic => "a circulant grid side",
-                },
-                min: 2,
-                n: n1.min(n2),
-            });
-        }
-        let (p1, p2) = match mode {
-            Mode::Padded => (2 * n1, 2 * n2),
-            Mode::Periodic => (n1, n2),
-        };
-        // Threads pay only on large grids: below 128² the rayon hand-offs cost more than they save.
-        let threads = if n1 * n2 >= PARALLEL_CELLS {
-            rayon::current_num_threads().max(1)
-        } else {
-            1
-        };
-        Ok(Self {
-            n1,
-            n2,
-            mode,
-            p1,
-            p2,
-            threads,
-            plans: plans(p1, p2),
-            work: Arc::new(Mutex::new(None)),
-        })
+        Fft2d::<f64>::in_precision(n1, n2, mode)
     }
 
-    /// Grid shape `(N₁, N₂)`.
-    pub fn shape(&self) -> (usize, usize) {
-        (self.n1, self.n2)
-    }
-
-    /// Padded or periodic.
-    pub fn mode(&self) -> Mode {
-        self.mode
-    }
-
-    /// Whether `other` is a clone of this core (the same work buffers).
-    pub fn shares_work_with(&self, other: &Fft2d) -> bool {
-        Arc::ptr_eq(&self.work, &other.work)
-    }
-
-    /// Length of one spectrum, `P₁ (P₂/2 + 1)`: `2N₁ (N₂ + 1)` padded, `N₁ (⌊N₂/2⌋ + 1)` periodic.
-    pub fn spectrum_len(&self) -> usize {
-        self.p1 * (self.p2 / 2 + 1)
-    }
-
-    /// A zeroed spectrum buffer.
-    pub fn new_spectrum(&self) -> Vec<C64> {
-        vec![C64::new(0.0, 0.0); self.spectrum_len()]
-    }
-
-    fn require_padded(&self) -> Result<(), NumericsError> {
-        match self.mode {
-            Mode::Padded => Ok(()),
-            Mode::Periodic => Err(NumericsError::InvalidParameter {
-                name: "FFT core mode for a DC-FFT kernel (periodic given)",
-                value: 0.0,
-                allowed: "padded",
-            }),
-        }
+    /// The single-precision core of this one's shape and mode (its own work buffers, the cached
+    /// `f32` plans): products on it carry a relative error of order `1e-7` (docs/performance.md,
+    /// "Mixed precision").
+    pub fn single(&self) -> Fft2d<f32> {
+        Fft2d::<f32>::in_precision(self.n1, self.n2, self.mode).expect("the shape of a valid core")
     }
 
     /// The spectrum of the DC-FFT kernel layout of `k` (offsets `−(N−1)..N−1` wrapped, the `N`-th
@@ -385,47 +391,6 @@ impl Fft2d {
         Ok(())
     }
 
-    /// `y = IFFT₂(k · FFT₂(x))` cropped to `N₁ × N₂` for a real spectrum `k` (in the layout of
-    /// [`Fft2d::spectrum_len`]: [`Fft2d::even_kernel_spectrum`] on a padded core, the DC-FFT product
-    /// with an even kernel; [`Fft2d::symbol_spectrum`] on a periodic core, the circulant product).
-    /// Equal bit for bit to [`Fft2d::forward`], [`multiply_real`], [`Fft2d::inverse`], fused: each
-    /// block of columns is transformed, multiplied and transformed back while it is in cache (two
-    /// passes over the spectrum fewer), and the zero padding is never read. `spec` is work space of
-    /// [`Fft2d::spectrum_len`] values (overwritten).
-    pub fn convolve_real(
-        &mut self,
-        x: &[f64],
-        k: &[f64],
-        spec: &mut [C64],
-        y: &mut [f64],
-    ) -> Result<(), NumericsError> {
-        let (n1, n2) = (self.n1, self.n2);
-        for v in [x.len(), y.len()] {
-            if v != n1 * n2 {
-                return Err(NumericsError::LengthMismatch {
-                    what: "grid field",
-                    expected: n1 * n2,
-                    got: v,
-                });
-            }
-        }
-        self.check_spectrum(spec)?;
-        if k.len() != spec.len() {
-            return Err(NumericsError::LengthMismatch {
-                what: "real spectrum",
-                expected: spec.len(),
-                got: k.len(),
-            });
-        }
-        let fill = |a: usize, row: &mut [f64]| {
-            row[..n2].copy_from_slice(&x[a * n2..(a + 1) * n2]);
-            row[n2..].fill(0.0);
-        };
-        self.forward_padded(&fill, spec, 0..n1, Some(k));
-        self.inverse_row_phase(spec, 0..n1, y);
-        Ok(())
-    }
-
     /// `y = IFFT₂(spec)` cropped to `N₁ × N₂` (the spectrum is overwritten). With spectra of
     /// [`Fft2d::kernel_spectrum`] times spectra of [`Fft2d::forward`] this is the DC-FFT product.
     pub fn inverse(&mut self, spec: &mut [C64], y: &mut [f64]) -> Result<(), NumericsError> {
@@ -460,8 +425,125 @@ impl Fft2d {
         self.inverse_cropped(spec, rows, y);
         Ok(())
     }
+}
 
-    fn check_spectrum(&self, s: &[C64]) -> Result<(), NumericsError> {
+impl<T: Precision> Fft2d<T> {
+    /// The core of `n1 × n2` fields in `mode` computing in precision `T` (`n1, n2 ≥ 2`), with the
+    /// cached plans of its transform shape; its work buffers are allocated at the first transform.
+    pub fn in_precision(n1: usize, n2: usize, mode: Mode) -> Result<Self, NumericsError> {
+        if n1 < 2 || n2 < 2 {
+            return Err(NumericsError::TooFewNodes {
+                what: match mode {
+                    Mode::Padded => "a DC-FFT grid side",
+                    Mode::Periodic => "a circulant grid side",
+                },
+                min: 2,
+                n: n1.min(n2),
+            });
+        }
+        let (p1, p2) = match mode {
+            Mode::Padded => (2 * n1, 2 * n2),
+            Mode::Periodic => (n1, n2),
+        };
+        // Threads pay only on large grids: below 128² the rayon hand-offs cost more than they save.
+        let threads = if n1 * n2 >= PARALLEL_CELLS {
+            rayon::current_num_threads().max(1)
+        } else {
+            1
+        };
+        Ok(Self {
+            n1,
+            n2,
+            mode,
+            p1,
+            p2,
+            threads,
+            plans: plans(p1, p2),
+            work: Arc::new(Mutex::new(None)),
+        })
+    }
+
+    /// Grid shape `(N₁, N₂)`.
+    pub fn shape(&self) -> (usize, usize) {
+        (self.n1, self.n2)
+    }
+
+    /// Padded or periodic.
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// Whether `other` is a clone of this core (the same work buffers).
+    pub fn shares_work_with(&self, other: &Fft2d<T>) -> bool {
+        Arc::ptr_eq(&self.work, &other.work)
+    }
+
+    /// Length of one spectrum, `P₁ (P₂/2 + 1)`: `2N₁ (N₂ + 1)` padded, `N₁ (⌊N₂/2⌋ + 1)` periodic.
+    pub fn spectrum_len(&self) -> usize {
+        self.p1 * (self.p2 / 2 + 1)
+    }
+
+    /// A zeroed spectrum buffer.
+    pub fn new_spectrum(&self) -> Vec<Complex<T>> {
+        vec![Complex::new(T::zero(), T::zero()); self.spectrum_len()]
+    }
+
+    fn require_padded(&self) -> Result<(), NumericsError> {
+        match self.mode {
+            Mode::Padded => Ok(()),
+            Mode::Periodic => Err(NumericsError::InvalidParameter {
+                name: "FFT core mode for a DC-FFT kernel (periodic given)",
+                value: 0.0,
+                allowed: "padded",
+            }),
+        }
+    }
+
+    /// `y = IFFT₂(k · FFT₂(x))` cropped to `N₁ × N₂` for a real spectrum `k` (in the layout of
+    /// [`Fft2d::spectrum_len`]: [`Fft2d::even_kernel_spectrum`] on a padded core, the DC-FFT product
+    /// with an even kernel; [`Fft2d::symbol_spectrum`] on a periodic core, the circulant product).
+    /// Equal bit for bit to [`Fft2d::forward`], [`multiply_real`], [`Fft2d::inverse`], fused: each
+    /// block of columns is transformed, multiplied and transformed back while it is in cache (two
+    /// passes over the spectrum fewer), and the zero padding is never read. `spec` is work space of
+    /// [`Fft2d::spectrum_len`] values (overwritten). On a single-precision core the fields are
+    /// rounded to `f32` as they are padded and the result widened as it is cropped.
+    pub fn convolve_real(
+        &mut self,
+        x: &[f64],
+        k: &[T],
+        spec: &mut [Complex<T>],
+        y: &mut [f64],
+    ) -> Result<(), NumericsError> {
+        let (n1, n2) = (self.n1, self.n2);
+        for v in [x.len(), y.len()] {
+            if v != n1 * n2 {
+                return Err(NumericsError::LengthMismatch {
+                    what: "grid field",
+                    expected: n1 * n2,
+                    got: v,
+                });
+            }
+        }
+        self.check_spectrum(spec)?;
+        if k.len() != spec.len() {
+            return Err(NumericsError::LengthMismatch {
+                what: "real spectrum",
+                expected: spec.len(),
+                got: k.len(),
+            });
+        }
+        let fill = |a: usize, row: &mut [T]| {
+            for (r, v) in row[..n2].iter_mut().zip(&x[a * n2..(a + 1) * n2]) {
+                *r = T::round_from(*v);
+            }
+            row[n2..].fill(T::zero());
+        };
+        self.forward_padded(&fill, spec, 0..n1, Some(k));
+        self.inverse_row_phase(spec, 0..n1, y);
+        Ok(())
+    }
+
+    fn check_spectrum(&self, s: &[Complex<T>]) -> Result<(), NumericsError> {
         if s.len() != self.spectrum_len() {
             return Err(NumericsError::LengthMismatch {
                 what: "spectrum",
@@ -473,20 +555,21 @@ impl Fft2d {
     }
 
     /// Runs `f` on the work buffers (allocated here at the first call).
-    fn with_work<R>(&self, f: impl FnOnce(&mut Work) -> R) -> R {
+    fn with_work<R>(&self, f: impl FnOnce(&mut Work<T>) -> R) -> R {
         let mut guard = self.work.lock().unwrap_or_else(|e| e.into_inner());
         let work = guard.get_or_insert_with(|| {
             let p = &self.plans;
+            let zero = Complex::new(T::zero(), T::zero());
             let row_scratch_len = p.row_fwd.get_scratch_len().max(p.row_inv.get_scratch_len());
             let col_scratch_len = p
                 .col_fwd
                 .get_inplace_scratch_len()
                 .max(p.col_inv.get_inplace_scratch_len());
             Work {
-                row_real: vec![vec![0.0; self.p2]; self.threads],
-                rows: vec![C64::new(0.0, 0.0); self.spectrum_len()],
-                row_scratch: vec![vec![C64::new(0.0, 0.0); row_scratch_len.max(1)]; self.threads],
-                col_scratch: vec![vec![C64::new(0.0, 0.0); col_scratch_len.max(1)]; self.threads],
+                row_real: vec![vec![T::zero(); self.p2]; self.threads],
+                rows: self.new_spectrum(),
+                row_scratch: vec![vec![zero; row_scratch_len.max(1)]; self.threads],
+                col_scratch: vec![vec![zero; col_scratch_len.max(1)]; self.threads],
             }
         });
         f(work)
@@ -499,10 +582,10 @@ impl Fft2d {
     /// of [`Fft2d::convolve_real`]).
     fn forward_padded(
         &mut self,
-        fill: &(dyn Fn(usize, &mut [f64]) + Sync),
-        spec: &mut [C64],
+        fill: &(dyn Fn(usize, &mut [T]) + Sync),
+        spec: &mut [Complex<T>],
         nonzero: std::ops::Range<usize>,
-        k: Option<&[f64]>,
+        k: Option<&[T]>,
     ) {
         let (p1, h2) = (self.p1, self.p2 / 2 + 1);
         let threads = self.threads;
@@ -511,7 +594,7 @@ impl Fft2d {
             let chunk = nonzero.len().div_ceil(threads).max(1);
             let first = nonzero.start;
             let fwd = &plans.row_fwd;
-            let body = |(t, ((rows, real), scratch)): RowChunk<'_>| {
+            let body = |(t, ((rows, real), scratch)): RowChunk<'_, T>| {
                 for (k, c) in rows.chunks_mut(h2).enumerate() {
                     fill(first + t * chunk + k, real);
                     fwd.process_with_scratch(real, c, scratch)
@@ -534,7 +617,7 @@ impl Fft2d {
             let (col, col_inv) = (&plans.col_fwd, &plans.col_inv);
             let chunk = h2.div_ceil(threads).max(1);
             let nonzero = &nonzero;
-            let body = |(t, (cols, scratch)): ColChunk<'_>| {
+            let body = |(t, (cols, scratch)): ColChunk<'_, T>| {
                 // Gathered TRANSPOSE_BLOCK columns at a time: each row contributes a contiguous run
                 // (the column-by-column gather read one value per cache line).
                 let first = t * chunk;
@@ -566,7 +649,12 @@ impl Fft2d {
 
     /// Writes the rows `keep` (within the first `N₁`) of the inverse transform of `spec`
     /// (column-major, overwritten), cropped to `N₂` columns, into `y`.
-    fn inverse_cropped(&mut self, spec: &mut [C64], keep: std::ops::Range<usize>, y: &mut [f64]) {
+    fn inverse_cropped(
+        &mut self,
+        spec: &mut [Complex<T>],
+        keep: std::ops::Range<usize>,
+        y: &mut [f64],
+    ) {
         let p1 = self.p1;
         let h2 = self.p2 / 2 + 1;
         let threads = self.threads;
@@ -574,7 +662,7 @@ impl Fft2d {
         self.with_work(|work| {
             let inv = &plans.col_inv;
             let chunk = h2.div_ceil(threads).max(1);
-            let body = |(cols, scratch): (&mut [C64], &mut Scratch)| {
+            let body = |(cols, scratch): (&mut [Complex<T>], &mut Scratch<T>)| {
                 for column in cols.chunks_mut(p1) {
                     inv.process_with_scratch(column, scratch);
                 }
@@ -592,7 +680,12 @@ impl Fft2d {
 
     /// The row half of the inverse transform: the rows `keep` of `spec` (column-major, columns
     /// already inverse-transformed) transposed, inverse real-transformed and cropped into `y`.
-    fn inverse_row_phase(&mut self, spec: &[C64], keep: std::ops::Range<usize>, y: &mut [f64]) {
+    fn inverse_row_phase(
+        &mut self,
+        spec: &[Complex<T>],
+        keep: std::ops::Range<usize>,
+        y: &mut [f64],
+    ) {
         let (p1, p2, n2) = (self.p1, self.p2, self.n2);
         let h2 = p2 / 2 + 1;
         let threads = self.threads;
@@ -602,7 +695,7 @@ impl Fft2d {
             let rinv = &plans.row_inv;
             let chunk = keep.len().div_ceil(threads).max(1);
             let first = keep.start;
-            let body = |(t, (((rows, ys), real), scratch)): InverseRowChunk<'_>| {
+            let body = |(t, (((rows, ys), real), scratch)): InverseRowChunk<'_, T>| {
                 let nrows = rows.len() / h2;
                 for g in (0..nrows).step_by(TRANSPOSE_BLOCK) {
                     let w = TRANSPOSE_BLOCK.min(nrows - g);
@@ -611,13 +704,15 @@ impl Fft2d {
                     gather_block(out, p1, a0, h2, block);
                     let yblock = &mut ys[g * n2..(g + w) * n2];
                     for (row, yrow) in block.chunks_mut(h2).zip(yblock.chunks_mut(n2)) {
-                        row[0].im = 0.0;
+                        row[0].im = T::zero();
                         if p2 % 2 == 0 {
-                            row[h2 - 1].im = 0.0;
+                            row[h2 - 1].im = T::zero();
                         }
                         rinv.process_with_scratch(row, real, scratch)
                             .expect("lengths from the plan");
-                        yrow.copy_from_slice(&real[..n2]);
+                        for (o, r) in yrow.iter_mut().zip(&real[..n2]) {
+                            *o = r.widen();
+                        }
                     }
                 }
             };
@@ -645,11 +740,47 @@ impl Fft2d {
     }
 }
 
+/// The single-precision twin of a real-spectrum product `y = IFFT₂(k · FFT₂(x))`
+/// ([`Fft2d::convolve_real`]): the spectrum `k` rounded to `f32` once, the product on the `f32`
+/// core of the same shape ([`Fft2d::single`]). Fields stay `f64`; the result carries a relative
+/// error of order `1e-7` (measured against the dense twin in `op::even` and `circulant`), so it
+/// serves the early iterations of a solver whose final iterations use the `f64` product
+/// (docs/performance.md, "Mixed precision").
+pub struct SingleProduct {
+    fft: Fft2d<f32>,
+    k: Vec<f32>,
+    hat: Vec<C32>,
+}
+
+impl SingleProduct {
+    /// The twin of the product with the real spectrum `k` on `core` (work buffers of its own).
+    pub fn new(core: &Fft2d, k: &[f64]) -> Result<Self, NumericsError> {
+        let fft = core.single();
+        if k.len() != fft.spectrum_len() {
+            return Err(NumericsError::LengthMismatch {
+                what: "real spectrum",
+                expected: fft.spectrum_len(),
+                got: k.len(),
+            });
+        }
+        Ok(Self {
+            k: k.iter().map(|v| *v as f32).collect(),
+            hat: fft.new_spectrum(),
+            fft,
+        })
+    }
+
+    /// `y ≈ IFFT₂(k · FFT₂(x))` in single precision (`x`, `y` of `N₁ × N₂` values).
+    pub fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), NumericsError> {
+        self.fft.convolve_real(x, &self.k, &mut self.hat, y)
+    }
+}
+
 /// One block of a transpose: `dst[r·len + b] = src[b·stride + start + r]` for `r < dst.len()/len`,
 /// `b < len` — the `w` consecutive values of each of `len` strided source lines are read together
 /// (one cache line), not one line at a time.
 #[inline]
-fn gather_block(src: &[C64], stride: usize, start: usize, len: usize, dst: &mut [C64]) {
+fn gather_block<V: Copy>(src: &[V], stride: usize, start: usize, len: usize, dst: &mut [V]) {
     let w = dst.len() / len;
     for b in 0..len {
         let from = b * stride + start;
@@ -662,16 +793,16 @@ fn gather_block(src: &[C64], stride: usize, start: usize, len: usize, dst: &mut 
 /// [`gather_block`] of a source whose lines outside `nonzero` are zero: those are not read, their
 /// values in `dst` are set to zero.
 #[inline]
-fn gather_block_rows(
-    src: &[C64],
+fn gather_block_rows<T: Precision>(
+    src: &[Complex<T>],
     stride: usize,
     start: usize,
     nonzero: std::ops::Range<usize>,
     len: usize,
-    dst: &mut [C64],
+    dst: &mut [Complex<T>],
 ) {
     let w = dst.len() / len;
-    let zero = C64::new(0.0, 0.0);
+    let zero = Complex::new(T::zero(), T::zero());
     for r in 0..w {
         dst[r * len..r * len + nonzero.start].fill(zero);
         dst[r * len + nonzero.end..(r + 1) * len].fill(zero);
@@ -686,9 +817,10 @@ fn gather_block_rows(
 
 /// `x *= k` elementwise, for a real spectrum `k` ([`Fft2d::even_kernel_spectrum`]).
 #[inline]
-pub fn multiply_real(x: &mut [C64], k: &[f64]) {
+pub fn multiply_real<T: Precision>(x: &mut [Complex<T>], k: &[T]) {
     for (s, k) in x.iter_mut().zip(k) {
-        *s *= *k;
+        // As `Complex *= real`: both parts scaled.
+        *s = Complex::new(s.re * *k, s.im * *k);
     }
 }
 

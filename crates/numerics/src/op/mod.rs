@@ -170,6 +170,16 @@ pub trait EvenKernelOperator: GridOperator + Send + Sized {
     fn apply_field(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), NumericsError> {
         GridOperator::apply(self, &[x], &mut [y])
     }
+
+    /// `y ≈ K * x` in single precision, for the early iterations of a solver (relative error of
+    /// order `1e-7`; docs/performance.md, "Mixed precision"): the fast operator's `f32` DC-FFT
+    /// product (planned at the first call), the twin's exact product.
+    fn apply_field_single(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), NumericsError> {
+        self.apply_field(x, y)
+    }
+
+    /// Frees what [`EvenKernelOperator::apply_field_single`] holds (the solver is done with it).
+    fn drop_single(&mut self) {}
 }
 
 /// The operator types a contact solver runs on: the fast ones or their dense twins.
