@@ -502,7 +502,8 @@ class FatigueResult(Result):
     (Crossland, Dang Van: dimensionless; SWT: Pa; Fatemi–Socie: dimensionless), ``None`` if not
     finite; ``*_max_at`` its cell centre ``[x, y, z]`` (m, z the depth). ``fatigue``: the
     evaluation's counts and seconds (``cells``, ``layers``, ``increments``,
-    ``invariant_evaluated``, ``swt_evaluated``, ``fatemi_socie_evaluated``, ``seconds``)."""
+    ``surface_layer``, ``invariant_evaluated``, ``swt_evaluated``, ``fatemi_socie_evaluated``,
+    ``seconds``)."""
 
     crossland_max: float | None
     crossland_max_at: list[float]
@@ -513,7 +514,8 @@ class FatigueResult(Result):
     fatemi_socie_max: float | None
     fatemi_socie_max_at: list[float]
     fatigue: dict[str, Any]
-    #: Cell centres (m): ``x`` (N₁), ``y`` (N₂), ``z`` (layers, the depth of each layer).
+    #: Cell centres (m): ``x`` (N₁), ``y`` (N₂), ``z`` (layers, the depth of each layer;
+    #: ``z[0] = 0`` is the surface layer, docs/fatigue.md, "The surface layer").
     x: NDArray[np.float64]
     y: NDArray[np.float64]
     z: NDArray[np.float64]

@@ -9,8 +9,9 @@ use crate::{SamError, SurfaceGrid};
 /// Bytes per cell of the normal solver: padded row spectra (32), the kernel's real spectrum (16),
 /// the input spectrum (32), the kernel quadrant (8), five work fields (40), the `|k|`
 /// preconditioner (24), the single-precision twins of the mixed-precision start (52: row
-/// spectra 16, kernel 8, input spectrum 16, preconditioner 12; dropped at the switch to double
-/// precision), and the coarser grids of the nested continuation (+1/3).
+/// spectra 16, kernel 8, input spectrum 16, preconditioner 12; the operator's dropped at the
+/// switch to double precision, the preconditioner's kept), and the coarser grids of the nested
+/// continuation (+1/3).
 pub const NORMAL_BYTES_PER_CELL: f64 = (32.0 + 16.0 + 32.0 + 8.0 + 40.0 + 24.0 + 52.0) * 4.0 / 3.0;
 
 /// Bytes per cell of the tangential solver: padded row spectra (32), four complex block spectra
