@@ -528,32 +528,10 @@ impl EimFields {
                 (0..usize::MAX, 0..usize::MAX),
             )?;
         }
-        let Some(surface) = &self.surface else {
+        if self.surface.is_none() {
             return Ok(());
-        };
-        // p_c and 2u_α⁽¹⁾ on the whole surface, from the scattered eigenstrains.
-        for (local, full) in eigen.iter().zip(self.scattered.iter_mut()) {
-            self.window.scatter(&self.grid, local, full);
         }
-        {
-            let x: Vec<&[f64]> = self.scattered.iter().map(|v| v.as_slice()).collect();
-            let mut y: Vec<&mut [f64]> = self
-                .surface_fields
-                .iter_mut()
-                .map(|v| v.as_mut_slice())
-                .collect();
-            let w = &mut self.surface_work;
-            let rows = self.window.i0..self.window.i0 + self.window.n1;
-            surface.apply(
-                &mut self.fft,
-                &x,
-                &mut w.x_hat,
-                &mut w.skip,
-                &mut w.y_hat,
-                &mut y,
-                (rows, 0..usize::MAX),
-            )?;
-        }
+        self.surface_fields_from_window(eigen)?;
         // Field (3): Love strains of p_c, cropped to the window and added.
         let x: [&[f64]; 3] = [&self.surface_fields[0], &self.zero, &self.zero];
         love_into_window(
@@ -617,7 +595,18 @@ impl EimFields {
             }
             return Ok(());
         }
-        // As in `disturbance`: p_c and 2u_α⁽¹⁾ on the whole surface, from the scattered eigenstrains.
+        self.surface_fields_from_window(eigen)
+    }
+
+    /// `p_c` and `2u_α⁽¹⁾` on the whole surface from the window's eigenstrains (scattered to the
+    /// grid, the surface operator applied over the window's rows;
+    /// docs/theory-sam.md#eigen-displacements): the one computation behind
+    /// [`EimFields::disturbance`] and [`EimFields::surface_disturbance`] off the shared path.
+    /// Nothing in infinite space.
+    fn surface_fields_from_window(&mut self, eigen: &[Vec<f64>]) -> Result<(), SamError> {
+        let Some(surface) = &self.surface else {
+            return Ok(());
+        };
         for (local, full) in eigen.iter().zip(self.scattered.iter_mut()) {
             self.window.scatter(&self.grid, local, full);
         }
