@@ -1437,6 +1437,20 @@ fn indenter_approach_fatigue_and_wear3d_keys_are_refused_in_one_line() {
             &[],
             needles,
         );
+        // The work estimate reads the same case: the same one-line refusal, nothing run.
+        refused(
+            &format!("fretting-wear3d --estimate {name}"),
+            &strings(&[
+                "fretting-wear3d",
+                "--config",
+                &cfg,
+                "--out",
+                o,
+                "--estimate",
+            ]),
+            &[],
+            needles,
+        );
     }
     assert!(!out.join("results.h5").exists());
 }

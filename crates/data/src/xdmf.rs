@@ -41,14 +41,8 @@ pub fn write_xdmf_rectilinear(
     fields: &[&str],
     note: &str,
 ) -> Result<(), DataError> {
-    let h5_name = file_name(h5_path);
     let d = volume.dims;
-    let dims = format!("{} {} {}", d[0], d[1], d[2]);
-    let mut x = header(note);
-    let _ = writeln!(
-        x,
-        r#"      <Topology TopologyType="3DRectMesh" Dimensions="{dims}"/>"#
-    );
+    let (mut x, h5_name, dims) = header(note, h5_path, "3DRectMesh", d);
     let _ = writeln!(x, r#"      <Geometry GeometryType="VXVYVZ">"#);
     // X is the fastest axis.
     for k in [2, 1, 0] {
@@ -69,14 +63,26 @@ fn file_name(h5_path: &Path) -> String {
         .unwrap_or_default()
 }
 
-fn header(note: &str) -> String {
+/// The document up to the grid's topology (`topology` of `dims` points, slowest first), the HDF5
+/// file's name as the datasets reference it, and the dimensions as XDMF writes them.
+fn header(
+    note: &str,
+    h5_path: &Path,
+    topology: &str,
+    dims: [usize; 3],
+) -> (String, String, String) {
+    let dims = format!("{} {} {}", dims[0], dims[1], dims[2]);
     let mut x = String::new();
     let _ = writeln!(x, r#"<?xml version="1.0" ?>"#);
     let _ = writeln!(x, r#"<Xdmf Version="3.0">"#);
     let _ = writeln!(x, "  <!-- {} -->", note.replace("--", "-"));
     let _ = writeln!(x, "  <Domain>");
     let _ = writeln!(x, r#"    <Grid Name="volume" GridType="Uniform">"#);
-    x
+    let _ = writeln!(
+        x,
+        r#"      <Topology TopologyType="{topology}" Dimensions="{dims}"/>"#
+    );
+    (x, file_name(h5_path), dims)
 }
 
 /// Writes `xdmf_path` describing the datasets `fields` (each of shape `dims`, C order) of the HDF5
@@ -88,14 +94,7 @@ pub fn write_xdmf(
     fields: &[&str],
     note: &str,
 ) -> Result<(), DataError> {
-    let h5_name = file_name(h5_path);
-    let d = volume.dims;
-    let dims = format!("{} {} {}", d[0], d[1], d[2]);
-    let mut x = header(note);
-    let _ = writeln!(
-        x,
-        r#"      <Topology TopologyType="3DCoRectMesh" Dimensions="{dims}"/>"#
-    );
+    let (mut x, h5_name, dims) = header(note, h5_path, "3DCoRectMesh", volume.dims);
     let _ = writeln!(x, r#"      <Geometry GeometryType="ORIGIN_DXDYDZ">"#);
     let o = volume.origin;
     let s = volume.spacing;
