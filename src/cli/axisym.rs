@@ -10,7 +10,9 @@ use halfspace::data::{write_record, AttrValue, Record};
 use halfspace::mdr::ContactSolution;
 use serde_json::json;
 
-use super::{plot, CliError};
+use halfspace::figures::{axisym::pressure_and_displacement, draw::check_extension};
+
+use super::CliError;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Method {
@@ -85,7 +87,7 @@ pub fn run(args: AxisymArgs) -> Result<(), CliError> {
         halfspace::data::Format::of(path)?;
     }
     if let Some(path) = &args.plot {
-        plot::check_extension(path, "--plot", &["svg"])?;
+        check_extension(path, "--plot", &["svg"])?;
     }
     let start = Instant::now();
     let sol = case.solve()?;
@@ -96,8 +98,7 @@ pub fn run(args: AxisymArgs) -> Result<(), CliError> {
         write_record(path, &record(&sol, &case, &summary))?;
     }
     if let Some(path) = &args.plot {
-        plot::pressure_and_displacement(path, &sol, &case.profile_spec)
-            .map_err(|e| CliError::Plot(format!("{}: {e}", path.display())))?;
+        pressure_and_displacement(path, &sol, &case.profile_spec)?;
     }
     if args.json {
         println!("{summary}");

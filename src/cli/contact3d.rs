@@ -9,14 +9,15 @@ use halfspace::config::{InhomogeneityEntry, Names};
 use halfspace::contact3d::Contact3dConfig;
 use halfspace::data::write_record;
 use halfspace::records::{contact_record, contact_summary, VOLUME_FIELDS};
-use halfspace::sam::contact::ContactSolver;
 use halfspace::sam::drivers::one_contact::{solve_contact, ContactOutcome};
-use halfspace::sam::indenter::Indenter;
 use halfspace::sam::subsurface::StressField;
 use halfspace::sam::SamError;
 use serde_json::json;
 
-use super::{plot, CliError};
+use halfspace::figures::contact3d::contact_figures;
+use halfspace::figures::draw::check_extension;
+
+use super::CliError;
 
 #[derive(Debug, Args)]
 pub struct Contact3dArgs {
@@ -104,7 +105,7 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
     let file: Contact3dConfig = super::read_config(args.config.as_deref())?;
     let config = file.overlay(flags);
     if let Some(path) = &args.plot {
-        plot::check_extension(path, "--plot", &["svg", "png"])?;
+        check_extension(path, "--plot", &["svg", "png"])?;
     }
     let case = config.case(Names::Flags)?;
     if let Some(path) = &args.out {
@@ -123,17 +124,12 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
         solver,
         info,
         field,
-        e_star,
         ..
     } = &outcome;
     let state = solver.problem().state();
     let seconds = start.elapsed().as_secs_f64();
     if let Some(path) = &args.plot {
-        let hertz = match case.indenter {
-            Indenter::Ellipsoid { rx, ry } if rx == ry => Some((rx, state.force, *e_star)),
-            _ => None,
-        };
-        draw_figures(path, solver, field.as_ref(), hertz)?;
+        contact_figures(path, &case, &outcome)?;
     }
     if let Some(path) = &args.out {
         write_record(path, &contact_record(&outcome, &summary))?;
@@ -155,101 +151,6 @@ pub fn run(args: Contact3dArgs) -> Result<(), CliError> {
             info.tangential_force[0],
             summary["stick_radius"].as_f64().unwrap_or(0.0)
         );
-    }
-    Ok(())
-}
-
-/// The pressure (and `u₃^eig`) along x through the centre, with Hertz's pressure for a sphere
-/// (`hertz = (R, W, E*)`), and the von Mises map in the x–z plane through the centre.
-fn draw_figures(
-    path: &std::path::Path,
-    solver: &ContactSolver,
-    field: Option<&StressField>,
-    hertz: Option<(f64, f64, f64)>,
-) -> Result<(), CliError> {
-    let problem = solver.problem();
-    let g = problem.grid();
-    // The row of cells nearest y = 0 along x: index i (x) varies, j fixed.
-    let col = g.n2 / 2;
-    let xs: Vec<f64> = (0..g.n1).map(|i| g.centre(i, col).0).collect();
-    let st = problem.state();
-    let mut left = vec![(
-        "pressure (MPa)".to_string(),
-        xs.iter()
-            .enumerate()
-            .map(|(i, x)| (x * 1e6, st.pressure[i * g.n2 + col] * 1e-6))
-            .collect::<Vec<_>>(),
-    )];
-    if let Some((r, w, e_star)) = hertz {
-        let a = halfspace::mdr::analytic::sphere_radius_for_force(w, r, e_star);
-        let p0 = 3.0 * w / (2.0 * std::f64::consts::PI * a * a);
-        let y = g.centre(0, col).1;
-        left.push((
-            "Hertz (homogeneous)".to_string(),
-            xs.iter()
-                .map(|x| {
-                    let r2 = (x * x + y * y) / (a * a);
-                    (
-                        x * 1e6,
-                        if r2 < 1.0 {
-                            p0 * (1.0 - r2).sqrt() * 1e-6
-                        } else {
-                            0.0
-                        },
-                    )
-                })
-                .collect(),
-        ));
-    }
-    let right: Vec<(String, Vec<(f64, f64)>)> = match solver.nested() {
-        Some(n) => vec![(
-            "eigen-displacement u3 (nm)".to_string(),
-            xs.iter()
-                .enumerate()
-                .map(|(i, x)| (x * 1e6, n.eigen_displacements()[2][i * g.n2 + col] * 1e9))
-                .collect(),
-        )],
-        None => vec![],
-    };
-    let err = |e: Box<dyn std::error::Error>| CliError::Plot(e.to_string());
-    plot::curves(
-        path,
-        "contact3d: along x through the centre (y ≈ 0)",
-        "x (μm)",
-        ("pressure (MPa)", &left),
-        ("u3 eig (nm)", &right),
-        false,
-    )
-    .map_err(err)?;
-    if let Some(f) = field {
-        let n = g.len();
-        let zs: Vec<f64> = (0..f.layers).map(|k| f.depth(k) * 1e6).collect();
-        let values: Vec<Vec<f64>> = (0..f.layers)
-            .map(|k| {
-                (0..g.n1)
-                    .map(|i| f.von_mises[k * n + i * g.n2 + col] * 1e-6)
-                    .collect()
-            })
-            .collect();
-        let xs_um: Vec<f64> = xs.iter().map(|x| x * 1e6).collect();
-        let stem = path
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let ext = path
-            .extension()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "svg".into());
-        let map = path.with_file_name(format!("{stem}-von-mises.{ext}"));
-        plot::heatmap(
-            &map,
-            "von Mises stress in the x–z plane through the centre",
-            ("x (μm)", "depth z (μm)", "MPa"),
-            &xs_um,
-            &zs,
-            &values,
-        )
-        .map_err(err)?;
     }
     Ok(())
 }

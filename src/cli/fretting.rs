@@ -18,7 +18,9 @@ use serde_json::json;
 use halfspace::run_dir::{RunDir, RunKind, Start};
 
 use super::axisym::Method;
-use super::{plot, CliError};
+use halfspace::figures::fretting_wear::worn_profiles;
+
+use super::CliError;
 
 /// What a fretting-wear run writes into its directory (`halfspace::run_dir`).
 const WEAR_RUN: RunKind = RunKind {
@@ -308,8 +310,7 @@ pub fn run(args: FrettingArgs) -> Result<(), CliError> {
     write_record(&dir.join("results.npz"), &rec)?;
     for ext in ["svg", "png"] {
         let path = dir.join(format!("worn_profiles.{ext}"));
-        plot::worn_profiles(&path, &sim)
-            .map_err(|e| CliError::Plot(format!("{}: {e}", path.display())))?;
+        worn_profiles(&path, &sim)?;
     }
     run_dir.complete(&[
         "checkpoint.npz",

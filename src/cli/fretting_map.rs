@@ -16,7 +16,9 @@ use serde_json::json;
 
 use halfspace::run_dir::{RunDir, RunKind, Start};
 
-use super::{plot, CliError};
+use halfspace::figures::fretting_map::map_figures;
+
+use super::CliError;
 
 /// What a fretting-map run writes into its directory (`halfspace::run_dir`).
 const MAP_RUN: RunKind = RunKind {
@@ -116,31 +118,14 @@ pub fn run(args: FrettingMapArgs) -> Result<(), CliError> {
         .map(|p| (p.crack_risk, material_response(p)))
         .unzip();
     let with_risk = cfg.fatigue.is_some();
+    map_figures(
+        &args.out,
+        &map,
+        &regime,
+        &energy,
+        with_risk.then_some((&response[..], &crack_risk[..])),
+    )?;
     let base = map.base();
-    let title = format!(
-        "Fretting map: sphere R = {:.0} μm, E = {:.0} GPa, μ = {}, {}² cells{}",
-        base.radius * 1e6,
-        base.e * 1e-9,
-        base.friction,
-        base.grid,
-        if base.inhomogeneities.is_empty() {
-            String::new()
-        } else {
-            format!(", {} inhomogeneities", base.inhomogeneities.len())
-        }
-    );
-    for name in ["fretting_map.svg", "fretting_map.png"] {
-        plot::fretting_map(
-            &args.out.join(name),
-            &title,
-            map.loads(),
-            map.amplitudes(),
-            &regime,
-            &energy,
-            with_risk.then_some((&response[..], &crack_risk[..])),
-        )
-        .map_err(|e| CliError::Plot(e.to_string()))?;
-    }
     run_dir.complete_present()?;
     let (rows, cols) = map.shape();
     let grid_of = |v: &[f64]| -> Vec<Vec<f64>> { v.chunks(cols).map(<[f64]>::to_vec).collect() };

@@ -129,9 +129,9 @@ pub fn run(args: FrettingWear3dArgs) -> Result<(), CliError> {
     }
     write_record(&args.out.join("results.h5"), &wear3d_results_record(&run))?;
     // The figures (docs/wear3d.md#figures): worn-depth map, profiles, volume against cycles.
-    super::plot::wear3d_figures(&args.out, &run)?;
+    halfspace::figures::wear3d::wear3d_figures(&args.out, &run)?;
     if !args.no_animation {
-        super::plot::wear3d_animation(&args.out, &run)?;
+        halfspace::figures::wear3d::wear3d_animation(&args.out, &run)?;
     }
     if checkpoint.exists() {
         std::fs::remove_file(&checkpoint)

@@ -6,7 +6,6 @@ mod fretting;
 mod fretting_loop;
 mod fretting_map;
 mod fretting_wear3d;
-mod plot;
 mod study;
 
 use std::process::ExitCode;
@@ -62,6 +61,15 @@ pub enum CliError {
     /// Plotting failed.
     #[error("plot: {0}")]
     Plot(String),
+}
+
+impl From<halfspace::figures::FigureError> for CliError {
+    fn from(e: halfspace::figures::FigureError) -> Self {
+        match e {
+            halfspace::figures::FigureError::Extension(m) => CliError::Spec(m),
+            halfspace::figures::FigureError::Draw(m) => CliError::Plot(m),
+        }
+    }
 }
 
 impl From<halfspace::spec::SpecError> for CliError {

@@ -6,7 +6,9 @@ use clap::{Args, ValueEnum};
 use halfspace::mdr::{studies, Backend, DisplacementMethod};
 use serde_json::json;
 
-use super::{plot, CliError};
+use halfspace::figures::draw as plot;
+
+use super::CliError;
 
 /// Named error series of one study.
 type Series = Vec<(&'static str, Vec<f64>)>;

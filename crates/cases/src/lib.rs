@@ -14,7 +14,8 @@
 //! - [`records`]: summaries and records of axisymmetric contact, 3D contact, fretting wear and the
 //!   fretting loop;
 //! - [`fretting_map`]: the fretting map's parallel, checkpointed driver and its table and record;
-//! - [`loop_fatigue`]: the fatigue criteria over a fretting loop's closed cycle (docs/fatigue.md).
+//! - [`loop_fatigue`]: the fatigue criteria over a fretting loop's closed cycle (docs/fatigue.md);
+//! - [`wear3d_mdr`]: the MDR cross-check of 3D fretting wear (docs/wear3d.md#the-mdr-cross-check).
 pub use halfspace_data as data;
 pub use halfspace_fatigue as fatigue;
 pub use halfspace_fretting as fretting;
@@ -30,3 +31,4 @@ pub mod fretting_wear;
 pub mod loop_fatigue;
 pub mod records;
 pub mod spec;
+pub mod wear3d_mdr;
