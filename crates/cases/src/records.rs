@@ -112,18 +112,10 @@ fn warm_start_record(rec: Record, w: &NestedWarmStart) -> Record {
         .attr("committed", AttrValue::Int(w.committed as i64))
 }
 
-/// Everything [`snapshot_from_record`] needs.
-pub fn snapshot_record(s: &LoopSnapshot, shape: (usize, usize)) -> Record {
-    let st = &s.state;
-    let mut rec = rows_record(Record::default(), "", &s.rows)
-        .attr("config", AttrValue::Text(s.fingerprint.clone()))
-        .attr("next", AttrValue::Int(s.rows.len() as i64))
-        .attr(
-            "max_transverse_slip",
-            AttrValue::Float(s.max_transverse_slip),
-        )
-        .attr("points", AttrValue::Int(s.points.len() as i64))
-        .array("state_pressure", st.pressure.clone())
+/// The contact state of a loop or wear snapshot as arrays of `rec` (`state_*`); read back by
+/// [`contact_state_from_record`].
+fn contact_state_record(rec: Record, st: &ContactState) -> Record {
+    rec.array("state_pressure", st.pressure.clone())
         .array("state_shear_x", st.shear[0].clone())
         .array("state_shear_y", st.shear[1].clone())
         .array("state_history_x", st.tangential_displacement[0].clone())
@@ -133,7 +125,63 @@ pub fn snapshot_record(s: &LoopSnapshot, shape: (usize, usize)) -> Record {
         .array(
             "state_scalars",
             vec![st.shift[0], st.shift[1], st.approach, st.force],
-        );
+        )
+}
+
+/// The contact state of [`contact_state_record`]: the `state_*` members read by `array`, with
+/// `scalars` (`state_scalars`: shift x, y, approach, force), whose length the caller checked.
+fn contact_state_from_record<E>(
+    array: impl Fn(&str) -> Result<Vec<f64>, E>,
+    scalars: &[f64],
+) -> Result<ContactState, E> {
+    Ok(ContactState {
+        pressure: array("state_pressure")?,
+        shear: [array("state_shear_x")?, array("state_shear_y")?],
+        tangential_displacement: [array("state_history_x")?, array("state_history_y")?],
+        slip: [array("state_slip_x")?, array("state_slip_y")?],
+        shift: [scalars[0], scalars[1]],
+        approach: scalars[2],
+        force: scalars[3],
+    })
+}
+
+/// The warm start of [`warm_start_record`]: `eigenstrain` and the other members read by `array`,
+/// then `committed` (read last, as the readers always did).
+fn warm_start_from_record<E>(
+    eigenstrain: Vec<f64>,
+    array: impl Fn(&str) -> Result<Vec<f64>, E>,
+    committed: impl FnOnce() -> Result<usize, E>,
+) -> Result<NestedWarmStart, E> {
+    Ok(NestedWarmStart {
+        eigenstrain,
+        eigen_displacement: [
+            array("eigen_displacement_1")?,
+            array("eigen_displacement_2")?,
+            array("eigen_displacement_3")?,
+        ],
+        previous: (
+            array("eigenstrain_previous")?,
+            [
+                array("eigen_displacement_previous_1")?,
+                array("eigen_displacement_previous_2")?,
+                array("eigen_displacement_previous_3")?,
+            ],
+        ),
+        committed: committed()?,
+    })
+}
+
+/// Everything [`snapshot_from_record`] needs.
+pub fn snapshot_record(s: &LoopSnapshot, shape: (usize, usize)) -> Record {
+    let rec = rows_record(Record::default(), "", &s.rows)
+        .attr("config", AttrValue::Text(s.fingerprint.clone()))
+        .attr("next", AttrValue::Int(s.rows.len() as i64))
+        .attr(
+            "max_transverse_slip",
+            AttrValue::Float(s.max_transverse_slip),
+        )
+        .attr("points", AttrValue::Int(s.points.len() as i64));
+    let mut rec = contact_state_record(rec, &s.state);
     for p in &s.points {
         rec = point_record(rec, "point_", p, shape);
     }
@@ -238,33 +286,11 @@ pub fn snapshot_from_record(rec: &Record, path: &Path) -> Result<LoopSnapshot, D
     if scalars.len() != 4 {
         return Err(bad("state_scalars must hold 4 values".into()));
     }
-    let state = ContactState {
-        pressure: array("state_pressure")?,
-        shear: [array("state_shear_x")?, array("state_shear_y")?],
-        tangential_displacement: [array("state_history_x")?, array("state_history_y")?],
-        slip: [array("state_slip_x")?, array("state_slip_y")?],
-        shift: [scalars[0], scalars[1]],
-        approach: scalars[2],
-        force: scalars[3],
-    };
+    let state = contact_state_from_record(array, &scalars)?;
     let eigen = match rec.get("eigenstrain") {
-        Some(eps) => Some(NestedWarmStart {
-            eigenstrain: eps.to_vec(),
-            eigen_displacement: [
-                array("eigen_displacement_1")?,
-                array("eigen_displacement_2")?,
-                array("eigen_displacement_3")?,
-            ],
-            previous: (
-                array("eigenstrain_previous")?,
-                [
-                    array("eigen_displacement_previous_1")?,
-                    array("eigen_displacement_previous_2")?,
-                    array("eigen_displacement_previous_3")?,
-                ],
-            ),
-            committed: int("committed")?,
-        }),
+        Some(eps) => Some(warm_start_from_record(eps.to_vec(), array, || {
+            int("committed")
+        })?),
         None => None,
     };
     let max_transverse_slip = rec.float_attr("max_transverse_slip").ok_or_else(|| {
@@ -791,8 +817,7 @@ pub fn wear3d_rows_record(mut rec: Record, rows: &[WearRow]) -> Record {
 /// The checkpoint of a 3D fretting-wear run (`fretting-wear3d`'s checkpoint.npz): the snapshot's
 /// members by name.
 pub fn wear3d_snapshot_record(s: &WearSnapshot) -> Record {
-    let st = &s.state;
-    let mut rec = wear3d_rows_record(Record::default(), &s.history)
+    let rec = wear3d_rows_record(Record::default(), &s.history)
         .attr("config", AttrValue::Text(s.fingerprint.clone()))
         .array(
             "progress",
@@ -802,22 +827,11 @@ pub fn wear3d_snapshot_record(s: &WearSnapshot) -> Record {
                 f64::from(u8::from(s.done)),
             ],
         )
-        .array("wear_depth", s.wear_depth.clone())
-        .array("state_pressure", st.pressure.clone())
-        .array("state_shear_x", st.shear[0].clone())
-        .array("state_shear_y", st.shear[1].clone())
-        .array("state_history_x", st.tangential_displacement[0].clone())
-        .array("state_history_y", st.tangential_displacement[1].clone())
-        .array("state_slip_x", st.slip[0].clone())
-        .array("state_slip_y", st.slip[1].clone())
-        .array(
-            "state_scalars",
-            vec![st.shift[0], st.shift[1], st.approach, st.force],
-        )
-        .array(
-            "record_cycles",
-            s.records.iter().map(|r| r.cycles as f64).collect(),
-        );
+        .array("wear_depth", s.wear_depth.clone());
+    let mut rec = contact_state_record(rec, &s.state).array(
+        "record_cycles",
+        s.records.iter().map(|r| r.cycles as f64).collect(),
+    );
     for (k, r) in s.records.iter().enumerate() {
         rec = rec
             .array(&format!("record_wear_depth_{k}"), r.wear_depth.clone())
@@ -875,15 +889,7 @@ pub fn wear3d_snapshot_from_record(rec: &Record) -> Result<WearSnapshot, String>
             scalars.len()
         ));
     }
-    let state = ContactState {
-        pressure: array("state_pressure")?,
-        shear: [array("state_shear_x")?, array("state_shear_y")?],
-        tangential_displacement: [array("state_history_x")?, array("state_history_y")?],
-        slip: [array("state_slip_x")?, array("state_slip_y")?],
-        shift: [scalars[0], scalars[1]],
-        approach: scalars[2],
-        force: scalars[3],
-    };
+    let state = contact_state_from_record(array, &scalars)?;
     let records = array("record_cycles")?
         .iter()
         .enumerate()
@@ -897,26 +903,14 @@ pub fn wear3d_snapshot_from_record(rec: &Record) -> Result<WearSnapshot, String>
         .collect::<Result<Vec<_>, String>>()?;
     let eigen = match rec.get("eigenstrain") {
         None => None,
-        Some(_) => Some(NestedWarmStart {
-            eigenstrain: array("eigenstrain")?,
-            eigen_displacement: [
-                array("eigen_displacement_1")?,
-                array("eigen_displacement_2")?,
-                array("eigen_displacement_3")?,
-            ],
-            previous: (
-                array("eigenstrain_previous")?,
-                [
-                    array("eigen_displacement_previous_1")?,
-                    array("eigen_displacement_previous_2")?,
-                    array("eigen_displacement_previous_3")?,
-                ],
-            ),
-            committed: match rec.get_attr("committed") {
-                Some(AttrValue::Int(v)) if *v >= 0 => *v as usize,
-                other => return Err(format!("attribute committed is {other:?}")),
+        Some(_) => Some(warm_start_from_record(
+            array("eigenstrain")?,
+            array,
+            || match rec.get_attr("committed") {
+                Some(AttrValue::Int(v)) if *v >= 0 => Ok(*v as usize),
+                other => Err(format!("attribute committed is {other:?}")),
             },
-        }),
+        )?),
     };
     Ok(WearSnapshot {
         fingerprint,
