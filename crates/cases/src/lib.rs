@@ -15,7 +15,9 @@
 //!   fretting loop;
 //! - [`fretting_map`]: the fretting map's parallel, checkpointed driver and its table and record;
 //! - [`loop_fatigue`]: the fatigue criteria over a fretting loop's closed cycle (docs/fatigue.md);
-//! - [`wear3d_mdr`]: the MDR cross-check of 3D fretting wear (docs/wear3d.md#the-mdr-cross-check).
+//! - [`wear3d_mdr`]: the MDR cross-check of 3D fretting wear (docs/wear3d.md#the-mdr-cross-check);
+//! - [`studies`]: the series and summaries of `halfspace study` (convergence against closed
+//!   forms, the FE comparison, the fretting limit, graded wear, timings).
 pub use halfspace_data as data;
 pub use halfspace_fatigue as fatigue;
 pub use halfspace_fretting as fretting;
@@ -31,4 +33,5 @@ pub mod fretting_wear;
 pub mod loop_fatigue;
 pub mod records;
 pub mod spec;
+pub mod studies;
 pub mod wear3d_mdr;

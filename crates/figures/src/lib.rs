@@ -14,6 +14,7 @@ pub mod draw;
 pub mod fretting_loop;
 pub mod fretting_map;
 pub mod fretting_wear;
+pub mod studies;
 pub mod wear3d;
 
 /// Why a figure was not written.
