@@ -3,8 +3,8 @@
 //! decoded with the image crate: one frame per record (per increment of the cycle), the frame
 //! size, frames that differ; after a resume inside the cycle, one frame per loop point A–D;
 //! `--no-animation` writes none. A wear run with more records than
-//! `halfspace::animation::MAX_FRAMES` draws that many frames, chosen by `frame_records` (its rule
-//! checked here over all small cases).
+//! `halfspace::animation::MAX_FRAMES`, and a loop with more increments in its cycle, draw that
+//! many frames, chosen by `frame_records` (its rule checked here over all small cases).
 
 mod common;
 
@@ -203,4 +203,35 @@ fn loop_animation_has_one_frame_per_increment_of_the_cycle() {
         "--no-animation",
     ]));
     assert!(none.join("fretting_loop.svg").is_file() && !none.join("loop_pq.gif").exists());
+}
+
+/// More increments in the cycle than frames (docs/composite.md#animation): q = 16 increments per
+/// quarter, 4q + 1 = 65 increments, draw `MAX_FRAMES` = 60 frames (the first and the last
+/// increment among them, by `frame_records`), each differing from the one before, well under 2 MB.
+#[test]
+fn loop_animation_caps_the_frames() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("loop.toml");
+    std::fs::write(
+        &cfg,
+        "grid = 16\nnormal_steps = 4\namplitude = 0.04e-6\nshift_step = 0.0025e-6\n",
+    )
+    .unwrap();
+    let out = dir.path().join("loop");
+    let v = ok_json(&run(&[
+        "fretting-loop",
+        "--config",
+        cfg.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ]));
+    let increments = v["increments"].as_u64().unwrap() as usize;
+    let q = (increments - 4) / 5;
+    assert!(4 * q + 1 > halfspace::animation::MAX_FRAMES, "q = {q}");
+    let gif = out.join("loop_pq.gif");
+    let f = frames(&gif);
+    assert_eq!(f.len(), halfspace::animation::MAX_FRAMES);
+    check_frames(&f, (480, 232));
+    assert!(std::fs::metadata(&gif).unwrap().len() < 2_000_000);
 }

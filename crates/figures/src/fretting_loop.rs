@@ -8,6 +8,7 @@ use std::path::Path;
 use halfspace_cases::loop_fatigue::LoopFatigue;
 use halfspace_sam::drivers::fretting_loop::{FrettingLoop, PointFields};
 
+use crate::animation::{frame_records, MAX_FRAMES};
 use crate::draw::{curves, heatmap, map_figure, render_frame, tick, write_gif, Curves, FrameMap};
 use crate::FigureError;
 
@@ -253,8 +254,11 @@ impl CycleFrames {
         self.frames.push((k, p, q));
     }
 
-    /// Writes the animation: one frame per increment of the cycle when all were observed; after
-    /// a resume that missed some, one frame per loop point A–D (the fields the loop keeps).
+    /// Writes the animation: one frame per increment of the cycle when all were observed — up to
+    /// [`MAX_FRAMES`], else that many evenly spaced with the first and the last increment
+    /// ([`frame_records`], the rule of `wear_depth.gif`); after a resume that missed some, one
+    /// frame per loop point A–D (the fields the loop keeps). Each map's colour scale runs from 0
+    /// to its largest value over the whole cycle (every increment observed, drawn or not).
     pub fn write(&self, path: &Path, lp: &FrettingLoop) -> Result<(), FigureError> {
         let grid = *lp.solver().problem().grid();
         let n2 = grid.n2;
@@ -312,6 +316,11 @@ impl CycleFrames {
                 .fold(0.0, f64::max)
         };
         let (pmax, qmax) = (top(|f| &f.1), top(|f| &f.2));
+        let mut frames: Vec<Option<PqFrame<String>>> = frames.into_iter().map(Some).collect();
+        let frames: Vec<PqFrame<String>> = frame_records(frames.len(), MAX_FRAMES)
+            .into_iter()
+            .filter_map(|k| frames[k].take())
+            .collect();
         let xs: Vec<f64> = self.cols.iter().map(|&i| grid.centre(i, 0).0 / a).collect();
         let ys: Vec<f64> = self.rows.iter().map(|&j| grid.centre(0, j).1 / a).collect();
         let fail =
