@@ -669,3 +669,74 @@ pub fn write_gif(
     })
     .map_err(|e| fail(e.to_string()))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The rows (pixels from the top) of the column `x` of `rgb` (`width` wide) holding `colour`.
+    fn rows_of(rgb: &[u8], width: u32, x: u32, colour: RGBColor) -> Vec<u32> {
+        (0..rgb.len() as u32 / (3 * width))
+            .filter(|&y| {
+                let i = 3 * (y * width + x) as usize;
+                rgb[i..i + 3] == [colour.0, colour.1, colour.2]
+            })
+            .collect()
+    }
+
+    /// The mean pixel row of the cells valued 1 and of those valued 0, in the middle column of
+    /// the map panel, for a field that is 1 where the row coordinate is > 0 and 0 elsewhere.
+    fn mean_rows(downward: bool) -> (f64, f64) {
+        let (w, h, map) = (720u32, 600u32, 590u32);
+        let xs: Vec<f64> = (0..8).map(|i| i as f64 - 3.5).collect();
+        let ys = xs.clone();
+        let values: Vec<Vec<f64>> = ys
+            .iter()
+            .map(|&y| vec![if y > 0.0 { 1.0 } else { 0.0 }; xs.len()])
+            .collect();
+        let mut rgb = vec![0u8; (w * h * 3) as usize];
+        {
+            let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+            register_font().unwrap();
+            draw_heatmap(
+                root,
+                map,
+                "orientation",
+                ("x", "y", "v"),
+                &xs,
+                &ys,
+                &values,
+                downward,
+                None,
+            )
+            .unwrap();
+        }
+        let mean = |rows: Vec<u32>| {
+            assert!(rows.len() > 100, "{} pixels of the colour", rows.len());
+            rows.iter().map(|&r| r as f64).sum::<f64>() / rows.len() as f64
+        };
+        // The middle of the map panel (the y labels take its left 64 px).
+        let x = (64 + map) / 2;
+        (
+            mean(rows_of(&rgb, w, x, colormap(1.0))),
+            mean(rows_of(&rgb, w, x, colormap(0.0))),
+        )
+    }
+
+    /// `surface_map` draws y upward: a field positive only for y > 0 fills the top half of the
+    /// map (the fretting loop's Fig. 9 and slip maps, the wear map); `heatmap` draws depth
+    /// downward: a field positive only for z > 0 fills the bottom half.
+    #[test]
+    fn surface_maps_put_y_up_and_sections_put_depth_down() {
+        let (high, low) = mean_rows(false);
+        assert!(
+            high < low,
+            "y up: y > 0 at rows {high}, y < 0 at rows {low}"
+        );
+        let (high, low) = mean_rows(true);
+        assert!(
+            high > low,
+            "depth down: z > 0 at rows {high}, z < 0 at rows {low}"
+        );
+    }
+}

@@ -9,7 +9,9 @@ use halfspace_cases::loop_fatigue::LoopFatigue;
 use halfspace_sam::drivers::fretting_loop::{FrettingLoop, PointFields};
 
 use crate::animation::{frame_records, MAX_FRAMES};
-use crate::draw::{curves, heatmap, map_figure, render_frame, tick, write_gif, Curves, FrameMap};
+use crate::draw::{
+    curves, heatmap, map_figure, render_frame, surface_map, tick, write_gif, Curves, FrameMap,
+};
 use crate::FigureError;
 
 /// One labelled curve.
@@ -126,7 +128,8 @@ pub fn loop_figures(
         false,
     )
     .map_err(|e| fail(&p, e))?;
-    // Fig. 9 and the transverse slip: surface maps at B over |x|, |y| ≤ 1.3a.
+    // Fig. 9 and the transverse slip: surface maps at B over |x|, |y| ≤ 1.3a, y upward (as the
+    // wear map and the animation frames).
     let window: Vec<usize> = (0..n1).filter(|&i| xs[i].abs() <= 1.3).collect();
     let cols: Vec<usize> = (0..n2).filter(|&j| ys[j].abs() <= 1.3).collect();
     let map = |name: &str, title: &str, unit: &str, v: &[f64], s: f64| -> Result<(), FigureError> {
@@ -135,7 +138,7 @@ pub fn loop_figures(
             .map(|&j| window.iter().map(|&i| v[i * n2 + j] / s).collect())
             .collect();
         let p = out.join(name);
-        heatmap(
+        surface_map(
             &p,
             title,
             ("x / a", "y / a", unit),
