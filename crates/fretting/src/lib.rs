@@ -21,5 +21,6 @@ pub mod studies;
 pub use error::FrettingError;
 pub use params::{FrettingParams, TimeStepping};
 pub use simulation::{
-    ContactRadii, FrettingSimulation, FrettingState, Snapshot, GAP_TOLERANCE, LOAD_THRESHOLD,
+    AttemptObserver, ContactRadii, FrettingSimulation, FrettingState, Snapshot, StepAttempt,
+    GAP_TOLERANCE, LOAD_THRESHOLD,
 };

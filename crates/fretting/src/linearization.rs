@@ -134,6 +134,11 @@ impl RosenbrockMatrix {
         Ok(())
     }
 
+    /// The contact nodes `m` of the frozen state.
+    pub(crate) fn contact_nodes(&self) -> usize {
+        self.contact_nodes
+    }
+
     /// `J v` at the frozen state (see the module docs).
     pub(crate) fn jacobian(&mut self, v: &[f64], out: &mut [f64]) -> Result<(), MdrError> {
         self.pressure_response(v, out)?;

@@ -83,6 +83,35 @@ pub struct FrettingState {
     pub snapshots: Vec<Snapshot>,
 }
 
+/// One attempt of an error-controlled step, reported to the observer of
+/// [`FrettingSimulation::set_attempt_observer`] (diagnostics: where the steps go; not state).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepAttempt {
+    /// `τ` at the step's start.
+    pub tau: f64,
+    /// The step tried.
+    pub dtau: f64,
+    /// The error estimate over the tolerance (`∞` when a stage solve did not converge).
+    pub error_ratio: f64,
+    /// Whether the attempt was accepted (`error_ratio ≤ 1`).
+    pub accepted: bool,
+    /// The node of the largest error estimate.
+    pub worst_node: usize,
+    /// The first node outside the contact at the step's start, of the second stage's trial
+    /// profile `f + Δτ k₁`, and of the attempt's result.
+    pub edge_start: usize,
+    /// See `edge_start`.
+    pub edge_trial: usize,
+    /// See `edge_start` (the contact of the result is computed for the observer only when the
+    /// attempt is rejected; an accepted one needs it anyway).
+    pub edge_end: usize,
+    /// GMRES iterations of the two stages.
+    pub krylov_iterations: (usize, usize),
+}
+
+/// The observer of [`FrettingSimulation::set_attempt_observer`].
+pub type AttemptObserver = Box<dyn FnMut(&StepAttempt) + Send>;
+
 /// What the current profile's contact is: the first node outside, the edge `θ` in the last cell
 /// and the radii.
 #[derive(Debug, Clone, Copy)]
@@ -134,6 +163,12 @@ pub struct FrettingSimulation {
     rhs: Vec<f64>,
     trial: Vec<f64>,
     start: Vec<f64>,
+    /// `a²` of the step's start (the edge where g reaches d).
+    start_edge_squared: f64,
+    /// The rate of the nodes that entered the contact in the second stage's trial profile, and
+    /// the range of them.
+    entered: Vec<f64>,
+    entered_nodes: std::ops::Range<usize>,
     /// GMRES iterations so far (not part of the state: a diagnostic).
     krylov_iterations: u64,
     /// `π_j = σ_j/(a² − ξ_j)^γ` on the edge cells ([`FrettingSimulation::edge_cell_rates`]).
@@ -143,6 +178,12 @@ pub struct FrettingSimulation {
     /// Nodes before the last contact node whose rate is the cell mean ([`EDGE_CELLS`]; 0: the
     /// nodal rate, the default).
     edge_cells: usize,
+    /// Whether the second ROS2 stage keeps the contact nodes of the step's start (default; off:
+    /// those of the trial profile, as before, for the tests' comparison).
+    freeze_contact: bool,
+    /// The observer of the adaptive attempts and the attempt being made.
+    observer: Option<AttemptObserver>,
+    attempt: StepAttempt,
 }
 
 impl FrettingSimulation {
@@ -254,10 +295,26 @@ impl FrettingSimulation {
             rhs: vec![0.0; n],
             trial: vec![0.0; n],
             start: vec![0.0; n],
+            start_edge_squared: 0.0,
+            entered: vec![0.0; n],
+            entered_nodes: 0..0,
             krylov_iterations: 0,
             edge_shape: vec![0.0; n],
             edge_mean: vec![0.0; n],
             edge_cells: 0,
+            freeze_contact: true,
+            observer: None,
+            attempt: StepAttempt {
+                tau: 0.0,
+                dtau: 0.0,
+                error_ratio: 0.0,
+                accepted: false,
+                worst_node: 0,
+                edge_start: 0,
+                edge_trial: 0,
+                edge_end: 0,
+                krylov_iterations: (0, 0),
+            },
             grid,
             params,
             state,
@@ -274,6 +331,21 @@ impl FrettingSimulation {
     pub fn set_edge_cell_rates(&mut self, on: bool) {
         self.edge_cells = if on { EDGE_CELLS } else { 0 };
         self.current = None;
+    }
+
+    /// Whether the second ROS2 stage keeps the contact nodes of the step's start (on by default,
+    /// docs/fretting-wear.md, "Time integration"); off: the contact of its trial profile, the
+    /// scheme of before (for comparisons). Set before the first step.
+    pub fn set_frozen_contact_stages(&mut self, on: bool) {
+        self.freeze_contact = on;
+        self.current = None;
+    }
+
+    /// Calls `observer` after every attempt of an error-controlled step ([`StepAttempt`]: the step,
+    /// its error ratio, where the error was largest, the contact edge at the start, the trial and
+    /// the end). A diagnostic: it changes nothing in the run.
+    pub fn set_attempt_observer(&mut self, observer: AttemptObserver) {
+        self.observer = Some(observer);
     }
 
     /// The parameters.
@@ -476,38 +548,99 @@ impl FrettingSimulation {
         }
         // W k₁ = F(f), warm-started from F (a function of the profile alone: resumable).
         self.k1.copy_from_slice(&self.rate);
-        self.solve(Stage::First)?;
+        self.attempt.krylov_iterations.0 = self.solve(Stage::First)?;
         // W k₂ = F(f + Δτ k₁) − 2 k₁.
         for ((t, f), k) in self.trial.iter_mut().zip(&self.start).zip(&self.k1) {
             *t = f + dtau * k;
         }
         self.state.profile.copy_from_slice(&self.trial);
-        self.current = None;
-        self.contact()?;
+        // The contact nodes of the step's start (unless `freeze_contact` is off): within a step the
+        // rate is a smooth function of f, and the contact set moves at the step's end.
+        let frozen = self.freeze_contact.then(|| self.matrix.contact_nodes() - 1);
+        let trial_contact = self.contact_state_with(frozen)?;
+        self.current = frozen.is_none().then_some(trial_contact);
+        self.attempt.edge_trial = trial_contact.edge;
+        // Nodes the trial profile brings into contact (g < d beyond the frozen edge): the
+        // second stage takes the trial's own contact with their rate held at 0 (the stress of
+        // the nodes inside follows the edge continuously), and their rate at the trial is kept
+        // for the correction at the step's end.
+        self.entered_nodes = 0..0;
+        if let Some(last) = frozen {
+            // Only an edge that moved out continuously: every node from the frozen edge to the
+            // trial's outermost node with g < d has g < d. Isolated nodes closing further out
+            // (the near-grazing annulus, where g ≈ d) wait for the next step's contact.
+            let outermost = self.g.iter().rposition(|&g| g < 1.0).unwrap_or(0);
+            if outermost > last && self.g[last + 1..=outermost].iter().all(|&g| g < 1.0) {
+                let trial = self.contact_state_with(None)?;
+                self.current = Some(trial);
+                self.attempt.edge_trial = trial.edge;
+                let from = last + 1;
+                self.entered[from..trial.edge].copy_from_slice(&self.rate[from..trial.edge]);
+                self.rate[from..trial.edge].fill(0.0);
+                self.entered_nodes = from..trial.edge;
+            }
+        }
         for ((b, r), k) in self.rhs.iter_mut().zip(&self.rate).zip(&self.k1) {
             *b = r - 2.0 * k;
         }
         self.k2.copy_from_slice(&self.rhs);
-        self.solve(Stage::Second)?;
+        self.attempt.krylov_iterations.1 = self.solve(Stage::Second)?;
         let mut error = 0.0f64;
-        for (((f, s), a), b) in self
+        for (i, (((f, s), a), b)) in self
             .state
             .profile
             .iter_mut()
             .zip(&self.start)
             .zip(&self.k1)
             .zip(&self.k2)
+            .enumerate()
         {
             *f = s + dtau * (1.5 * a + 0.5 * b);
-            error = error.max((0.5 * dtau * (a + b)).abs());
+            let e = (0.5 * dtau * (a + b)).abs();
+            if e > error {
+                error = e;
+                self.attempt.worst_node = i;
+            }
         }
+        self.wear_entered_nodes(dtau);
         self.current = None;
         Ok(error)
+    }
+
+    /// The correction at the end of a step whose second stage kept the contact nodes of its start
+    /// (docs/fretting-wear.md, "Time integration"): a node `j` that the trial profile `f + Δτ k₁`
+    /// brings into contact was passed by the edge at the fraction `s_j = (ξ_j − a₀²)/(a_t² − a₀²)`
+    /// of the step (the edge moving linearly in `ξ` from the start's `a₀²` to the trial's
+    /// `a_t²`); its pressure grows like `(a²(τ) − ξ_j)^γ`, `γ = (1+k)/2`, so the wear it missed is
+    /// `∫ F_j dτ = Δτ (1 − s_j) F_j(f + Δτ k₁)/(1 + γ)`. Outside the error estimate: these
+    /// rates switch on like `(τ − τ_j)^γ`, the non-smoothness that set the steps before.
+    fn wear_entered_nodes(&mut self, dtau: f64) {
+        if self.entered_nodes.is_empty() {
+            return;
+        }
+        let h = self.grid.step();
+        let trial_last = self.entered_nodes.end - 1;
+        // The trial's edge a_t² = ξ_L + θh (θ of the trial contact).
+        let theta = self.current.map_or(1.0, |c| c.theta);
+        let (a0, at) = (
+            self.start_edge_squared,
+            self.grid.squared(trial_last) + theta * h,
+        );
+        let gamma = 0.5 * (1.0 + self.params.k);
+        for j in self.entered_nodes.clone() {
+            let s = if at > a0 {
+                ((self.grid.squared(j) - a0) / (at - a0)).clamp(0.0, 1.0)
+            } else {
+                1.0
+            };
+            self.state.profile[j] += dtau * (1.0 - s) * self.entered[j] / (1.0 + gamma);
+        }
     }
 
     /// Freezes the Jacobian at the current (start) profile and keeps that profile.
     fn linearize(&mut self, contact: Contact) -> Result<(), FrettingError> {
         self.start.copy_from_slice(&self.state.profile);
+        self.start_edge_squared = contact.edge_radius * contact.edge_radius;
         self.matrix.freeze(
             &self.slip,
             &self.p,
@@ -518,15 +651,19 @@ impl FrettingSimulation {
         )?;
         if self.precondition {
             let p = &mut self.precond;
-            if p.probed_for != contact.edge {
+            // The band of K for the contact nodes rounded up to the next multiple of
+            // PROBE_BUCKET (a function of the contact nodes alone: a resumed run rebuilds the
+            // same one), probed again only when they enter another bucket.
+            let target = probe_nodes(contact.edge, self.grid.len());
+            if p.probed_for != target {
                 self.matrix.probe_band(
-                    contact.edge,
+                    target,
                     p.width(),
                     &mut p.probe,
                     &mut p.response,
                     &mut p.stress_band,
                 )?;
-                p.probed_for = contact.edge;
+                p.probed_for = target;
             }
             self.matrix
                 .scale_band(p.width(), &p.stress_band, &mut p.band);
@@ -564,8 +701,11 @@ impl FrettingSimulation {
         } else {
             FIRST_STEP
         };
+        self.attempt.edge_start = contact.edge;
         loop {
             let attempt = dtau.min(room);
+            self.attempt.tau = self.state.tau;
+            self.attempt.dtau = attempt;
             let ratio = match self.ros2_attempt(attempt) {
                 Ok(error) => error / tolerance,
                 // GMRES did not converge at this step: a rejection.
@@ -574,6 +714,19 @@ impl FrettingSimulation {
                 }))) => f64::INFINITY,
                 Err(e) => return Err(e),
             };
+            if self.observer.is_some() {
+                self.attempt.error_ratio = ratio;
+                self.attempt.accepted = ratio <= 1.0;
+                self.attempt.edge_end = if ratio.is_finite() {
+                    self.contact()?.edge
+                } else {
+                    0
+                };
+                let attempt = self.attempt;
+                if let Some(observer) = self.observer.as_mut() {
+                    observer(&attempt);
+                }
+            }
             if ratio <= 1.0 {
                 let ratio = ratio.max(1e-10);
                 let previous = if self.state.previous_error > 0.0 {
@@ -604,8 +757,8 @@ impl FrettingSimulation {
         }
     }
 
-    /// `W k = b` by GMRES for the stage's `k` (warm start in it).
-    fn solve(&mut self, stage: Stage) -> Result<(), FrettingError> {
+    /// `W k = b` by GMRES for the stage's `k` (warm start in it); returns the iterations.
+    fn solve(&mut self, stage: Stage) -> Result<usize, FrettingError> {
         let n = self.grid.len();
         let (b, x) = match stage {
             Stage::First => (&self.rate, &mut self.k1),
@@ -630,7 +783,7 @@ impl FrettingSimulation {
         };
         let info = info.map_err(MdrError::from)?;
         self.krylov_iterations += info.iterations as u64;
-        Ok(())
+        Ok(info.iterations)
     }
 
     /// The contact of the current profile, computing g, p, the slip and the rate only when the
@@ -648,12 +801,22 @@ impl FrettingSimulation {
 
     /// Computes g, p, the slip, the rate `p Δu` and the radii of the current profile.
     fn contact_state(&mut self) -> Result<Contact, FrettingError> {
+        self.contact_state_with(None)
+    }
+
+    /// [`FrettingSimulation::contact_state`], with the last contact node either that of the
+    /// profile (`None`: the outermost node with `g < d`) or held at `frozen` (the second stage
+    /// of a step whose contact nodes are those of its start, docs/fretting-wear.md, "Time
+    /// integration"): then `θ = (1 − g_L)/(g_E − g_L)` is clamped to `(0, 1]` in that cell
+    /// (`θ → 0` when `g_L ≥ d`, `θ = 1` when `g_E < d`, the nodes beyond stay open).
+    fn contact_state_with(&mut self, frozen: Option<usize>) -> Result<Contact, FrettingError> {
         let n = self.grid.len();
         let h = self.grid.step();
         derivative_uniform(&self.state.profile, h, &mut self.slope).map_err(MdrError::from)?;
         self.profile_tf
             .slope_to_equivalent(&self.grid, &mut self.slope, &mut self.g)?;
-        let outermost = self.g.iter().rposition(|&g| g < 1.0).unwrap_or(0);
+        let outermost =
+            frozen.unwrap_or_else(|| self.g.iter().rposition(|&g| g < 1.0).unwrap_or(0));
         let edge = outermost + 1;
         if edge >= n - 1 {
             return Err(FrettingError::ContactOutsideGrid {
@@ -663,8 +826,14 @@ impl FrettingSimulation {
         // The edge between the last node with g < d and the next one, where the linear
         // interpolant of g reaches d: a² = ξ_last + θh (θ ∈ (0, 1]).
         let last = outermost;
-        let theta =
-            ((1.0 - self.g[last]) / (self.g[edge] - self.g[last])).clamp(f64::MIN_POSITIVE, 1.0);
+        let theta = if self.g[edge] > self.g[last] {
+            ((1.0 - self.g[last]) / (self.g[edge] - self.g[last])).clamp(f64::MIN_POSITIVE, 1.0)
+        } else if self.g[last] < 1.0 {
+            // Only with a frozen contact: g falls towards the next node.
+            1.0
+        } else {
+            f64::MIN_POSITIVE
+        };
         let modulus = normalized_modulus(self.params.k);
         for i in 0..=last {
             self.q[i] = modulus * (1.0 - self.g[i]).max(0.0);
@@ -863,6 +1032,17 @@ enum Stage {
 /// w = 1 is worse than none (the central difference spreads the stencil over ±1 before `P`).
 pub(crate) const PRECONDITIONER_WIDTH: usize = 3;
 
+/// The contact nodes whose band of `K` the preconditioner uses for `m` contact nodes: `m`
+/// rounded up to the next multiple of [`PROBE_BUCKET`] (at most `n − 4`, so that the probe's
+/// transforms fit the grid). The rows `0..m` of that band differ from `K`'s for `m` only by
+/// where the edge sits, a preconditioner's approximation (GMRES solves `W k = b` itself).
+fn probe_nodes(m: usize, n: usize) -> usize {
+    (m.div_ceil(PROBE_BUCKET) * PROBE_BUCKET).clamp(m, n.saturating_sub(4).max(m))
+}
+
+/// The bucket of [`probe_nodes`] (nodes).
+const PROBE_BUCKET: usize = 16;
+
 /// The edge positions `θ` over which the last node's `π` goes from the extrapolation of the two
 /// nodes before to its own `p/(θh)^γ` ([`edge_cell_means`]).
 const BLEND: (f64, f64) = (0.25, 0.75);
@@ -910,10 +1090,11 @@ mod tests {
             sim.precondition = true;
             sim.linearize(contact).unwrap();
             let n = sim.grid.len();
-            let m = contact.edge;
             let w = sim.precond.width();
             let colours = 2 * w + 1;
-            assert_eq!(sim.precond.probed_for, m);
+            // The band is K's for the contact nodes rounded up to the probe bucket.
+            let m = sim.precond.probed_for;
+            assert_eq!(m, probe_nodes(contact.edge, n));
             // The dense twin of K, column by column.
             let mut dense = vec![0.0f64; n * n];
             let (mut e, mut col) = (vec![0.0; n], vec![0.0; n]);
@@ -1039,10 +1220,12 @@ mod tests {
                     plain.krylov_iterations,
                     preconditioned.krylov_iterations
                 );
-                // Two step sequences at the step tolerance 1e-4: measured 4e-5 (k = 0) and
-                // 1.4e-4 (k = −0.5) apart at τ = 3.
+                // Two step sequences at the step tolerance 1e-4: measured 5.5e-5 (k = 0) and
+                // 3.1e-4 (k = −0.5) apart at τ = 3, a/a₀ 0.27 and 1.00 cell (k = −0.5 at τ = 3 is
+                // in the near-grazing phase, where the touching radius moves with the step
+                // sequence; 0.02 cell before the second stage kept the start's contact).
                 assert!(df < 5e-4, "k = {k}: {df:e}");
-                assert!(da < cell, "k = {k}: {da:e}");
+                assert!(da < 1.5 * cell, "k = {k}: {da:e}");
             }
             assert!(preconditioned.krylov_iterations < plain.krylov_iterations);
         }

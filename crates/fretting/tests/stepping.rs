@@ -184,10 +184,18 @@ fn adaptive_fft_and_mvm_agree() {
             backend: Backend::Mvm,
             ..base
         });
-        // Same steps (the controller sees errors equal to rounding), same profiles.
-        assert_eq!(fft.state().step, mvm.state().step, "k = {k}");
+        // With the second stage on the trial's contact (before) the two took the same steps and
+        // agreed to < 1e-9. With the start's contact and the end-of-step correction (the
+        // default) whether the trial's edge moved out continuously is a discrete decision that
+        // the transforms' rounding can flip where g is d to rounding (the near-grazing
+        // annulus): measured 120 vs 119 steps at k = 0, so the two are two step sequences at the
+        // tolerance 1e-4 (as in `frozen_contact_stages_take_fewer_steps`). Fixed steps agree to
+        // 1e-10 (`fft_and_mvm_runs_agree`, `mvm_and_fft_agree_over_300_steps`).
+        let (a, b) = (fft.state().step as f64, mvm.state().step as f64);
         let diff = max_abs_diff(&fft.state().profile, &mvm.state().profile);
-        assert!(diff < 1e-9, "k = {k}: max |f_fft − f_mvm| = {diff:e}");
+        println!("k = {k}: steps {a} vs {b}, max |f_fft − f_mvm| = {diff:.2e}");
+        assert!((a - b).abs() <= 0.02 * a, "k = {k}: {a} vs {b} steps");
+        assert!(diff < 5e-4, "k = {k}: max |f_fft − f_mvm| = {diff:e}");
     }
 }
 
@@ -246,7 +254,9 @@ fn adaptive_graded_runs_match_explicit_euler() {
 fn edge_cells_take_fewer_steps_and_match_explicit_euler() {
     // The experimental edge cells (docs/fretting-wear.md, "Edge cells"), χ = 0.5, N = 801 to
     // τ = 1: the adaptive run against explicit Euler with the same rate (at half the default
-    // step), and fewer adaptive steps than the nodal rate.
+    // step), and fewer adaptive steps than the nodal rate — both with the second stage on the
+    // trial's contact (the scheme they were compared in; the default now keeps the start's
+    // contact, which takes fewer steps than either: `frozen_contact_stages_take_fewer_steps`).
     let base = FrettingParams {
         nodes: 801,
         tau_end: 1.0,
@@ -256,6 +266,7 @@ fn edge_cells_take_fewer_steps_and_match_explicit_euler() {
     let run_with = |params: FrettingParams, on: bool| {
         let mut sim = FrettingSimulation::new(params).unwrap();
         sim.set_edge_cell_rates(on);
+        sim.set_frozen_contact_stages(false);
         sim.run(|_| false).unwrap();
         sim
     };
@@ -284,4 +295,116 @@ fn edge_cells_take_fewer_steps_and_match_explicit_euler() {
         assert!((p.1 - q.1).abs() < 2e-4, "f(a0) {} vs {}", p.1, q.1);
     }
     assert!(cells.state().step < nodal.state().step);
+}
+
+/// The second ROS2 stage on the contact nodes of the step's start with the end-of-step
+/// correction for the nodes the edge passes (the default, docs/fretting-wear.md, "Time
+/// integration") against the stage on the trial profile's contact (the scheme before): fewer
+/// steps at the same accuracy (the accuracy against the converged reference is
+/// `default_run_is_accurate_with_a_tenth_of_the_steps`; graded paths against explicit Euler in
+/// `adaptive_graded_runs_match_explicit_euler`).
+#[test]
+fn frozen_contact_stages_take_fewer_steps() {
+    for (k, chi, nodes, tau_end) in [(0.0, 0.5, 2001, 1.0), (-0.5, 0.9, 501, 1.0)] {
+        let params = FrettingParams {
+            chi,
+            k,
+            nodes,
+            length: FrettingParams::default_length(chi, k),
+            tau_end,
+            snapshots: vec![tau_end],
+            ..Default::default()
+        };
+        let run_with = |frozen: bool| {
+            let mut sim = FrettingSimulation::new(params.clone()).unwrap();
+            sim.set_frozen_contact_stages(frozen);
+            sim.run(|_| false).unwrap();
+            sim
+        };
+        let (frozen, trial) = (run_with(true), run_with(false));
+        let (x, y) = (radius_and_depth(&frozen), radius_and_depth(&trial));
+        let cell = frozen.grid().step() / (2.0 * x[0].0);
+        let diff = max_abs_diff(&frozen.state().profile, &trial.state().profile);
+        println!(
+            "k = {k}, χ = {chi}, N = {nodes}, τ = {tau_end}: {} steps ({} rejected) vs {} ({}); \
+             a {:.6} vs {:.6} ({:.2} cells), f(a0) {:.6} vs {:.6}, max |Δf| {diff:.1e}",
+            frozen.state().step,
+            frozen.state().rejected_steps,
+            trial.state().step,
+            trial.state().rejected_steps,
+            x[0].0,
+            y[0].0,
+            (x[0].0 - y[0].0) / cell,
+            x[0].1,
+            y[0].1
+        );
+        assert!(
+            (frozen.state().step as f64) < 0.8 * trial.state().step as f64,
+            "k = {k}: {} vs {} steps",
+            frozen.state().step,
+            trial.state().step
+        );
+        // Two step sequences at the tolerance 1e-4 (as `preconditioned_runs_match_unpreconditioned`).
+        assert!(
+            (x[0].0 - y[0].0).abs() < 1.5 * cell,
+            "k = {k}: a {} vs {}",
+            x[0].0,
+            y[0].0
+        );
+        assert!(
+            (x[0].1 - y[0].1).abs() < 5e-4,
+            "k = {k}: f(a0) {} vs {}",
+            x[0].1,
+            y[0].1
+        );
+    }
+}
+
+/// Fixed ROS2 steps (`--dtau`, with the start's contact in the second stage and the end-of-step
+/// correction) converge to the explicit-Euler reference (N = 801, χ = 0.5, τ = 1; reference:
+/// Euler at its default step and half of it, Richardson-extrapolated): the observed order.
+#[test]
+fn fixed_steps_converge_to_the_reference() {
+    let base = FrettingParams {
+        nodes: 801,
+        tau_end: 1.0,
+        snapshots: vec![0.5, 1.0],
+        ..FrettingParams::default()
+    };
+    let with = |stepping| {
+        radius_and_depth(&run(FrettingParams {
+            stepping,
+            ..base.clone()
+        }))
+    };
+    let euler_step = 0.5 * FrettingParams::default_step(801, 1.6, 0.0);
+    let (coarse, fine) = (
+        with(TimeStepping::ExplicitEuler { dtau: euler_step }),
+        with(TimeStepping::ExplicitEuler {
+            dtau: 0.5 * euler_step,
+        }),
+    );
+    let reference: Vec<(f64, f64)> = coarse
+        .iter()
+        .zip(&fine)
+        .map(|(c, f)| (2.0 * f.0 - c.0, 2.0 * f.1 - c.1))
+        .collect();
+    let mut errors = Vec::new();
+    for dtau in [1e-2, 5e-3, 2.5e-3] {
+        let x = with(TimeStepping::Fixed { dtau });
+        let error = x
+            .iter()
+            .zip(&reference)
+            .map(|(p, q)| (p.0 - q.0).abs().max((p.1 - q.1).abs()))
+            .fold(0.0, f64::max);
+        println!("Δτ = {dtau}: max error in a/a0, f(a0)/d at τ = 0.5, 1: {error:.2e}");
+        errors.push(error);
+    }
+    println!(
+        "observed orders: {:.2}, {:.2}",
+        (errors[0] / errors[1]).log2(),
+        (errors[1] / errors[2]).log2()
+    );
+    assert!(errors[2] < errors[0], "{errors:?}");
+    assert!(errors[2] < 5e-4, "{errors:?}");
 }

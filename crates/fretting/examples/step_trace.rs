@@ -1,0 +1,73 @@
+//! Where the adaptive steps of the MDR wear run go (docs/fretting-wear.md, "Time integration"):
+//! every attempt of the error-controlled ROS2 steps through the attempt observer, written as CSV
+//! (τ, Δτ, error ratio, accepted, the node of the largest error and the contact edge at the
+//! start, the second stage's trial and the end, GMRES iterations), and a summary on stdout.
+//!
+//! `cargo run --release -p halfspace-fretting --example step_trace -- N K CHI [TOL] [TAU_END] [CSV]`
+
+use std::io::Write;
+use std::sync::{Arc, Mutex};
+
+use halfspace_fretting::{FrettingParams, FrettingSimulation, StepAttempt, TimeStepping};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let get = |i: usize, default: &str| args.get(i).cloned().unwrap_or_else(|| default.into());
+    let nodes: usize = get(0, "2001").parse()?;
+    let k: f64 = get(1, "0").parse()?;
+    let chi: f64 = get(2, "0.5").parse()?;
+    let tolerance: f64 = get(3, "1e-4").parse()?;
+    let tau_end: f64 = get(4, "30").parse()?;
+    let csv = get(5, "step_trace.csv");
+    let params = FrettingParams {
+        nodes,
+        k,
+        chi,
+        length: FrettingParams::default_length(chi, k),
+        tau_end,
+        stepping: TimeStepping::Adaptive { tolerance },
+        ..FrettingParams::default()
+    };
+    let attempts: Arc<Mutex<Vec<StepAttempt>>> = Arc::default();
+    let mut sim = FrettingSimulation::new(params)?;
+    let sink = Arc::clone(&attempts);
+    sim.set_attempt_observer(Box::new(move |a| sink.lock().expect("lock").push(*a)));
+    let start = std::time::Instant::now();
+    sim.run(|_| false)?;
+    let seconds = start.elapsed().as_secs_f64();
+    let attempts = attempts.lock().expect("lock");
+    let mut out = std::io::BufWriter::new(std::fs::File::create(&csv)?);
+    writeln!(
+        out,
+        "tau,dtau,ratio,accepted,worst,edge_start,edge_trial,edge_end,gmres1,gmres2"
+    )?;
+    for a in attempts.iter() {
+        writeln!(
+            out,
+            "{},{},{},{},{},{},{},{},{},{}",
+            a.tau,
+            a.dtau,
+            a.error_ratio,
+            u8::from(a.accepted),
+            a.worst_node,
+            a.edge_start,
+            a.edge_trial,
+            a.edge_end,
+            a.krylov_iterations.0,
+            a.krylov_iterations.1
+        )?;
+    }
+    let state = sim.state();
+    let r_star = sim.limit_contact_radius();
+    let cell = sim.grid().step() / (2.0 * r_star);
+    let a = *state.contact_radius_history.last().unwrap_or(&0.0);
+    println!(
+        "steps {} ({} rejected), GMRES {}, a/a0 {a:.6} ({:+.2} cells from r*), V/V∞ − 1 {:+.3e}, {seconds:.2} s",
+        state.step,
+        state.rejected_steps,
+        sim.krylov_iterations(),
+        (a - r_star) / cell,
+        sim.wear_volume() / sim.limit_wear_volume() - 1.0
+    );
+    Ok(())
+}
