@@ -9,9 +9,14 @@ use serde_json::{json, Value};
 
 use crate::config::FatigueConfig;
 use crate::data::{AttrValue, Record};
+use crate::fatigue::critical_plane::{fatemi_socie, swt, PlaneScratch};
 use crate::fatigue::field::{FieldParams, Maximum};
-use crate::fatigue::{evaluate_screened, ScreenedIndices};
-use crate::sam::drivers::fretting_loop::{CycleStress, FrettingLoop};
+use crate::fatigue::invariant::{crossland_dang_van, InvariantScratch};
+use crate::fatigue::screened::{critical_plane_bounds, invariant_bounds, reference_bounds};
+use crate::fatigue::{evaluate_screened, Material, ScreenedIndices, Voigt};
+use crate::sam::drivers::fretting_loop::{CycleSources, CycleStress, FrettingLoop};
+use crate::sam::subsurface::SubsurfacePlan;
+use crate::sam::SamError;
 use crate::spec::SpecError;
 
 /// The four index fields of a loop and where they peak.
@@ -32,24 +37,39 @@ pub struct LoopFatigue {
     pub at: [[f64; 3]; 4],
     /// Increments of the cycle's path.
     pub increments: usize,
+    /// Levels of the box whose stress history was computed (the others cannot reach
+    /// `screen_fraction ×` any maximum: [`reachable_levels`]).
+    pub levels_computed: usize,
     /// Wall time of the evaluation (s).
     pub seconds: f64,
 }
 
 /// The criteria of the completed loop `lp` with the constants of `cfg`; an error when the loop
-/// recorded no complete stress history (no `[fatigue]` table when it ran, or not done).
+/// recorded no complete cycle (no `[fatigue]` table when it ran, or not done). The stress history
+/// is computed from the cycle's tractions on the levels of the box the screen can reach
+/// ([`reachable_levels`]; every level with inhomogeneities or `screen_fraction = 0`).
 pub fn evaluate_loop_fatigue(
     lp: &FrettingLoop,
     cfg: &FatigueConfig,
 ) -> Result<LoopFatigue, SpecError> {
     let start = Instant::now();
-    let h: &CycleStress = lp
-        .cycle_stress()
-        .filter(|h| h.recorded == h.increments)
+    let fail = |e: &dyn std::fmt::Display| SpecError(format!("fatigue: {e}"));
+    let increments = lp.path().len() - lp.path().cycle_start();
+    let (sources, (layers, all)) = lp
+        .cycle_sources()
+        .filter(|s| s.recorded == increments)
+        .zip(lp.cycle_levels())
         .ok_or_else(|| {
             SpecError("fatigue: the loop holds no complete stress history of its cycle".into())
         })?;
     let case = lp.case();
+    let homogeneous = lp.solver().nested().is_none();
+    let h: CycleStress = if homogeneous && cfg.screen_fraction > 0.0 {
+        let matrix = cfg.materials(case.e, case.nu, &[])[0];
+        reachable_levels(lp, sources, layers, &matrix, cfg.screen_fraction).map_err(|e| fail(&e))?
+    } else {
+        lp.cycle_history(Some(&all)).map_err(|e| fail(&e))?
+    };
     let materials = cfg.materials(case.e, case.nu, &h.materials);
     let indices = evaluate_screened(
         &h.stress,
@@ -59,8 +79,7 @@ pub fn evaluate_loop_fatigue(
         &FieldParams::default(),
         cfg.screen_fraction,
     )
-    .map_err(|e| SpecError(format!("fatigue: {e}")))?;
-    let g = h.grid;
+    .map_err(|e| fail(&e))?;
     let at = |m: &Maximum| h.position(m.point);
     let at = [
         at(&indices.crossland_max),
@@ -68,13 +87,39 @@ pub fn evaluate_loop_fatigue(
         at(&indices.swt_max),
         at(&indices.fatemi_socie_max),
     ];
-    // The history holds the surface layer after the layers below; the fields list the layers
-    // by depth, the surface first.
-    let per = g.len();
-    let order: Vec<usize> = if h.surface {
-        std::iter::once(h.layers).chain(0..h.layers).collect()
+    // The stored levels into the whole box (level `k` at `k · N₁N₂`, the surface layer
+    // `k = layers` last); the levels not computed are NaN like the cells the screen skipped.
+    let per = h.grid.len();
+    let full = |p: usize| h.level_of[p / per] * per + p % per;
+    let mut indices = indices;
+    for f in [
+        &mut indices.crossland,
+        &mut indices.dang_van,
+        &mut indices.swt,
+        &mut indices.fatemi_socie,
+    ] {
+        let mut whole = vec![f64::NAN; all.len() * per];
+        for (p, v) in f.iter().enumerate() {
+            whole[full(p)] = *v;
+        }
+        *f = whole;
+    }
+    for m in [
+        &mut indices.crossland_max,
+        &mut indices.dang_van_max,
+        &mut indices.swt_max,
+        &mut indices.fatemi_socie_max,
+    ] {
+        m.point = full(m.point);
+    }
+    let levels_computed = h.levels();
+    let g = h.grid;
+    // The box holds the surface layer after the layers below; the fields list the layers by
+    // depth, the surface first.
+    let order: Vec<usize> = if all.len() > layers {
+        std::iter::once(layers).chain(0..layers).collect()
     } else {
-        (0..h.layers).collect()
+        (0..layers).collect()
     };
     let by_depth = |v: &[f64]| -> Vec<f64> {
         order
@@ -86,7 +131,6 @@ pub fn evaluate_loop_fatigue(
         let k = order.iter().position(|&k| k == p / per).unwrap_or(0);
         k * per + p % per
     };
-    let mut indices = indices;
     for f in [
         &mut indices.crossland,
         &mut indices.dang_van,
@@ -112,8 +156,156 @@ pub fn evaluate_loop_fatigue(
         y: (0..g.n2).map(|j| g.centre(0, j).1).collect(),
         z: order.iter().map(|&k| h.depth(k)).collect(),
         increments: h.increments,
+        levels_computed,
         seconds: start.elapsed().as_secs_f64(),
     })
+}
+
+/// Exact values at this many cells per criterion give the screen its lower bounds of the maxima
+/// ([`reachable_levels`]).
+const SEED_CELLS: usize = 16;
+
+/// The stress history of the homogeneous loop `lp` on the levels of the box the screen can reach
+/// (docs/fatigue.md, "Layers the screen cannot reach"): with `τ^ref = (max_t τ + min_t τ)/2` and
+/// `amplitude = (max_t τ − min_t τ)/2` per cell and traction component of the cycle, the reference
+/// stress `σ^ref` (Love's stresses of `τ^ref`) and the deviation bounds
+/// ([`SubsurfacePlan::deviation_bounds`]) give every cell an upper bound `A` of each criterion
+/// ([`halfspace_fatigue::screened::reference_bounds`]). The surface layer and the levels holding
+/// the `SEED_CELLS` cells of largest `A` of each criterion are computed first; each criterion
+/// at their `SEED_CELLS` cells of largest path bound (the bounds of
+/// [`halfspace_fatigue::evaluate_screened`]) gives a lower bound `L` of its maximum; a level is then computed only if one of its cells has
+/// `A ≥ fraction · L` for some criterion (all levels where some `L ≤ 0`). Every cell whose value
+/// reaches `fraction ×` the maximum is therefore in a computed level.
+// Index loops over the four criteria read like the bounds they compare.
+#[allow(clippy::needless_range_loop)]
+pub fn reachable_levels(
+    lp: &FrettingLoop,
+    sources: &CycleSources,
+    layers: usize,
+    matrix: &Material,
+    fraction: f64,
+) -> Result<CycleStress, SamError> {
+    let case = lp.case();
+    let depth = case
+        .fatigue_depth
+        .ok_or_else(|| SamError::InvalidInput("no fatigue depth".into()))?;
+    let grid = *lp.solver().problem().grid();
+    let n = grid.len();
+    let increments = sources.recorded;
+    let friction = lp.solver().problem().friction() > 0.0;
+    // τ^ref and the amplitude per cell of p, q₁, q₂ over the cycle.
+    let mut reference = vec![vec![0.0; n]; 3];
+    let mut amplitude = vec![vec![0.0; n]; 3];
+    for c in 0..if friction { 3 } else { 1 } {
+        for cell in 0..n {
+            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+            for t in 0..increments {
+                let v = sources.tractions[(t * 3 + c) * n + cell];
+                lo = lo.min(v);
+                hi = hi.max(v);
+            }
+            reference[c][cell] = 0.5 * (hi + lo);
+            amplitude[c][cell] = 0.5 * (hi - lo);
+        }
+    }
+    let all: Vec<usize> = (0..=layers).collect();
+    let mut plan = SubsurfacePlan::with_levels(&grid, case.e, case.nu, depth, &all)?;
+    let q = friction.then_some([&reference[1][..], &reference[2][..]]);
+    let (sigma_ref, _) = plan.stress(&reference[0], q, None)?;
+    let bound = plan.deviation_bounds([&amplitude[0], &amplitude[1], &amplitude[2]])?;
+    drop(plan);
+    // Rounding of the transforms of σ(t) and σ^ref: 10⁻⁹ of the largest stress and bound.
+    let scale = sigma_ref
+        .iter()
+        .chain(bound.iter())
+        .flat_map(|f| f.iter())
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    let cells = all.len() * n;
+    let a: Vec<[f64; 4]> = (0..cells)
+        .map(|p| {
+            let r: Voigt = std::array::from_fn(|k| sigma_ref[k][p]);
+            let d: [f64; 6] = std::array::from_fn(|f| bound[f][p] + 1e-9 * scale);
+            reference_bounds(&r, &d, matrix)
+        })
+        .collect();
+    // The seed: the surface layer and the levels of the cells of largest bound of each criterion.
+    let mut seed: Vec<usize> = vec![layers];
+    for c in 0..4 {
+        let mut order: Vec<usize> = (0..cells).collect();
+        order.sort_by(|&x, &y| a[y][c].total_cmp(&a[x][c]));
+        seed.extend(order.iter().take(SEED_CELLS).map(|p| p / n));
+    }
+    seed.sort_unstable();
+    seed.dedup();
+    let seed_history = lp.cycle_history(Some(&seed))?;
+    // Exact criteria at the seed levels' cells of largest path bound
+    // ([`halfspace_fatigue::screened::invariant_bounds`], `critical_plane_bounds`): lower bounds
+    // of the maxima.
+    let params = FieldParams::default();
+    let seed_cells = seed.len() * n;
+    let path_of = |q: usize| -> Vec<Voigt> {
+        seed_history.stress[q * increments * 6..(q + 1) * increments * 6]
+            .chunks_exact(6)
+            .map(|v| std::array::from_fn(|i| v[i]))
+            .collect()
+    };
+    let path_bounds: Vec<[f64; 4]> = (0..seed_cells)
+        .map(|q| {
+            let path = path_of(q);
+            let [c, dv] = invariant_bounds(&path, matrix);
+            let [s, f] = critical_plane_bounds(&path, matrix);
+            [c, dv, s, f]
+        })
+        .collect();
+    let mut lower = [f64::NEG_INFINITY; 4];
+    let mut inv = InvariantScratch::default();
+    let mut plane = PlaneScratch::default();
+    let fatigue = |e: halfspace_fatigue::FatigueError| SamError::InvalidInput(e.to_string());
+    for c in 0..4 {
+        let mut order: Vec<usize> = (0..seed_cells).collect();
+        order.sort_by(|&x, &y| path_bounds[y][c].total_cmp(&path_bounds[x][c]));
+        for &q in order.iter().take(SEED_CELLS) {
+            let path = path_of(q);
+            let value = match c {
+                0 | 1 => {
+                    let (cr, dv) = crossland_dang_van(&path, matrix, &mut inv).map_err(fatigue)?;
+                    if c == 0 {
+                        cr.index
+                    } else {
+                        dv.index
+                    }
+                }
+                2 => {
+                    swt(&path, matrix, &params.plane, &mut plane)
+                        .map_err(fatigue)?
+                        .value
+                }
+                _ => {
+                    fatemi_socie(&path, matrix, &params.plane, &mut plane)
+                        .map_err(fatigue)?
+                        .value
+                }
+            };
+            lower[c] = lower[c].max(value);
+        }
+    }
+    let kept: Vec<usize> = all
+        .iter()
+        .copied()
+        .filter(|&k| {
+            seed.contains(&k)
+                || (0..n).any(|cell| {
+                    let b = &a[k * n + cell];
+                    (0..4).any(|c| lower[c] <= 0.0 || b[c] >= fraction * lower[c])
+                })
+        })
+        .collect();
+    if kept == seed {
+        return Ok(seed_history);
+    }
+    // The seed's levels are computed again with the others (one history in memory at a time).
+    drop(seed_history);
+    lp.cycle_history(Some(&kept))
 }
 
 /// The volume fields' names in results.h5 (each `(layers, N₁, N₂)`).
@@ -139,6 +331,7 @@ impl LoopFatigue {
                 "layers": self.layers,
                 "surface_layer": self.z.first() == Some(&0.0),
                 "increments": self.increments,
+                "levels_computed": self.levels_computed,
                 "invariant_evaluated": i.invariant_evaluated,
                 "swt_evaluated": i.swt_evaluated,
                 "fatemi_socie_evaluated": i.fatemi_socie_evaluated,
@@ -187,6 +380,102 @@ impl LoopFatigue {
         crate::data::RectilinearVolume {
             dims: [self.layers, self.shape.0, self.shape.1],
             axes: ["z".into(), "x".into(), "y".into()],
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sam::drivers::fretting_loop::LoopCase;
+
+    /// The levels the screen skips ([`reachable_levels`]) hold no cell that reaches
+    /// `screen_fraction ×` a maximum: against the same screened evaluation of the whole box's
+    /// history, the maxima and their locations are bit for bit the same, every value computed in
+    /// both is the same, every cell at or above `screen_fraction ×` its maximum holds its value,
+    /// and levels are skipped.
+    #[test]
+    fn the_levels_the_screen_skips_cannot_reach_the_maxima() {
+        let mut case = LoopCase {
+            grid: 32,
+            normal_steps: 4,
+            shift_step: 0.01e-6,
+            ..LoopCase::default()
+        };
+        case.fatigue_depth = Some(1.5 * case.hertz_radius());
+        let cfg = FatigueConfig {
+            f_minus1: 400e6,
+            t_minus1: 280e6,
+            fs_k: 0.5,
+            yield_stress: 600e6,
+            depth_over_a: 1.5,
+            screen_fraction: 0.5,
+            inhomogeneity: None,
+        };
+        let mut lp = FrettingLoop::new(case.clone()).unwrap();
+        lp.run(|_| std::ops::ControlFlow::Continue(())).unwrap();
+        let f = evaluate_loop_fatigue(&lp, &cfg).unwrap();
+        let whole = lp.cycle_stress().unwrap();
+        let materials = cfg.materials(case.e, case.nu, &[]);
+        let full = evaluate_screened(
+            &whole.stress,
+            whole.increments,
+            &materials,
+            &whole.material,
+            &FieldParams::default(),
+            cfg.screen_fraction,
+        )
+        .unwrap();
+        let (layers, per) = (whole.layers, whole.grid.len());
+        assert_eq!(f.layers, layers + 1);
+        assert!(
+            f.levels_computed < layers + 1,
+            "no level skipped: {} of {}",
+            f.levels_computed,
+            layers + 1
+        );
+        // The box's cell p (surface layer last) in the fields' order (surface layer first).
+        let slot = |p: usize| {
+            let k = p / per;
+            (if k == layers { 0 } else { k + 1 }) * per + p % per
+        };
+        let pairs = [
+            (
+                &full.crossland,
+                &f.indices.crossland,
+                full.crossland_max,
+                f.indices.crossland_max,
+            ),
+            (
+                &full.dang_van,
+                &f.indices.dang_van,
+                full.dang_van_max,
+                f.indices.dang_van_max,
+            ),
+            (&full.swt, &f.indices.swt, full.swt_max, f.indices.swt_max),
+            (
+                &full.fatemi_socie,
+                &f.indices.fatemi_socie,
+                full.fatemi_socie_max,
+                f.indices.fatemi_socie_max,
+            ),
+        ];
+        for (k, (a, b, ma, mb)) in pairs.into_iter().enumerate() {
+            assert_eq!(ma.value, mb.value, "criterion {k}");
+            assert_eq!(slot(ma.point), mb.point, "criterion {k}");
+            assert_eq!(whole.position(ma.point), f.at[k], "criterion {k}");
+            let mut reached = 0;
+            for (p, &v) in a.iter().enumerate() {
+                let w = b[slot(p)];
+                if v.is_finite() && w.is_finite() {
+                    assert_eq!(v, w, "criterion {k}, cell {p}");
+                }
+                if v >= cfg.screen_fraction * ma.value {
+                    reached += 1;
+                    assert!(w.is_finite(), "criterion {k}, cell {p}: {v} not evaluated");
+                }
+            }
+            assert!(reached > 0);
         }
     }
 }

@@ -29,7 +29,9 @@ use crate::error::FatigueError;
 use crate::field::{FieldParams, Maximum};
 use crate::invariant::{crossland_dang_van, InvariantScratch};
 use crate::material::Material;
-use crate::tensor::{deviator_coordinates, hydrostatic, strain_from_stress, Voigt};
+use crate::tensor::{
+    deviator, deviator_coordinates, hydrostatic, principal_values, strain_from_stress, Voigt,
+};
 
 /// The four index fields (`NaN` where a screened criterion was not evaluated), their maxima and
 /// the counts of exact critical-plane evaluations.
@@ -138,6 +140,42 @@ pub fn critical_plane_bounds(path: &[Voigt], material: &Material) -> [f64; 2] {
     let factor = (1.0 + material.fs_k * sigma1 / material.yield_stress).max(0.0);
     let fs = frobenius_radius(path, deviator) / (2f64.sqrt() * material.shear_modulus()) * factor;
     [swt, fs]
+}
+
+/// Upper bounds `[Crossland, Dang Van, SWT, Fatemi–Socie]` of every path whose states lie near
+/// a reference state (docs/fatigue.md, "Layers the screen cannot reach"): for all `t`,
+/// `|y_i(σ(t)) − y_i(σ^ref)| ≤ deviation[i]` (`i < 5`, the deviator coordinates of Eq. F1) and
+/// `|σ_H(t) − σ_H^ref| ≤ deviation[5]`. With `D = |(deviation[0..5])|`,
+/// `σ_H,max ≤ h = σ_H^ref + deviation[5]` and, by Weyl's inequality and
+/// `λ₁(Δs) ≤ √(2/3)‖Δs‖_F = (2/√3)|y(Δs)|`, `σ₁(t) ≤ S₁ = h + λ₁(s^ref) + (2/√3) D`:
+///
+/// * Crossland `≤ (D + α_C h)/t₋₁` (the ball of radius `D` about `y(σ^ref)` encloses the path);
+/// * Dang Van `≤ (D + α_DV h)/t₋₁` (`τ_Tresca(ŝ) ≤ |y(ŝ)| ≤ √J₂,a ≤ D`);
+/// * SWT `≤ max(0, S₁) · ((1 + ν)(2/√3) D + (1 − 2ν) deviation[5])/E` (the half range of
+///   `ε_n` is at most `max_t |n·(ε(t) − ε^ref)·n|`, `Δε = ((1 + ν)Δs + (1 − 2ν)Δσ_H I)/E`);
+/// * Fatemi–Socie `≤ D/G · max(0, 1 + k S₁/σ_y)` (`|m·Δs·n| ≤ (λ₁ − λ₃)(Δs)/2 ≤ |y(Δs)|`).
+///
+/// `D` is taken `× (1 + 10⁻⁹)` plus `10⁻¹²` of `|y(σ^ref)| + D` for the rounding of the exact
+/// ball and of the principal values.
+pub fn reference_bounds(reference: &Voigt, deviation: &[f64; 6], material: &Material) -> [f64; 4] {
+    let y_ref = deviator_coordinates(reference);
+    let y_norm = y_ref.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let d = deviation[..5].iter().map(|v| v * v).sum::<f64>().sqrt();
+    let d = d * (1.0 + 1e-9) + 1e-12 * (y_norm + d);
+    let h = hydrostatic(reference) + deviation[5];
+    let t = material.t_minus1;
+    let crossland = (d + material.alpha_crossland() * h) / t;
+    let dang_van = (d + material.alpha_dang_van() * h) / t;
+    let two_over_root3 = 2.0 / 3f64.sqrt();
+    let lambda1 = principal_values(&deviator(reference))[0] + 1e-12 * y_norm;
+    let s1 = h + lambda1 + two_over_root3 * d;
+    let nu = material.poisson;
+    let strain =
+        ((1.0 + nu) * two_over_root3 * d + (1.0 - 2.0 * nu) * deviation[5]) / material.young;
+    let swt = s1.max(0.0) * strain;
+    let fs =
+        d / material.shear_modulus() * (1.0 + material.fs_k * s1 / material.yield_stress).max(0.0);
+    [crossland, dang_van, swt, fs]
 }
 
 fn path_of(stress: &[f64], p: usize, increments: usize, out: &mut Vec<Voigt>) {

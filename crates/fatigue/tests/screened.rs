@@ -6,7 +6,8 @@ mod common;
 use common::{proportional_cycle, random_cycle, steel, Rng};
 use halfspace_fatigue::critical_plane::{fatemi_socie, swt, PlaneScratch};
 use halfspace_fatigue::invariant::{crossland_dang_van, InvariantScratch};
-use halfspace_fatigue::screened::{critical_plane_bounds, invariant_bounds};
+use halfspace_fatigue::screened::{critical_plane_bounds, invariant_bounds, reference_bounds};
+use halfspace_fatigue::tensor::{deviator_from_coordinates, hydrostatic};
 use halfspace_fatigue::{evaluate_field, evaluate_screened, FieldParams, Material, Voigt};
 
 fn paths(points: usize, increments: usize, seed: u64) -> Vec<Vec<Voigt>> {
@@ -40,6 +41,71 @@ fn bounds_bound_the_critical_plane_criteria() {
         // Not vacuous: within a factor of a few.
         assert!(f > 0.0 && bf < 4.0 * f, "FS bound {bf} vs {f}");
     }
+}
+
+/// Paths `σ(t) = σ^ref + Δ(t)` whose deviator coordinates and hydrostatic stress deviate from
+/// the reference's by at most the given bounds (some at the corners ±bound): the reference bounds
+/// bound all four criteria, and are not vacuous when the path fills its bounds.
+#[test]
+fn reference_bounds_bound_all_four_criteria() {
+    let m = steel();
+    let params = FieldParams::default();
+    let mut rng = Rng::new(4242);
+    let mut plane = PlaneScratch::default();
+    let mut inv = InvariantScratch::default();
+    let mut worst = [f64::INFINITY; 4];
+    for case in 0..80 {
+        let scale = 1e8 * (1.0 + rng.normal().abs());
+        let reference: Voigt = std::array::from_fn(|k| {
+            // Under compression, in tension and mixed.
+            let shift = [-3.0, 1.0, 0.0, -0.5][case % 4] * scale;
+            rng.normal() * scale + if k < 3 { shift } else { 0.0 }
+        });
+        let deviation: [f64; 6] = std::array::from_fn(|_| rng.normal().abs() * 0.5 * scale);
+        let increments = 12 + case % 30;
+        let path: Vec<Voigt> = (0..increments)
+            .map(|t| {
+                let unit = |rng: &mut Rng| {
+                    if case % 3 == 0 {
+                        // Corners of the box of deviations.
+                        if (t + case) % 2 == 0 {
+                            1.0
+                        } else {
+                            -1.0
+                        }
+                    } else {
+                        (2.0 * rng.uniform() - 1.0).clamp(-1.0, 1.0)
+                    }
+                };
+                let y: [f64; 5] = std::array::from_fn(|i| unit(&mut rng) * deviation[i]);
+                let h = unit(&mut rng) * deviation[5];
+                let d = deviator_from_coordinates(&y);
+                std::array::from_fn(|k| reference[k] + d[k] + if k < 3 { h } else { 0.0 })
+            })
+            .collect();
+        let b = reference_bounds(&reference, &deviation, &m);
+        let (c, dv) = crossland_dang_van(&path, &m, &mut inv).unwrap();
+        let s = swt(&path, &m, &params.plane, &mut plane).unwrap().value;
+        let f = fatemi_socie(&path, &m, &params.plane, &mut plane)
+            .unwrap()
+            .value;
+        for (k, (v, bound)) in [c.index, dv.index, s, f].iter().zip(b).enumerate() {
+            assert!(
+                *v <= bound,
+                "case {case}: criterion {k} = {v} above its bound {bound}"
+            );
+            if *v > 0.0 {
+                worst[k] = worst[k].min(bound / v);
+            }
+        }
+        // The hydrostatic part of the bound is exact at the path's largest σ_H.
+        let h_max = path
+            .iter()
+            .map(hydrostatic)
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert!(h_max <= hydrostatic(&reference) + deviation[5] * (1.0 + 1e-12));
+    }
+    eprintln!("smallest bound/value over 80 paths (C, DV, SWT, FS): {worst:?}");
 }
 
 #[test]

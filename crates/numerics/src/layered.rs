@@ -585,6 +585,28 @@ impl LayeredSpectra {
         sources: &[i64],
         families: &[(Family, &dyn LayerKernel)],
     ) -> Result<Self, NumericsError> {
+        Self::build(fft, targets, sources, families, true)
+    }
+
+    /// [`LayeredSpectra::new`] with the products always per depth key (never the depth FFT of a
+    /// contiguous stack): each target's output is then the same sum, bit for bit, whatever the
+    /// other targets (a subset of a box's layers equals the whole box's on those layers).
+    pub fn per_key(
+        fft: &mut Fft2d,
+        targets: &[i64],
+        sources: &[i64],
+        families: &[(Family, &dyn LayerKernel)],
+    ) -> Result<Self, NumericsError> {
+        Self::build(fft, targets, sources, families, false)
+    }
+
+    fn build(
+        fft: &mut Fft2d,
+        targets: &[i64],
+        sources: &[i64],
+        families: &[(Family, &dyn LayerKernel)],
+        allow_depth: bool,
+    ) -> Result<Self, NumericsError> {
         let (n1, n2) = fft.shape();
         let Some((_, first)) = families.first() else {
             return Err(NumericsError::TooFewNodes {
@@ -624,7 +646,7 @@ impl LayeredSpectra {
             }
             _ => None,
         };
-        let depth = if DepthSpectra::eligible(targets, sources, &stored) {
+        let depth = if allow_depth && DepthSpectra::eligible(targets, sources, &stored) {
             let d = DepthSpectra::build(
                 &stored,
                 targets[0],

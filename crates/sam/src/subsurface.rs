@@ -118,9 +118,12 @@ pub struct SubsurfacePlan {
     e: f64,
     nu: f64,
     layers: usize,
-    /// Whether the surface layer `z = 0` follows the `layers` layers (docs/fatigue.md, "The
+    /// Whether the surface layer `z = 0` is one of the levels (docs/fatigue.md, "The
     /// surface layer").
     surface: bool,
+    /// The levels computed, in their order in the output: `k < layers` the layer centred at
+    /// `(2k + 1)Δ`, `k = layers` the surface layer ([`SubsurfacePlan::with_levels`]).
+    levels: Vec<usize>,
     targets: Vec<i64>,
     fft: Fft2d,
     love: LayeredSpectra,
@@ -171,6 +174,25 @@ impl SubsurfacePlan {
         surface: bool,
     ) -> Result<Self, SamError> {
         crate::error::positive("subsurface depth", depth)?;
+        let layers = Self::layers_for(depth, grid.half1);
+        let levels: Vec<usize> = (0..layers + usize::from(surface)).collect();
+        Self::with_levels(grid, e, nu, depth, &levels)
+    }
+
+    /// The plan of some levels of the box of [`SubsurfacePlan::with_surface`] only: `levels`
+    /// (increasing) holds `k < ⌈depth/2Δ⌉` for the layer centred at `(2k + 1)Δ` and
+    /// `k = ⌈depth/2Δ⌉` for the surface layer `z = 0`; the output's cells are
+    /// `position-in-levels · N₁N₂ + i N₂ + j`. Each depth is an independent product, so every
+    /// level is bit for bit that of the full plan (docs/fatigue.md, "Layers the screen cannot
+    /// reach").
+    pub fn with_levels(
+        grid: &SurfaceGrid,
+        e: f64,
+        nu: f64,
+        depth: f64,
+        levels: &[usize],
+    ) -> Result<Self, SamError> {
+        crate::error::positive("subsurface depth", depth)?;
         crate::error::positive("Young's modulus", e)?;
         if !(nu > -1.0 && nu < 0.5) {
             return Err(SamError::InvalidParameter {
@@ -188,9 +210,17 @@ impl SubsurfacePlan {
         }
         let half = grid.half1;
         let layers = Self::layers_for(depth, half);
-        let levels = layers + usize::from(surface);
-        let need = Self::spectra_bytes(grid.n1, grid.n2, levels)
-            + Self::field_bytes(grid.n1, grid.n2, levels);
+        if levels.is_empty()
+            || levels.windows(2).any(|w| w[1] <= w[0])
+            || levels.iter().any(|&k| k > layers)
+        {
+            return Err(SamError::InvalidInput(format!(
+                "subsurface levels {levels:?}: increasing, at most {layers} (the surface layer)"
+            )));
+        }
+        let surface = levels.contains(&layers);
+        let need = Self::spectra_bytes(grid.n1, grid.n2, levels.len())
+            + Self::field_bytes(grid.n1, grid.n2, levels.len());
         if need > FIELD_LIMIT_BYTES {
             return Err(SamError::InvalidParameter {
                 name: "memory for the subsurface stress field (bytes)",
@@ -198,10 +228,10 @@ impl SubsurfacePlan {
                 allowed: "≤ 8 GiB: a shallower subsurface depth or a coarser grid",
             });
         }
-        // Depth keys in units of Δ: (2k + 1) for layer k, then 0 for the surface layer.
-        let targets: Vec<i64> = (0..layers)
-            .map(|k| (2 * k + 1) as i64)
-            .chain(surface.then_some(0))
+        // Depth keys in units of Δ: (2k + 1) for layer k, 0 for the surface layer.
+        let targets: Vec<i64> = levels
+            .iter()
+            .map(|&k| if k == layers { 0 } else { (2 * k + 1) as i64 })
             .collect();
         let mut fft = Fft2d::new(grid.n1, grid.n2)?;
         let love_kernel = LoveStrain {
@@ -209,7 +239,8 @@ impl SubsurfacePlan {
             nu,
             s: compliance(e, nu),
         };
-        let love = LayeredSpectra::new(
+        // Per depth key: a level's stresses do not depend on the other levels computed.
+        let love = LayeredSpectra::per_key(
             &mut fft,
             &targets,
             &[0],
@@ -221,6 +252,7 @@ impl SubsurfacePlan {
             nu,
             layers,
             surface,
+            levels: levels.to_vec(),
             targets,
             fft,
             love,
@@ -234,9 +266,14 @@ impl SubsurfacePlan {
         self.layers
     }
 
-    /// Whether the surface layer `z = 0` follows them ([`SubsurfacePlan::with_surface`]).
+    /// Whether the surface layer `z = 0` is one of the levels ([`SubsurfacePlan::with_surface`]).
     pub fn surface(&self) -> bool {
         self.surface
+    }
+
+    /// The levels computed ([`SubsurfacePlan::with_levels`]).
+    pub fn levels(&self) -> &[usize] {
+        &self.levels
     }
 
     /// The surface grid.
@@ -262,8 +299,8 @@ impl SubsurfacePlan {
     ) -> Result<([Vec<f64>; 6], Vec<u16>), SamError> {
         let grid = self.grid;
         let (e, nu) = (self.e, self.nu);
-        // The layers and, last, the surface layer (z = 0, the matrix).
-        let layers = self.layers + usize::from(self.surface);
+        // The levels (the surface layer z = 0, if any, last: the matrix).
+        let layers = self.levels.len();
         let half = grid.half1;
         let n = grid.len();
         if p.len() != n || q.is_some_and(|q| q[0].len() != n || q[1].len() != n) {
@@ -314,8 +351,8 @@ impl SubsurfacePlan {
                     fields[cell.layer * 6 + o][cell.flat] = eps_star[c * 6 + o];
                 }
                 let k = set.layers[cell.layer];
-                if k < self.layers {
-                    material[k * n + cell.flat] = cell.material as u16 + 1;
+                if let Some(at) = self.levels.iter().position(|&l| l == k && l < self.layers) {
+                    material[at * n + cell.flat] = cell.material as u16 + 1;
                 }
             }
             let mut hats: Vec<Vec<C64>> = fields.iter().map(|_| fft.new_spectrum()).collect();
@@ -406,6 +443,112 @@ impl SubsurfacePlan {
             }
         }
         Ok((stress, material))
+    }
+}
+
+impl SubsurfacePlan {
+    /// Bounds of the stress paths' deviation from a reference state, for the screen of the
+    /// fatigue box (docs/fatigue.md, "Layers the screen cannot reach"). For tractions
+    /// `τ_j(t, x') = τ_j^ref(x') + δ_j(t, x')` with `|δ_j(t, x')| ≤ amplitude[j][x']`
+    /// (`j` = `p, q₁, q₂`; no inhomogeneities), the stress of a cell `x` of the levels is
+    /// `σ(t) = σ^ref + Σ_j Σ_x' K_j(x − x') δ_j(t, x')` (Love's rectangle stresses, linear), so
+    /// every linear functional `f` of the stress satisfies
+    ///
+    /// `|f(σ(t)) − f(σ^ref)| ≤ B_f(x) = Σ_j Σ_x' |f(K_j(x − x'))| amplitude_j(x')`,
+    ///
+    /// for the six functionals `f = (y₀, …, y₄, σ_H)` of [`stress_functionals`]
+    /// (docs/fatigue.md Eq. F1). Returns `B[f][position-in-levels · N₁N₂ + cell]`, one FFT
+    /// convolution per level with the kernels' absolute values (tabulated at every offset),
+    /// enlarged by `10⁻⁹` of itself and of its largest value for the rounding of the transforms.
+    pub fn deviation_bounds(&mut self, amplitude: [&[f64]; 3]) -> Result<[Vec<f64>; 6], SamError> {
+        let n = self.grid.len();
+        if amplitude.iter().any(|a| a.len() != n) {
+            return Err(SamError::Numerics(
+                halfspace_numerics::NumericsError::LengthMismatch {
+                    what: "traction amplitude field",
+                    expected: n,
+                    got: amplitude[0].len(),
+                },
+            ));
+        }
+        let kernel = AbsLoveFunctionals {
+            half: self.grid.half1,
+            nu: self.nu,
+        };
+        let fft = &mut self.fft;
+        let spectra =
+            LayeredSpectra::new(fft, &self.targets, &[0], &[(Family::Difference, &kernel)])?;
+        let mut hats: Vec<Vec<C64>> = (0..3).map(|_| fft.new_spectrum()).collect();
+        let mut skip = [false; 3];
+        for j in 0..3 {
+            skip[j] = amplitude[j].iter().all(|v| *v == 0.0);
+            if !skip[j] {
+                fft.forward(amplitude[j], &mut hats[j])?;
+            }
+        }
+        let levels = self.levels.len();
+        let mut out: Vec<Vec<C64>> = (0..levels * 6).map(|_| fft.new_spectrum()).collect();
+        spectra.accumulate(&hats, &skip, &mut out)?;
+        let mut bounds: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; levels * n]);
+        let mut field = vec![0.0; n];
+        for (a, h) in out.iter_mut().enumerate() {
+            let (level, f) = (a / 6, a % 6);
+            fft.inverse(h, &mut field)?;
+            bounds[f][level * n..(level + 1) * n].copy_from_slice(&field);
+        }
+        for b in bounds.iter_mut() {
+            let largest = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            b.iter_mut()
+                .for_each(|v| *v = v.max(0.0) * (1.0 + 1e-9) + 1e-9 * largest);
+        }
+        Ok(bounds)
+    }
+}
+
+/// The six linear functionals of a stress tensor (Voigt `(11, 22, 33, 23, 13, 12)`) the fatigue
+/// screen bounds: the deviator coordinates `y = ((2σ₃₃ − σ₁₁ − σ₂₂)/(2√3), (σ₁₁ − σ₂₂)/2, σ₂₃,
+/// σ₁₃, σ₁₂)` (`|y|² = J₂`, docs/fatigue.md Eq. F1) and the hydrostatic stress
+/// `σ_H = (σ₁₁ + σ₂₂ + σ₃₃)/3`.
+pub fn stress_functionals(s: &[f64; 6]) -> [f64; 6] {
+    [
+        (2.0 * s[2] - s[0] - s[1]) / (2.0 * 3f64.sqrt()),
+        0.5 * (s[0] - s[1]),
+        s[3],
+        s[4],
+        s[5],
+        (s[0] + s[1] + s[2]) / 3.0,
+    ]
+}
+
+/// `|f(K_j)|`: the absolute values of the [`stress_functionals`] of Love's stress kernels of
+/// `p, q₁, q₂` (blocks `f · 3 + j`). Each block is even in both offsets: for a fixed traction
+/// the normal stresses share one parity (even–even for `p`, odd in `m` for `q₁`, odd in `n` for
+/// `q₂`) and `y₀, y₁, σ_H` combine only normal stresses, `y₂ … y₄` are single components.
+struct AbsLoveFunctionals {
+    half: f64,
+    nu: f64,
+}
+
+impl LayerKernel for AbsLoveFunctionals {
+    fn blocks(&self) -> (usize, usize) {
+        (6, 3)
+    }
+    fn eval(&self, key: i64, m: i64, n: i64, out: &mut [f64]) {
+        let d = self.half;
+        let (x1, x2, z) = (2.0 * d * m as f64, 2.0 * d * n as f64, d * key as f64);
+        let stresses = [
+            pressure_stress(x1, x2, z, d, d, self.nu),
+            shear_stress(0, x1, x2, z, d, d, self.nu),
+            shear_stress(1, x1, x2, z, d, d, self.nu),
+        ];
+        for (j, sigma) in stresses.iter().enumerate() {
+            for (f, v) in stress_functionals(sigma).iter().enumerate() {
+                out[f * 3 + j] = v.abs();
+            }
+        }
+    }
+    fn parity(&self) -> Option<Vec<(bool, bool)>> {
+        Some(vec![(false, false); 18])
     }
 }
 

@@ -159,3 +159,138 @@ fn the_surface_layer_is_the_direct_sum_of_loves_stresses_at_z0_and_keeps_the_lay
     println!("surface layer vs the direct sum at z = 0: {worst:.3e} p₀");
     assert!(worst < 1e-12, "{worst:e}");
 }
+
+/// The fatigue screen's levels (docs/fatigue.md, "Layers the screen cannot reach"): a plan of
+/// some levels of the box equals the whole box's plan on those levels bit for bit (also a single
+/// level, and the surface layer alone), and the deviation bounds bound the deviation of every
+/// stress functional of every cell of every level from the reference state, for traction
+/// histories that fill their amplitudes (some at ±amplitude everywhere), and are not vacuous.
+#[test]
+fn subsets_of_levels_equal_the_box_and_the_deviation_bounds_bound_the_paths() {
+    use halfspace_sam::subsurface::stress_functionals;
+    let (n, a) = (16, 1e-4);
+    let (grid, p0) = hertz_grid(n, a, 1e9);
+    let depth = 1.2 * a;
+    let mut whole = SubsurfacePlan::with_surface(&grid, E, NU, depth, true).unwrap();
+    let layers = whole.layers();
+    let cells = grid.len();
+    // A smooth random-ish cycle: reference + amplitude × a different sign/phase per cell.
+    let amp: Vec<Vec<f64>> = (0..3)
+        .map(|c| {
+            p0.iter()
+                .enumerate()
+                .map(|(k, v)| (0.2 + 0.1 * c as f64) * v + 1e7 * ((k * 7 + c * 3) % 5) as f64)
+                .collect()
+        })
+        .collect();
+    let reference: Vec<Vec<f64>> = (0..3)
+        .map(|c| {
+            p0.iter()
+                .map(|v| if c == 0 { *v } else { 0.1 * v })
+                .collect()
+        })
+        .collect();
+    let path: Vec<[Vec<f64>; 3]> = (0..9)
+        .map(|t| {
+            std::array::from_fn(|c| {
+                (0..cells)
+                    .map(|k| {
+                        let s = if t < 2 {
+                            // Corners: every cell at ±amplitude.
+                            if (k + c + t) % 2 == 0 {
+                                1.0
+                            } else {
+                                -1.0
+                            }
+                        } else {
+                            ((t * 13 + k * 5 + c * 11) as f64 * 0.7).sin()
+                        };
+                        reference[c][k] + s * amp[c][k]
+                    })
+                    .collect()
+            })
+        })
+        .collect();
+    let (sigma_ref, _) = whole
+        .stress(&reference[0], Some([&reference[1], &reference[2]]), None)
+        .unwrap();
+    let bound = whole.deviation_bounds([&amp[0], &amp[1], &amp[2]]).unwrap();
+    let mut tightest = [f64::INFINITY; 6];
+    let mut subsets: Vec<SubsurfacePlan> = [vec![layers], vec![2], vec![0, 3, layers]]
+        .iter()
+        .map(|l| SubsurfacePlan::with_levels(&grid, E, NU, depth, l).unwrap())
+        .collect();
+    for tr in &path {
+        let (s, _) = whole.stress(&tr[0], Some([&tr[1], &tr[2]]), None).unwrap();
+        for p in 0..(layers + 1) * cells {
+            let v: [f64; 6] = std::array::from_fn(|k| s[k][p]);
+            let r: [f64; 6] = std::array::from_fn(|k| sigma_ref[k][p]);
+            let (fv, fr) = (stress_functionals(&v), stress_functionals(&r));
+            for f in 0..6 {
+                let dev = (fv[f] - fr[f]).abs();
+                // The rounding of the transforms of σ(t) and σ^ref (relative to the stresses).
+                assert!(
+                    dev <= bound[f][p] + 1e-9 * 1e9,
+                    "functional {f}, cell {p}: {dev} above {}",
+                    bound[f][p]
+                );
+                if dev > 1e-3 * bound[f][p] {
+                    tightest[f] = tightest[f].min(bound[f][p] / dev);
+                }
+            }
+        }
+        for sub in subsets.iter_mut() {
+            let (ss, _) = sub.stress(&tr[0], Some([&tr[1], &tr[2]]), None).unwrap();
+            for (at, &level) in sub.levels().iter().enumerate() {
+                for k in 0..6 {
+                    assert_eq!(
+                        ss[k][at * cells..(at + 1) * cells],
+                        s[k][level * cells..(level + 1) * cells],
+                        "level {level}"
+                    );
+                }
+            }
+        }
+    }
+    eprintln!("smallest bound/deviation per functional (y₀…y₄, σ_H): {tightest:?}");
+    // Attained: tractions at ±amplitude with the sign of the kernel seen from one cell give that
+    // cell's bound exactly (here y₀ and σ_H at a cell of layer 1 off the axis).
+    let (target_level, (ti, tj)) = (1usize, (9usize, 6usize));
+    let half = grid.half1;
+    let z = (2 * target_level + 1) as f64 * half;
+    for f in [0usize, 5] {
+        let signed: [Vec<f64>; 3] = std::array::from_fn(|c| {
+            (0..cells)
+                .map(|k| {
+                    let (i, j) = (k / n, k % n);
+                    let (x1, x2) = (
+                        2.0 * half * (ti as f64 - i as f64),
+                        2.0 * half * (tj as f64 - j as f64),
+                    );
+                    let kernel = match c {
+                        0 => pressure_stress(x1, x2, z, half, half, NU),
+                        _ => shear_stress(c - 1, x1, x2, z, half, half, NU),
+                    };
+                    let sign = stress_functionals(&kernel)[f].signum();
+                    reference[c][k] + sign * amp[c][k]
+                })
+                .collect()
+        });
+        let (s, _) = whole
+            .stress(&signed[0], Some([&signed[1], &signed[2]]), None)
+            .unwrap();
+        let p = target_level * cells + ti * n + tj;
+        let v: [f64; 6] = std::array::from_fn(|k| s[k][p]);
+        let r: [f64; 6] = std::array::from_fn(|k| sigma_ref[k][p]);
+        let dev = (stress_functionals(&v)[f] - stress_functionals(&r)[f]).abs();
+        eprintln!(
+            "functional {f}: deviation {dev:.6e}, bound {:.6e}",
+            bound[f][p]
+        );
+        assert!(dev <= bound[f][p] && dev >= bound[f][p] * (1.0 - 1e-6));
+    }
+    // Levels out of range or not increasing are refused.
+    assert!(SubsurfacePlan::with_levels(&grid, E, NU, depth, &[layers + 1]).is_err());
+    assert!(SubsurfacePlan::with_levels(&grid, E, NU, depth, &[2, 1]).is_err());
+    assert!(SubsurfacePlan::with_levels(&grid, E, NU, depth, &[]).is_err());
+}

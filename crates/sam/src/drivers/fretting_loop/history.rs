@@ -16,15 +16,19 @@ pub struct CycleStress {
     pub grid: SurfaceGrid,
     /// Layers below the surface.
     pub layers: usize,
-    /// Whether the surface layer `z = 0` follows them (cells `layers · N₁N₂ + i N₂ + j`,
-    /// [`crate::subsurface::SubsurfacePlan::with_surface`]).
+    /// Whether the surface layer `z = 0` is stored (the whole box: after the layers, cells
+    /// `layers · N₁N₂ + i N₂ + j`, [`crate::subsurface::SubsurfacePlan::with_surface`]).
     pub surface: bool,
+    /// The box level of each stored level (`k < layers` the layer centred at `(2k + 1)Δ`,
+    /// `layers` the surface layer): `0, …, layers` for the whole box, fewer for the levels a
+    /// screen keeps ([`crate::subsurface::SubsurfacePlan::with_levels`]).
+    pub level_of: Vec<usize>,
     /// Increments of the closed cycle (`4q + 1`).
     pub increments: usize,
     /// Increments recorded so far.
     pub recorded: usize,
-    /// `stress[(p · increments + t) · 6 + c]`: cell `p = k N₁N₂ + i N₂ + j` (layer slow; the
-    /// surface layer, if any, is `k = layers`),
+    /// `stress[(p · increments + t) · 6 + c]`: cell `p = k N₁N₂ + i N₂ + j` of the stored level
+    /// `k` (level slow; the box level `level_of[k]`),
     /// increment `t` of the cycle, Voigt component `c` of `(11, 22, 33, 23, 13, 12)` (Pa,
     /// tension positive) — the layout of `halfspace_fatigue::evaluate_field`.
     pub stress: Vec<f64>,
@@ -47,9 +51,9 @@ impl CycleStress {
         cells * layers * increments * 48.0
     }
 
-    /// Layers stored: the layers below the surface and the surface layer.
+    /// Levels stored (the whole box: the layers below the surface and the surface layer).
     pub fn levels(&self) -> usize {
-        self.layers + usize::from(self.surface)
+        self.level_of.len()
     }
 
     /// Cells of the box (with the surface layer).
@@ -62,10 +66,11 @@ impl CycleStress {
         let per = self.grid.len();
         let (k, flat) = (p / per, p % per);
         let (x, y) = self.grid.centre(flat / self.grid.n2, flat % self.grid.n2);
-        [x, y, self.depth(k)]
+        [x, y, self.depth(self.level_of[k])]
     }
 
-    /// Depth of layer `k`: `(2k + 1)Δ` below the surface, 0 for the surface layer `k = layers`.
+    /// Depth of the box level `k`: `(2k + 1)Δ` below the surface, 0 for the surface layer
+    /// `k = layers`.
     pub fn depth(&self, k: usize) -> f64 {
         if k >= self.layers {
             0.0
@@ -74,17 +79,18 @@ impl CycleStress {
         }
     }
 
-    /// An empty history of `increments` increments on `layers` layers below `grid` (and the
-    /// surface layer after them with `surface`), the cells of materials `material` (0 the
-    /// matrix, `m + 1` inclusion material `m` of `materials`).
+    /// An empty history of `increments` increments on the levels `level_of` of a box of
+    /// `layers` layers below `grid` (level `layers` the surface layer), the cells of materials
+    /// `material` (0 the matrix, `m + 1` inclusion material `m` of `materials`).
     pub(super) fn new(
         grid: SurfaceGrid,
-        (layers, surface): (usize, bool),
+        (layers, level_of): (usize, Vec<usize>),
         material: Vec<u16>,
         increments: usize,
         materials: Vec<(f64, f64)>,
     ) -> Result<Self, SamError> {
-        let points = (layers + usize::from(surface)) * grid.len();
+        let surface = level_of.contains(&layers);
+        let points = level_of.len() * grid.len();
         let len = points
             .checked_mul(increments)
             .and_then(|v| v.checked_mul(6))
@@ -95,6 +101,7 @@ impl CycleStress {
             grid,
             layers,
             surface,
+            level_of,
             increments,
             recorded: 0,
             stress: vec![0.0; len],

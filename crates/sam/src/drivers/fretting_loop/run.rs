@@ -31,7 +31,8 @@ pub struct LoopSeconds {
     pub disturbance: f64,
     /// Von Mises fields at the points A–D.
     pub subsurface: f64,
-    /// Stress fields of the closed cycle's history ([`LoopCase::fatigue_depth`]).
+    /// Recording the closed cycle's tractions ([`LoopCase::fatigue_depth`]; the stress history
+    /// is computed from them when asked for, [`FrettingLoop::cycle_history`]).
     pub cycle_stress: f64,
 }
 
@@ -87,10 +88,9 @@ pub struct FrettingLoop {
     points: Vec<PointFields>,
     max_transverse_slip: f64,
     seconds: LoopSeconds,
-    cycle_stress: Option<CycleStress>,
+    /// The complete cycle's full history, computed at the first [`FrettingLoop::cycle_stress`].
+    cycle_stress: std::sync::OnceLock<CycleStress>,
     cycle_sources: Option<CycleSources>,
-    /// Love's operator on the fatigue box, built at the cycle's first increment.
-    plan: Option<SubsurfacePlan>,
 }
 
 impl FrettingLoop {
@@ -131,9 +131,8 @@ impl FrettingLoop {
             points: Vec::new(),
             max_transverse_slip: 0.0,
             seconds: LoopSeconds::default(),
-            cycle_stress: None,
+            cycle_stress: std::sync::OnceLock::new(),
             cycle_sources: None,
-            plan: None,
         })
     }
 
@@ -152,16 +151,9 @@ impl FrettingLoop {
         lp.rows = snapshot.rows;
         lp.points = snapshot.points;
         lp.max_transverse_slip = snapshot.max_transverse_slip;
-        // The history of the increments done, rebuilt from their tractions by the same operator
-        // as the uninterrupted loop's (bit for bit).
-        if let Some(sources) = snapshot.cycle_sources {
-            let t = Instant::now();
-            for k in 0..sources.recorded {
-                lp.record_increment(&sources, k)?;
-            }
-            lp.cycle_sources = Some(sources);
-            lp.seconds.cycle_stress += t.elapsed().as_secs_f64();
-        }
+        // The tractions of the cycle's increments done: the history is computed from them by
+        // the same operator as the uninterrupted loop's (bit for bit).
+        lp.cycle_sources = snapshot.cycle_sources;
         Ok(lp)
     }
 
@@ -422,10 +414,91 @@ impl FrettingLoop {
         self.max_transverse_slip
     }
 
-    /// The closed cycle's stress history ([`LoopCase::fatigue_depth`]; complete when the loop
-    /// is done).
+    /// The closed cycle's stress history on the whole box ([`LoopCase::fatigue_depth`]):
+    /// `None` until the cycle is complete; computed from the cycle's tractions at the first call
+    /// ([`FrettingLoop::cycle_history`] of every level) and kept.
     pub fn cycle_stress(&self) -> Option<&CycleStress> {
-        self.cycle_stress.as_ref()
+        if let Some(h) = self.cycle_stress.get() {
+            return Some(h);
+        }
+        let sources = self.cycle_sources.as_ref()?;
+        if sources.recorded != self.path.len() - self.path.cycle_start() {
+            return None;
+        }
+        let h = self.cycle_history(None).ok()?;
+        Some(self.cycle_stress.get_or_init(|| h))
+    }
+
+    /// The tractions (and eigenstrains) of the closed cycle's increments recorded so far
+    /// ([`LoopCase::fatigue_depth`]).
+    pub fn cycle_sources(&self) -> Option<&CycleSources> {
+        self.cycle_sources.as_ref()
+    }
+
+    /// The levels of the fatigue box: `⌈depth/2Δ⌉` layers below the surface and the surface
+    /// layer (level index `layers`) — `(layers, all levels)`; `None` without
+    /// [`LoopCase::fatigue_depth`].
+    pub fn cycle_levels(&self) -> Option<(usize, Vec<usize>)> {
+        let depth = self.case.fatigue_depth?;
+        let layers = SubsurfacePlan::layers_for(depth, self.solver.problem().grid().half1);
+        Some((layers, (0..=layers).collect()))
+    }
+
+    /// The stress history of the increments recorded so far on the levels `levels` of the box
+    /// (increasing; `None`: every level), computed from the cycle's tractions and, with
+    /// inhomogeneities, eigenstrains: Love's stresses and the EIM disturbance with the flat's
+    /// constants ([`SubsurfacePlan::with_levels`], [`SubsurfacePlan::stress`]; an elastic
+    /// indenter changes the tractions, not the flat's stresses). Each level is bit for bit that
+    /// of the whole box's history.
+    pub fn cycle_history(&self, levels: Option<&[usize]>) -> Result<CycleStress, SamError> {
+        let (Some(depth), Some((layers, all))) = (self.case.fatigue_depth, self.cycle_levels())
+        else {
+            return Err(SamError::InvalidInput(
+                "this loop records no stress history (no fatigue depth)".into(),
+            ));
+        };
+        let levels = levels.unwrap_or(&all);
+        let grid = *self.solver.problem().grid();
+        // With the surface layer z = 0 (docs/fatigue.md, "The surface layer").
+        let mut plan =
+            SubsurfacePlan::with_levels(&grid, self.case.e, self.case.nu, depth, levels)?;
+        let empty = CycleSources::default();
+        let sources = self.cycle_sources.as_ref().unwrap_or(&empty);
+        let materials = self
+            .solver
+            .nested()
+            .map(|n| n.inclusions().materials.clone())
+            .unwrap_or_default();
+        let increments = self.path.len() - self.path.cycle_start();
+        let mut history: Option<CycleStress> = None;
+        for t in 0..sources.recorded {
+            let (p, q, eigen) = sources.increment(t);
+            let q = (self.solver.problem().friction() > 0.0).then_some(q);
+            let inclusions = self.solver.nested().map(|n| (n.inclusions(), eigen));
+            let (stress, material) = plan.stress(p, q, inclusions)?;
+            if history.is_none() {
+                history = Some(CycleStress::new(
+                    grid,
+                    (layers, levels.to_vec()),
+                    material,
+                    increments,
+                    materials.clone(),
+                )?);
+            }
+            if let Some(h) = history.as_mut() {
+                h.record(&stress)?;
+            }
+        }
+        match history {
+            Some(h) => Ok(h),
+            None => CycleStress::new(
+                grid,
+                (layers, levels.to_vec()),
+                vec![0; levels.len() * grid.len()],
+                increments,
+                materials,
+            ),
+        }
     }
 
     /// Wall time by part since this object was made.
@@ -473,7 +546,7 @@ impl FrettingLoop {
         }
         if self.case.fatigue_depth.is_some() && k >= self.path.cycle_start() {
             let t = Instant::now();
-            self.record_cycle_stress()?;
+            self.record_cycle_sources()?;
             self.seconds.cycle_stress += t.elapsed().as_secs_f64();
         }
         Ok(self.rows.last())
@@ -493,9 +566,9 @@ impl FrettingLoop {
         Ok(true)
     }
 
-    /// This increment's tractions (and eigenstrains) into the cycle's sources and its stress
-    /// field into the history ([`FrettingLoop::record_increment`]).
-    fn record_cycle_stress(&mut self) -> Result<(), SamError> {
+    /// This increment's tractions (and eigenstrains) into the cycle's sources (the history is
+    /// computed from them, [`FrettingLoop::cycle_history`]).
+    fn record_cycle_sources(&mut self) -> Result<(), SamError> {
         // On the surface-operator path the eigenstrains follow the tractions only when synced.
         self.solver.sync_eigenstrain()?;
         let st = self.solver.problem().state();
@@ -506,56 +579,7 @@ impl FrettingLoop {
             ..CycleSources::default()
         });
         sources.push(&st.pressure, [&st.shear[0], &st.shear[1]], eigen);
-        let sources = self.cycle_sources.take().unwrap_or_default();
-        let done = self.record_increment(&sources, sources.recorded - 1);
-        self.cycle_sources = Some(sources);
-        done
-    }
-
-    /// The stress field of increment `t` of `sources` into the history: Love's stresses of its
-    /// tractions and, with inhomogeneities, the EIM disturbance of its eigenstrains, with the
-    /// flat's constants ([`SubsurfacePlan::stress`]; the operator built at the first call).
-    fn record_increment(&mut self, sources: &CycleSources, t: usize) -> Result<(), SamError> {
-        let Some(depth) = self.case.fatigue_depth else {
-            return Ok(());
-        };
-        if self.plan.is_none() {
-            let grid = *self.solver.problem().grid();
-            // With the surface layer z = 0 (docs/fatigue.md, "The surface layer").
-            self.plan = Some(SubsurfacePlan::with_surface(
-                &grid,
-                self.case.e,
-                self.case.nu,
-                depth,
-                true,
-            )?);
-        }
-        let Some(plan) = self.plan.as_mut() else {
-            return Ok(());
-        };
-        let (p, q, eigen) = sources.increment(t);
-        let q = (self.solver.problem().friction() > 0.0).then_some(q);
-        let inclusions = self.solver.nested().map(|n| (n.inclusions(), eigen));
-        let (stress, material) = plan.stress(p, q, inclusions)?;
-        if self.cycle_stress.is_none() {
-            let materials = self
-                .solver
-                .nested()
-                .map(|n| n.inclusions().materials.clone())
-                .unwrap_or_default();
-            let increments = self.path.len() - self.path.cycle_start();
-            self.cycle_stress = Some(CycleStress::new(
-                *plan.grid(),
-                (plan.layers(), plan.surface()),
-                material,
-                increments,
-                materials,
-            )?);
-        }
-        match &mut self.cycle_stress {
-            Some(h) => h.record(&stress),
-            None => Ok(()),
-        }
+        Ok(())
     }
 
     /// The state to continue from ([`FrettingLoop::resume`]).
