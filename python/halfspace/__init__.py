@@ -665,7 +665,8 @@ def fretting_wear3d(config: dict[str, Any], grid: int | None = None) -> Wear3dRe
     fretting-wear3d``: the fretting loop's cycle, repeated with the worn depth h updated by
     ``ḣ = k p |ṡ|`` (Archard) or ``k |q| |ṡ|`` (energy) in adaptive jumps of cycles
     (docs/wear3d.md, "Wear steps"). ``config`` is a dict of the ``fretting-wear3d --config`` keys:
-    the fretting-loop keys (``force`` or ``approach``, ``indenter_e``/``indenter_nu``, …) and a
+    the fretting-loop keys (``force`` or ``approach``, ``indenter_e``/``indenter_nu``,
+    ``eim_change_factor``, …; those of :class:`FrettingLoop`) and a
     ``wear`` dict (``law``, ``coefficient``, ``body``, ``cycles``, ``record_cycles``,
     ``step_fraction``, ``stability_fraction``, ``inhomogeneity_depth_cells``); ``grid`` overrides
     its grid. Bad keys raise :class:`HalfspaceError` (``TypeError`` for a value of the wrong type)
@@ -691,7 +692,10 @@ class FrettingLoop:
     ``config`` holds the keys of ``halfspace fretting-loop --config`` (``radius``, ``e``, ``nu``,
     ``friction``, ``force`` or ``approach`` (exactly one), ``indenter_e`` and ``indenter_nu`` (an
     elastic sphere; absent: rigid), ``normal_steps``, ``amplitude``, ``shift_step``, ``grid``,
-    ``extent_over_a``, ``subsurface_over_a``, ``layout``, ``fibre_e_ratio``; ``inhomogeneity``: a
+    ``extent_over_a``, ``subsurface_over_a``, ``layout``, ``fibre_e_ratio``, ``inhomogeneous_body``,
+    ``surface_operator_radius_over_a``, ``eim_change_factor`` (η in (0, 1], default 1e-2: the
+    nested loop's EIM solved to η × the last outer change, docs/theory-sam.md#outer-loop-tolerances;
+    only with inhomogeneities on the nested loop); ``inhomogeneity``: a
     list of tables ``{"kind": "sphere", "x": .., "E": ..}`` — the keys of the spec — or of
     :class:`Inhomogeneity` / spec strings); the dict goes to the library as data, which checks it.
     ``fatigue``: a dict of the ``[fatigue]`` keys — the loop then records its closed cycle's stress

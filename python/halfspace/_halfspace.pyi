@@ -26,6 +26,9 @@ FATIGUE_FIELDS: list[str]
 
 def axisym(config: dict[str, Any]) -> dict[str, Any]: ...
 def fretting_wear(config: dict[str, Any]) -> dict[str, Any]: ...
+# `config` of fretting_wear3d and _FrettingLoop: the `--config` keys of `fretting-wear3d` /
+# `fretting-loop` (docs/sam.md, docs/wear3d.md), one spelling each, e.g. `eim_change_factor`
+# (η in (0, 1], default 1e-2; nested loop with inhomogeneities only).
 def fretting_wear3d(config: dict[str, Any], grid: int | None = None) -> dict[str, Any]: ...
 def contact3d(
     config: dict[str, Any],
