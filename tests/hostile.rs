@@ -1371,6 +1371,11 @@ fn indenter_approach_fatigue_and_wear3d_keys_are_refused_in_one_line() {
             "inhomogeneous_body = \"surface-operator\"\n".into(),
             vec!["inhomogeneous_body", "needs inhomogeneities"],
         ),
+        (
+            "EIM factor without inhomogeneities",
+            "eim_change_factor = 1e-2\n".into(),
+            vec!["eim_change_factor", "read only"],
+        ),
     ];
     for (name, text, needles) in &loop_cases {
         let cfg = write(
@@ -1407,6 +1412,11 @@ fn indenter_approach_fatigue_and_wear3d_keys_are_refused_in_one_line() {
             "both loads",
             format!("force = 0.08\napproach = 1e-7\n{wear}"),
             vec!["approach"],
+        ),
+        (
+            "EIM factor",
+            format!("layout = \"fibre-centred\"\neim_change_factor = 2\n{wear}"),
+            vec!["eim_change_factor", "(0, 1]", "2"],
         ),
     ];
     // A checkpoint interval beyond what a duration holds: refused, not a panic.

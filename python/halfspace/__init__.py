@@ -28,6 +28,7 @@ from ._halfspace import fretting_map_point as _fretting_map_point
 from ._halfspace import fretting_map_shape as _fretting_map_shape
 from ._halfspace import fretting_wear as _fretting_wear
 from ._halfspace import fretting_wear3d as _fretting_wear3d
+from ._halfspace import fretting_wear3d_estimate as _fretting_wear3d_estimate
 
 __all__ = [
     "HalfspaceError",
@@ -45,6 +46,7 @@ __all__ = [
     "Contact3dResult",
     "WearResult",
     "Wear3dResult",
+    "Wear3dEstimate",
     "LoopMetrics",
     "FatigueResult",
     "MapResult",
@@ -52,6 +54,7 @@ __all__ = [
     "contact3d",
     "fretting_wear",
     "fretting_wear3d",
+    "fretting_wear3d_estimate",
     "FrettingLoop",
     "fretting_map",
 ]
@@ -473,6 +476,26 @@ class Wear3dResult(Result):
     max_rate_history: NDArray[np.float64]
 
 
+class Wear3dEstimate(Result):
+    """:func:`fretting_wear3d_estimate`: the keys of ``halfspace fretting-wear3d --estimate --json``
+    (docs/wear3d.md, "The work estimate"): ``cycles`` asked; ``wear_steps`` (= ``computed_cycles``,
+    the final state's cycle included) and ``first_delta_cycles`` ``ΔN₁``, the cycles one computed
+    cycle stands for at the first wear step (every step is given it, so the count errs towards more
+    steps for a homogeneous pair); ``increments_per_cycle`` ``4q`` and ``increments`` of the whole
+    run (the loading ``n + q`` and ``wear_steps · 4q``); ``cells`` of the surface grid; ``bytes``
+    the peak memory; ``hours`` of work on this machine's cores."""
+
+    cycles: int
+    wear_steps: float
+    computed_cycles: float
+    first_delta_cycles: float
+    increments_per_cycle: float
+    increments: float
+    cells: float
+    bytes: float
+    hours: float
+
+
 class LoopMetrics(Result):
     """:meth:`FrettingLoop.metrics`: the metrics of a completed loop (the keys of
     ``halfspace fretting-loop --json`` without its times)."""
@@ -665,7 +688,8 @@ def fretting_wear3d(config: dict[str, Any], grid: int | None = None) -> Wear3dRe
     fretting-wear3d``: the fretting loop's cycle, repeated with the worn depth h updated by
     ``ḣ = k p |ṡ|`` (Archard) or ``k |q| |ṡ|`` (energy) in adaptive jumps of cycles
     (docs/wear3d.md, "Wear steps"). ``config`` is a dict of the ``fretting-wear3d --config`` keys:
-    the fretting-loop keys (``force`` or ``approach``, ``indenter_e``/``indenter_nu``, …) and a
+    the fretting-loop keys (``force`` or ``approach``, ``indenter_e``/``indenter_nu``,
+    ``eim_change_factor``, …; those of :class:`FrettingLoop`) and a
     ``wear`` dict (``law``, ``coefficient``, ``body``, ``cycles``, ``record_cycles``,
     ``step_fraction``, ``stability_fraction``, ``inhomogeneity_depth_cells``); ``grid`` overrides
     its grid. Bad keys raise :class:`HalfspaceError` (``TypeError`` for a value of the wrong type)
@@ -673,6 +697,20 @@ def fretting_wear3d(config: dict[str, Any], grid: int | None = None) -> Wear3dRe
     if not isinstance(config, dict):
         raise TypeError(f"config must be a dict of the fretting-wear3d keys, got {config!r}")
     return Wear3dResult(_fretting_wear3d(config, grid=_opt_count(grid, "grid")))
+
+
+def fretting_wear3d_estimate(config: dict[str, Any], grid: int | None = None) -> Wear3dEstimate:
+    """What :func:`fretting_wear3d` of the same ``config`` and ``grid`` would compute, as
+    ``halfspace fretting-wear3d --estimate``: runs nothing and writes nothing (the surface grid and
+    its checkerboard compliance ``C_min`` are evaluated, no contact is solved). Every wear step is
+    given the first step's ``ΔN₁ = ⌊min(η δ / r₀, β C_min / (k_p 4A))⌋ ≥ 1`` (docs/wear3d.md,
+    "The wear step and cycle jumping"; ``r₀`` the law's rate at Hertz's ``p₀ = 2E*a/(πR)``, over
+    the slip path ``4A``), so ``wear_steps = Σ ⌈L / ΔN₁⌉ + 1`` over the segments ``L`` between 0,
+    the ``record_cycles`` and ``cycles`` (docs/wear3d.md, "The work estimate"). The config is
+    checked as by :func:`fretting_wear3d`, with the same errors."""
+    if not isinstance(config, dict):
+        raise TypeError(f"config must be a dict of the fretting-wear3d keys, got {config!r}")
+    return Wear3dEstimate(_fretting_wear3d_estimate(config, grid=_opt_count(grid, "grid")))
 
 
 def _config(config: Any) -> dict[str, Any] | None:
@@ -691,7 +729,10 @@ class FrettingLoop:
     ``config`` holds the keys of ``halfspace fretting-loop --config`` (``radius``, ``e``, ``nu``,
     ``friction``, ``force`` or ``approach`` (exactly one), ``indenter_e`` and ``indenter_nu`` (an
     elastic sphere; absent: rigid), ``normal_steps``, ``amplitude``, ``shift_step``, ``grid``,
-    ``extent_over_a``, ``subsurface_over_a``, ``layout``, ``fibre_e_ratio``; ``inhomogeneity``: a
+    ``extent_over_a``, ``subsurface_over_a``, ``layout``, ``fibre_e_ratio``, ``inhomogeneous_body``,
+    ``surface_operator_radius_over_a``, ``eim_change_factor`` (η in (0, 1], default 1e-2: the
+    nested loop's EIM solved to η × the last outer change, docs/theory-sam.md#outer-loop-tolerances;
+    only with inhomogeneities on the nested loop); ``inhomogeneity``: a
     list of tables ``{"kind": "sphere", "x": .., "E": ..}`` — the keys of the spec — or of
     :class:`Inhomogeneity` / spec strings); the dict goes to the library as data, which checks it.
     ``fatigue``: a dict of the ``[fatigue]`` keys — the loop then records its closed cycle's stress

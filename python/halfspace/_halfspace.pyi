@@ -10,6 +10,7 @@ __all__ = [
     "axisym",
     "fretting_wear",
     "fretting_wear3d",
+    "fretting_wear3d_estimate",
     "contact3d",
     "fretting_map",
     "fretting_map_point",
@@ -26,7 +27,11 @@ FATIGUE_FIELDS: list[str]
 
 def axisym(config: dict[str, Any]) -> dict[str, Any]: ...
 def fretting_wear(config: dict[str, Any]) -> dict[str, Any]: ...
+# `config` of fretting_wear3d and _FrettingLoop: the `--config` keys of `fretting-wear3d` /
+# `fretting-loop` (docs/sam.md, docs/wear3d.md), one spelling each, e.g. `eim_change_factor`
+# (η in (0, 1], default 1e-2; nested loop with inhomogeneities only).
 def fretting_wear3d(config: dict[str, Any], grid: int | None = None) -> dict[str, Any]: ...
+def fretting_wear3d_estimate(config: dict[str, Any], grid: int | None = None) -> dict[str, Any]: ...
 def contact3d(
     config: dict[str, Any],
 ) -> tuple[dict[str, Any], dict[str, NDArray[np.float64]]]: ...

@@ -30,7 +30,8 @@ use halfspace::fretting_map::{crack_risk, run_map_with, MapError};
 use halfspace::fretting_wear::{WearConfig, WearRunCase};
 use halfspace::loop_fatigue::{evaluate_loop_fatigue, LoopFatigue, FATIGUE_FIELDS};
 use halfspace::records::{
-    contact_record, contact_summary, loop_summary, wear3d_summary, wear_summary,
+    contact_record, contact_summary, loop_summary, wear3d_estimate_summary, wear3d_summary,
+    wear_summary,
 };
 use halfspace::sam::drivers::fretting_loop::{FrettingLoop, LoopRow, POINT_LABELS};
 use halfspace::sam::drivers::fretting_map::{FrettingMap, MapPoint};
@@ -625,6 +626,29 @@ fn fretting_wear3d<'py>(
     Ok(d)
 }
 
+/// `fretting_wear3d_estimate(config, grid=None)`: the up-front estimate of the same run
+/// (`WearCase::estimate`, docs/wear3d.md#the-work-estimate), as `halfspace fretting-wear3d
+/// --estimate`: runs nothing, writes nothing. Every wear step is given the first step's
+/// `ΔN₁ = ⌊min(η δ / r₀, β C_min / (k_p 4A))⌋ ≥ 1` (docs/wear3d.md#the-wear-step-and-cycle-jumping;
+/// `r₀` the law's rate at Hertz's `p₀`, `q = μp₀`, over the slip path `4A`), so the wear steps are
+/// `Σ_segments ⌈L / ΔN₁⌉ + 1` over the segments `L` between 0, the record cycles and `cycles`.
+/// Returns a dict: the CLI's JSON keys (`records::wear3d_estimate_summary`).
+#[pyfunction]
+#[pyo3(signature = (config, grid=None))]
+fn fretting_wear3d_estimate<'py>(
+    py: Python<'py>,
+    config: &Bound<'py, PyAny>,
+    grid: Option<usize>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let table = config_table(config, "fretting-wear3d")?;
+    let case = Wear3dConfig::from_table(table, "config")
+        .map_err(config_error)?
+        .case(grid)
+        .map_err(err)?;
+    let estimate = case.estimate().map_err(err)?;
+    json_dict(py, &wear3d_estimate_summary(&case, &estimate))
+}
+
 fn row_dict<'py>(py: Python<'py>, r: &LoopRow) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     for (name, v) in LoopRow::FIELDS.iter().zip(r.values()) {
@@ -643,6 +667,7 @@ fn _halfspace(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(axisym, m)?)?;
     m.add_function(wrap_pyfunction!(fretting_wear, m)?)?;
     m.add_function(wrap_pyfunction!(fretting_wear3d, m)?)?;
+    m.add_function(wrap_pyfunction!(fretting_wear3d_estimate, m)?)?;
     m.add_function(wrap_pyfunction!(contact3d, m)?)?;
     m.add_function(wrap_pyfunction!(fretting_map, m)?)?;
     m.add_function(wrap_pyfunction!(fretting_map_point, m)?)?;

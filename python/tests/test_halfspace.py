@@ -422,6 +422,39 @@ def test_fretting_wear3d_equals_the_cli_bit_for_bit(tmp_path):
     assert hs.fretting_wear3d(TWIN3D, grid=8).wear_depth.shape == (8, 8)
 
 
+def test_fretting_wear3d_estimate_equals_the_cli_and_runs_nothing(tmp_path):
+    text = toml({k: v for k, v in TWIN3D.items() if k != "wear"}) + "[wear]\n" + toml(TWIN3D["wear"])
+    (tmp_path / "wear.toml").write_text(text.replace("'", '"'))
+    out = tmp_path / "out"
+    ref = cli("fretting-wear3d", "--config", str(tmp_path / "wear.toml"), "--out", str(out),
+              "--estimate")
+    e = hs.fretting_wear3d_estimate(TWIN3D)
+    assert isinstance(e, hs.Wear3dEstimate)
+    assert not out.exists() and sorted(tmp_path.iterdir()) == [tmp_path / "wear.toml"]
+    # The same keys, values and types as the CLI's JSON (one summary,
+    # halfspace_cases::records::wear3d_estimate_summary).
+    assert e.to_dict() == ref
+    for key, value in ref.items():
+        assert type(getattr(e, key)) is type(value), key
+    # The hand calculation of tests/cli_fretting_wear3d.rs (docs/wear3d.md#the-work-estimate):
+    # p0 = 2E*a/(πR) = 2.062 GPa, k p0 4A = 1.909e-10 m per cycle, ΔN1 = ⌊0.01 · 0.1 μm /
+    # 1.909e-10 m⌋ = 5, 1 + ⌈100/5⌉ + ⌈900/5⌉ = 201 steps, n + q + 201 · 4q = 806 increments.
+    assert e.cycles == 1000 and e.first_delta_cycles == 5.0
+    assert e.wear_steps == e.computed_cycles == 201.0
+    assert e.increments_per_cycle == 4.0 and e.increments == 806.0 and e.cells == 256.0
+    assert e.bytes > 0.0 and e.hours > 0.0
+    # The grid override is the CLI's --grid; a refused config is refused as by fretting_wear3d.
+    assert hs.fretting_wear3d_estimate(TWIN3D, grid=8).cells == 64.0
+    with pytest.raises(hs.HalfspaceError, match=re.escape("wear law")):
+        hs.fretting_wear3d_estimate(dict(TWIN3D, wear=dict(TWIN3D["wear"], law="hard")))
+    with pytest.raises(hs.HalfspaceError, match="eim_change_factor"):
+        hs.fretting_wear3d_estimate(dict(TWIN3D, eim_change_factor=0.5))
+    with pytest.raises(TypeError, match="dict of the fretting-wear3d keys"):
+        hs.fretting_wear3d_estimate("wear.toml")  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match="grid"):
+        hs.fretting_wear3d_estimate(TWIN3D, grid=2.5)  # type: ignore[arg-type]
+
+
 def test_fretting_wear3d_errors_name_the_key():
     def wear(**changes: object) -> dict:
         return dict(TWIN3D, wear=dict(TWIN3D["wear"], **changes))

@@ -63,6 +63,11 @@ pub struct LoopConfig {
     /// With `inhomogeneous_body = "surface-operator"`: radius over a of the candidate region the
     /// operator covers (default 1.3); refused with the nested loop.
     pub surface_operator_radius_over_a: Option<f64>,
+    /// The nested loop's EIM change factor `η` in (0, 1] (each outer pass's EIM solved to `η`
+    /// times the last outer change, docs/theory-sam.md#outer-loop-tolerances; absent: the
+    /// library's default); refused without inhomogeneities and with the surface operator (it
+    /// would be ignored).
+    pub eim_change_factor: Option<f64>,
 }
 
 /// The `inhomogeneous_body` key of [`LoopConfig`].
@@ -168,6 +173,7 @@ impl Default for LoopConfig {
             fatigue: None,
             inhomogeneous_body: InhomogeneousBody::Nested,
             surface_operator_radius_over_a: None,
+            eim_change_factor: None,
         }
     }
 }
@@ -620,6 +626,7 @@ fn loop_case(
         subsurface_depth: None,
         fatigue_depth: None,
         surface_operator_over_a: None,
+        eim_change_factor: None,
     };
     if !(cfg.subsurface_over_a.is_finite() && cfg.subsurface_over_a >= 0.0) {
         return Err(SpecError(format!(
@@ -686,6 +693,22 @@ fn loop_case(
             case.surface_operator_over_a =
                 Some(r.unwrap_or(DEFAULT_SURFACE_OPERATOR_RADIUS_OVER_A));
         }
+    }
+    if let Some(eta) = cfg.eim_change_factor {
+        if case.inhomogeneities.is_empty() || case.surface_operator_over_a.is_some() {
+            return Err(SpecError(
+                "fretting loop config: eim_change_factor is read only by the nested contact ↔ \
+                 EIM loop (inhomogeneities with inhomogeneous_body = \"nested\"); without it the \
+                 key would be ignored"
+                    .into(),
+            ));
+        }
+        if !(eta > 0.0 && eta <= 1.0) {
+            return Err(SpecError(format!(
+                "fretting loop config: eim_change_factor must lie in (0, 1], got {eta}"
+            )));
+        }
+        case.eim_change_factor = Some(eta);
     }
     case.validate()
         .map_err(|e| SpecError(format!("fretting loop config: {e}")))?;
@@ -872,6 +895,39 @@ mod tests {
         .case(None)
         .unwrap_err();
         assert!(e.0.contains("needs inhomogeneities"), "{e}");
+    }
+
+    #[test]
+    fn the_eim_change_factor_key_reaches_the_nested_loop_and_is_refused_where_ignored() {
+        let base = "grid = 8\n[wear]\nlaw = \"archard\"\ncoefficient = 1e-15\nbody = \"indenter\"\ncycles = 10\n";
+        let case = |text: &str| Wear3dConfig::from_toml(text, "cfg").unwrap().case(Some(16));
+        let c = case(&format!(
+            "layout = \"fibre-centred\"\neim_change_factor = 1e-2\n{base}"
+        ))
+        .unwrap();
+        assert_eq!(c.fretting.eim_change_factor, Some(1e-2));
+        let nested = c
+            .fretting
+            .nested_params(crate::sam::contact::NestedParams::default());
+        assert_eq!(nested.eim_change_factor, 1e-2);
+        // Absent: the library's default.
+        let c = case(&format!("layout = \"fibre-centred\"\n{base}")).unwrap();
+        assert_eq!(c.fretting.eim_change_factor, None);
+        for bad in ["0", "-1e-2", "1.5", "nan"] {
+            let e = case(&format!(
+                "layout = \"fibre-centred\"\neim_change_factor = {bad}\n{base}"
+            ))
+            .unwrap_err();
+            assert!(e.0.contains("eim_change_factor must lie in (0, 1]"), "{e}");
+        }
+        // Read by nothing on a homogeneous body or on the surface operator: refused by name.
+        for extra in [
+            "",
+            "layout = \"fibre-centred\"\ninhomogeneous_body = \"surface-operator\"\n",
+        ] {
+            let e = case(&format!("{extra}eim_change_factor = 1e-2\n{base}")).unwrap_err();
+            assert!(e.0.contains("eim_change_factor is read only"), "{e}");
+        }
     }
 }
 

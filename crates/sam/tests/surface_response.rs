@@ -4,7 +4,9 @@
 //! subsurface stresses at the points A–D and a resumed loop.
 
 use halfspace_sam::contact::{BodyResponse, ContactParams, ContactProblem};
-use halfspace_sam::contact::{InhomogeneousContact, NestedParams};
+use halfspace_sam::contact::{
+    InhomogeneousContact, NestedParams, DEFAULT_EIM_CHANGE_FACTOR, REFERENCE_EIM_CHANGE_FACTOR,
+};
 use halfspace_sam::drivers::fretting_loop::{FrettingLoop, LoopCase};
 use halfspace_sam::eim::{solve_under_tractions, EimParams, FibreLayout, Inhomogeneity, Shape};
 use halfspace_sam::normal::NormalLoad;
@@ -242,23 +244,39 @@ fn a_resumed_loop_on_the_operator_repeats_the_uninterrupted_one() {
     assert_eq!(whole.rows(), resumed.rows());
 }
 
-/// The nested loop with its EIM solves loosened to 10⁻² (instead of 10⁻³) of the last outer change
-/// (`NestedParams::eim_change_factor`, docs/theory-sam.md#outer-loop-tolerances) against the
-/// reference nested loop, increment by increment: p, q₁, q₂ within 1e-6 p₀ with fewer EIM
-/// applications; a factor outside (0, 1] is refused.
+/// The nested loop with its default EIM change factor (`NestedParams::eim_change_factor` = 10⁻²:
+/// each pass's EIM solved to 10⁻² of the last outer change, docs/theory-sam.md#outer-loop-tolerances)
+/// against the reference nested loop (10⁻³), increment by increment over the whole loop: p, q₁, q₂
+/// within 1e-6 p₀ with fewer EIM applications; a factor outside (0, 1] is refused.
 #[test]
 fn the_loop_with_looser_eim_solves_reproduces_the_reference() {
     let case = composite(2.0, None);
-    let mut reference = FrettingLoop::new(case.clone()).unwrap();
-    let loose = NestedParams {
-        eim_change_factor: 1e-2,
+    assert_eq!(
+        NestedParams::default().eim_change_factor,
+        DEFAULT_EIM_CHANGE_FACTOR
+    );
+    let reference_params = NestedParams {
+        eim_change_factor: REFERENCE_EIM_CHANGE_FACTOR,
         ..NestedParams::default()
     };
-    let mut fast = FrettingLoop::with_params(case.clone(), loose).unwrap();
+    let mut reference = FrettingLoop::with_params(case.clone(), reference_params).unwrap();
+    let mut fast = FrettingLoop::new(case.clone()).unwrap();
+    // The factor set on the case (the config key `eim_change_factor`) is the same loop as the
+    // one passed as a parameter, bit for bit.
+    let keyed_case = LoopCase {
+        eim_change_factor: Some(REFERENCE_EIM_CHANGE_FACTOR),
+        ..case.clone()
+    };
+    let mut keyed = FrettingLoop::new(keyed_case.clone()).unwrap();
     let p0 = reference.case().hertz_pressure();
     let mut worst: f64 = 0.0;
     while reference.step().unwrap().is_some() {
         fast.step().unwrap().unwrap();
+        keyed.step().unwrap().unwrap();
+        assert_eq!(
+            keyed.solver().problem().state(),
+            reference.solver().problem().state()
+        );
         let (s, f) = (
             reference.solver().problem().state(),
             fast.solver().problem().state(),
@@ -272,7 +290,7 @@ fn the_loop_with_looser_eim_solves_reproduces_the_reference() {
     let eim = |lp: &FrettingLoop| lp.rows().iter().map(|r| r.eim_iterations).sum::<usize>();
     let outer = |lp: &FrettingLoop| lp.rows().iter().map(|r| r.outer_iterations).sum::<usize>();
     eprintln!(
-        "EIM factor 1e-2 vs 1e-3: max |Δp|, |Δq| over {} increments = {:.2e} p0; EIM applications {} / {}; outer passes {} / {}",
+        "EIM factor {DEFAULT_EIM_CHANGE_FACTOR:e} vs {REFERENCE_EIM_CHANGE_FACTOR:e}: max |Δp|, |Δq| over {} increments = {:.2e} p0; EIM applications {} / {}; outer passes {} / {}",
         reference.rows().len(),
         worst / p0,
         eim(&fast),
@@ -290,6 +308,12 @@ fn the_loop_with_looser_eim_solves_reproduces_the_reference() {
         let err = FrettingLoop::with_params(case.clone(), params)
             .err()
             .expect("refused");
+        assert!(err.to_string().contains("EIM change factor"), "{err}");
+        let keyed_bad = LoopCase {
+            eim_change_factor: Some(bad),
+            ..keyed_case.clone()
+        };
+        let err = FrettingLoop::new(keyed_bad).err().expect("refused");
         assert!(err.to_string().contains("EIM change factor"), "{err}");
     }
 }

@@ -44,9 +44,10 @@ pub struct NestedParams {
     /// eigen-displacements of the last two increments (instead of `x_n`): on the loop's equal
     /// steps it removes most of the first outer change.
     pub predictor: bool,
-    /// The EIM of an outer pass is solved to this factor times the last outer change (clamped
-    /// to `[eim.tolerance, 10⁻³]`; docs/theory-sam.md#outer-loop-tolerances): 10⁻³ on the
-    /// reference path.
+    /// The EIM of an outer pass is solved to this factor `η` times the last outer change
+    /// (clamped to `[eim.tolerance, 10⁻³]`; docs/theory-sam.md#outer-loop-tolerances): default
+    /// 10⁻² ([`DEFAULT_EIM_CHANGE_FACTOR`]); [`REFERENCE_EIM_CHANGE_FACTOR`] = 10⁻³ on the
+    /// reference path it was checked against.
     pub eim_change_factor: f64,
     /// How the body's surface response enters each increment: the nested contact ↔ EIM loop of
     /// [LN11] Fig. 2 (the reference), or the surface-response operator built once
@@ -88,6 +89,16 @@ pub struct NestedWarmStart {
 /// The loosest alternation tolerance of an early outer pass's contact solve.
 pub const LOOSE_CONTACT_CEILING: f64 = 1e-3;
 
+/// The default EIM change factor `η` ([`NestedParams::eim_change_factor`]): each outer pass's EIM
+/// solved to 10⁻² of the last outer change. On [LN11]'s composite loop it stays within 6.9e-7 p₀ of
+/// the reference path ([`REFERENCE_EIM_CHANGE_FACTOR`]) at every increment at 64² (1.0e-7 at 32²)
+/// with a third fewer EIM applications (docs/theory-sam.md#outer-loop-tolerances).
+pub const DEFAULT_EIM_CHANGE_FACTOR: f64 = 1e-2;
+
+/// The EIM change factor of the reference nested loop (10⁻³: each pass's EIM converged well below
+/// the outer change), against which [`DEFAULT_EIM_CHANGE_FACTOR`] is checked.
+pub const REFERENCE_EIM_CHANGE_FACTOR: f64 = 1e-3;
+
 impl Default for NestedParams {
     fn default() -> Self {
         Self {
@@ -98,7 +109,7 @@ impl Default for NestedParams {
             inexact_contact: true,
             anderson_depth: 3,
             predictor: true,
-            eim_change_factor: 1e-3,
+            eim_change_factor: DEFAULT_EIM_CHANGE_FACTOR,
             body: BodyResponse::Nested,
         }
     }
@@ -412,7 +423,7 @@ impl InhomogeneousContact {
         let mut seconds = NestedSeconds::default();
         let clock = std::time::Instant::now;
         let omega = self.params.relaxation;
-        // Inexact inner solves: the EIM is solved to `eim_change_factor` (1e-3) of the last outer
+        // Inexact inner solves: the EIM is solved to `eim_change_factor` (1e-2) of the last outer
         // change (never looser than 1e-3, never tighter than its own tolerance), so early outer
         // passes are cheap and the last ones are converged well below the outer tolerance
         // (docs/theory-sam.md#outer-loop-tolerances).

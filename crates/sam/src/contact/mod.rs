@@ -11,7 +11,7 @@ pub mod solver;
 pub use force_control::shift_for_force;
 pub use inhomogeneous::{
     BodyResponse, ContactWork, InhomogeneousContact, NestedInfo, NestedParams, NestedSeconds,
-    NestedWarmStart, LOOSE_CONTACT_CEILING,
+    NestedWarmStart, DEFAULT_EIM_CHANGE_FACTOR, LOOSE_CONTACT_CEILING, REFERENCE_EIM_CHANGE_FACTOR,
 };
 pub use problem::{ContactParams, ContactProblem, ContactState, IncrementInfo, INEXACT_CEILING};
 pub use solver::ContactSolver;

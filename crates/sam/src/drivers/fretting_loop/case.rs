@@ -66,6 +66,11 @@ pub struct LoopCase {
     /// operator, built once over the cells within `r · a` of the axis (`a` the Hertz radius),
     /// applied instead of the EIM solves. Ignored without inhomogeneities.
     pub surface_operator_over_a: Option<f64>,
+    /// The EIM change factor `η` of the nested loop (each outer pass's EIM solved to `η` times
+    /// the last outer change, docs/theory-sam.md#outer-loop-tolerances; in (0, 1]): `None` — the
+    /// default of [`NestedParams::eim_change_factor`] (or the one passed to
+    /// [`super::FrettingLoop::with_params`]). Used by the nested loop only.
+    pub eim_change_factor: Option<f64>,
 }
 
 impl Default for LoopCase {
@@ -87,6 +92,7 @@ impl Default for LoopCase {
             subsurface_depth: None,
             fatigue_depth: None,
             surface_operator_over_a: None,
+            eim_change_factor: None,
         }
     }
 }
@@ -180,9 +186,11 @@ impl LoopCase {
     }
 
     /// `base` with the body response of [`LoopCase::surface_operator_over_a`]
-    /// ([`BodyResponse`]): the nested loop, or the surface operator over the cells within `r · a`.
+    /// ([`BodyResponse`]): the nested loop, or the surface operator over the cells within `r · a`;
+    /// and with [`LoopCase::eim_change_factor`] when given.
     pub fn nested_params(&self, base: NestedParams) -> NestedParams {
         NestedParams {
+            eim_change_factor: self.eim_change_factor.unwrap_or(base.eim_change_factor),
             body: match self.surface_operator_over_a {
                 Some(r) => BodyResponse::SurfaceOperator {
                     radius: r * self.hertz_radius(),
@@ -286,6 +294,13 @@ impl LoopCase {
         }
         if let Some(r) = self.surface_operator_over_a {
             crate::error::positive("surface_operator_radius_over_a", r)?;
+        }
+        if let Some(eta) = self.eim_change_factor {
+            NestedParams {
+                eim_change_factor: eta,
+                ..NestedParams::default()
+            }
+            .validate()?;
         }
         Ok(())
     }
