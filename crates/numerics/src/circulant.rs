@@ -125,6 +125,28 @@ impl Circulant2d {
         self.single.as_mut().expect("built above").apply(x, y)
     }
 
+    /// [`Circulant2d::apply`] to the field whose value at cell `c` is `x(c)`, evaluated while it
+    /// is transformed ([`Fft2d::convolve_real_of`]; the same result bit for bit).
+    pub fn apply_of<F: Fn(usize) -> f64 + Sync>(
+        &mut self,
+        x: F,
+        y: &mut [f64],
+    ) -> Result<(), NumericsError> {
+        self.fft.convolve_real_of(x, &self.symbol, &mut self.hat, y)
+    }
+
+    /// [`Circulant2d::apply_single`] to the field `x(c)` ([`Circulant2d::apply_of`]).
+    pub fn apply_single_of<F: Fn(usize) -> f64 + Sync>(
+        &mut self,
+        x: F,
+        y: &mut [f64],
+    ) -> Result<(), NumericsError> {
+        if self.single.is_none() {
+            self.single = Some(SingleProduct::new(&self.fft, &self.symbol)?);
+        }
+        self.single.as_mut().expect("built above").apply_of(x, y)
+    }
+
     /// Frees what [`Circulant2d::apply_single`] holds.
     pub fn drop_single(&mut self) {
         self.single = None;
@@ -168,6 +190,16 @@ mod tests {
             };
             let mut single = vec![0.0; n1 * n2];
             op.apply_single(&x, &mut single).unwrap();
+            // The field given cell by cell: the same products bit for bit.
+            let (mut of, mut single_of) = (vec![0.0; n1 * n2], vec![0.0; n1 * n2]);
+            op.apply_of(|k| x[k], &mut of).unwrap();
+            op.apply_single_of(|k| x[k], &mut single_of).unwrap();
+            let same =
+                |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits());
+            assert!(
+                same(&y, &of) && same(&single, &single_of),
+                "{n1}×{n2} by cell"
+            );
             let (mut worst, mut worst_single): (f64, f64) = (0.0, 0.0);
             for i in 0..n1 as isize {
                 for j in 0..n2 as isize {

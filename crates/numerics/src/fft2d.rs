@@ -256,14 +256,17 @@ impl Fft2d {
     /// The spectrum of a kernel even in both offsets, `K(m, n) = K(|m|, |n|)`, from its quadrant
     /// `quadrant[m N₂ + n] = K(m, n)` (`0 ≤ m < N₁`, `0 ≤ n < N₂`). The DFT of a real sequence even
     /// in both indices is real, so only the real part is stored (`out.len()` =
-    /// [`Fft2d::spectrum_len`]), divided by `4N₁N₂` as in [`Fft2d::kernel_spectrum`]. Padded cores
-    /// only.
+    /// [`Fft2d::spectrum_len`]), divided by `4N₁N₂` as in [`Fft2d::kernel_spectrum`]. `work` is
+    /// space for the complex spectrum (overwritten; the operator's product buffer, so that setup
+    /// touches no memory the products do not). Padded cores only.
     pub fn even_kernel_spectrum(
         &mut self,
         quadrant: &[f64],
         out: &mut [f64],
+        work: &mut [C64],
     ) -> Result<(), NumericsError> {
         self.require_padded()?;
+        self.check_spectrum(work)?;
         let (n1, n2) = (self.n1, self.n2);
         if quadrant.len() != n1 * n2 || out.len() != self.spectrum_len() {
             return Err(NumericsError::LengthMismatch {
@@ -290,10 +293,9 @@ impl Fft2d {
                 };
             }
         };
-        let mut spec = self.new_spectrum();
-        self.forward_padded(&fill, &mut spec, 0..p1, None);
+        self.forward_padded(&fill, work, 0..p1, None);
         let scale = 1.0 / (p1 * p2) as f64;
-        for (o, s) in out.iter_mut().zip(&spec) {
+        for (o, s) in out.iter_mut().zip(&*work) {
             *o = s.re * scale;
         }
         Ok(())
@@ -514,16 +516,59 @@ impl<T: Precision> Fft2d<T> {
         spec: &mut [Complex<T>],
         y: &mut [f64],
     ) -> Result<(), NumericsError> {
-        let (n1, n2) = (self.n1, self.n2);
-        for v in [x.len(), y.len()] {
-            if v != n1 * n2 {
-                return Err(NumericsError::LengthMismatch {
-                    what: "grid field",
-                    expected: n1 * n2,
-                    got: v,
-                });
+        let n2 = self.n2;
+        self.check_field(x.len())?;
+        let fill = |a: usize, row: &mut [T]| {
+            for (r, v) in row[..n2].iter_mut().zip(&x[a * n2..(a + 1) * n2]) {
+                *r = T::round_from(*v);
             }
+            row[n2..].fill(T::zero());
+        };
+        self.convolve_real_rows(&fill, k, spec, y)
+    }
+
+    /// [`Fft2d::convolve_real`] of the field whose value at cell `c = i N₂ + j` is `x(c)`,
+    /// evaluated while the rows are padded: a field written only to be transformed need not be
+    /// stored (the preconditioner's input of the normal solver, docs/performance.md). Equal bit
+    /// for bit to [`Fft2d::convolve_real`] of the stored field.
+    pub fn convolve_real_of<F: Fn(usize) -> f64 + Sync>(
+        &mut self,
+        x: F,
+        k: &[T],
+        spec: &mut [Complex<T>],
+        y: &mut [f64],
+    ) -> Result<(), NumericsError> {
+        let n2 = self.n2;
+        let fill = |a: usize, row: &mut [T]| {
+            for (b, r) in row[..n2].iter_mut().enumerate() {
+                *r = T::round_from(x(a * n2 + b));
+            }
+            row[n2..].fill(T::zero());
+        };
+        self.convolve_real_rows(&fill, k, spec, y)
+    }
+
+    fn check_field(&self, len: usize) -> Result<(), NumericsError> {
+        if len != self.n1 * self.n2 {
+            return Err(NumericsError::LengthMismatch {
+                what: "grid field",
+                expected: self.n1 * self.n2,
+                got: len,
+            });
         }
+        Ok(())
+    }
+
+    /// The fused product of the field whose padded row `a` `fill(a, row)` writes.
+    fn convolve_real_rows(
+        &mut self,
+        fill: &(dyn Fn(usize, &mut [T]) + Sync),
+        k: &[T],
+        spec: &mut [Complex<T>],
+        y: &mut [f64],
+    ) -> Result<(), NumericsError> {
+        let n1 = self.n1;
+        self.check_field(y.len())?;
         self.check_spectrum(spec)?;
         if k.len() != spec.len() {
             return Err(NumericsError::LengthMismatch {
@@ -532,13 +577,7 @@ impl<T: Precision> Fft2d<T> {
                 got: k.len(),
             });
         }
-        let fill = |a: usize, row: &mut [T]| {
-            for (r, v) in row[..n2].iter_mut().zip(&x[a * n2..(a + 1) * n2]) {
-                *r = T::round_from(*v);
-            }
-            row[n2..].fill(T::zero());
-        };
-        self.forward_padded(&fill, spec, 0..n1, Some(k));
+        self.forward_padded(fill, spec, 0..n1, Some(k));
         self.inverse_row_phase(spec, 0..n1, y);
         Ok(())
     }
@@ -774,6 +813,15 @@ impl SingleProduct {
     pub fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), NumericsError> {
         self.fft.convolve_real(x, &self.k, &mut self.hat, y)
     }
+
+    /// [`SingleProduct::apply`] to the field `x(c)` ([`Fft2d::convolve_real_of`]).
+    pub fn apply_of<F: Fn(usize) -> f64 + Sync>(
+        &mut self,
+        x: F,
+        y: &mut [f64],
+    ) -> Result<(), NumericsError> {
+        self.fft.convolve_real_of(x, &self.k, &mut self.hat, y)
+    }
 }
 
 /// One block of a transpose: `dst[r·len + b] = src[b·stride + start + r]` for `r < dst.len()/len`,
@@ -864,13 +912,14 @@ mod tests {
                 fft.inverse(&mut spec, &mut apart).unwrap();
                 let mut fused = vec![0.0; n1 * n2];
                 fft.convolve_real(&x, &k, &mut spec, &mut fused).unwrap();
-                assert!(
-                    apart
-                        .iter()
-                        .zip(&fused)
-                        .all(|(a, b)| a.to_bits() == b.to_bits()),
-                    "{n1}×{n2} {mode:?}"
-                );
+                let same =
+                    |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits());
+                assert!(same(&apart, &fused), "{n1}×{n2} {mode:?}");
+                // The field given cell by cell.
+                let mut of = vec![0.0; n1 * n2];
+                fft.convolve_real_of(|c| x[c], &k, &mut spec, &mut of)
+                    .unwrap();
+                assert!(same(&fused, &of), "{n1}×{n2} {mode:?} (by cell)");
             }
         }
     }

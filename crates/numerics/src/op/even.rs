@@ -62,9 +62,10 @@ impl EvenKernelOperator for EvenConvolution2d {
         check_quadrant(fft, &quadrant)?;
         let mut fft = fft.clone();
         let mut spectrum = vec![0.0; fft.spectrum_len()];
-        fft.even_kernel_spectrum(&quadrant, &mut spectrum)?;
+        let mut hat = fft.new_spectrum();
+        fft.even_kernel_spectrum(&quadrant, &mut spectrum, &mut hat)?;
         Ok(Self {
-            hat: fft.new_spectrum(),
+            hat,
             fft,
             quadrant,
             spectrum,

@@ -16,13 +16,17 @@
 //!   cells twice as large (recursively, down to [`COARSEST_SIDE`] cells per side), and the
 //!   bilinear interpolation of that pressure is the fine grid's warm start;
 //! * **mixed precision** for a cold start: the DC-FFT products are computed in single precision
-//!   (`f32` transforms) until the change of `p` falls below [`SINGLE_PRECISION_SWITCH`], then in
-//!   double precision from an exact `u = K*p` to the tolerance, so the converged answer meets the
-//!   tolerance with `f64` products as before (the coarse solves of the continuation, whose
-//!   tolerance is [`COARSE_TOLERANCE`], stay in single precision). The preconditioner, which only
-//!   shapes the direction (the step length and the stopping test use the `K*` products), stays in
-//!   single precision for the whole solve: the same iterations on Hertz 128²–1024², 0–6 % less
-//!   processor time. docs/performance.md, "Mixed precision".
+//!   (`f32` transforms) until the change of `p` falls below [`SINGLE_PRECISION_SWITCH`]; then the
+//!   displacement `u = K*p` is recomputed in double precision (and so is every later full
+//!   product) and the iteration goes on to the tolerance, so the gap of the stopping test carries
+//!   no single-precision error of `u` itself (the coarse solves of the continuation, whose
+//!   tolerance is [`COARSE_TOLERANCE`], stay in single precision). The step products `K*t` stay
+//!   in single precision after the switch: `u` then changes by `τ K*t`, steps of relative size
+//!   below the switch, so their rounding (`~1e-7` of the step) reaches `u` at `~1e-11` (Hertz
+//!   128²–1024² at tol 1e-8: the same iterations, the same distance from a 1e-13 solution,
+//!   6–11 % less processor time); below [`SINGLE_STEPS_FLOOR`] (tighter tolerances only) they
+//!   go to double precision too. The preconditioner, which only shapes the direction, stays in
+//!   single precision for the whole solve. docs/performance.md, "Mixed precision".
 
 use std::marker::PhantomData;
 
@@ -61,6 +65,13 @@ const SPARSE_COLUMNS: usize = 4;
 /// 1e-4: 12 (6) / 13 (6) / 12 (5) / 13 (5); 3e-5: 12 (7) / 13 (8) / 13 (6) / 13 (6); 1e-5:
 /// 12 (7) / 14 (9) / 16 (10) / 16 (9); 1e-6: 13 (9) / 15 (10) / 21 (15) / 17 (10) (issue 23).
 pub const SINGLE_PRECISION_SWITCH: f64 = 1e-4;
+
+/// Change of `p` below which a mixed-precision solve computes its step products `K*t` in double
+/// precision too (after an exact `u = K*p`). Above it they stay single after the switch: their
+/// rounding, `~1e-7` of each step, accumulates in `u` to a floor of `~3e-11` of `p_max` (Hertz
+/// 128², tol 1e-13, measured), below what a tolerance down to this floor asks for; tighter
+/// tolerances then finish in double precision as before (issue 23).
+pub const SINGLE_STEPS_FLOOR: f64 = 1e-10;
 
 /// Nested continuation stops coarsening below this many cells per side. 32 rather than 64: on
 /// Hertz at tol 1e-8 the 64² grid then starts warm (7 iterations instead of 17, 13 of them with a
@@ -363,7 +374,14 @@ impl<S: OperatorSet> NormalSolver<S> {
             }
         }
         let single = cold && params.mixed_precision;
-        let mut info = self.iterate(h, force_control, target, p, params, single, finish)?;
+        let result = self.iterate(h, force_control, target, p, params, single, finish);
+        if single {
+            // The single-precision copy of the operator serves cold solves only.
+            if let Some(w) = self.work.as_mut() {
+                w.op.drop_single();
+            }
+        }
+        let mut info = result?;
         info.coarse_iterations = coarse_iterations;
         info.levels = levels;
         Ok(info)
@@ -372,9 +390,12 @@ impl<S: OperatorSet> NormalSolver<S> {
     /// The (preconditioned, incremental) Polonsky–Keer iteration from `p` (docs/theory-sam.md#normal-contact steps 1–10).
     ///
     /// With `single`, the `K*` products are single-precision ones until the change falls below
-    /// [`SINGLE_PRECISION_SWITCH`] (or the tolerance, if larger); then `u` is recomputed exactly
-    /// and the iteration goes on in double precision, unless `finish` allows stopping in single.
-    /// The preconditioner's products stay in single precision for the whole of such a solve.
+    /// [`SINGLE_PRECISION_SWITCH`] (or the tolerance, if larger); then `u = K*p` is recomputed in
+    /// double precision (and so is every later full product), unless `finish` allows stopping in
+    /// single. The step products `K*t` stay in single precision until the change falls below
+    /// [`SINGLE_STEPS_FLOOR`] (after the switch `u` changes by `τ K*t`, a change of relative
+    /// size below the switch, so their `f32` rounding, `~1e-7` of the step, enters `u` at
+    /// `~1e-11`), the preconditioner's for the whole of such a solve.
     #[allow(clippy::too_many_arguments)]
     fn iterate(
         &mut self,
@@ -383,7 +404,7 @@ impl<S: OperatorSet> NormalSolver<S> {
         target: f64,
         p: &mut [f64],
         params: &NormalParams,
-        mut single: bool,
+        single: bool,
         finish: Finish,
     ) -> Result<NormalInfo, SamError> {
         let grid = self.grid;
@@ -417,7 +438,10 @@ impl<S: OperatorSet> NormalSolver<S> {
             w.preconditioner = Some(Circulant2d::inverse_half_space_on(periodic, d1, d2)?);
         }
         let chunks = Chunks::new(n);
-        let single_preconditioner = single;
+        // `u = K*p` in single precision until the switch, the step products `K*t` until the
+        // change falls below SINGLE_STEPS_FLOOR, the preconditioner for the whole of a
+        // mixed-precision solve.
+        let (mut single_u, mut single_steps) = (single, single);
         let mut g_old = 1.0;
         let mut conjugate = false;
         let mut approach = target;
@@ -425,12 +449,13 @@ impl<S: OperatorSet> NormalSolver<S> {
         let mut exact_u = false;
         let offset = if force_control { 0.0 } else { target };
         let preconditioned = params.preconditioned && w.preconditioner.is_some();
-        // Seven passes over the grid per iteration (each field read as few times as possible), in
-        // chunks on rayon's threads on large grids with per-chunk sums (`passes`).
+        // Six passes over the grid per iteration (each field read as few times as possible; seven
+        // unpreconditioned), in chunks on rayon's threads on large grids with per-chunk sums
+        // (`passes`).
         for it in 1..=params.max_iterations {
             // 1–2: gap and its mean over the contact set I (the approach, under force control).
             if !params.incremental || !exact_u || it % REFRESH_INTERVAL == 1 {
-                if single {
+                if single_u {
                     w.op.apply_field_single(p, &mut w.u)?;
                 } else {
                     w.op.apply_field(p, &mut w.u)?;
@@ -460,30 +485,26 @@ impl<S: OperatorSet> NormalSolver<S> {
                 mean = 0.0;
             }
             // 3–4: (preconditioned) conjugate direction z on I, G = Σ_I g·z, with z̄ (force
-            // control) taken out of z: Σ_I g (z − z̄) = Σ_I g z − z̄ Σ_I g.
-            chunks.run(&mut w.sums, [&mut w.g, &mut w.r], |r, [g, rr]| {
-                let pc = &pp[r];
-                let [gg] = sum_lanes(g.len(), |i| {
-                    g[i] -= mean;
-                    let inside = pc[i] > 0.0;
-                    rr[i] = if inside { g[i] } else { 0.0 };
-                    [if inside { g[i] * g[i] } else { 0.0 }]
-                });
-                [gg, 0.0, 0.0, 0.0]
-            });
-            let (big_g, zmean) = if preconditioned {
+            // control) taken out of z: Σ_I g (z − z̄) = Σ_I g z − z̄ Σ_I g. The gap minus its mean,
+            // `g − shift`, enters every later pass: preconditioned, `g` keeps the mean and the
+            // preconditioner's input `R(g − ḡ)` is evaluated as it is transformed (no pass that
+            // only writes it); unpreconditioned, a pass subtracts the mean and writes `R g`.
+            let (big_g, zmean, shift) = if preconditioned {
                 let pre = w.preconditioner.as_mut().expect("preconditioned");
-                if single_preconditioner {
-                    pre.apply_single(&w.r, &mut w.z)?;
+                let g = &w.g;
+                let restricted = |k: usize| if pp[k] > 0.0 { g[k] - mean } else { 0.0 };
+                if single {
+                    pre.apply_single_of(restricted, &mut w.z)?;
                 } else {
-                    pre.apply(&w.r, &mut w.z)?;
+                    pre.apply_of(restricted, &mut w.z)?;
                 }
-                let (z, g) = (&w.z, &w.g);
+                let z = &w.z;
                 chunks.run(&mut w.sums, [], |r, []| {
                     let (z, g, pc) = (&z[r.clone()], &g[r.clone()], &pp[r]);
                     let [sz, sgz, sg] = sum_lanes(z.len(), |i| {
                         if pc[i] > 0.0 {
-                            [z[i], g[i] * z[i], g[i]]
+                            let gi = g[i] - mean;
+                            [z[i], gi * z[i], gi]
                         } else {
                             [0.0, 0.0, 0.0]
                         }
@@ -492,9 +513,19 @@ impl<S: OperatorSet> NormalSolver<S> {
                 });
                 let [sz, sgz, sg, _] = total(&w.sums);
                 let zmean = if force_control { sz / count } else { 0.0 };
-                (sgz - zmean * sg, zmean)
+                (sgz - zmean * sg, zmean, mean)
             } else {
-                (total(&w.sums)[0], 0.0)
+                chunks.run(&mut w.sums, [&mut w.g, &mut w.r], |r, [g, rr]| {
+                    let pc = &pp[r];
+                    let [gg] = sum_lanes(g.len(), |i| {
+                        g[i] -= mean;
+                        let inside = pc[i] > 0.0;
+                        rr[i] = if inside { g[i] } else { 0.0 };
+                        [if inside { g[i] * g[i] } else { 0.0 }]
+                    });
+                    [gg, 0.0, 0.0, 0.0]
+                });
+                (total(&w.sums)[0], 0.0, 0.0)
             };
             let beta = if conjugate { big_g / g_old } else { 0.0 };
             g_old = big_g;
@@ -513,7 +544,7 @@ impl<S: OperatorSet> NormalSolver<S> {
             });
             // 5–6: step length τ = Σ g t / Σ (r − r̄) t with r = K*t (the product of the
             // iteration); Σ(r − r̄)t = Σ r t − r̄ Σ t.
-            if single {
+            if single_steps {
                 w.op.apply_field_single(&w.t, &mut w.r)?;
             } else {
                 w.op.apply_field(&w.t, &mut w.r)?;
@@ -523,7 +554,7 @@ impl<S: OperatorSet> NormalSolver<S> {
                 let (t, rk, g, pc) = (&t[r.clone()], &rk[r.clone()], &g[r.clone()], &pp[r]);
                 sum_lanes(t.len(), |i| {
                     if pc[i] > 0.0 {
-                        [g[i] * t[i], rk[i] * t[i], rk[i], t[i]]
+                        [(g[i] - shift) * t[i], rk[i] * t[i], rk[i], t[i]]
                     } else {
                         [0.0; 4]
                     }
@@ -568,8 +599,8 @@ impl<S: OperatorSet> NormalSolver<S> {
                                 pc[i] = free;
                                 [free]
                             }
-                        } else if g[i] < 0.0 {
-                            pc[i] = -tau * g[i];
+                        } else if g[i] - shift < 0.0 {
+                            pc[i] = -tau * (g[i] - shift);
                             note(r.start + i, pc[i]);
                             overlap = true;
                             [pc[i]]
@@ -628,15 +659,21 @@ impl<S: OperatorSet> NormalSolver<S> {
             }
             let residual = change / (s * sum);
             let converged =
-                residual < params.tolerance && (!single || matches!(finish, Finish::Single));
-            if single && !converged && residual < SINGLE_PRECISION_SWITCH.max(params.tolerance) {
-                // To double precision: the exact u = K*p next, and the direction restarted (kept
-                // conjugate, the directions built on single-precision gaps stalled the solve:
-                // 512², 12 → 50 iterations).
-                single = false;
+                residual < params.tolerance && (!single_u || matches!(finish, Finish::Single));
+            if single_u && !converged && residual < SINGLE_PRECISION_SWITCH.max(params.tolerance) {
+                // u to double precision: the exact u = K*p next, and the direction restarted
+                // (kept conjugate, the directions built on single-precision gaps stalled the
+                // solve: 512², 12 → 50 iterations). The steps τ K*t stay single: their rounding
+                // is relative to the step, which is small from here on.
+                single_u = false;
                 exact_u = false;
                 conjugate = false;
-                w.op.drop_single();
+            } else if single_steps && !single_u && !converged && residual < SINGLE_STEPS_FLOOR {
+                // A tolerance below the floor: the steps to double precision too, from an exact
+                // u (the single-precision steps' rounding in u is gone) and a new direction.
+                single_steps = false;
+                exact_u = false;
+                conjugate = false;
             }
             if converged {
                 let contact_cells = p.iter().filter(|v| **v > 0.0).count();
