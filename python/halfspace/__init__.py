@@ -525,8 +525,8 @@ class FatigueResult(Result):
     (Crossland, Dang Van: dimensionless; SWT: Pa; Fatemi–Socie: dimensionless), ``None`` if not
     finite; ``*_max_at`` its cell centre ``[x, y, z]`` (m, z the depth). ``fatigue``: the
     evaluation's counts and seconds (``cells``, ``layers``, ``increments``,
-    ``surface_layer``, ``invariant_evaluated``, ``swt_evaluated``, ``fatemi_socie_evaluated``,
-    ``seconds``)."""
+    ``surface_layer``, ``levels_computed``, ``invariant_evaluated``, ``swt_evaluated``,
+    ``fatemi_socie_evaluated``, ``seconds``)."""
 
     crossland_max: float | None
     crossland_max_at: list[float]
@@ -543,7 +543,8 @@ class FatigueResult(Result):
     y: NDArray[np.float64]
     z: NDArray[np.float64]
     #: The index fields shaped (layers, N₁, N₂); SWT and Fatemi–Socie are NaN where the screen
-    #: (``screen_fraction``) skipped the cell.
+    #: (``screen_fraction``) skipped the cell, all four on the levels it cannot reach
+    #: (docs/fatigue.md, "Layers the screen cannot reach").
     crossland: NDArray[np.float64]
     dang_van: NDArray[np.float64]
     swt: NDArray[np.float64]

@@ -1,7 +1,7 @@
 //! Which records an animation draws (docs/wear3d.md#figures, docs/composite.md#animation): at
 //! most [`MAX_FRAMES`] frames, evenly spaced over the records, the first and the last always
 //! among them, so that the file size of a long run (about 11 kB per frame at 32², 400 × 360 px;
-//! about 9 kB at 64², 480 × 232 px) stays bounded.
+//! about 18 kB at 64², 480 × 232 px) stays bounded.
 
 /// The most frames of `wear_depth.gif` (docs/wear3d.md#figures: 60 frames of 0.4 s, a 24 s
 /// animation of well under 2 MB) and of `loop_pq.gif` (docs/composite.md#animation: 60 frames of
