@@ -12,8 +12,12 @@
 //! With `--dump PATH` the pressure (N² little-endian f64, row-major, `x` along rows) is written
 //! after the timing, for the accuracy columns of `peers_3d.py`.
 //!
+//! With `--cold` the warm-up is skipped: the timed solve is then the process's first, as the CLI's
+//! (plan cache empty, buffers touched for the first time, the thread pool started inside it).
+//!
 //! Run: `cargo build --release -p halfspace-sam --example inprocess_hertz`, then
-//! `target/release/examples/inprocess_hertz N TOL [--dump PATH]` (threads: `RAYON_NUM_THREADS`).
+//! `target/release/examples/inprocess_hertz N TOL [--dump PATH] [--cold]` (threads:
+//! `RAYON_NUM_THREADS`).
 
 use std::io::Write;
 use std::time::Instant;
@@ -119,16 +123,22 @@ impl Case {
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let usage = "usage: inprocess_hertz N TOL [--dump PATH]";
+    let usage = "usage: inprocess_hertz N TOL [--dump PATH] [--cold]";
     let n: usize = args.first().and_then(|s| s.parse().ok()).expect(usage);
     let tol: f64 = args.get(1).and_then(|s| s.parse().ok()).expect(usage);
-    let dump = match args.get(2).map(String::as_str) {
-        Some("--dump") => Some(args.get(3).expect(usage).clone()),
-        Some(_) => panic!("{usage}"),
-        None => None,
-    };
-    // ASPHER's warm-up in peers_3d.py: one solve at 128², tolerance 1e-6, in the same process.
-    Case::new(128).solve(1e-6);
+    let (mut dump, mut cold) = (None, false);
+    let mut rest = args.iter().skip(2);
+    while let Some(a) = rest.next() {
+        match a.as_str() {
+            "--dump" => dump = Some(rest.next().expect(usage).clone()),
+            "--cold" => cold = true,
+            _ => panic!("{usage}"),
+        }
+    }
+    if !cold {
+        // ASPHER's warm-up in peers_3d.py: one solve at 128², tolerance 1e-6, in the same process.
+        Case::new(128).solve(1e-6);
+    }
     let case = Case::new(n);
     let (setup, seconds, cpu, iterations, p) = case.solve(tol);
     if let Some(path) = dump {
