@@ -7,8 +7,8 @@
 //! spectra and nested grids, then `ContactSolver::increment`, the library path of `contact3d`) —
 //! what a user who solves a second contact in the same session waits for. Prints one JSON line:
 //! wall `seconds` (setup + solve), `setup` (the problem's construction), `cpu` (processor time of
-//! every thread of the process during the timed solve, from `/proc/self/task/*/schedstat`, as
-//! Python's `time.process_time()` around ASPHER's call), fine `iterations`, `peak_mb` (VmHWM).
+//! every thread of the process during the timed solve, `CLOCK_PROCESS_CPUTIME_ID`, as Python's
+//! `time.process_time()` around ASPHER's call), fine `iterations`, `peak_mb` (VmHWM).
 //! With `--dump PATH` the pressure (N² little-endian f64, row-major, `x` along rows) is written
 //! after the timing, for the accuracy columns of `peers_3d.py`.
 //!
@@ -32,22 +32,18 @@ const E: f64 = 210e9;
 const NU: f64 = 0.3;
 const W: f64 = 0.08;
 
-/// Processor time (s) of every thread of this process so far: the first field of each
-/// `/proc/self/task/<tid>/schedstat` (nanoseconds on the CPU).
+/// Processor time (s) of every thread of this process so far: `CLOCK_PROCESS_CPUTIME_ID`, what
+/// Python's `time.process_time()` reads (exact to the nanosecond; `/proc/self/task/*/schedstat`
+/// lags by up to a scheduler tick for the running thread).
 fn process_cpu() -> f64 {
-    let mut ns = 0u64;
-    if let Ok(tasks) = std::fs::read_dir("/proc/self/task") {
-        for t in tasks.flatten() {
-            if let Ok(s) = std::fs::read_to_string(t.path().join("schedstat")) {
-                ns += s
-                    .split_whitespace()
-                    .next()
-                    .and_then(|v| v.parse::<u64>().ok())
-                    .unwrap_or(0);
-            }
-        }
-    }
-    ns as f64 * 1e-9
+    let mut t = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `t` is a valid, writable timespec; the clock id is a constant of the platform.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut t) };
+    assert_eq!(rc, 0, "clock_gettime(CLOCK_PROCESS_CPUTIME_ID)");
+    t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9
 }
 
 /// Peak resident memory (MB) of this process (`VmHWM`).
