@@ -107,6 +107,16 @@ pub struct StepAttempt {
     pub edge_end: usize,
     /// GMRES iterations of the two stages.
     pub krylov_iterations: (usize, usize),
+    /// The nodes the second stage's trial brought into contact beyond the start's contact
+    /// (their wear is the end-of-step correction; docs/fretting-wear.md, "The contact set within
+    /// a step").
+    pub entered_nodes: usize,
+    /// The trial's outermost node with `g < d`.
+    pub trial_outermost: usize,
+    /// `min |g − d|/d` at the trial over the nodes beyond the start's contact: how far the
+    /// trial's discrete contact decisions are from flipping (rounding of the transforms is
+    /// ~1e-13).
+    pub trial_gap_margin: f64,
 }
 
 /// The observer of [`FrettingSimulation::set_attempt_observer`].
@@ -314,6 +324,9 @@ impl FrettingSimulation {
                 edge_trial: 0,
                 edge_end: 0,
                 krylov_iterations: (0, 0),
+                entered_nodes: 0,
+                trial_outermost: 0,
+                trial_gap_margin: 0.0,
             },
             grid,
             params,
@@ -566,6 +579,13 @@ impl FrettingSimulation {
         // for the correction at the step's end.
         self.entered_nodes = 0..0;
         if let Some(last) = frozen {
+            if self.observer.is_some() {
+                self.attempt.trial_outermost = self.g.iter().rposition(|&g| g < 1.0).unwrap_or(0);
+                self.attempt.trial_gap_margin = self.g[last + 1..]
+                    .iter()
+                    .map(|g| (g - 1.0).abs())
+                    .fold(f64::INFINITY, f64::min);
+            }
             // Only an edge that moved out continuously: every node from the frozen edge to the
             // trial's outermost node with g < d has g < d. Isolated nodes closing further out
             // (the near-grazing annulus, where g ≈ d) wait for the next step's contact.
@@ -580,6 +600,7 @@ impl FrettingSimulation {
                 self.entered_nodes = from..trial.edge;
             }
         }
+        self.attempt.entered_nodes = self.entered_nodes.len();
         for ((b, r), k) in self.rhs.iter_mut().zip(&self.rate).zip(&self.k1) {
             *b = r - 2.0 * k;
         }
@@ -1182,10 +1203,28 @@ mod tests {
         }
     }
 
-    /// Whole adaptive runs with and without the preconditioner: the same answers to the stage
-    /// solves' tolerance (the steps may differ where GMRES's residuals differ).
+    /// Whole adaptive runs with and without the preconditioner (docs/fretting-wear.md, "Adaptive
+    /// runs that differ by rounding or by the stage solves"). GMRES stops at the adaptive stage
+    /// tolerance (`solve`), so the two stage solutions differ by up to that tolerance from the
+    /// first step and the runs are two step sequences at the step tolerance 1e-4. Asserted, at
+    /// τ = 1 and 3:
+    /// * both within 10 tol of a tight-tolerance reference (preconditioned, tol 1e-6) in f: the
+    ///   global error of the adaptive runs, measured against tol 1e-7 at tol 1e-4 … 1e-6, is
+    ///   0.3–6.6 tol, largest at the node the edge enters (its end-of-step wear is outside the
+    ///   error estimate); here 5.0 tol (plain, k = −0.5, τ = 3), 1.9 tol preconditioned. Not a
+    ///   bound for every step sequence: a quantized controller step (tried, not landed) put the
+    ///   plain run 29 tol off there (docs/fretting-wear.md, "Tried, not landed");
+    /// * the two within 5 tol of each other (measured 3.1e-4 at k = −0.5, 5.5e-5 at k = 0);
+    /// * a/a₀ within 0.5 cell at τ = 1 (measured 0.03 cell) and 1.5 cells at τ = 3, in the
+    ///   near-grazing phase: there g ≈ d over the annulus (the edge where g reaches d lies 4.6
+    ///   cells apart between accurate runs), and the touching radius switches between the edge
+    ///   (the first node outside within ε of closing) and the crossing of d + ε beyond it (a node
+    ///   beyond the first one outside within ε), about one cell apart: runs at tol 1e-4 … 1e-7,
+    ///   all accurate in f as above, spread over −0.50 … +0.51 cell around the 1e-7 run; the
+    ///   plain and preconditioned runs here sit on the two sides (1.00 cell apart).
     #[test]
     fn preconditioned_runs_match_unpreconditioned() {
+        let tolerance = 1e-4;
         for k in [0.0, -0.5] {
             let params = FrettingParams {
                 nodes: 401,
@@ -1195,37 +1234,53 @@ mod tests {
                 snapshots: vec![1.0, 3.0],
                 ..FrettingParams::default()
             };
-            let run = |precondition: bool| {
-                let mut sim = FrettingSimulation::new(params.clone()).unwrap();
+            let run = |precondition: bool, tolerance: f64| {
+                let mut sim = FrettingSimulation::new(FrettingParams {
+                    stepping: TimeStepping::Adaptive { tolerance },
+                    ..params.clone()
+                })
+                .unwrap();
                 sim.precondition = precondition;
                 sim.run(|_| false).unwrap();
                 sim
             };
-            let (plain, preconditioned) = (run(false), run(true));
+            let (plain, preconditioned) = (run(false, tolerance), run(true, tolerance));
+            let reference = run(true, 1e-6);
             let cell = plain.grid.step() / (2.0 * plain.r_star);
-            for (a, b) in plain
+            for ((a, b), r) in plain
                 .state
                 .snapshots
                 .iter()
                 .zip(&preconditioned.state.snapshots)
+                .zip(&reference.state.snapshots)
             {
+                let (fa, fb) = (
+                    max_abs(&a.profile, &r.profile),
+                    max_abs(&b.profile, &r.profile),
+                );
                 let df = max_abs(&a.profile, &b.profile);
-                let da = (a.contact_radius - b.contact_radius).abs();
+                let da = (a.contact_radius - b.contact_radius).abs() / cell;
                 eprintln!(
-                    "k = {k}, τ = {}: steps {} / {}, |Δf| {df:e}, |Δa| {:.2} cells; iterations {} → {}",
+                    "k = {k}, τ = {}: steps {} / {}; |f − f_ref| {fa:.2e} / {fb:.2e}; apart {df:.2e}, {da:.2} cells; iterations {} → {}",
                     a.tau,
                     a.step,
                     b.step,
-                    da / cell,
                     plain.krylov_iterations,
                     preconditioned.krylov_iterations
                 );
-                // Two step sequences at the step tolerance 1e-4: measured 5.5e-5 (k = 0) and
-                // 3.1e-4 (k = −0.5) apart at τ = 3, a/a₀ 0.27 and 1.00 cell (k = −0.5 at τ = 3 is
-                // in the near-grazing phase, where the touching radius moves with the step
-                // sequence; 0.02 cell before the second stage kept the start's contact).
-                assert!(df < 5e-4, "k = {k}: {df:e}");
-                assert!(da < 1.5 * cell, "k = {k}: {da:e}");
+                assert!(
+                    fa < 10.0 * tolerance,
+                    "k = {k}, τ = {}: plain {fa:e}",
+                    a.tau
+                );
+                assert!(
+                    fb < 10.0 * tolerance,
+                    "k = {k}, τ = {}: preconditioned {fb:e}",
+                    a.tau
+                );
+                assert!(df < 5.0 * tolerance, "k = {k}, τ = {}: {df:e}", a.tau);
+                let bound = if a.tau < 2.0 { 0.5 } else { 1.5 };
+                assert!(da < bound, "k = {k}, τ = {}: {da} cells", a.tau);
             }
             assert!(preconditioned.krylov_iterations < plain.krylov_iterations);
         }

@@ -6,7 +6,9 @@
 mod common;
 
 use common::max_abs_diff;
-use halfspace_fretting::{FrettingParams, FrettingSimulation, TimeStepping};
+use std::sync::{Arc, Mutex};
+
+use halfspace_fretting::{FrettingParams, FrettingSimulation, StepAttempt, TimeStepping};
 use halfspace_numerics::Backend;
 
 fn run(params: FrettingParams) -> FrettingSimulation {
@@ -165,37 +167,101 @@ fn adaptive_resume_is_bit_for_bit() {
     }
 }
 
+/// Every attempt of an adaptive run (the attempt observer) and the run.
+fn run_traced(params: FrettingParams) -> (FrettingSimulation, Vec<StepAttempt>) {
+    let attempts: Arc<Mutex<Vec<StepAttempt>>> = Arc::default();
+    let mut sim = FrettingSimulation::new(params).unwrap();
+    let sink = Arc::clone(&attempts);
+    sim.set_attempt_observer(Box::new(move |a| sink.lock().unwrap().push(*a)));
+    sim.run(|_| false).unwrap();
+    let attempts = attempts.lock().unwrap().clone();
+    (sim, attempts)
+}
+
+/// Adaptive FFT and MVM runs (docs/fretting-wear.md, "Adaptive runs that differ by rounding or by the stage solves"). The transforms
+/// agree to rounding (fixed steps: 1e-10 in f, `fft_and_mvm_runs_agree`), and the runs' first
+/// attempts agree to rounding; but the adaptive loop amplifies the difference by ≈ 1.3 per
+/// attempt (k = 0, measured with the attempt observer, `examples/backend_split.rs`: the relative
+/// difference of the step or of the error ratio passes 1e-12 at attempt 4, 1e-9 at 22, 1e-6 at
+/// 51, 1e-3 at 77 — continuously: the first attempt whose contact decisions differ comes after
+/// the steps are 7.5e-2 apart), so over ~130 attempts the two become two step sequences at the
+/// tolerance, each as accurate as the other. What is asserted:
+/// * the first 5 attempts agree to 1e-10 (measured ≤ 3.4e-12; the 10th ones 1.1e-10 at k = 0.5);
+/// * no discrete decision (accepted, contact edges at start/trial/end, entered nodes) differs
+///   while the steps still agree to 1e-3: the split is not a rounding-sensitive decision;
+/// * each run is within 3 tol of a tight-tolerance reference (tol 1e-6; measured 1.5e-4 and
+///   1.6e-4 at τ = 1, k = 0; 1.5e-4 at k = 0.5, against tol 1e-7: global errors of 1.5–1.7 tol,
+///   as in `preconditioned_runs_match_unpreconditioned`), so the two within 6 tol.
 #[test]
 fn adaptive_fft_and_mvm_agree() {
+    let tolerance = 1e-4;
     for k in [0.0, 0.5] {
         let base = FrettingParams {
             nodes: 401,
             k,
             length: FrettingParams::default_length(0.5, k),
             tau_end: 1.0,
-            snapshots: vec![0.5],
+            snapshots: vec![0.5, 1.0],
+            stepping: TimeStepping::Adaptive { tolerance },
             ..Default::default()
         };
-        let fft = run(FrettingParams {
+        let (fft, fft_attempts) = run_traced(FrettingParams {
             backend: Backend::Fft,
             ..base.clone()
         });
-        let mvm = run(FrettingParams {
+        let (mvm, mvm_attempts) = run_traced(FrettingParams {
             backend: Backend::Mvm,
+            ..base.clone()
+        });
+        let reference = run(FrettingParams {
+            stepping: TimeStepping::Adaptive { tolerance: 1e-6 },
             ..base
         });
-        // With the second stage on the trial's contact (before) the two took the same steps and
-        // agreed to < 1e-9. With the start's contact and the end-of-step correction (the
-        // default) whether the trial's edge moved out continuously is a discrete decision that
-        // the transforms' rounding can flip where g is d to rounding (the near-grazing
-        // annulus): measured 120 vs 119 steps at k = 0, so the two are two step sequences at the
-        // tolerance 1e-4 (as in `frozen_contact_stages_take_fewer_steps`). Fixed steps agree to
-        // 1e-10 (`fft_and_mvm_runs_agree`, `mvm_and_fft_agree_over_300_steps`).
-        let (a, b) = (fft.state().step as f64, mvm.state().step as f64);
-        let diff = max_abs_diff(&fft.state().profile, &mvm.state().profile);
-        println!("k = {k}: steps {a} vs {b}, max |f_fft − f_mvm| = {diff:.2e}");
-        assert!((a - b).abs() <= 0.02 * a, "k = {k}: {a} vs {b} steps");
-        assert!(diff < 5e-4, "k = {k}: max |f_fft − f_mvm| = {diff:e}");
+        let discrete = |a: &StepAttempt| {
+            (
+                a.accepted,
+                a.edge_start,
+                a.edge_trial,
+                a.edge_end,
+                a.entered_nodes,
+                a.trial_outermost,
+            )
+        };
+        let mut first_split = None;
+        for (i, (a, b)) in fft_attempts.iter().zip(&mvm_attempts).enumerate() {
+            let apart = ((a.dtau - b.dtau) / a.dtau)
+                .abs()
+                .max((a.error_ratio - b.error_ratio).abs());
+            if i < 5 {
+                assert!(apart < 1e-10, "k = {k}, attempt {i}: {apart:e}");
+            }
+            if apart < 1e-3 {
+                assert_eq!(discrete(a), discrete(b), "k = {k}, attempt {i}");
+            } else if first_split.is_none() {
+                first_split = Some(i);
+            }
+        }
+        for ((a, b), r) in fft
+            .state()
+            .snapshots
+            .iter()
+            .zip(&mvm.state().snapshots)
+            .zip(&reference.state().snapshots)
+        {
+            let (ef, em) = (
+                max_abs_diff(&a.profile, &r.profile),
+                max_abs_diff(&b.profile, &r.profile),
+            );
+            println!(
+                "k = {k}, τ = {}: steps {} / {}, apart from attempt {first_split:?}; |f − f_ref| FFT {ef:.2e}, MVM {em:.2e}, |f_fft − f_mvm| {:.2e}",
+                a.tau,
+                fft.state().step,
+                mvm.state().step,
+                max_abs_diff(&a.profile, &b.profile)
+            );
+            assert!(ef < 3.0 * tolerance, "k = {k}, τ = {}: FFT {ef:e}", a.tau);
+            assert!(em < 3.0 * tolerance, "k = {k}, τ = {}: MVM {em:e}", a.tau);
+        }
     }
 }
 
