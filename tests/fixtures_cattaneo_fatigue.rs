@@ -59,7 +59,7 @@ fn cattaneo_mindlin_cycle_matches_the_cubature_of_the_closed_form_tractions() {
         let lp = cattaneo_loop(n);
         let a = lp.case().hertz_radius();
         let p0 = lp.case().hertz_pressure();
-        let h = lp.cycle_stress().unwrap();
+        let h = lp.cycle_stress().unwrap().unwrap();
         assert_eq!(h.increments, 41);
         let mut worst_path: f64 = 0.0;
         let mut worst_index = [0.0f64; 4];
@@ -172,7 +172,7 @@ fn cattaneo_mindlin_maxima_and_their_locations_converge_to_the_cubature() {
         let (a, p0) = (lp.case().hertz_radius(), lp.case().hertz_pressure());
         let cell = 4.16 / n as f64; // cell side over a (the loop's extent_over_a)
         let fatigue = evaluate_loop_fatigue(&lp, &cfg).unwrap();
-        let h = lp.cycle_stress().unwrap();
+        let h = lp.cycle_stress().unwrap().unwrap();
         let grid = &fx["grids"][n.to_string()];
         let cells: Vec<[usize; 3]> = grid["cells"]
             .as_array()
@@ -450,7 +450,7 @@ fn cattaneo_mindlin_surface_layer_matches_the_closed_form_surface_stresses() {
         let (a, p0) = (lp.case().hertz_radius(), lp.case().hertz_pressure());
         let cell = 4.16 / n as f64;
         let fatigue = evaluate_loop_fatigue(&lp, &cfg).unwrap();
-        let h = lp.cycle_stress().unwrap();
+        let h = lp.cycle_stress().unwrap().unwrap();
         assert!(h.surface);
         let grid = &fx["grids"][n.to_string()];
         let cells = rows(&grid["cells"]);

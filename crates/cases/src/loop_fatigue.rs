@@ -415,7 +415,7 @@ mod tests {
         let mut lp = FrettingLoop::new(case.clone()).unwrap();
         lp.run(|_| std::ops::ControlFlow::Continue(())).unwrap();
         let f = evaluate_loop_fatigue(&lp, &cfg).unwrap();
-        let whole = lp.cycle_stress().unwrap();
+        let whole = lp.cycle_stress().unwrap().unwrap();
         let materials = cfg.materials(case.e, case.nu, &[]);
         let full = evaluate_screened(
             &whole.stress,

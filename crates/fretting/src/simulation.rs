@@ -103,7 +103,8 @@ pub struct StepAttempt {
     /// See `edge_start`.
     pub edge_trial: usize,
     /// See `edge_start` (the contact of the result is computed for the observer only when the
-    /// attempt is rejected; an accepted one needs it anyway).
+    /// attempt is rejected; an accepted one needs it anyway); `usize::MAX` when a rejected
+    /// attempt's contact could not be evaluated (e.g. it reached beyond the grid).
     pub edge_end: usize,
     /// GMRES iterations of the two stages.
     pub krylov_iterations: (usize, usize),
@@ -738,8 +739,11 @@ impl FrettingSimulation {
             if self.observer.is_some() {
                 self.attempt.error_ratio = ratio;
                 self.attempt.accepted = ratio <= 1.0;
+                // The observer only reads: a rejected profile whose contact cannot be evaluated
+                // (e.g. outside the grid) is reported as edge `usize::MAX` and retried as without
+                // an observer, never turned into an error.
                 self.attempt.edge_end = if ratio.is_finite() {
-                    self.contact()?.edge
+                    self.contact().map_or(usize::MAX, |c| c.edge)
                 } else {
                     0
                 };

@@ -471,6 +471,10 @@ fn fixed_steps_converge_to_the_reference() {
         (errors[0] / errors[1]).log2(),
         (errors[1] / errors[2]).log2()
     );
-    assert!(errors[2] < errors[0], "{errors:?}");
-    assert!(errors[2] < 5e-4, "{errors:?}");
+    // Measured 3.2e-4 / 6.4e-5 / 1.1e-5: observed orders 2.3 and 2.5 (the scheme is second order).
+    for pair in errors.windows(2) {
+        let order = (pair[0] / pair[1]).log2();
+        assert!(order > 1.8, "observed order {order:.2}: {errors:?}");
+    }
+    assert!(errors[2] < 2e-5, "{errors:?}");
 }

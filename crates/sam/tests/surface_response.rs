@@ -194,7 +194,10 @@ fn the_loop_on_the_operator_reproduces_the_nested_loop() {
             let scale = vn.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             vm_worst = vm_worst.max(max_diff(vn, vf) / scale);
         }
-        let (hn, hf) = (nested.cycle_stress().unwrap(), fast.cycle_stress().unwrap());
+        let (hn, hf) = (
+            nested.cycle_stress().unwrap().unwrap(),
+            fast.cycle_stress().unwrap().unwrap(),
+        );
         assert_eq!(hn.recorded, hn.increments);
         let sigma = hn.stress.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let history_worst = max_diff(&hn.stress, &hf.stress) / sigma;

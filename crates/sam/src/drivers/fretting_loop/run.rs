@@ -415,18 +415,22 @@ impl FrettingLoop {
     }
 
     /// The closed cycle's stress history on the whole box ([`LoopCase::fatigue_depth`]):
-    /// `None` until the cycle is complete; computed from the cycle's tractions at the first call
-    /// ([`FrettingLoop::cycle_history`] of every level) and kept.
-    pub fn cycle_stress(&self) -> Option<&CycleStress> {
+    /// `Ok(None)` until the cycle is complete (or without [`LoopCase::fatigue_depth`]); computed
+    /// from the cycle's tractions at the first call ([`FrettingLoop::cycle_history`] of every
+    /// level) and kept. An error of that computation (a plan or memory refusal) is returned, not
+    /// read as "not complete".
+    pub fn cycle_stress(&self) -> Result<Option<&CycleStress>, SamError> {
         if let Some(h) = self.cycle_stress.get() {
-            return Some(h);
+            return Ok(Some(h));
         }
-        let sources = self.cycle_sources.as_ref()?;
+        let Some(sources) = self.cycle_sources.as_ref() else {
+            return Ok(None);
+        };
         if sources.recorded != self.path.len() - self.path.cycle_start() {
-            return None;
+            return Ok(None);
         }
-        let h = self.cycle_history(None).ok()?;
-        Some(self.cycle_stress.get_or_init(|| h))
+        let h = self.cycle_history(None)?;
+        Ok(Some(self.cycle_stress.get_or_init(|| h)))
     }
 
     /// The tractions (and eigenstrains) of the closed cycle's increments recorded so far
