@@ -658,6 +658,33 @@ mod tests {
             }
         }
         assert_eq!(checked, [3, 3, 3], "cells of each kind checked");
+        // The screen across materials (each cell's bound with its own constants, against the
+        // largest exact value of any material): the maxima and every value at or above half of
+        // its maximum are those of the full evaluation.
+        let half = FatigueConfig {
+            screen_fraction: 0.5,
+            ..cfg_own.clone()
+        };
+        let screened = evaluate_loop_fatigue(&lp, &half).unwrap();
+        let (a, b) = (&f_own.indices, &screened.indices);
+        for (full, part, m, n) in [
+            (&a.crossland, &b.crossland, a.crossland_max, b.crossland_max),
+            (&a.dang_van, &b.dang_van, a.dang_van_max, b.dang_van_max),
+            (&a.swt, &b.swt, a.swt_max, b.swt_max),
+            (
+                &a.fatemi_socie,
+                &b.fatemi_socie,
+                a.fatemi_socie_max,
+                b.fatemi_socie_max,
+            ),
+        ] {
+            assert_eq!((m.value, m.point), (n.value, n.point));
+            for (q, (&v, &w)) in full.iter().zip(part.iter()).enumerate() {
+                if v >= 0.5 * m.value {
+                    assert_eq!(v, w, "cell {q}");
+                }
+            }
+        }
         // Without the tables: the evaluation before them (materials of the EIM, `[fatigue]`
         // constants everywhere), bit for bit.
         let m = cfg_plain.matrix(case.e, case.nu);
