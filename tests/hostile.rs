@@ -1421,6 +1421,11 @@ fn indenter_approach_fatigue_and_wear3d_keys_are_refused_in_one_line() {
             vec!["cycles"],
         ),
         (
+            "inhomogeneity fatigue in wear",
+            format!("{sphere}fatigue = {{ f_minus1 = 3e8 }}\n{wear}"),
+            vec!["[[inhomogeneity]] 1", "fretting-loop"],
+        ),
+        (
             "fatigue in wear",
             format!("{fatigue}{wear}"),
             vec!["[fatigue]"],

@@ -664,6 +664,18 @@ impl Wear3dConfig {
     /// (docs/wear3d.md#the-composite-case); `[fatigue]` is refused (the wear run evaluates no
     /// fatigue criteria).
     pub fn case(&self, grid: Option<usize>) -> Result<WearCase, SpecError> {
+        if let Some(i) = self
+            .fretting
+            .inhomogeneity
+            .iter()
+            .position(|e| e.fatigue().is_some())
+        {
+            return Err(SpecError(format!(
+                "fretting-wear3d config: [[inhomogeneity]] {}: its fatigue table belongs to \
+                 fretting-loop (the wear run does not evaluate fatigue criteria); remove it",
+                i + 1
+            )));
+        }
         if self.fretting.fatigue.is_some() {
             return Err(SpecError(
                 "fretting-wear3d config: [fatigue] belongs to fretting-loop (the wear run does \
