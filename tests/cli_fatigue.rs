@@ -137,3 +137,60 @@ fn fatigue_maxima_and_fields_of_an_elastic_indenter_under_approach_control() {
     arrays_equal(&full.join("results.h5"), &killed.join("results.h5"));
     assert_eq!(j2["fatemi_socie_max"], j["fatemi_socie_max"]);
 }
+
+/// An inhomogeneity's own `fatigue` table through the CLI (docs/fatigue.md, "Materials"): against
+/// the same loop without it, Crossland and Dang Van change exactly at the cells whose centre the
+/// sphere holds, every other cell and SWT and Fatemi–Socie (whose constants the table leaves to
+/// the matrix) are bit for bit the same.
+#[test]
+fn an_inhomogeneitys_own_limits_change_exactly_its_cells() {
+    let dir = tempfile::tempdir().unwrap();
+    let (z0, r) = (1.566e-6, 0.903e-6);
+    let sphere = format!(
+        "[[inhomogeneity]]\nkind = \"sphere\"\nx = 0.0\ny = 0.0\nz = {z0}\nr = {r}\nE = 420e9\n\
+         nu = 0.3\n"
+    );
+    let head = "grid = 16\nnormal_steps = 4\namplitude = 0.02e-6\nshift_step = 0.005e-6\n\
+                subsurface_over_a = 0.0\n";
+    let tail = format!("{FATIGUE}depth_over_a = 0.7\nscreen_fraction = 0.0\n");
+    let own = "fatigue = { f_minus1 = 250e6, t_minus1 = 160e6 }\n";
+    let mut records = Vec::new();
+    for (name, text) in [
+        ("plain", format!("{head}{sphere}{tail}")),
+        ("own", format!("{head}{sphere}{own}{tail}")),
+    ] {
+        let c = config(dir.path(), &format!("{name}.toml"), &text);
+        let out = dir.path().join(name);
+        ok_json(&run(&[
+            "fretting-loop",
+            "--config",
+            &c,
+            "--out",
+            out.to_str().unwrap(),
+            "--json",
+        ]));
+        records.push(halfspace::data::read_record(&out.join("results.h5")).unwrap());
+    }
+    let (x, y, z) = (
+        records[0].get("x").unwrap(),
+        records[0].get("y").unwrap(),
+        records[0].get("z").unwrap(),
+    );
+    let inside = |p: usize| {
+        let (k, i, j) = (p / 256, (p / 16) % 16, p % 16);
+        x[i] * x[i] + y[j] * y[j] + (z[k] - z0).powi(2) <= r * r
+    };
+    let cells = (0..z.len() * 256).filter(|&p| inside(p)).count();
+    assert!(cells > 0);
+    for key in ["crossland", "dang_van", "swt", "fatemi_socie"] {
+        let (a, b) = (records[0].get(key).unwrap(), records[1].get(key).unwrap());
+        let changes = key == "crossland" || key == "dang_van";
+        for p in 0..a.len() {
+            if changes && inside(p) {
+                assert_ne!(a[p], b[p], "{key} cell {p}");
+            } else {
+                assert_eq!(a[p].to_bits(), b[p].to_bits(), "{key} cell {p}");
+            }
+        }
+    }
+}

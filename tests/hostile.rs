@@ -1325,6 +1325,8 @@ fn indenter_approach_fatigue_and_wear3d_keys_are_refused_in_one_line() {
     let o = out.to_str().unwrap();
     let fatigue = "[fatigue]\nf_minus1 = 3e8\nt_minus1 = 2e8\nfs_k = 0.5\nyield_stress = 8e8\n";
     let wear = "[wear]\nlaw = \"archard\"\ncoefficient = 1e-15\ncycles = 10\n";
+    let sphere = "[[inhomogeneity]]\nkind = \"sphere\"\nx = 0.0\ny = 0.0\nz = 1.6e-6\nr = 0.9e-6\n\
+                  E = 4.2e11\nnu = 0.3\n";
     let loop_cases: Vec<(&str, String, Vec<&str>)> = vec![
         (
             "both",
@@ -1367,6 +1369,21 @@ fn indenter_approach_fatigue_and_wear3d_keys_are_refused_in_one_line() {
             vec!["fatigue"],
         ),
         (
+            "inhomogeneity fatigue limits",
+            format!("{fatigue}{sphere}fatigue = {{ t_minus1 = 5e8 }}\n"),
+            vec!["[[inhomogeneity]] 1 fatigue", "t_minus1"],
+        ),
+        (
+            "inhomogeneity fatigue key",
+            format!("{fatigue}{sphere}fatigue = {{ f_minus_one = 1 }}\n"),
+            vec!["f_minus_one"],
+        ),
+        (
+            "inhomogeneity fatigue without the fatigue table",
+            format!("{sphere}fatigue = {{ f_minus1 = 3e8 }}\n"),
+            vec!["[[inhomogeneity]] 1", "[fatigue]", "ignored"],
+        ),
+        (
             "surface operator without inhomogeneities",
             "inhomogeneous_body = \"surface-operator\"\n".into(),
             vec!["inhomogeneous_body", "needs inhomogeneities"],
@@ -1402,6 +1419,11 @@ fn indenter_approach_fatigue_and_wear3d_keys_are_refused_in_one_line() {
             "cycles",
             wear.replace("cycles = 10", "cycles = 0"),
             vec!["cycles"],
+        ),
+        (
+            "inhomogeneity fatigue in wear",
+            format!("{sphere}fatigue = {{ f_minus1 = 3e8 }}\n{wear}"),
+            vec!["[[inhomogeneity]] 1", "fretting-loop"],
         ),
         (
             "fatigue in wear",

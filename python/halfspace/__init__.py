@@ -734,8 +734,10 @@ class FrettingLoop:
     ``surface_operator_radius_over_a``, ``eim_change_factor`` (η in (0, 1], default 1e-2: the
     nested loop's EIM solved to η × the last outer change, docs/theory-sam.md#outer-loop-tolerances;
     only with inhomogeneities on the nested loop); ``inhomogeneity``: a
-    list of tables ``{"kind": "sphere", "x": .., "E": ..}`` — the keys of the spec — or of
-    :class:`Inhomogeneity` / spec strings); the dict goes to the library as data, which checks it.
+    list of tables ``{"kind": "sphere", "x": .., "E": ..}`` — the keys of the spec, and with
+    ``fatigue`` that inhomogeneity's own ``{"fatigue": {"f_minus1": .., ...}}`` (see
+    :meth:`fatigue`) — or of :class:`Inhomogeneity` / spec strings); the dict goes to the library
+    as data, which checks it.
     ``fatigue``: a dict of the ``[fatigue]`` keys — the loop then records its closed cycle's stress
     history and :meth:`fatigue` gives the fatigue indices. ``case="composite"`` adds the paper's
     fibres. Iterating yields each increment's row (a dict);
@@ -785,7 +787,10 @@ class FrettingLoop:
         Fatemi–Socie over the stress history of its closed cycle; docs/fatigue.md), as
         ``halfspace fretting-loop`` with the same ``[fatigue]`` table: ``config["fatigue"]`` holds
         its keys (``f_minus1``, ``t_minus1``, ``fs_k``, ``yield_stress``, ``depth_over_a``,
-        ``screen_fraction``, ``inhomogeneity``). Evaluated once (GIL released), then kept.
+        ``screen_fraction``, ``inhomogeneity``), and an ``inhomogeneity`` entry's dict may hold
+        ``"fatigue": {"f_minus1": …, "t_minus1": …, "fs_k": …, "yield_stress": …}`` (any subset:
+        that inhomogeneity's own constants, the others from ``fatigue["inhomogeneity"]``, else
+        the matrix's; docs/fatigue.md, "Materials"). Evaluated once (GIL released), then kept.
         :class:`HalfspaceError` without a ``fatigue`` table or before the loop is done."""
         summary, arrays = self._inner.fatigue()
         values = dict(summary)

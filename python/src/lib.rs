@@ -253,7 +253,7 @@ impl PyFrettingLoop {
         let case = config.case(case, grid).map_err(err)?;
         Ok(Self {
             inner: FrettingLoop::new(case).map_err(err)?,
-            fatigue_config: config.fatigue,
+            fatigue_config: config.fatigue_config(),
             fatigue: None,
         })
     }
@@ -489,7 +489,7 @@ fn build_map(
 ) -> PyResult<(FrettingMap, Option<FatigueConfig>)> {
     let cfg = loop_config(config)?;
     let map = cfg.map(case, grid, loads, amplitudes).map_err(err)?;
-    Ok((map, cfg.fatigue))
+    Ok((map, cfg.fatigue_config()))
 }
 
 /// `_fretting_map(config, case, grid, loads, amplitudes)`: every point of the fretting map

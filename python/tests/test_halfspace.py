@@ -281,6 +281,33 @@ def test_fretting_loop_fatigue_with_an_inhomogeneity_and_its_constants_equals_th
     assert not np.array_equal(plain.crossland, f.crossland, equal_nan=True)
 
 
+def test_an_inhomogeneitys_own_fatigue_table_from_a_dict_equals_the_cli(tmp_path):
+    """An inhomogeneity's own ``fatigue`` table (docs/fatigue.md, "Materials") in a config dict:
+    the CLI's fields bit for bit; it changes only Crossland and Dang Van (the keys it gives), and
+    a bad value is refused naming the entry."""
+    a = 3.76e-6
+    sphere = {"kind": "sphere", "x": 0.0, "y": 0.0, "z": 0.5 * a, "r": 0.25 * a, "E": 420e9,
+              "nu": 0.3}
+    own = {"f_minus1": 250e6, "t_minus1": 160e6}
+    cfg = dict(FATIGUE_LOOP, grid=16, inhomogeneity=[dict(sphere, fatigue=own)],
+               fatigue=dict(FATIGUE, screen_fraction=0.0))
+    text = (toml(dict(FATIGUE_LOOP, grid=16)) + "[[inhomogeneity]]\n" + toml(sphere)
+            + "fatigue = { f_minus1 = 250e6, t_minus1 = 160e6 }\n"
+            + "[fatigue]\n" + toml(dict(FATIGUE, screen_fraction=0.0)))
+    (tmp_path / "loop.toml").write_text(text)
+    cli("fretting-loop", "--config", str(tmp_path / "loop.toml"), "--out", str(tmp_path / "out"))
+    f = hs.FrettingLoop(cfg).run().fatigue()
+    with h5py.File(tmp_path / "out" / "results.h5") as h5:
+        for name in INDICES:
+            assert np.array_equal(getattr(f, name), h5[name][:], equal_nan=True), name
+    plain = hs.FrettingLoop(dict(cfg, inhomogeneity=[sphere])).run().fatigue()
+    assert not np.array_equal(plain.crossland, f.crossland)
+    assert not np.array_equal(plain.dang_van, f.dang_van)
+    assert np.array_equal(plain.swt, f.swt) and np.array_equal(plain.fatemi_socie, f.fatemi_socie)
+    with pytest.raises(hs.HalfspaceError, match=r"\[\[inhomogeneity\]\] 1 fatigue.*t_minus1"):
+        hs.FrettingLoop(dict(cfg, inhomogeneity=[dict(sphere, fatigue={"t_minus1": 500e6})]))
+
+
 def test_fretting_loop_fatigue_errors_name_the_key():
     with pytest.raises(hs.HalfspaceError, match="bogus"):
         hs.FrettingLoop(dict(FATIGUE_LOOP, fatigue=dict(FATIGUE, bogus=1.0)))

@@ -149,7 +149,7 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
         Some((r, m))
     };
     let reference_seconds = reference_start.elapsed().as_secs_f64();
-    let fatigue = match &cfg.fatigue {
+    let fatigue = match &cfg.fatigue_config() {
         Some(f) => Some(evaluate_loop_fatigue(&lp, f)?),
         None => None,
     };

@@ -80,9 +80,10 @@ pub fn run(args: FrettingMapArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::Spec(format!("--out {}: {e}", args.out.display())))?;
     let bar = (std::io::stderr().is_terminal() && !args.json)
         .then(|| indicatif::ProgressBar::new(map.len() as u64));
+    let fatigue = cfg.fatigue_config();
     let result = run_map_with(
         &map,
-        cfg.fatigue.as_ref(),
+        fatigue.as_ref(),
         Some(&points_dir),
         args.stop_after,
         |done, _| {

@@ -96,11 +96,36 @@ pub struct FatigueConstants {
     pub yield_stress: f64,
 }
 
+/// The `fatigue` table of one `[[inhomogeneity]]` (docs/fatigue.md, "Materials"): that
+/// inhomogeneity's own constants; a key left out is the one of `[fatigue.inhomogeneity]` if given,
+/// else the matrix's (`[fatigue]`). Read only with a `[fatigue]` table.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Default)]
+#[serde(deny_unknown_fields)]
+pub struct InhomogeneityFatigue {
+    pub f_minus1: Option<f64>,
+    pub t_minus1: Option<f64>,
+    pub fs_k: Option<f64>,
+    pub yield_stress: Option<f64>,
+}
+
+impl InhomogeneityFatigue {
+    /// `base` with the keys given here.
+    pub fn over(&self, base: &FatigueConstants) -> FatigueConstants {
+        FatigueConstants {
+            f_minus1: self.f_minus1.unwrap_or(base.f_minus1),
+            t_minus1: self.t_minus1.unwrap_or(base.t_minus1),
+            fs_k: self.fs_k.unwrap_or(base.fs_k),
+            yield_stress: self.yield_stress.unwrap_or(base.yield_stress),
+        }
+    }
+}
+
 /// The `[fatigue]` table: the matrix's constants, `depth_over_a` (the box below the contact,
 /// default 1.5), `screen_fraction` (SWT and Fatemi–Socie are evaluated exactly where their
 /// upper bound reaches this fraction of the maximum, default 0.5; 0: everywhere) and
-/// `[fatigue.inhomogeneity]`, the constants of every inhomogeneity (absent: the matrix's).
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+/// `[fatigue.inhomogeneity]`, the constants of every inhomogeneity without its own `fatigue`
+/// table (absent: the matrix's).
+#[derive(Clone, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct FatigueConfig {
     pub f_minus1: f64,
@@ -113,6 +138,10 @@ pub struct FatigueConfig {
     pub screen_fraction: f64,
     #[serde(default)]
     pub inhomogeneity: Option<FatigueConstants>,
+    /// Not a key: the `fatigue` tables of the `[[inhomogeneity]]` entries, in their order (the
+    /// case's first inhomogeneities), filled by [`LoopConfig::fatigue_config`].
+    #[serde(skip)]
+    pub own: Vec<Option<InhomogeneityFatigue>>,
 }
 
 fn default_fatigue_depth() -> f64 {
@@ -123,27 +152,72 @@ fn default_screen_fraction() -> f64 {
     0.5
 }
 
+impl std::fmt::Debug for FatigueConfig {
+    /// The fields, [`FatigueConfig::own`] only when an inhomogeneity has its own table: a
+    /// fretting map's point fingerprint (`{:?}`) of a configuration without them is the one
+    /// its checkpoints were written with before the key existed.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut d = f.debug_struct("FatigueConfig");
+        d.field("f_minus1", &self.f_minus1)
+            .field("t_minus1", &self.t_minus1)
+            .field("fs_k", &self.fs_k)
+            .field("yield_stress", &self.yield_stress)
+            .field("depth_over_a", &self.depth_over_a)
+            .field("screen_fraction", &self.screen_fraction)
+            .field("inhomogeneity", &self.inhomogeneity);
+        if self.own.iter().any(Option::is_some) {
+            d.field("own", &self.own);
+        }
+        d.finish()
+    }
+}
+
 impl FatigueConfig {
-    /// The criteria's materials: index 0 the matrix `(e, nu)`, `m + 1` the inclusion material
-    /// `m` of `inclusions` (`(E, ν)` each).
-    pub fn materials(&self, e: f64, nu: f64, inclusions: &[(f64, f64)]) -> Vec<Material> {
-        let of = |c: &FatigueConstants, young: f64, poisson: f64| Material {
-            f_minus1: c.f_minus1,
-            t_minus1: c.t_minus1,
-            young,
-            poisson,
-            fs_k: c.fs_k,
-            yield_stress: c.yield_stress,
-        };
-        let matrix = FatigueConstants {
+    /// The matrix's constants (`[fatigue]`).
+    pub fn matrix_constants(&self) -> FatigueConstants {
+        FatigueConstants {
             f_minus1: self.f_minus1,
             t_minus1: self.t_minus1,
             fs_k: self.fs_k,
             yield_stress: self.yield_stress,
-        };
-        let inner = self.inhomogeneity.as_ref().unwrap_or(&matrix);
-        std::iter::once(of(&matrix, e, nu))
-            .chain(inclusions.iter().map(|&(ei, ni)| of(inner, ei, ni)))
+        }
+    }
+
+    /// The constants of inhomogeneity `i` of the case (from 0): its own `fatigue` keys, the
+    /// others from `[fatigue.inhomogeneity]` if given, else the matrix's.
+    pub fn inhomogeneity_constants(&self, i: usize) -> FatigueConstants {
+        let matrix = self.matrix_constants();
+        let every = self.inhomogeneity.unwrap_or(matrix);
+        match self.own.get(i) {
+            Some(Some(own)) => own.over(&every),
+            _ => every,
+        }
+    }
+
+    /// The criteria's material of `constants` with the elastic constants `(young, poisson)`.
+    pub fn material(constants: &FatigueConstants, young: f64, poisson: f64) -> Material {
+        Material {
+            f_minus1: constants.f_minus1,
+            t_minus1: constants.t_minus1,
+            young,
+            poisson,
+            fs_k: constants.fs_k,
+            yield_stress: constants.yield_stress,
+        }
+    }
+
+    /// The matrix's material `(e, nu)`.
+    pub fn matrix(&self, e: f64, nu: f64) -> Material {
+        Self::material(&self.matrix_constants(), e, nu)
+    }
+
+    /// The material of each of `inclusions` (the case's inhomogeneities, in order): its `E`, `ν`
+    /// and [`Self::inhomogeneity_constants`].
+    pub fn inhomogeneity_materials(&self, inclusions: &[Inhomogeneity]) -> Vec<Material> {
+        inclusions
+            .iter()
+            .enumerate()
+            .map(|(i, inh)| Self::material(&self.inhomogeneity_constants(i), inh.e, inh.nu))
             .collect()
     }
 }
@@ -203,6 +277,10 @@ pub enum InhomogeneityTable {
         #[serde(rename = "E")]
         e: f64,
         nu: f64,
+        /// This inhomogeneity's fatigue constants (with `[fatigue]`; docs/fatigue.md,
+        /// "Materials").
+        #[serde(default)]
+        fatigue: Option<InhomogeneityFatigue>,
     },
     /// `kind = "cylinder"`: `axis = "y"` with `x`, or `axis = "x"` with `y`; depth `z`, radius `r`.
     Cylinder {
@@ -216,6 +294,10 @@ pub enum InhomogeneityTable {
         #[serde(rename = "E")]
         e: f64,
         nu: f64,
+        /// This inhomogeneity's fatigue constants (with `[fatigue]`; docs/fatigue.md,
+        /// "Materials").
+        #[serde(default)]
+        fatigue: Option<InhomogeneityFatigue>,
     },
     /// `kind = "cuboid"`: centre `x, y, z`, half sizes `hx, hy, hz`.
     Cuboid {
@@ -228,6 +310,10 @@ pub enum InhomogeneityTable {
         #[serde(rename = "E")]
         e: f64,
         nu: f64,
+        /// This inhomogeneity's fatigue constants (with `[fatigue]`; docs/fatigue.md,
+        /// "Materials").
+        #[serde(default)]
+        fatigue: Option<InhomogeneityFatigue>,
     },
 }
 
@@ -280,6 +366,18 @@ where
 }
 
 impl InhomogeneityEntry {
+    /// The entry's own `fatigue` table (a spec string has none).
+    pub fn fatigue(&self) -> Option<&InhomogeneityFatigue> {
+        match self {
+            InhomogeneityEntry::Spec(_) => None,
+            InhomogeneityEntry::Table(
+                InhomogeneityTable::Sphere { fatigue, .. }
+                | InhomogeneityTable::Cylinder { fatigue, .. }
+                | InhomogeneityTable::Cuboid { fatigue, .. },
+            ) => fatigue.as_ref(),
+        }
+    }
+
     /// The library's inhomogeneity, checked; `index` (from 1) names it in errors.
     pub fn inhomogeneity(&self, index: usize) -> Result<Inhomogeneity, SpecError> {
         let what = format!("[[inhomogeneity]] {index}");
@@ -288,9 +386,9 @@ impl InhomogeneityEntry {
             InhomogeneityEntry::Table(t) => t,
         };
         let (shape, e, nu) = match *table {
-            InhomogeneityTable::Sphere { x, y, z, r, e, nu } => {
-                (Shape::Sphere { x, y, z, r }, e, nu)
-            }
+            InhomogeneityTable::Sphere {
+                x, y, z, r, e, nu, ..
+            } => (Shape::Sphere { x, y, z, r }, e, nu),
             InhomogeneityTable::Cylinder {
                 ref axis,
                 x,
@@ -299,6 +397,7 @@ impl InhomogeneityEntry {
                 r,
                 e,
                 nu,
+                ..
             } => {
                 let (axis, position) = match (axis.as_str(), x, y) {
                     ("y", Some(x), None) => (Axis::Y, x),
@@ -330,6 +429,7 @@ impl InhomogeneityEntry {
                 hz,
                 e,
                 nu,
+                ..
             } => (
                 Shape::Cuboid {
                     x,
@@ -349,6 +449,19 @@ impl InhomogeneityEntry {
 }
 
 impl LoopConfig {
+    /// The `[fatigue]` table with the `fatigue` tables of the `[[inhomogeneity]]` entries
+    /// ([`FatigueConfig::own`]); what the drivers evaluate the loop's criteria with.
+    pub fn fatigue_config(&self) -> Option<FatigueConfig> {
+        self.fatigue.as_ref().map(|f| FatigueConfig {
+            own: self
+                .inhomogeneity
+                .iter()
+                .map(|e| e.fatigue().copied())
+                .collect(),
+            ..f.clone()
+        })
+    }
+
     /// The library's case: `case` is `homogeneous` or `composite` (the paper's fibres of
     /// `layout`, E_I = `fibre_e_ratio` E, at 4 cells per radius); `grid` overrides the grid.
     pub fn case(&self, case: &str, grid: Option<usize>) -> Result<LoopCase, SpecError> {
@@ -551,6 +664,18 @@ impl Wear3dConfig {
     /// (docs/wear3d.md#the-composite-case); `[fatigue]` is refused (the wear run evaluates no
     /// fatigue criteria).
     pub fn case(&self, grid: Option<usize>) -> Result<WearCase, SpecError> {
+        if let Some(i) = self
+            .fretting
+            .inhomogeneity
+            .iter()
+            .position(|e| e.fatigue().is_some())
+        {
+            return Err(SpecError(format!(
+                "fretting-wear3d config: [[inhomogeneity]] {}: its fatigue table belongs to \
+                 fretting-loop (the wear run does not evaluate fatigue criteria); remove it",
+                i + 1
+            )));
+        }
         if self.fretting.fatigue.is_some() {
             return Err(SpecError(
                 "fretting-wear3d config: [fatigue] belongs to fretting-loop (the wear run does \
@@ -715,6 +840,15 @@ fn loop_case(
     if cfg.subsurface_over_a > 0.0 {
         case.subsurface_depth = Some(cfg.subsurface_over_a * case.hertz_radius());
     }
+    if cfg.fatigue.is_none() {
+        if let Some(i) = cfg.inhomogeneity.iter().position(|e| e.fatigue().is_some()) {
+            return Err(SpecError(format!(
+                "fretting loop config: [[inhomogeneity]] {} has a fatigue table, read only with \
+                 a [fatigue] table; without it the key would be ignored",
+                i + 1
+            )));
+        }
+    }
     if let Some(f) = &cfg.fatigue {
         if !(f.depth_over_a.is_finite() && f.depth_over_a > 0.0) {
             return Err(SpecError(format!(
@@ -728,11 +862,22 @@ fn loop_case(
                 f.screen_fraction
             )));
         }
-        let inclusions: Vec<(f64, f64)> =
-            case.inhomogeneities.iter().map(|i| (i.e, i.nu)).collect();
-        for m in f.materials(case.e, case.nu, &inclusions) {
+        f.matrix(case.e, case.nu)
+            .validate()
+            .map_err(|e| SpecError(format!("fretting loop config: [fatigue]: {e}")))?;
+        let f = cfg.fatigue_config().unwrap_or_else(|| f.clone());
+        for (i, m) in f
+            .inhomogeneity_materials(&case.inhomogeneities)
+            .iter()
+            .enumerate()
+        {
+            let table = match cfg.inhomogeneity.get(i).and_then(|e| e.fatigue()) {
+                Some(_) => format!("[[inhomogeneity]] {} fatigue", i + 1),
+                None if f.inhomogeneity.is_some() => "[fatigue.inhomogeneity]".to_string(),
+                None => format!("[fatigue] (for inhomogeneity {})", i + 1),
+            };
             m.validate()
-                .map_err(|e| SpecError(format!("fretting loop config: [fatigue]: {e}")))?;
+                .map_err(|e| SpecError(format!("fretting loop config: {table}: {e}")))?;
         }
         case.fatigue_depth = Some(f.depth_over_a * case.hertz_radius());
     }
@@ -991,5 +1136,88 @@ mod entry_tests {
             .unwrap_err()
             .0;
         assert!(e.contains("or a kind:key=value spec"), "{e}");
+    }
+
+    /// An inhomogeneity's `fatigue` table (docs/fatigue.md, "Materials"): its keys over
+    /// `[fatigue.inhomogeneity]` over the matrix's; the same from TOML data (a Python dict's
+    /// path); refused without `[fatigue]`, with an unknown key, or with bad constants, naming the
+    /// entry.
+    #[test]
+    fn an_inhomogeneitys_fatigue_table_overrides_key_by_key() {
+        let sphere = "[[inhomogeneity]]\nkind = \"sphere\"\nx = 0.0\ny = 0.0\nz = 1.6e-6\n\
+                      r = 0.9e-6\nE = 4.2e11\nnu = 0.3\n";
+        let fatigue = "[fatigue]\nf_minus1 = 400e6\nt_minus1 = 280e6\nfs_k = 0.5\n\
+                       yield_stress = 600e6\n";
+        let every = "[fatigue.inhomogeneity]\nf_minus1 = 450e6\nt_minus1 = 300e6\nfs_k = 0.6\n\
+                     yield_stress = 700e6\n";
+        let text = format!(
+            "{sphere}fatigue = {{ t_minus1 = 320e6, fs_k = 0.9 }}\n{sphere}{fatigue}{every}"
+        );
+        let cfg = toml::from_str::<LoopConfig>(&text)
+            .map_err(|e| SpecError(e.message().to_string()))
+            .unwrap();
+        let case = cfg.case("homogeneous", None).unwrap();
+        let f = cfg.fatigue_config().unwrap();
+        let own = f.inhomogeneity_constants(0);
+        assert_eq!(
+            own,
+            FatigueConstants {
+                f_minus1: 450e6,
+                t_minus1: 320e6,
+                fs_k: 0.9,
+                yield_stress: 700e6
+            }
+        );
+        assert_eq!(f.inhomogeneity_constants(1), f.inhomogeneity.unwrap());
+        let m = f.inhomogeneity_materials(&case.inhomogeneities);
+        assert_eq!(
+            (m[0].young, m[0].t_minus1, m[1].t_minus1),
+            (4.2e11, 320e6, 300e6)
+        );
+        // Without [fatigue.inhomogeneity]: the matrix's.
+        let text = format!("{sphere}fatigue = {{ t_minus1 = 320e6 }}\n{fatigue}");
+        let f = toml::from_str::<LoopConfig>(&text)
+            .map_err(|e| SpecError(e.message().to_string()))
+            .unwrap()
+            .fatigue_config()
+            .unwrap();
+        assert_eq!(f.inhomogeneity_constants(0).f_minus1, 400e6);
+        assert_eq!(f.inhomogeneity_constants(0).t_minus1, 320e6);
+        // The Python dict path: TOML data, not text.
+        let table: toml::Table = toml::from_str(&text).unwrap();
+        let from_data: LoopConfig = from_table(table, "dict").unwrap();
+        assert_eq!(from_data.fatigue_config(), Some(f));
+        // Refused, naming the entry and the key.
+        let refused = |text: String| {
+            toml::from_str::<LoopConfig>(&text)
+                .map_err(|e| SpecError(e.message().to_string()))
+                .and_then(|c| c.case("homogeneous", None))
+                .unwrap_err()
+                .0
+        };
+        let e = refused(format!(
+            "{sphere}fatigue = {{ t_minus1 = 500e6 }}\n{fatigue}"
+        ));
+        assert!(
+            e.contains("[[inhomogeneity]] 1 fatigue") && e.contains("t_minus1"),
+            "{e}"
+        );
+        let e = refused(format!(
+            "{sphere}fatigue = {{ yield_stress = -1.0 }}\n{fatigue}"
+        ));
+        assert!(
+            e.contains("[[inhomogeneity]] 1") && e.contains("yield_stress"),
+            "{e}"
+        );
+        let e = refused(format!(
+            "{sphere}fatigue = {{ f_minus_one = 1.0 }}\n{fatigue}"
+        ));
+        assert!(e.contains("f_minus_one"), "{e}");
+        let e = refused(format!("{sphere}fatigue = {{ f_minus1 = 5e8 }}\n"));
+        assert!(
+            e.contains("[[inhomogeneity]] 1") && e.contains("[fatigue]"),
+            "{e}"
+        );
+        assert!(!e.contains('\n'), "{e}");
     }
 }

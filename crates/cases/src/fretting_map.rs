@@ -468,6 +468,7 @@ mod tests {
             depth_over_a: 1.0,
             screen_fraction: 0.5,
             inhomogeneity: None,
+            own: Vec::new(),
         };
         let plain = map();
         let mut base = plain.base().clone();

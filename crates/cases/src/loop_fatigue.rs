@@ -14,7 +14,7 @@ use crate::fatigue::field::{FieldParams, Maximum};
 use crate::fatigue::invariant::{crossland_dang_van, InvariantScratch};
 use crate::fatigue::screened::{critical_plane_bounds, invariant_bounds, reference_bounds};
 use crate::fatigue::{evaluate_screened, Material, ScreenedIndices, Voigt};
-use crate::sam::drivers::fretting_loop::{CycleSources, CycleStress, FrettingLoop};
+use crate::sam::drivers::fretting_loop::{CycleSources, CycleStress, FrettingLoop, LoopCase};
 use crate::sam::subsurface::SubsurfacePlan;
 use crate::sam::SamError;
 use crate::spec::SpecError;
@@ -65,17 +65,17 @@ pub fn evaluate_loop_fatigue(
     let case = lp.case();
     let homogeneous = lp.solver().nested().is_none();
     let h: CycleStress = if homogeneous && cfg.screen_fraction > 0.0 {
-        let matrix = cfg.materials(case.e, case.nu, &[])[0];
+        let matrix = cfg.matrix(case.e, case.nu);
         reachable_levels(lp, sources, layers, &matrix, cfg.screen_fraction).map_err(|e| fail(&e))?
     } else {
         lp.cycle_history(Some(&all)).map_err(|e| fail(&e))?
     };
-    let materials = cfg.materials(case.e, case.nu, &h.materials);
+    let (materials, material_of) = cell_materials(cfg, case, &h)?;
     let indices = evaluate_screened(
         &h.stress,
         h.increments,
         &materials,
-        &h.material,
+        &material_of,
         &FieldParams::default(),
         cfg.screen_fraction,
     )
@@ -159,6 +159,70 @@ pub fn evaluate_loop_fatigue(
         levels_computed,
         seconds: start.elapsed().as_secs_f64(),
     })
+}
+
+/// The criteria's materials and each stored cell's index into them (docs/fatigue.md,
+/// "Materials"): 0 the matrix (`case.e`, `case.nu`, the `[fatigue]` constants); a cell of an
+/// inhomogeneity (`h.material ≠ 0`, the cells of the EIM) is of the inhomogeneity whose shape
+/// holds the cell centre — the rule of [`crate::sam::eim::InclusionSet::new`] — with its `E`,
+/// `ν` and constants ([`FatigueConfig::inhomogeneity_constants`]). Equal materials share one
+/// index. Errors: a cell of two overlapping inhomogeneities of different constants, and (a bug)
+/// a cell of the EIM that no inhomogeneity holds or of other elastic constants.
+pub fn cell_materials(
+    cfg: &FatigueConfig,
+    case: &LoopCase,
+    h: &CycleStress,
+) -> Result<(Vec<Material>, Vec<u16>), SpecError> {
+    let own = cfg.inhomogeneity_materials(&case.inhomogeneities);
+    let mut materials = vec![cfg.matrix(case.e, case.nu)];
+    let mut material_of = vec![0u16; h.material.len()];
+    for (p, &m) in h.material.iter().enumerate() {
+        if m == 0 {
+            continue;
+        }
+        let at = h.position(p);
+        let mut holders = case
+            .inhomogeneities
+            .iter()
+            .zip(&own)
+            .enumerate()
+            .filter(|(_, (inh, _))| inh.contains(at));
+        let Some((first, (inh, material))) = holders.next() else {
+            return Err(SpecError(format!(
+                "fatigue: the cell at {at:?} m is of an inhomogeneity's material but no \
+                 inhomogeneity holds its centre"
+            )));
+        };
+        if h.materials.get(m as usize - 1) != Some(&(inh.e, inh.nu)) {
+            return Err(SpecError(format!(
+                "fatigue: the cell at {at:?} m: inhomogeneity {} has other elastic constants \
+                 than the cell's",
+                first + 1
+            )));
+        }
+        if let Some((other, _)) = holders.find(|(_, (_, o))| *o != material) {
+            return Err(SpecError(format!(
+                "fatigue: inhomogeneities {} and {} overlap (at {at:?} m) with different fatigue \
+                 constants: make them disjoint, or give them the same constants",
+                first + 1,
+                other + 1
+            )));
+        }
+        let index = match materials.iter().position(|q| q == material) {
+            Some(i) => i,
+            None => {
+                materials.push(*material);
+                materials.len() - 1
+            }
+        };
+        material_of[p] = u16::try_from(index).map_err(|_| {
+            SpecError(format!(
+                "fatigue: more than {} distinct materials",
+                u16::MAX as usize + 1
+            ))
+        })?;
+    }
+    Ok((materials, material_of))
 }
 
 /// Exact values at this many cells per criterion give the screen its lower bounds of the maxima
@@ -387,7 +451,7 @@ impl LoopFatigue {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sam::drivers::fretting_loop::LoopCase;
+    use crate::config::LoopConfig;
 
     /// The levels the screen skips ([`reachable_levels`]) hold no cell that reaches
     /// `screen_fraction ×` a maximum: against the same screened evaluation of the whole box's
@@ -411,12 +475,13 @@ mod tests {
             depth_over_a: 1.5,
             screen_fraction: 0.5,
             inhomogeneity: None,
+            own: Vec::new(),
         };
         let mut lp = FrettingLoop::new(case.clone()).unwrap();
         lp.run(|_| std::ops::ControlFlow::Continue(())).unwrap();
         let f = evaluate_loop_fatigue(&lp, &cfg).unwrap();
         let whole = lp.cycle_stress().unwrap().unwrap();
-        let materials = cfg.materials(case.e, case.nu, &[]);
+        let materials = [cfg.matrix(case.e, case.nu)];
         let full = evaluate_screened(
             &whole.stress,
             whole.increments,
@@ -477,5 +542,178 @@ mod tests {
             }
             assert!(reached > 0);
         }
+    }
+
+    /// Per-inhomogeneity constants (docs/fatigue.md, "Materials"): two inhomogeneities of the
+    /// same `E`, `ν` (one material of the EIM) with different `fatigue` tables — a cell inside
+    /// each holds the criteria of its own constants (by hand on the same stored path; the second
+    /// table gives `f_minus1` alone, the rest is the matrix's), a matrix cell the matrix's; and
+    /// without the tables the fields are bit for bit the screened evaluation with the EIM's
+    /// materials and the `[fatigue]` constants (the evaluation before per-inhomogeneity
+    /// constants).
+    #[test]
+    fn each_inhomogeneity_cell_takes_its_own_constants() {
+        let a = LoopCase::default().hertz_radius();
+        let e2 = 2.0 * LoopCase::default().e;
+        let head = "grid = 16\nnormal_steps = 4\namplitude = 0.02e-6\nshift_step = 0.005e-6\n\
+                    subsurface_over_a = 0.0\n";
+        let fatigue = "[fatigue]\nf_minus1 = 400e6\nt_minus1 = 280e6\nfs_k = 0.5\n\
+                       yield_stress = 600e6\ndepth_over_a = 0.7\nscreen_fraction = 0.0\n";
+        let sphere = format!(
+            "[[inhomogeneity]]\nkind = \"sphere\"\nx = 0.0\ny = 0.0\nz = {}\nr = {}\nE = {e2}\n\
+             nu = 0.3\n",
+            0.52 * a,
+            0.3 * a
+        );
+        let cuboid = format!(
+            "[[inhomogeneity]]\nkind = \"cuboid\"\nx = {}\ny = 0.0\nz = {}\nhx = {h}\nhy = {h}\n\
+             hz = {h}\nE = {e2}\nnu = 0.3\n",
+            1.17 * a,
+            0.52 * a,
+            h = 0.2 * a
+        );
+        let own = [
+            "fatigue = { f_minus1 = 500e6, t_minus1 = 350e6, fs_k = 0.8, yield_stress = 900e6 }\n",
+            "fatigue = { f_minus1 = 300e6 }\n",
+        ];
+        let plain = format!("{head}{sphere}{cuboid}{fatigue}");
+        let with_own = format!("{head}{sphere}{}{cuboid}{}{fatigue}", own[0], own[1]);
+        let plain = toml::from_str::<LoopConfig>(&plain)
+            .map_err(|e| SpecError(e.message().to_string()))
+            .unwrap();
+        let with_own = toml::from_str::<LoopConfig>(&with_own)
+            .map_err(|e| SpecError(e.message().to_string()))
+            .unwrap();
+        let case = with_own.case("homogeneous", None).unwrap();
+        let mut lp = FrettingLoop::new(case.clone()).unwrap();
+        lp.run(|_| std::ops::ControlFlow::Continue(())).unwrap();
+        let h = lp.cycle_stress().unwrap();
+        assert_eq!(h.materials, vec![(e2, 0.3)], "one EIM material");
+        let (cfg_plain, cfg_own) = (
+            plain.fatigue_config().unwrap(),
+            with_own.fatigue_config().unwrap(),
+        );
+        let f_own = evaluate_loop_fatigue(&lp, &cfg_own).unwrap();
+        let f_plain = evaluate_loop_fatigue(&lp, &cfg_plain).unwrap();
+        let (layers, per) = (h.layers, h.grid.len());
+        let slot = |p: usize| {
+            let k = p / per;
+            (if k == layers { 0 } else { k + 1 }) * per + p % per
+        };
+        // By hand: the four criteria of cell p's stored path with the constants `c`.
+        let by_hand = |p: usize, c: [f64; 4], young: f64| -> [f64; 4] {
+            let m = Material {
+                f_minus1: c[0],
+                t_minus1: c[1],
+                young,
+                poisson: 0.3,
+                fs_k: c[2],
+                yield_stress: c[3],
+            };
+            let path: Vec<Voigt> = h.stress[p * h.increments * 6..(p + 1) * h.increments * 6]
+                .chunks_exact(6)
+                .map(|v| std::array::from_fn(|i| v[i]))
+                .collect();
+            let params = FieldParams::default().plane;
+            let (cr, dv) = crossland_dang_van(&path, &m, &mut InvariantScratch::default()).unwrap();
+            let mut plane = PlaneScratch::default();
+            [
+                cr.index,
+                dv.index,
+                swt(&path, &m, &params, &mut plane).unwrap().value,
+                fatemi_socie(&path, &m, &params, &mut plane).unwrap().value,
+            ]
+        };
+        let fields = |f: &LoopFatigue, q: usize| {
+            let i = &f.indices;
+            [i.crossland[q], i.dang_van[q], i.swt[q], i.fatemi_socie[q]]
+        };
+        let matrix = [400e6, 280e6, 0.5, 600e6];
+        let constants = [[500e6, 350e6, 0.8, 900e6], [300e6, 280e6, 0.5, 600e6]];
+        let mut checked = [0usize; 3];
+        for p in 0..h.points() {
+            let at = h.position(p);
+            let holder = case.inhomogeneities.iter().position(|i| i.contains(at));
+            assert_eq!(holder.is_some(), h.material[p] != 0, "cell {p}");
+            // A few cells of each kind (every cell would be slow in a debug build).
+            let kind = holder.map_or(0, |i| i + 1);
+            if checked[kind] >= 3 || (kind == 0 && p % 97 != 0) {
+                continue;
+            }
+            checked[kind] += 1;
+            let (c, young) = match holder {
+                Some(i) => (constants[i], e2),
+                None => (matrix, LoopCase::default().e),
+            };
+            let got = fields(&f_own, slot(p));
+            assert_eq!(got, by_hand(p, c, young), "cell {p} ({kind})");
+            if let Some(i) = holder {
+                // Not the matrix's constants: the test sees the difference.
+                let other = by_hand(p, matrix, e2);
+                assert_ne!(got[0], other[0], "inhomogeneity {i}: Crossland");
+                assert_ne!(got[1], other[1], "inhomogeneity {i}: Dang Van");
+                if i == 0 {
+                    assert_ne!(got[3], other[3], "Fatemi–Socie");
+                }
+            }
+        }
+        assert_eq!(checked, [3, 3, 3], "cells of each kind checked");
+        // The screen across materials (each cell's bound with its own constants, against the
+        // largest exact value of any material): the maxima and every value at or above half of
+        // its maximum are those of the full evaluation.
+        let half = FatigueConfig {
+            screen_fraction: 0.5,
+            ..cfg_own.clone()
+        };
+        let screened = evaluate_loop_fatigue(&lp, &half).unwrap();
+        let (a, b) = (&f_own.indices, &screened.indices);
+        for (full, part, m, n) in [
+            (&a.crossland, &b.crossland, a.crossland_max, b.crossland_max),
+            (&a.dang_van, &b.dang_van, a.dang_van_max, b.dang_van_max),
+            (&a.swt, &b.swt, a.swt_max, b.swt_max),
+            (
+                &a.fatemi_socie,
+                &b.fatemi_socie,
+                a.fatemi_socie_max,
+                b.fatemi_socie_max,
+            ),
+        ] {
+            assert_eq!((m.value, m.point), (n.value, n.point));
+            for (q, (&v, &w)) in full.iter().zip(part.iter()).enumerate() {
+                if v >= 0.5 * m.value {
+                    assert_eq!(v, w, "cell {q}");
+                }
+            }
+        }
+        // Without the tables: the evaluation before them (materials of the EIM, `[fatigue]`
+        // constants everywhere), bit for bit.
+        let m = cfg_plain.matrix(case.e, case.nu);
+        let before = evaluate_screened(
+            &h.stress,
+            h.increments,
+            &[m, Material { young: e2, ..m }],
+            &h.material,
+            &FieldParams::default(),
+            0.0,
+        )
+        .unwrap();
+        for p in 0..h.points() {
+            let b = [
+                before.crossland[p],
+                before.dang_van[p],
+                before.swt[p],
+                before.fatemi_socie[p],
+            ];
+            assert_eq!(
+                fields(&f_plain, slot(p)).map(f64::to_bits),
+                b.map(f64::to_bits),
+                "cell {p}"
+            );
+        }
+        assert_eq!(
+            before.crossland_max.value,
+            f_plain.indices.crossland_max.value
+        );
+        assert_eq!(slot(before.swt_max.point), f_plain.indices.swt_max.point);
     }
 }
