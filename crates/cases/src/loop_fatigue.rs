@@ -587,7 +587,7 @@ mod tests {
         let case = with_own.case("homogeneous", None).unwrap();
         let mut lp = FrettingLoop::new(case.clone()).unwrap();
         lp.run(|_| std::ops::ControlFlow::Continue(())).unwrap();
-        let h = lp.cycle_stress().unwrap();
+        let h = lp.cycle_stress().unwrap().unwrap();
         assert_eq!(h.materials, vec![(e2, 0.3)], "one EIM material");
         let (cfg_plain, cfg_own) = (
             plain.fatigue_config().unwrap(),
