@@ -265,6 +265,14 @@ pub fn fatemi_socie_patch_bound(
         let (mut a, mut b, mut smax, mut chord) =
             (0.0f64, f64::NEG_INFINITY, f64::NEG_INFINITY, 0.0f64);
         let mut first = None;
+        // The shear vector of c (the same for every t).
+        let wc = [
+            c[0] * n[0] + c[5] * n[1] + c[4] * n[2],
+            c[5] * n[0] + c[1] * n[1] + c[3] * n[2],
+            c[4] * n[0] + c[3] * n[1] + c[2] * n[2],
+        ];
+        let fc = wc[0] * n[0] + wc[1] * n[1] + wc[2] * n[2];
+        let tc = [wc[0] - fc * n[0], wc[1] - fc * n[1], wc[2] - fc * n[2]];
         for (s, &[lip, lambda]) in path.iter().zip(per_increment.iter()) {
             // σ n, its normal part and shear vector (Voigt [xx, yy, zz, yz, xz, xy]).
             let w = [
@@ -274,18 +282,8 @@ pub fn fatemi_socie_patch_bound(
             ];
             let f = w[0] * n[0] + w[1] * n[1] + w[2] * n[2];
             let tau = [w[0] - f * n[0], w[1] - f * n[1], w[2] - f * n[2]];
-            // The shear vector of Δσ(t) is τ(t) minus that of c (the same for every t).
-            let wc = [
-                c[0] * n[0] + c[5] * n[1] + c[4] * n[2],
-                c[5] * n[0] + c[1] * n[1] + c[3] * n[2],
-                c[4] * n[0] + c[3] * n[1] + c[2] * n[2],
-            ];
-            let fc = wc[0] * n[0] + wc[1] * n[1] + wc[2] * n[2];
-            let td = [
-                tau[0] - (wc[0] - fc * n[0]),
-                tau[1] - (wc[1] - fc * n[1]),
-                tau[2] - (wc[2] - fc * n[2]),
-            ];
+            // The shear vector of Δσ(t) is τ(t) minus that of c.
+            let td = [tau[0] - tc[0], tau[1] - tc[1], tau[2] - tc[2]];
             let norm = |x: &[f64; 3]| (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
             a = a.max(norm(&td) + theta * lip);
             b = b.max(f + sin2 * norm(&tau) + sinsq * (lambda - f).max(0.0));
