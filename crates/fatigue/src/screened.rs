@@ -142,6 +142,202 @@ pub fn critical_plane_bounds(path: &[Voigt], material: &Material) -> [f64; 2] {
     [swt, fs]
 }
 
+/// Most patch splits of one [`fatemi_socie_patch_bound`].
+pub const FS_PATCH_SPLITS: usize = 64;
+
+/// A patch of plane normals: the square `[u₀, u₁] × [v₀, v₁]` of the cube face `x_face = 1`
+/// (every normal, up to sign, meets one of the faces `x = 1`, `y = 1`, `z = 1` at coordinates in
+/// `[−1, 1]²`), with its upper bound of Fatemi–Socie.
+#[derive(Clone, Copy, Debug)]
+struct Patch {
+    upper: f64,
+    face: usize,
+    u: [f64; 2],
+    v: [f64; 2],
+}
+
+impl PartialEq for Patch {
+    fn eq(&self, other: &Self) -> bool {
+        self.upper.total_cmp(&other.upper).is_eq()
+    }
+}
+impl Eq for Patch {}
+impl PartialOrd for Patch {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Patch {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.upper.total_cmp(&other.upper)
+    }
+}
+
+/// Reusable buffers of [`fatemi_socie_patch_bound`].
+#[derive(Clone, Debug, Default)]
+pub struct PatchScratch {
+    per_increment: Vec<[f64; 2]>,
+    heap: std::collections::BinaryHeap<Patch>,
+}
+
+/// The unit normal through the point `(u, v)` of the cube face `face`.
+fn face_normal(face: usize, u: f64, v: f64) -> [f64; 3] {
+    let mut x = [0.0; 3];
+    x[face] = 1.0;
+    x[(face + 1) % 3] = u;
+    x[(face + 2) % 3] = v;
+    let r = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+    [x[0] / r, x[1] / r, x[2] / r]
+}
+
+/// The angle between two unit vectors (`atan2(|a × b|, a·b)`, accurate at small angles).
+fn angle(p: &[f64; 3], q: &[f64; 3]) -> f64 {
+    let c = [
+        p[1] * q[2] - p[2] * q[1],
+        p[2] * q[0] - p[0] * q[2],
+        p[0] * q[1] - p[1] * q[0],
+    ];
+    let sin = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+    sin.atan2(p[0] * q[0] + p[1] * q[1] + p[2] * q[2])
+}
+
+/// An upper bound `U` of Fatemi–Socie (Eq. F7) of one path by branch and bound over patches of
+/// plane normals (docs/fatigue.md, "A per-plane Fatemi–Socie bound"), tighter than
+/// [`critical_plane_bounds`]'s because the shear amplitude and the normal stress are bounded
+/// jointly per patch. With `c` the componentwise mid-range of the path, `Δσ(t) = σ(t) − c`,
+/// `τ(n, S) = |S n − (n·S n) n|` the shear traction of `S` on the plane `n`, a patch of centre
+/// `n₀` and radius `θ` (the largest angle from `n₀` to its corners: a cube-face square is
+/// geodesically convex, so the farthest point is a corner; `+10⁻¹²`), every plane `n` of it has
+///
+/// * `γ_a(n, m) G ≤ A = max_t [τ(n₀, Δσ(t)) + θ (λ₁ − λ₃)(Δσ(t))]` — half the diameter of the
+///   shear path is at most its distance to any centre, and `|dτ(n, S)/dφ| ≤ ‖S − (n·S n) I‖₂ ≤
+///   λ₁ − λ₃ ≤ √2 ‖dev S‖_F` along a great circle;
+/// * `σ_n(n, t) ≤ B = max_t [σ_n(n₀, t) + sin 2θ τ(n₀, σ(t)) + sin²θ max(0, λ̂(t) − σ_n(n₀, t))]`
+///   — `n = n₀ cos φ + u sin φ`, `u ⊥ n₀`, gives `σ_n = σ_n(n₀) + sin 2φ u·τ₀ +
+///   sin²φ (u·σ u − σ_n(n₀))`, and `u·σ u ≤ σ₁ ≤ λ̂` (the module doc's; `θ ≤ π/4`);
+///
+/// so `FS ≤ A/G · max(0, 1 + k B/σ_y)` on the patch (`× (1 + 10⁻⁹)` for rounding). Starting
+/// from the 12 squares of side 1 of the three faces, the patch of the largest bound is split in
+/// four until that bound is below `threshold` (the point cannot reach it), or a plane's value
+/// (a lower bound from the patch centres: half the largest `|τ(t) − τ(0)|`) reaches `threshold`,
+/// or after [`FS_PATCH_SPLITS`] splits (always, with no threshold). Returns the largest patch bound then, never above
+/// [`critical_plane_bounds`]'s.
+pub fn fatemi_socie_patch_bound(
+    path: &[Voigt],
+    material: &Material,
+    threshold: Option<f64>,
+    scratch: &mut PatchScratch,
+) -> f64 {
+    let path_bound = critical_plane_bounds(path, material)[1];
+    if path.is_empty() {
+        return path_bound;
+    }
+    let mut lo = [f64::INFINITY; 6];
+    let mut hi = [f64::NEG_INFINITY; 6];
+    for s in path {
+        for k in 0..6 {
+            lo[k] = lo[k].min(s[k]);
+            hi[k] = hi[k].max(s[k]);
+        }
+    }
+    let c: [f64; 6] = std::array::from_fn(|k| 0.5 * (lo[k] + hi[k]));
+    // Per increment: the Lipschitz constant √2 ‖dev Δσ‖_F and λ̂(t) ≥ σ₁(t).
+    scratch.per_increment.clear();
+    scratch.per_increment.extend(path.iter().map(|s| {
+        let d: Voigt = std::array::from_fn(|k| s[k] - c[k]);
+        let h = hydrostatic(&d);
+        let (a, b, e) = (d[0] - h, d[1] - h, d[2] - h);
+        let frob = (a * a + b * b + e * e + 2.0 * (d[3] * d[3] + d[4] * d[4] + d[5] * d[5])).sqrt();
+        [2f64.sqrt() * frob, largest_principal_bound(s)]
+    }));
+    let g = material.shear_modulus();
+    let kq = material.fs_k / material.yield_stress;
+    let per_increment = &scratch.per_increment;
+    // (upper bound on the patch, value bound below at its centre).
+    let bounds = |face: usize, u: [f64; 2], v: [f64; 2]| -> (f64, f64) {
+        let n = face_normal(face, 0.5 * (u[0] + u[1]), 0.5 * (v[0] + v[1]));
+        let theta = [(0, 0), (1, 0), (0, 1), (1, 1)]
+            .iter()
+            .map(|&(i, j)| angle(&n, &face_normal(face, u[i], v[j])))
+            .fold(0.0, f64::max)
+            + 1e-12;
+        let (sin2, sinsq) = ((2.0 * theta).sin(), theta.sin().powi(2));
+        let (mut a, mut b, mut smax, mut chord) =
+            (0.0f64, f64::NEG_INFINITY, f64::NEG_INFINITY, 0.0f64);
+        let mut first = None;
+        // The shear vector of c (the same for every t).
+        let wc = [
+            c[0] * n[0] + c[5] * n[1] + c[4] * n[2],
+            c[5] * n[0] + c[1] * n[1] + c[3] * n[2],
+            c[4] * n[0] + c[3] * n[1] + c[2] * n[2],
+        ];
+        let fc = wc[0] * n[0] + wc[1] * n[1] + wc[2] * n[2];
+        let tc = [wc[0] - fc * n[0], wc[1] - fc * n[1], wc[2] - fc * n[2]];
+        for (s, &[lip, lambda]) in path.iter().zip(per_increment.iter()) {
+            // σ n, its normal part and shear vector (Voigt [xx, yy, zz, yz, xz, xy]).
+            let w = [
+                s[0] * n[0] + s[5] * n[1] + s[4] * n[2],
+                s[5] * n[0] + s[1] * n[1] + s[3] * n[2],
+                s[4] * n[0] + s[3] * n[1] + s[2] * n[2],
+            ];
+            let f = w[0] * n[0] + w[1] * n[1] + w[2] * n[2];
+            let tau = [w[0] - f * n[0], w[1] - f * n[1], w[2] - f * n[2]];
+            // The shear vector of Δσ(t) is τ(t) minus that of c.
+            let td = [tau[0] - tc[0], tau[1] - tc[1], tau[2] - tc[2]];
+            let norm = |x: &[f64; 3]| (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+            a = a.max(norm(&td) + theta * lip);
+            b = b.max(f + sin2 * norm(&tau) + sinsq * (lambda - f).max(0.0));
+            smax = smax.max(f);
+            let t0 = *first.get_or_insert(tau);
+            chord = chord.max(norm(&[tau[0] - t0[0], tau[1] - t0[1], tau[2] - t0[2]]));
+        }
+        (
+            a / g * (1.0 + kq * b).max(0.0) * (1.0 + 1e-9),
+            0.5 * chord / g * (1.0 + kq * smax).max(0.0),
+        )
+    };
+    let heap = &mut scratch.heap;
+    heap.clear();
+    let mut lower = 0.0f64;
+    for face in 0..3 {
+        for (u, v) in [
+            ([-1.0, 0.0], [-1.0, 0.0]),
+            ([0.0, 1.0], [-1.0, 0.0]),
+            ([-1.0, 0.0], [0.0, 1.0]),
+            ([0.0, 1.0], [0.0, 1.0]),
+        ] {
+            let (upper, below) = bounds(face, u, v);
+            lower = lower.max(below);
+            heap.push(Patch { upper, face, u, v });
+        }
+    }
+    for _ in 0..FS_PATCH_SPLITS {
+        let top = heap.peek().map_or(0.0, |p| p.upper);
+        if threshold.is_some_and(|t| top < t || lower >= t) {
+            break;
+        }
+        let Some(p) = heap.pop() else { break };
+        let (um, vm) = (0.5 * (p.u[0] + p.u[1]), 0.5 * (p.v[0] + p.v[1]));
+        for (u, v) in [
+            ([p.u[0], um], [p.v[0], vm]),
+            ([um, p.u[1]], [p.v[0], vm]),
+            ([p.u[0], um], [vm, p.v[1]]),
+            ([um, p.u[1]], [vm, p.v[1]]),
+        ] {
+            let (upper, below) = bounds(p.face, u, v);
+            lower = lower.max(below);
+            heap.push(Patch {
+                // A child's bound never needs to exceed its parent's.
+                upper: upper.min(p.upper),
+                face: p.face,
+                u,
+                v,
+            });
+        }
+    }
+    heap.peek().map_or(0.0, |p| p.upper).min(path_bound)
+}
+
 /// Upper bounds `[Crossland, Dang Van, SWT, Fatemi–Socie]` of every path whose states lie near
 /// a reference state (docs/fatigue.md, "Layers the screen cannot reach"): for all `t`,
 /// `|y_i(σ(t)) − y_i(σ^ref)| ≤ deviation[i]` (`i < 5`, the deviator coordinates of Eq. F1) and
@@ -285,6 +481,7 @@ pub fn evaluate_screened(
             &mut fields,
             &mut done,
             &invariant,
+            None,
         )?;
     }
     let [crossland, dang_van] = fields;
@@ -305,6 +502,14 @@ pub fn evaluate_screened(
         let mut field = [vec![f64::NAN; points]];
         let mut done = vec![false; points];
         let mut best = [f64::NEG_INFINITY];
+        // Fatemi–Socie: the cells the path bound keeps are bounded again per plane patch
+        // (fatemi_socie_patch_bound) before the exact search.
+        let patch_bound = |p: usize, threshold: f64, scratch: &mut (Vec<Voigt>, PatchScratch)| {
+            path_of(stress, p, increments, &mut scratch.0);
+            let material = &materials[material_of[p] as usize];
+            fatemi_socie_patch_bound(&scratch.0, material, Some(threshold), &mut scratch.1)
+        };
+        let refine: Option<&Refine<'_>> = if which == 1 { Some(&patch_bound) } else { None };
         let count = screen(
             &bound(2 + which),
             fraction,
@@ -313,6 +518,7 @@ pub fn evaluate_screened(
             &mut field,
             &mut done,
             &plane(which),
+            refine,
         )?;
         let [field] = field;
         Ok((field, count))
@@ -345,10 +551,19 @@ pub fn evaluate_screened(
 type PointCriteria<'a, const K: usize, S> =
     dyn Fn(usize, &mut (Vec<Voigt>, S)) -> Result<[f64; K], FatigueError> + Sync + 'a;
 
+/// A second, tighter (and dearer) upper bound of a point's criterion.
+/// `refine(p, threshold, scratch)` may stop refining once it knows on which side of
+/// `threshold` the point lies.
+type Refine<'a> = dyn Fn(usize, f64, &mut (Vec<Voigt>, PatchScratch)) -> f64 + Sync + 'a;
+
 /// One screen (module doc): the points not yet `done`, in decreasing order of `bound`, evaluated
 /// by `eval` (`K` values per point into `fields`, `best` their running maxima) in parallel batches
 /// of 16, until the next bound is below `fraction × best[which]` (with `fraction > 0` and
-/// `best[which] > 0`). Returns the number of points evaluated.
+/// `best[which] > 0`). With `refine`, a point of a batch whose refined bound is below
+/// `fraction × best[which]` (as at the batch's start) is skipped: since `best` never exceeds the
+/// maximum, every point reaching `fraction ×` the maximum is still evaluated. Returns the number
+/// of points evaluated.
+#[allow(clippy::too_many_arguments)]
 fn screen<const K: usize, S: Default + Send>(
     bound: &[f64],
     fraction: f64,
@@ -357,29 +572,54 @@ fn screen<const K: usize, S: Default + Send>(
     fields: &mut [Vec<f64>; K],
     done: &mut [bool],
     eval: &PointCriteria<'_, K, S>,
+    refine: Option<&Refine<'_>>,
 ) -> Result<usize, FatigueError> {
     let mut order: Vec<usize> = (0..bound.len()).filter(|&p| !done[p]).collect();
     order.sort_by(|&a, &b| bound[b].total_cmp(&bound[a]));
     let batch = 16;
     let mut next = 0;
+    let mut evaluated = 0;
+    let mut kept = Vec::with_capacity(batch);
     while next < order.len() {
         let b = best[which];
-        if fraction > 0.0 && b > 0.0 && bound[order[next]] < fraction * b {
+        let below = |value: f64| fraction > 0.0 && b > 0.0 && value < fraction * b;
+        if below(bound[order[next]]) {
             break;
         }
         let end = (next + batch).min(order.len());
-        let values: Vec<[f64; K]> = order[next..end]
+        kept.clear();
+        match refine {
+            Some(refine) if fraction > 0.0 && b > 0.0 => {
+                let threshold = fraction * b;
+                let tight: Vec<f64> = order[next..end]
+                    .par_iter()
+                    .map_init(<(Vec<Voigt>, PatchScratch)>::default, |scratch, &p| {
+                        refine(p, threshold, scratch)
+                    })
+                    .collect();
+                kept.extend(
+                    order[next..end]
+                        .iter()
+                        .zip(tight)
+                        .filter(|(_, t)| !below(*t))
+                        .map(|(&p, _)| p),
+                );
+            }
+            _ => kept.extend_from_slice(&order[next..end]),
+        }
+        let values: Vec<[f64; K]> = kept
             .par_iter()
             .map_init(<(Vec<Voigt>, S)>::default, |scratch, &p| eval(p, scratch))
             .collect::<Result<_, FatigueError>>()?;
-        for (&p, v) in order[next..end].iter().zip(values) {
+        for (&p, v) in kept.iter().zip(values) {
             done[p] = true;
             for k in 0..K {
                 fields[k][p] = v[k];
                 best[k] = best[k].max(v[k]);
             }
         }
+        evaluated += kept.len();
         next = end;
     }
-    Ok(next)
+    Ok(evaluated)
 }
