@@ -276,9 +276,15 @@ def test_fretting_loop_fatigue_with_an_inhomogeneity_and_its_constants_equals_th
     with h5py.File(tmp_path / "out" / "results.h5") as h5:
         for name in INDICES:
             assert np.array_equal(getattr(f, name), h5[name][:], equal_nan=True), name
-    # The constants matter: the matrix's constants everywhere give another Crossland field.
-    plain = hs.FrettingLoop(dict(cfg, fatigue=FATIGUE)).run().fatigue()
-    assert not np.array_equal(plain.crossland, f.crossland, equal_nan=True)
+    # The constants matter: with every cell evaluated (screen_fraction = 0; at the default 0.5 the
+    # screen skips the sphere's cells here, so the evaluated fields coincide), the sphere's own
+    # constants give another Crossland field than the matrix's constants everywhere — exactly at
+    # the sphere's cells.
+    full = dict(FATIGUE, screen_fraction=0.0)
+    own_all = hs.FrettingLoop(dict(cfg, fatigue=dict(full, inhomogeneity=own))).run().fatigue()
+    plain = hs.FrettingLoop(dict(cfg, fatigue=full)).run().fatigue()
+    assert not np.isnan(own_all.crossland).any() and not np.isnan(plain.crossland).any()
+    assert not np.array_equal(plain.crossland, own_all.crossland)
 
 
 def test_an_inhomogeneitys_own_fatigue_table_from_a_dict_equals_the_cli(tmp_path):
