@@ -35,7 +35,7 @@ use halfspace::records::{
 };
 use halfspace::sam::drivers::fretting_loop::{FrettingLoop, LoopRow, POINT_LABELS};
 use halfspace::sam::drivers::fretting_map::{FrettingMap, MapPoint};
-use halfspace::sam::drivers::fretting_wear3d::{FrettingWear3d, WearRow};
+use halfspace::sam::drivers::fretting_wear3d::{FrettingWear3d, WearCase, WearRow};
 use halfspace::sam::drivers::one_contact::solve_contact;
 
 create_exception!(
@@ -573,6 +573,16 @@ fn fretting_map_point(
     Ok(point.values().to_vec())
 }
 
+/// The 3D wear case of a config dict (`Wear3dConfig::from_table`, validated once) with `grid`
+/// overriding its grid: what `fretting_wear3d` runs and `fretting_wear3d_estimate` estimates.
+fn wear3d_case(config: &Bound<'_, PyAny>, grid: Option<usize>) -> PyResult<WearCase> {
+    let table = config_table(config, "fretting-wear3d")?;
+    Wear3dConfig::from_table(table, "config")
+        .map_err(config_error)?
+        .case(grid)
+        .map_err(err)
+}
+
 /// `fretting_wear3d(config, grid=None)`: 3D fretting wear on the SAM solver
 /// (`sam::drivers::fretting_wear3d`, docs/wear3d.md), as `halfspace fretting-wear3d`: `config` a
 /// dict of the fretting-loop keys and a `wear` dict (`halfspace_cases::config::Wear3dConfig`),
@@ -587,11 +597,7 @@ fn fretting_wear3d<'py>(
     config: &Bound<'py, PyAny>,
     grid: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let table = config_table(config, "fretting-wear3d")?;
-    let case = Wear3dConfig::from_table(table, "config")
-        .map_err(config_error)?
-        .case(grid)
-        .map_err(err)?;
+    let case = wear3d_case(config, grid)?;
     let start = std::time::Instant::now();
     let run = interruptible(py, |cancel| {
         let mut run = FrettingWear3d::new(case)?;
@@ -640,11 +646,7 @@ fn fretting_wear3d_estimate<'py>(
     config: &Bound<'py, PyAny>,
     grid: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let table = config_table(config, "fretting-wear3d")?;
-    let case = Wear3dConfig::from_table(table, "config")
-        .map_err(config_error)?
-        .case(grid)
-        .map_err(err)?;
+    let case = wear3d_case(config, grid)?;
     let estimate = case.estimate().map_err(err)?;
     json_dict(py, &wear3d_estimate_summary(&case, &estimate))
 }

@@ -18,7 +18,7 @@ use halfspace_numerics::layered::{accumulate_streamed, Family, LayerKernel, Laye
 use crate::eim::operator::{ImageStrain, InfiniteStrain, LoveStrain, SurfaceFields};
 use crate::eim::InclusionSet;
 use crate::kernels::cuboid::strain_kernel;
-use crate::kernels::subsurface::{pressure_stress, shear_stress};
+use crate::kernels::subsurface::{pressure_stress, shear_stress, unit_traction_stresses};
 use crate::kernels::{compliance, mul6, stiffness};
 use crate::{SamError, SurfaceGrid};
 
@@ -534,13 +534,7 @@ impl LayerKernel for AbsLoveFunctionals {
         (6, 3)
     }
     fn eval(&self, key: i64, m: i64, n: i64, out: &mut [f64]) {
-        let d = self.half;
-        let (x1, x2, z) = (2.0 * d * m as f64, 2.0 * d * n as f64, d * key as f64);
-        let stresses = [
-            pressure_stress(x1, x2, z, d, d, self.nu),
-            shear_stress(0, x1, x2, z, d, d, self.nu),
-            shear_stress(1, x1, x2, z, d, d, self.nu),
-        ];
+        let stresses = unit_traction_stresses(key, m, n, self.half, self.nu);
         for (j, sigma) in stresses.iter().enumerate() {
             for (f, v) in stress_functionals(sigma).iter().enumerate() {
                 out[f * 3 + j] = v.abs();

@@ -23,7 +23,7 @@ use std::ops::Range;
 
 use super::geometry::Window;
 use crate::kernels::cuboid::{DisplacementPotentials, StrainPotentials};
-use crate::kernels::subsurface::{pressure_stress, shear_stress};
+use crate::kernels::subsurface::unit_traction_stresses;
 use crate::kernels::surface::{corner_sum, primitive_a, primitive_b};
 use crate::kernels::{compliance, stiffness};
 use crate::{SamError, SurfaceGrid};
@@ -144,13 +144,7 @@ impl LayerKernel for LoveStrain {
         (6, 3)
     }
     fn eval(&self, key: i64, m: i64, n: i64, out: &mut [f64]) {
-        let d = self.half;
-        let (x1, x2, z) = (2.0 * d * m as f64, 2.0 * d * n as f64, d * key as f64);
-        let stresses = [
-            pressure_stress(x1, x2, z, d, d, self.nu),
-            shear_stress(0, x1, x2, z, d, d, self.nu),
-            shear_stress(1, x1, x2, z, d, d, self.nu),
-        ];
+        let stresses = unit_traction_stresses(key, m, n, self.half, self.nu);
         for (i, sigma) in stresses.iter().enumerate() {
             for o in 0..6 {
                 out[o * 3 + i] = (0..6).map(|r| self.s[o][r] * sigma[r]).sum();

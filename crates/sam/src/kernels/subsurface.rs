@@ -84,6 +84,19 @@ pub fn pressure_stress(x1: f64, x2: f64, z: f64, d1: f64, d2: f64, nu: f64) -> [
     corner_sum6(|c1, c2| pressure_primitive(c1, c2, z, nu), x1, x2, d1, d2)
 }
 
+/// The stresses of the three unit tractions (pressure, `q₁`, `q₂`) on the square cell of half-width
+/// `half` centred at 0, at the lattice point `(2·half·m, 2·half·n, half·key)` of the layered kernels
+/// (cell centres in-plane, depth in half-cells). Voigt order, one row per traction.
+pub fn unit_traction_stresses(key: i64, m: i64, n: i64, half: f64, nu: f64) -> [[f64; 6]; 3] {
+    let d = half;
+    let (x1, x2, z) = (2.0 * d * m as f64, 2.0 * d * n as f64, d * key as f64);
+    [
+        pressure_stress(x1, x2, z, d, d, nu),
+        shear_stress(0, x1, x2, z, d, d, nu),
+        shear_stress(1, x1, x2, z, d, d, nu),
+    ]
+}
+
 /// Stress per unit shear along `+x_{α+1}` (`alpha = 0` for `q₁`, `1` for `q₂`). Voigt order.
 pub fn shear_stress(alpha: usize, x1: f64, x2: f64, z: f64, d1: f64, d2: f64, nu: f64) -> [f64; 6] {
     if alpha == 0 {
