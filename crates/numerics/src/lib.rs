@@ -16,6 +16,7 @@
 //!   a real symbol: the `|k|` preconditioner) implement it, each fast operator with a dense twin.
 //! * [`testkit`]: fixed-seed inputs and the one check of a fast operator against its twin.
 //! * [`memory`]: footprint estimates checked before allocating.
+//! * [`parallel`]: a solve run on rayon's worker threads (one hand-off per solve, not per section).
 //! * [`anderson`]: Anderson acceleration of fixed-point iterations.
 //! * [`linop`], [`krylov`]: a flat linear-operator trait; restarted GMRES and the preconditioned
 //!   Richardson (block-Jacobi) iteration on it.
@@ -35,6 +36,7 @@ pub mod layered;
 pub mod linop;
 pub mod memory;
 pub mod op;
+pub mod parallel;
 pub mod power_sum;
 pub mod quad;
 pub mod special;

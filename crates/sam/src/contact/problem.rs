@@ -429,7 +429,19 @@ impl<S: OperatorSet> ContactProblem<S> {
     /// `slack ≥ 1` (the tangential one at most [`INEXACT_CEILING`]): for an outer loop whose next
     /// pass re-solves the increment anyway (the EIM loop of docs/theory-sam.md#nested-loops far from convergence), as the
     /// inexact alternation does for its own early passes. `slack = 1` is [`ContactProblem::solve`].
+    /// Runs on one of rayon's worker threads ([`halfspace_numerics::parallel::on_pool`]: one
+    /// hand-off per solve, not one per parallel section).
     pub fn solve_loosely(
+        &mut self,
+        load: NormalLoad,
+        shift: [f64; 2],
+        slack: f64,
+    ) -> Result<IncrementInfo, SamError> {
+        halfspace_numerics::parallel::on_pool(|| self.solve_loosely_here(load, shift, slack))
+    }
+
+    /// [`ContactProblem::solve_loosely`] on the calling thread.
+    fn solve_loosely_here(
         &mut self,
         load: NormalLoad,
         shift: [f64; 2],
