@@ -417,6 +417,13 @@ impl InhomogeneousContact {
 
     /// The nested loop of one increment after `problem.begin()`, without committing.
     fn solve(&mut self, load: NormalLoad, shift: [f64; 2]) -> Result<NestedInfo, SamError> {
+        // On one of rayon's worker threads, the EIM products with the contact solves
+        // ([`halfspace_numerics::parallel::on_pool`]).
+        halfspace_numerics::parallel::on_pool(|| self.solve_here(load, shift))
+    }
+
+    /// [`InhomogeneousContact::solve`] on the calling thread.
+    fn solve_here(&mut self, load: NormalLoad, shift: [f64; 2]) -> Result<NestedInfo, SamError> {
         self.anderson.reset();
         let mut eim_iterations = 0;
         let mut work = ContactWork::default();
