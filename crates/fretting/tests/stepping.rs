@@ -476,7 +476,7 @@ fn fixed_steps_converge_to_the_reference() {
 /// run at a quarter of its nodes) against a tight-tolerance run (tol 1e-5): the final touching
 /// radius `contact_radius_over_a0` in cells `h/(2r*)`, the worn volume and the profile; and both
 /// against the graded limit `r*` (docs/fretting-wear.md, "Graded media"). Measured (CLI, same
-/// parameters): tol 1e-4 +2.23 cells from r*, tol 1e-5 +2.03, tol 1e-6 +2.03, fixed
+/// parameters with its own snapshot times): tol 1e-4 +2.23 cells from r*, tol 1e-5 +2.03, tol 1e-6 +2.03, fixed
 /// `--dtau 1e-3` +2.04: the time integration converges to 0.2 cell of its limit, and the +2.0
 /// cells beyond r* are the grid's at N = 501 (V/V∞ − 1 = +3.24 % at every one of them; the
 /// explicit runs at N = 1001 of `graded.rs` reach −0.6 … +0.9 cell). The N = 2001 run is in the
