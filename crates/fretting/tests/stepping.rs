@@ -178,20 +178,15 @@ fn run_traced(params: FrettingParams) -> (FrettingSimulation, Vec<StepAttempt>) 
     (sim, attempts)
 }
 
-/// Adaptive FFT and MVM runs (docs/fretting-wear.md, "Adaptive runs that differ by rounding or by the stage solves"). The transforms
-/// agree to rounding (fixed steps: 1e-10 in f, `fft_and_mvm_runs_agree`), and the runs' first
-/// attempts agree to rounding; but the adaptive loop amplifies the difference by ≈ 1.3 per
-/// attempt (k = 0, measured with the attempt observer, `examples/backend_split.rs`: the relative
-/// difference of the step or of the error ratio passes 1e-12 at attempt 4, 1e-9 at 22, 1e-6 at
-/// 51, 1e-3 at 77 — continuously: the first attempt whose contact decisions differ comes after
-/// the steps are 7.5e-2 apart), so over ~130 attempts the two become two step sequences at the
-/// tolerance, each as accurate as the other. What is asserted:
-/// * the first 5 attempts agree to 1e-10 (measured ≤ 3.4e-12; the 10th ones 1.1e-10 at k = 0.5);
-/// * no discrete decision (accepted, contact edges at start/trial/end, entered nodes) differs
-///   while the steps still agree to 1e-3: the split is not a rounding-sensitive decision;
-/// * each run is within 3 tol of a tight-tolerance reference (tol 1e-6; measured 1.5e-4 and
-///   1.6e-4 at τ = 1, k = 0; 1.5e-4 at k = 0.5, against tol 1e-7: global errors of 1.5–1.7 tol,
-///   as in `preconditioned_runs_match_unpreconditioned`), so the two within 6 tol.
+/// Adaptive FFT and MVM runs take the same steps (docs/fretting-wear.md, "Adaptive runs that
+/// differ by rounding or by the stage solves"). The transforms agree to rounding (fixed steps:
+/// 1e-10 in f, `fft_and_mvm_runs_agree`), but the adaptive loop amplifies a difference in the
+/// proposed step by ≈ 1.3 per attempt (`examples/backend_split.rs`); the controller's steps are
+/// rounded to `2^(j/64)`, so a proposal flips to another level only within rounding of a
+/// level's midpoint, and the two runs take the same steps. Asserted: the same attempts (steps
+/// equal bit for bit, error ratios to 1e-7 relative (measured 4.8e-9), the same discrete decisions), the same
+/// snapshots' profiles to 1e-10 (measured in the docs' table), and each run within 3 tol of a
+/// tight-tolerance reference (tol 1e-6).
 #[test]
 fn adaptive_fft_and_mvm_agree() {
     let tolerance = 1e-4;
@@ -227,20 +222,16 @@ fn adaptive_fft_and_mvm_agree() {
                 a.trial_outermost,
             )
         };
-        let mut first_split = None;
+        assert_eq!(fft_attempts.len(), mvm_attempts.len(), "k = {k}");
+        let mut ratios = 0.0f64;
         for (i, (a, b)) in fft_attempts.iter().zip(&mvm_attempts).enumerate() {
-            let apart = ((a.dtau - b.dtau) / a.dtau)
-                .abs()
-                .max((a.error_ratio - b.error_ratio).abs());
-            if i < 5 {
-                assert!(apart < 1e-10, "k = {k}, attempt {i}: {apart:e}");
-            }
-            if apart < 1e-3 {
-                assert_eq!(discrete(a), discrete(b), "k = {k}, attempt {i}");
-            } else if first_split.is_none() {
-                first_split = Some(i);
-            }
+            assert_eq!(a.dtau.to_bits(), b.dtau.to_bits(), "k = {k}, attempt {i}");
+            assert_eq!(discrete(a), discrete(b), "k = {k}, attempt {i}");
+            let apart = (a.error_ratio - b.error_ratio).abs() / a.error_ratio.max(1e-3);
+            ratios = ratios.max(apart);
         }
+        assert!(ratios < 1e-7, "k = {k}: error ratios {ratios:e} apart");
+        assert_eq!(fft.state().step, mvm.state().step);
         for ((a, b), r) in fft
             .state()
             .snapshots
@@ -252,13 +243,15 @@ fn adaptive_fft_and_mvm_agree() {
                 max_abs_diff(&a.profile, &r.profile),
                 max_abs_diff(&b.profile, &r.profile),
             );
+            let apart = max_abs_diff(&a.profile, &b.profile);
             println!(
-                "k = {k}, τ = {}: steps {} / {}, apart from attempt {first_split:?}; |f − f_ref| FFT {ef:.2e}, MVM {em:.2e}, |f_fft − f_mvm| {:.2e}",
+                "k = {k}, τ = {}: steps {} / {} ({} attempts), error ratios {ratios:.1e} apart; |f − f_ref| FFT {ef:.2e}, MVM {em:.2e}, |f_fft − f_mvm| {apart:.2e}",
                 a.tau,
                 fft.state().step,
                 mvm.state().step,
-                max_abs_diff(&a.profile, &b.profile)
+                fft_attempts.len()
             );
+            assert!(apart < 1e-10, "k = {k}, τ = {}: {apart:e}", a.tau);
             assert!(ef < 3.0 * tolerance, "k = {k}, τ = {}: FFT {ef:e}", a.tau);
             assert!(em < 3.0 * tolerance, "k = {k}, τ = {}: MVM {em:e}", a.tau);
         }
@@ -477,4 +470,120 @@ fn fixed_steps_converge_to_the_reference() {
         assert!(order > 1.8, "observed order {order:.2}: {errors:?}");
     }
     assert!(errors[2] < 2e-5, "{errors:?}");
+}
+
+/// The adaptive graded run to its limit (k = −0.5, χ = 0.9, N = 501, τ = 30; the issue's graded
+/// run at a quarter of its nodes) against a tight-tolerance run (tol 1e-5): the final touching
+/// radius `contact_radius_over_a0` in cells `h/(2r*)`, the worn volume and the profile; and both
+/// against the graded limit `r*` (docs/fretting-wear.md, "Graded media"). Measured (CLI, same
+/// parameters with its own snapshot times): tol 1e-4 +2.23 cells from r*, tol 1e-5 +2.03, tol 1e-6 +2.03, fixed
+/// `--dtau 1e-3` +2.04: the time integration converges to 0.2 cell of its limit, and the +2.0
+/// cells beyond r* are the grid's at N = 501 (V/V∞ − 1 = +3.24 % at every one of them; the
+/// explicit runs at N = 1001 of `graded.rs` reach −0.6 … +0.9 cell). The N = 2001 run is in the
+/// docs' table.
+#[test]
+fn adaptive_graded_run_reaches_its_limit() {
+    let (k, chi, nodes) = (-0.5, 0.9, 501);
+    let params = |tolerance: f64| FrettingParams {
+        chi,
+        k,
+        nodes,
+        length: FrettingParams::default_length(chi, k),
+        tau_end: 30.0,
+        snapshots: vec![30.0],
+        stepping: TimeStepping::Adaptive { tolerance },
+        ..Default::default()
+    };
+    let (sim, reference) = (
+        run(params(TimeStepping::DEFAULT_TOLERANCE)),
+        run(params(1e-5)),
+    );
+    let r_star = sim.limit_contact_radius();
+    let cell = sim.grid().step() / (2.0 * r_star);
+    let final_radius = |s: &FrettingSimulation| *s.state().contact_radius_history.last().unwrap();
+    let (last, last_ref) = (final_radius(&sim), final_radius(&reference));
+    let volume = (sim.wear_volume() - reference.wear_volume()) / sim.limit_wear_volume();
+    let profile = max_abs_diff(&sim.state().profile, &reference.state().profile);
+    // Away from the stick edge c (where f∞ − f₀ ~ (r − c)^{(1−k)/2} is resolved by one node).
+    let c = halfspace_fretting::limit::stick_radius(chi);
+    let grid = sim.grid();
+    let (worst, at) = (0..grid.len())
+        .map(|i| {
+            let d = (sim.state().profile[i] - reference.state().profile[i]).abs();
+            (d, grid.coordinate(i))
+        })
+        .fold((0.0f64, 0.0), |m, x| if x.0 > m.0 { x } else { m });
+    let away = (0..grid.len())
+        .filter(|&i| grid.coordinate(i) > c + 0.05 && grid.coordinate(i) < r_star - 3.0 * cell)
+        .map(|i| (sim.state().profile[i] - reference.state().profile[i]).abs())
+        .fold(0.0f64, f64::max);
+    println!("max |Δf| {worst:.2e} at r = {at:.4} (c = {c:.4}, r* = {r_star:.4}); on c + 0.05 < r < r* − 3 cells: {away:.2e}");
+    println!(
+        "k {k} χ {chi} N {nodes}: {} steps ({} rejected) vs {} at tol 1e-5; final a/a0 − r* {:+.2} cells (tol 1e-5: {:+.2}); ΔV/V∞ {volume:+.1e}, max |Δf| {profile:.1e}",
+        sim.state().step,
+        sim.state().rejected_steps,
+        reference.state().step,
+        (last - r_star) / cell,
+        (last_ref - r_star) / cell
+    );
+    assert!(
+        (last - last_ref).abs() < 0.5 * cell,
+        "a/a0 {last} vs {last_ref}"
+    );
+    for a in [last, last_ref] {
+        assert!((a - r_star).abs() < 2.5 * cell, "a/a0 {a} vs r* {r_star}");
+    }
+    assert!(volume.abs() < 1e-3, "ΔV/V∞ = {volume:e}");
+    // Measured 10.1 tol, at r = 1.283 inside the annulus (c = 0.316, r* = 1.550), the same on
+    // c + 0.05 < r < r* − 3 cells: after 4 700 steps to τ = 30 the global error is larger than
+    // the 0.3–6.6 tol of the runs to τ = 3 (`global_error_is_a_multiple_of_the_tolerance`), an
+    // open point stated in docs/fretting-wear.md; the bound keeps it from growing unseen.
+    assert!(
+        profile < 15.0 * TimeStepping::DEFAULT_TOLERANCE,
+        "max |Δf| = {profile:e}"
+    );
+    assert!(away <= profile);
+}
+
+/// The global error of adaptive runs against a tight-tolerance run (tol 1e-7), k = −0.5 and 0,
+/// χ = 0.5, N = 401 at τ = 1 and 3, in units of the tolerance: bounded now that the error
+/// estimate includes the wear of the nodes outside the start's contact (docs/fretting-wear.md,
+/// "The contact set within a step"). A measurement (`cargo test --release -p halfspace-fretting
+/// --test stepping -- --ignored --nocapture global_error`), numbers in the docs.
+#[test]
+#[ignore = "a measurement: about a minute"]
+fn global_error_is_a_multiple_of_the_tolerance() {
+    for k in [0.0, -0.5] {
+        let params = |tolerance: f64| FrettingParams {
+            nodes: 401,
+            k,
+            length: FrettingParams::default_length(0.5, k),
+            tau_end: 3.0,
+            snapshots: vec![1.0, 3.0],
+            stepping: TimeStepping::Adaptive { tolerance },
+            ..FrettingParams::default()
+        };
+        let reference = run(params(1e-7));
+        for tolerance in [1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 1e-6] {
+            let sim = run(params(tolerance));
+            let errors: Vec<String> = sim
+                .state()
+                .snapshots
+                .iter()
+                .zip(&reference.state().snapshots)
+                .map(|(a, r)| {
+                    format!(
+                        "τ = {}: {:.2} tol",
+                        a.tau,
+                        max_abs_diff(&a.profile, &r.profile) / tolerance
+                    )
+                })
+                .collect();
+            println!(
+                "k = {k}, tol {tolerance:.0e}: {} steps; {}",
+                sim.state().step,
+                errors.join(", ")
+            );
+        }
+    }
 }
