@@ -9,8 +9,9 @@
 //! reference over every increment (in `p₀`) and a hash of the final state's bits (equal hashes
 //! from two binaries: bit for bit the same loop).
 //!
-//! Run: `cargo run --release -p halfspace-sam --example composite_outer -- N [increments] [m,η[,g] ...]`
-//! (`increments` 0: the whole loop; `g`: GMRES; default variant `3,1e-2`). Single thread for CPU
+//! Run: `cargo run --release -p halfspace-sam --example composite_outer -- N [increments] [m,η[,g][,t<tol>] ...]`
+//! (`increments` 0: the whole loop; `g`: GMRES; `t<tol>`: the outer tolerance, default 1e-6;
+//! default variant `3,1e-2`). Single thread for CPU
 //! comparisons: `RAYON_NUM_THREADS=1`.
 
 use halfspace_sam::contact::{NestedParams, REFERENCE_EIM_CHANGE_FACTOR};
@@ -42,22 +43,28 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let n = args.first().and_then(|v| v.parse().ok()).unwrap_or(32);
     let limit = args.get(1).and_then(|v| v.parse().ok()).unwrap_or(0);
-    // Variants `m,η[,g]`: Anderson depth, EIM change factor, and `g` for GMRES instead of the
-    // automatic EIM method (block Jacobi for these fibres).
-    let specs: Vec<(usize, f64, bool)> = args
+    // Variants `m,η[,g][,t<tol>]`: Anderson depth, EIM change factor, `g` for GMRES instead of
+    // the automatic EIM method (block Jacobi for these fibres), `t<tol>` for the outer tolerance
+    // (default 1e-6).
+    let specs: Vec<(usize, f64, bool, f64)> = args
         .iter()
         .skip(2)
         .map(|v| {
             let f: Vec<&str> = v.split(',').collect();
+            let tolerance = f[2..]
+                .iter()
+                .find_map(|x| x.strip_prefix('t'))
+                .map_or(NestedParams::default().tolerance, |t| t.parse().unwrap());
             (
                 f[0].parse().unwrap(),
                 f[1].parse().unwrap(),
-                f.get(2) == Some(&"g"),
+                f[2..].contains(&"g"),
+                tolerance,
             )
         })
         .collect();
     let specs = if specs.is_empty() {
-        vec![(3, 1e-2, false)]
+        vec![(3, 1e-2, false, NestedParams::default().tolerance)]
     } else {
         specs
     };
@@ -77,7 +84,7 @@ fn main() {
         )
         .unwrap(),
     )];
-    for &(m, eta, gmres) in &specs {
+    for &(m, eta, gmres, tolerance) in &specs {
         let base = NestedParams::default();
         let params = NestedParams {
             eim: EimParams {
@@ -90,10 +97,11 @@ fn main() {
             },
             anderson_depth: m,
             eim_change_factor: eta,
+            tolerance,
             ..base
         };
         variants.push((
-            format!("depth {m}, EIM factor {eta:e}, GMRES {gmres}"),
+            format!("depth {m}, EIM factor {eta:e}, GMRES {gmres}, outer tolerance {tolerance:e}"),
             FrettingLoop::with_params(case.clone(), params).unwrap(),
         ));
     }
