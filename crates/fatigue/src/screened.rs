@@ -24,7 +24,7 @@
 //!   `γ_a = half range / G`.
 use rayon::prelude::*;
 
-use crate::critical_plane::{fatemi_socie, swt, tangent_basis, PlaneScratch};
+use crate::critical_plane::{fatemi_socie, fs_plane_value, swt, tangent_basis, PlaneScratch};
 use crate::error::FatigueError;
 use crate::field::{FieldParams, Maximum};
 use crate::invariant::{crossland_dang_van, InvariantScratch};
@@ -142,8 +142,10 @@ pub fn critical_plane_bounds(path: &[Voigt], material: &Material) -> [f64; 2] {
     [swt, fs]
 }
 
-/// Most patch splits of one [`fatemi_socie_patch_bound`].
-pub const FS_PATCH_SPLITS: usize = 64;
+/// Most patch splits of one [`fatemi_socie_patch_bound`] (on the LN11 homogeneous 64² loop
+/// 64 → 160 → 400 splits leave 674 → 566 → 532 exact searches, the fatigue part's CPU time
+/// 160 ≈ 400 < 64: docs/fatigue.md, "Cost on the loop, stop 23").
+pub const FS_PATCH_SPLITS: usize = 160;
 
 /// A patch of plane normals: the square `[u₀, u₁] × [v₀, v₁]` of the cube face `x_face = 1`
 /// (every normal, up to sign, meets one of the faces `x = 1`, `y = 1`, `z = 1` at coordinates in
@@ -178,6 +180,8 @@ impl Ord for Patch {
 pub struct PatchScratch {
     per_increment: Vec<[f64; 3]>,
     heap: std::collections::BinaryHeap<Patch>,
+    shear: Vec<[f64; 2]>,
+    hull: Vec<[f64; 2]>,
 }
 
 /// The unit normal through the point `(u, v)` of the cube face `face`.
@@ -271,7 +275,8 @@ fn shear_on_patch_bound(
 /// so `FS ≤ A/G · max(0, 1 + k B/σ_y)` on the patch (`× (1 + 10⁻⁹)` for rounding). Starting
 /// from the 12 squares of side 1 of the three faces, the patch of the largest bound is split in
 /// four until that bound is below `threshold` (the point cannot reach it), or a plane's value
-/// (a lower bound from the patch centres: half the largest `|τ(t) − τ(0)|`) reaches `threshold`,
+/// (a lower bound from the patch centres: half the largest `|τ(t) − τ(0)|`, and with a
+/// threshold the exact value on the centre plane of each patch split) reaches `threshold`,
 /// or after [`FS_PATCH_SPLITS`] splits (always, with no threshold). Returns the largest patch bound then, never above
 /// [`critical_plane_bounds`]'s.
 pub fn fatemi_socie_patch_bound(
@@ -380,6 +385,19 @@ pub fn fatemi_socie_patch_bound(
         }
         let Some(p) = heap.pop() else { break };
         let (um, vm) = (0.5 * (p.u[0] + p.u[1]), 0.5 * (p.v[0] + p.v[1]));
+        if threshold.is_some() {
+            // The exact value on the most promising plane: a lower bound that reaches the
+            // threshold early where the point can.
+            let n = face_normal(p.face, um, vm);
+            lower = lower.max(fs_plane_value(
+                path,
+                &n,
+                g,
+                kq,
+                &mut scratch.shear,
+                &mut scratch.hull,
+            ));
+        }
         for (u, v) in [
             ([p.u[0], um], [p.v[0], vm]),
             ([um, p.u[1]], [p.v[0], vm]),
