@@ -365,6 +365,20 @@ fn fs_plane_exact(
     (gamma_a * (1.0 + k_over_sy * smax), gamma_a, smax, m)
 }
 
+/// Fatemi–Socie on the plane `n` (unit), exact over in-plane directions, with the caller's
+/// buffers (`g` the shear modulus, `k_over_sy = k/σ_y`): a lower bound of [`fatemi_socie`]'s
+/// maximum over planes.
+pub(crate) fn fs_plane_value(
+    path: &[Voigt],
+    n: &[f64; 3],
+    g: f64,
+    k_over_sy: f64,
+    shear: &mut Vec<[f64; 2]>,
+    hull: &mut Vec<[f64; 2]>,
+) -> f64 {
+    fs_plane_exact(path, n, g, k_over_sy, shear, hull).0
+}
+
 /// Fatemi–Socie on the coarse in-plane directions `directions` (lower bound of the exact value).
 fn fs_plane_coarse(
     path: &[Voigt],

@@ -51,7 +51,7 @@ fn bounds_bound_the_critical_plane_criteria() {
 /// The per-patch Fatemi–Socie bound (docs/fatigue.md, "A per-plane Fatemi–Socie bound") holds
 /// against the default search, a fine search (20 000 normals) and a brute-force grid of 1° on
 /// random, proportional, pure-shear and compressive paths of 24 and 81 increments, and is
-/// tighter than the path bound.
+/// tighter than the path bound on at least three quarters of them.
 #[test]
 fn patch_bound_bounds_fatemi_socie() {
     let m = steel();
@@ -127,8 +127,10 @@ fn patch_bound_bounds_fatemi_socie() {
         excluded[0],
         excluded[1]
     );
+    // The second-order margin (stop 23): at 160 splits tighter than the path bound on 64 of
+    // the 71 paths and proving 70 of them below 1.25 × FS (first order at 64 splits: 15, 58).
     assert!(
-        tighter > 0 && excluded[1] > excluded[0],
+        4 * tighter >= 3 * all.len() && excluded[1] > excluded[0],
         "{tighter} {excluded:?}"
     );
 }
