@@ -349,6 +349,27 @@ pub struct EimFields {
 }
 
 impl EimFields {
+    /// The operators the contact solvers use for `set` (docs/theory-sam.md#nested-loops): sources
+    /// and targets on the set's layers and window, in the half-space `(E, ν)`, FFT backend
+    /// ([`EimFields::new`]).
+    pub fn for_inclusions(
+        grid: SurfaceGrid,
+        e: f64,
+        nu: f64,
+        set: &super::geometry::InclusionSet,
+    ) -> Result<Self, SamError> {
+        Self::new(
+            grid,
+            e,
+            nu,
+            &set.layers,
+            &set.layers,
+            set.window,
+            Space::HalfSpace,
+            Backend::Fft,
+        )
+    }
+
     /// Plans the operators for eigenstrains on `source_layers` and strains on `target_layers` (layer
     /// numbers `k`, centre depth `(2k+1)Δ`, `Δ` = the grid's half cell size), both on `window`, in a
     /// matrix `(E, ν)`. Refuses up front a request whose stored spectra would not fit in memory.
