@@ -628,3 +628,88 @@ fn config_files_are_the_flags_keys() {
         "give --indenter",
     );
 }
+
+/// The errors of a `study --json` series by name, and its observed order.
+fn study_series(v: &serde_json::Value, name: &str) -> (Vec<f64>, f64) {
+    let s = v["series"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["name"] == name)
+        .unwrap_or_else(|| panic!("no series {name}: {v}"));
+    let errors = s["errors"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e.as_f64().unwrap())
+        .collect();
+    (errors, s["observed_order"].as_f64().unwrap())
+}
+
+/// `halfspace study eq17` (docs/theory-mdr.md, the stress transform Eq. 17 on q = 1 − x⁴, mean
+/// relative error Eq. 19): the FFT transform converges at order ≈ 1.5 (measured 1.49), reaching
+/// 1.8e-8 at N = 100 001; the plot is an SVG.
+#[test]
+fn study_eq17_converges_at_order_one_and_a_half() {
+    let dir = tempfile::tempdir().unwrap();
+    let plot = dir.path().join("eq17.svg");
+    let out = run(&["study", "eq17", "--json", "--plot", plot.to_str().unwrap()]);
+    let v = json(&out);
+    assert_eq!(
+        v["n"],
+        serde_json::json!([11, 101, 1001, 2001, 10001, 100001])
+    );
+    let (errors, order) = study_series(&v, "Eq. 17 (FFT)");
+    assert!((1.4..1.6).contains(&order), "{order}");
+    assert!(errors.windows(2).all(|w| w[1] < w[0]), "{errors:?}");
+    assert!((1.0e-2..2.0e-2).contains(&errors[0]), "{errors:?}");
+    assert!((1.0e-8..3.0e-8).contains(&errors[5]), "{errors:?}");
+    assert!(std::fs::read_to_string(&plot).unwrap().starts_with("<svg"));
+}
+
+/// `halfspace study displacement` (Eqs. 12 and 13 on Hertz, a = 0.7, L = 1): both converge at
+/// order ≈ 1.5 (measured 1.48), the FFT with the parabolic split at half the error of the dense
+/// arccos kernel (max errors 1.8e-7 and 9.2e-8 at N = 10 001).
+#[test]
+fn study_displacement_converges_for_both_transforms() {
+    let v = json(&run(&["study", "displacement", "--json"]));
+    assert_eq!(v["n"], serde_json::json!([101, 301, 1001, 4001, 10001]));
+    let (dense, dense_order) = study_series(&v, "Eq. 12 (arccos kernel)");
+    let (fft, fft_order) = study_series(&v, "Eq. 13 (FFT, parabolic split)");
+    for order in [dense_order, fft_order] {
+        assert!((1.4..1.6).contains(&order), "{order}");
+    }
+    assert!((1.5e-7..2.2e-7).contains(&dense[4]), "{dense:?}");
+    assert!((7.0e-8..1.1e-7).contains(&fft[4]), "{fft:?}");
+    assert!(
+        fft.iter().zip(&dense).all(|(f, d)| f < d),
+        "{fft:?} {dense:?}"
+    );
+}
+
+/// `halfspace study eq27` (Eqs. 25 and 26 on the graded pair U = x⁴, k = ±0.5): first order
+/// (measured 0.95–1.00), mean relative errors at N = 4001 between 2.2e-4 and 9.6e-4; the FFT
+/// (Eq. 26) below the 2F1 kernel (Eq. 25) at both k.
+#[test]
+fn study_eq27_converges_at_first_order() {
+    let v = json(&run(&["study", "eq27", "--json"]));
+    assert_eq!(v["n"], serde_json::json!([101, 301, 1001, 2001, 4001]));
+    for k in ["−0.5", "0.5"] {
+        let (fft, fft_order) = study_series(&v, &format!("Eq. 26 (FFT), k = {k}"));
+        let (kernel, kernel_order) = study_series(&v, &format!("Eq. 25 (2F1 kernel), k = {k}"));
+        for order in [fft_order, kernel_order] {
+            assert!((0.9..1.1).contains(&order), "k = {k}: {order}");
+        }
+        assert!((2.0e-4..1.0e-3).contains(&fft[4]), "k = {k}: {fft:?}");
+        assert!(fft[4] < kernel[4], "k = {k}: {fft:?} {kernel:?}");
+    }
+}
+
+/// `study eim-operator --layers 0` names the flag; the library's message names the parameter.
+#[test]
+fn study_eim_operator_refuses_zero_layers_naming_the_flag() {
+    assert_bad(
+        &["study", "eim-operator", "--layers", "0"],
+        "--layers: layers must be ≥ 1, got 0",
+    );
+}

@@ -117,7 +117,10 @@ pub fn run(args: StudyArgs) -> Result<(), CliError> {
             println!("{}", studies::graded_wear_summary(&study));
         }
         Study::EimOperator => {
-            let timing = studies::eim_operator(args.grid, args.layers)?;
+            let timing = studies::eim_operator(args.grid, args.layers).map_err(|e| match e {
+                StudyError::Input(m) => CliError::Spec(format!("--layers: {m}")),
+                e => e.into(),
+            })?;
             if args.json {
                 println!("{}", timing.summary());
             } else {

@@ -2,8 +2,9 @@
 //! (`--config`), a Python dict as TOML data ([`from_table`]) — with one spelling of every key, one
 //! schema and one conversion to the library's types (validated once, in [`LoopConfig::case`]).
 //!
-//! A new key of the fretting loop is one field of [`LoopConfig`] (its default in
-//! `LoopConfig::default`) and its use in `loop_case`; TOML files and Python dicts read it at once.
+//! A new key of the fretting loop is one field of [`LoopConfig`] (with its default) and its use
+//! in `loop_case`; TOML files and Python dicts read it at once. A key [`LoopCase`] shares is
+//! declared once, in `halfspace_sam::fretting_loop_keys!`.
 
 use serde::Deserialize;
 
@@ -18,56 +19,56 @@ use crate::sam::eim::{Axis, FibreLayout, Inhomogeneity, Shape};
 use crate::sam::kernels::surface::Body;
 use crate::spec::{parse_inhomogeneity, SpecError};
 
-/// The fretting-loop configuration as read from TOML (`fretting-loop --config`) or from a Python
-/// dict: the keys of [`LoopCase`] in SI units, `[[inhomogeneity]]` tables, the composite preset's
-/// `layout` and `fibre_e_ratio`, and `subsurface_over_a` (defaults: [LN11]'s homogeneous case).
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct LoopConfig {
-    pub radius: f64,
-    pub e: f64,
-    pub nu: f64,
-    pub friction: f64,
-    /// Normal force W (N); exactly one of `force` and `approach` (neither: W = 80 mN).
-    pub force: Option<f64>,
-    /// Rigid approach δ (m): normal control by approach instead of force.
-    pub approach: Option<f64>,
-    /// Young's modulus of the indenter (Pa); with `indenter_nu`, an elastic indenter (absent:
-    /// rigid).
-    pub indenter_e: Option<f64>,
-    /// Poisson ratio of the indenter (with `indenter_e`).
-    pub indenter_nu: Option<f64>,
-    pub normal_steps: usize,
-    pub amplitude: f64,
-    pub shift_step: f64,
-    pub grid: usize,
-    pub extent_over_a: f64,
-    /// `[[inhomogeneity]]` tables: `kind = "sphere" | "cylinder" | "cuboid"` and the keys of the
-    /// CLI's `--inhomogeneity` specs (`x, y, z, r, axis, hx, hy, hz, E, nu`), or such specs.
-    pub inhomogeneity: Vec<InhomogeneityEntry>,
-    /// Composite preset only: `"fibre-centred"` (a fibre axis at x = 0, the default) or
-    /// `"gap-centred"`; refused without the preset (it would be ignored).
-    pub layout: Option<String>,
-    /// Composite preset only: E_I / E_m of the fibres (2 in [LN11], the default; 0.5 for soft
-    /// fibres); refused without the preset.
-    pub fibre_e_ratio: Option<f64>,
-    /// Depth of the von Mises fields at the points A–D over a (0: none).
-    pub subsurface_over_a: f64,
-    /// `[fatigue]`: the fatigue criteria over the closed cycle (docs/fatigue.md, "On the
-    /// fretting loop"; absent: none).
-    pub fatigue: Option<FatigueConfig>,
-    /// How an inhomogeneous body's surface response enters each increment
-    /// (docs/theory-sam.md#surface-response-operator): `"nested"` (the contact ↔ EIM loop in every
-    /// increment, the reference and the default) or `"surface-operator"` (built once).
-    pub inhomogeneous_body: InhomogeneousBody,
-    /// With `inhomogeneous_body = "surface-operator"`: radius over a of the candidate region the
-    /// operator covers (default 1.3); refused with the nested loop.
-    pub surface_operator_radius_over_a: Option<f64>,
-    /// The nested loop's EIM change factor `η` in (0, 1] (each outer pass's EIM solved to `η`
-    /// times the last outer change, docs/theory-sam.md#outer-loop-tolerances; absent: the
-    /// library's default); refused without inhomogeneities and with the surface operator (it
-    /// would be ignored).
-    pub eim_change_factor: Option<f64>,
+crate::sam::fretting_loop_keys! {
+    /// The fretting-loop configuration as read from TOML (`fretting-loop --config`) or from a
+    /// Python dict: the keys of [`LoopCase`] in SI units (the shared ones declared once, by
+    /// `fretting_loop_keys!`), `[[inhomogeneity]]` tables, the composite preset's `layout` and
+    /// `fibre_e_ratio`, and `subsurface_over_a` (defaults: [LN11]'s homogeneous case).
+    #[derive(Debug, Clone, Deserialize)]
+    #[serde(deny_unknown_fields, default)]
+    pub struct LoopConfig {
+        load {
+            /// Normal force W (N); exactly one of `force` and `approach` (neither: W = 80 mN).
+            force: Option<f64> = None,
+            /// Rigid approach δ (m): normal control by approach instead of force.
+            approach: Option<f64> = None,
+            /// Young's modulus of the indenter (Pa); with `indenter_nu`, an elastic indenter
+            /// (absent: rigid).
+            indenter_e: Option<f64> = None,
+            /// Poisson ratio of the indenter (with `indenter_e`).
+            indenter_nu: Option<f64> = None,
+        }
+        rest {
+            /// `[[inhomogeneity]]` tables: `kind = "sphere" | "cylinder" | "cuboid"` and the keys
+            /// of the CLI's `--inhomogeneity` specs (`x, y, z, r, axis, hx, hy, hz, E, nu`), or
+            /// such specs.
+            inhomogeneity: Vec<InhomogeneityEntry> = Vec::new(),
+            /// Composite preset only: `"fibre-centred"` (a fibre axis at x = 0, the default) or
+            /// `"gap-centred"`; refused without the preset (it would be ignored).
+            layout: Option<String> = None,
+            /// Composite preset only: E_I / E_m of the fibres (2 in [LN11], the default; 0.5 for
+            /// soft fibres); refused without the preset.
+            fibre_e_ratio: Option<f64> = None,
+            /// Depth of the von Mises fields at the points A–D over a (0: none).
+            subsurface_over_a: f64 = 1.0,
+            /// `[fatigue]`: the fatigue criteria over the closed cycle (docs/fatigue.md, "On the
+            /// fretting loop"; absent: none).
+            fatigue: Option<FatigueConfig> = None,
+            /// How an inhomogeneous body's surface response enters each increment
+            /// (docs/theory-sam.md#surface-response-operator): `"nested"` (the contact ↔ EIM loop
+            /// in every increment, the reference and the default) or `"surface-operator"` (built
+            /// once).
+            inhomogeneous_body: InhomogeneousBody = InhomogeneousBody::Nested,
+            /// With `inhomogeneous_body = "surface-operator"`: radius over a of the candidate
+            /// region the operator covers (default 1.3); refused with the nested loop.
+            surface_operator_radius_over_a: Option<f64> = None,
+            /// The nested loop's EIM change factor `η` in (0, 1] (each outer pass's EIM solved to
+            /// `η` times the last outer change, docs/theory-sam.md#outer-loop-tolerances; absent:
+            /// the library's default); refused without inhomogeneities and with the surface
+            /// operator (it would be ignored).
+            eim_change_factor: Option<f64> = None,
+        }
+    }
 }
 
 /// The `inhomogeneous_body` key of [`LoopConfig`].
@@ -219,36 +220,6 @@ impl FatigueConfig {
             .enumerate()
             .map(|(i, inh)| Self::material(&self.inhomogeneity_constants(i), inh.e, inh.nu))
             .collect()
-    }
-}
-
-impl Default for LoopConfig {
-    /// The library's [LN11] case ([`LoopCase::default`]).
-    fn default() -> Self {
-        let c = LoopCase::default();
-        Self {
-            radius: c.radius,
-            e: c.e,
-            nu: c.nu,
-            friction: c.friction,
-            force: None,
-            approach: None,
-            indenter_e: None,
-            indenter_nu: None,
-            normal_steps: c.normal_steps,
-            amplitude: c.amplitude,
-            shift_step: c.shift_step,
-            grid: c.grid,
-            extent_over_a: c.extent_over_a,
-            inhomogeneity: Vec::new(),
-            layout: None,
-            fibre_e_ratio: None,
-            subsurface_over_a: 1.0,
-            fatigue: None,
-            inhomogeneous_body: InhomogeneousBody::Nested,
-            surface_operator_radius_over_a: None,
-            eim_change_factor: None,
-        }
     }
 }
 
@@ -730,29 +701,18 @@ fn loop_case(
         }
     };
     let mut case = LoopCase {
-        radius: cfg.radius,
-        e: cfg.e,
-        nu: cfg.nu,
-        friction: cfg.friction,
         force,
         approach,
         indenter,
-        normal_steps: cfg.normal_steps,
-        amplitude: cfg.amplitude,
-        shift_step: cfg.shift_step,
-        grid: cfg.grid,
-        extent_over_a: cfg.extent_over_a,
         inhomogeneities: cfg
             .inhomogeneity
             .iter()
             .enumerate()
             .map(|(i, entry)| entry.inhomogeneity(i + 1))
             .collect::<Result<Vec<_>, _>>()?,
-        subsurface_depth: None,
-        fatigue_depth: None,
-        surface_operator_over_a: None,
-        eim_change_factor: None,
+        ..LoopCase::default()
     };
+    case.set_loop_keys(cfg.loop_keys());
     if !(cfg.subsurface_over_a.is_finite() && cfg.subsurface_over_a >= 0.0) {
         return Err(SpecError(format!(
             "fretting loop config: subsurface_over_a must be finite and ≥ 0, got {}",
@@ -925,6 +885,66 @@ mod tests {
         let e =
             first("inhomogeneity = [\"sphere:x=0,y=0,z=2e-6,r=abc,E=1e9,nu=0.3\"]\n").unwrap_err();
         assert!(e.contains("r='abc' is not a number"), "{e}");
+    }
+
+    /// The shared keys are declared by `fretting_loop_keys!`: serde's messages are the ones of
+    /// the plain struct (checked against the release binary of f6b6632, before the macro) — the
+    /// unknown key with every expected key in order, the wrong type and the out-of-range value
+    /// with the TOML line; and the default is [`LoopCase::default`]'s case, key for key.
+    #[test]
+    fn the_shared_keys_keep_serdes_messages_and_the_defaults() {
+        let expected = "expected one of `radius`, `e`, `nu`, `friction`, `force`, `approach`, \
+             `indenter_e`, `indenter_nu`, `normal_steps`, `amplitude`, `shift_step`, `grid`, \
+             `extent_over_a`, `inhomogeneity`, `layout`, `fibre_e_ratio`, `subsurface_over_a`, \
+             `fatigue`, `inhomogeneous_body`, `surface_operator_radius_over_a`, \
+             `eim_change_factor`";
+        let e =
+            from_toml::<LoopConfig>("radius = 1e-4\nfoo = 3\n", "--config unk.toml").unwrap_err();
+        assert_eq!(
+            e.0,
+            format!("--config unk.toml: line 2 `foo = 3`: unknown field `foo`, {expected}")
+        );
+        let e = from_json::<LoopConfig>(r#"{"radius": 1e-4, "foo": 3}"#, "--config unk.json")
+            .unwrap_err();
+        assert_eq!(
+            e.0,
+            format!("--config unk.json: unknown field `foo`, {expected} at line 1 column 22")
+        );
+        let e = map_config_from_toml(
+            "grid = 16\nbogus = 2\n[map]\nloads=[0.01]\namplitudes=[1e-8]\n",
+            "--config m.toml",
+        )
+        .unwrap_err();
+        assert_eq!(
+            e.0,
+            format!("--config m.toml: `bogus = 2`: unknown field `bogus`, {expected}")
+        );
+        let e = from_toml::<LoopConfig>("grid = \"big\"\n", "--config ty.toml").unwrap_err();
+        assert_eq!(
+            e.0,
+            "--config ty.toml: line 1 `grid = \"big\"`: invalid type: string \"big\", expected usize"
+        );
+        let e = from_toml::<LoopConfig>("normal_steps = -1\n", "--config neg.toml").unwrap_err();
+        assert_eq!(
+            e.0,
+            "--config neg.toml: line 1 `normal_steps = -1`: invalid value: integer `-1`, \
+             expected usize"
+        );
+        let cfg = from_toml::<LoopConfig>("friction = -0.3\n", "t").unwrap();
+        assert_eq!(
+            cfg.case("homogeneous", None).unwrap_err().0,
+            "fretting loop config: friction (Coulomb μ; a fretting loop needs μ > 0) must be \
+             finite and > 0, got -0.3"
+        );
+        let default = LoopConfig::default();
+        assert_eq!(default.loop_keys(), LoopCase::default().loop_keys());
+        assert_eq!(
+            default.case("homogeneous", None).unwrap(),
+            LoopCase {
+                subsurface_depth: Some(LoopCase::default().hertz_radius()),
+                ..LoopCase::default()
+            }
+        );
     }
 
     #[test]

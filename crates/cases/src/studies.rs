@@ -474,7 +474,7 @@ pub fn eim_operator(grid: usize, layers: usize) -> Result<EimOperatorTiming, Stu
     use std::time::Instant;
     let (n, nl) = (grid, layers);
     if nl == 0 {
-        return Err(StudyError::Input("--layers must be ≥ 1".into()));
+        return Err(StudyError::Input(format!("layers must be ≥ 1, got {nl}")));
     }
     let surface = SurfaceGrid::square(n, n as f64)?;
     let all: Vec<usize> = (0..nl).collect();

@@ -141,10 +141,10 @@ pub fn evaluate_field(
     let column = |k: usize| results.iter().map(|r| r.0[k]).collect::<Vec<f64>>();
     let (crossland, dang_van, swt, fatemi_socie) = (column(0), column(1), column(2), column(3));
     Ok(FieldIndices {
-        crossland_max: maximum(&crossland),
-        dang_van_max: maximum(&dang_van),
-        swt_max: maximum(&swt),
-        fatemi_socie_max: maximum(&fatemi_socie),
+        crossland_max: Maximum::of(&crossland),
+        dang_van_max: Maximum::of(&dang_van),
+        swt_max: Maximum::of(&swt),
+        fatemi_socie_max: Maximum::of(&fatemi_socie),
         crossland,
         dang_van,
         swt,
@@ -155,15 +155,19 @@ pub fn evaluate_field(
     })
 }
 
-fn maximum(field: &[f64]) -> Maximum {
-    let mut best = Maximum {
-        value: f64::NEG_INFINITY,
-        point: 0,
-    };
-    for (point, &value) in field.iter().enumerate() {
-        if value > best.value {
-            best = Maximum { value, point };
+impl Maximum {
+    /// The largest value of `field` and its first point (`−∞` at point 0 for an empty field or
+    /// one of NaN only).
+    pub(crate) fn of(field: &[f64]) -> Self {
+        let mut best = Maximum {
+            value: f64::NEG_INFINITY,
+            point: 0,
+        };
+        for (point, &value) in field.iter().enumerate() {
+            if value > best.value {
+                best = Maximum { value, point };
+            }
         }
+        best
     }
-    best
 }

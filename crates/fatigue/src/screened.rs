@@ -463,19 +463,6 @@ fn path_of(stress: &[f64], p: usize, increments: usize, out: &mut Vec<Voigt>) {
     );
 }
 
-fn maximum(field: &[f64]) -> Maximum {
-    let mut best = Maximum {
-        value: f64::NEG_INFINITY,
-        point: 0,
-    };
-    for (point, &value) in field.iter().enumerate() {
-        if value > best.value {
-            best = Maximum { value, point };
-        }
-    }
-    best
-}
-
 /// Crossland and Dang Van at every point, SWT and Fatemi–Socie screened (module doc), of the
 /// stress histories `stress[(p · increments + t) · 6 + k]` (the layout of
 /// [`crate::evaluate_field`]); point `p` is of material `materials[material_of[p]]`.
@@ -610,7 +597,7 @@ pub fn evaluate_screened(
             .iter()
             .map(|v| if v.is_nan() { f64::NEG_INFINITY } else { *v })
             .collect();
-        maximum(&cleaned)
+        Maximum::of(&cleaned)
     };
     Ok(ScreenedIndices {
         crossland_max: nan_max(&crossland),

@@ -209,14 +209,27 @@ type WindowMap = Vec<Vec<f64>>;
 type PqFrame<K> = (K, WindowMap, WindowMap);
 
 /// The frames of `loop_pq.gif` (docs/composite.md#animation): the pressure `p/p0` and the shear
-/// magnitude `|q|/(μ p0)` over `|x|, |y| ≤ 1.3a` at every increment of the cycle (the loop's
-/// rows from `cycle_start`), kept as the loop runs (`2 × window cells × (4q + 1)` values).
+/// magnitude `|q|/(μ p0)` over `|x|, |y| ≤ 1.3a` at the increments of the cycle (the loop's rows
+/// from `cycle_start`) that are drawn — at most [`MAX_FRAMES`], chosen by [`frame_records`] — kept
+/// as the loop runs, with the largest value of each over every increment (the colour scales).
 pub struct CycleFrames {
     /// Columns (x) and rows (y) of the window.
     cols: Vec<usize>,
     rows: Vec<usize>,
-    /// `(increment, p/p0, |q|/(μ p0))`, each `[row][col]`.
+    /// The increments of the cycle (counted from `cycle_start`) drawn when all are observed.
+    drawn: Vec<usize>,
+    /// How many increments of the cycle were observed.
+    observed: usize,
+    /// The largest `p/p0` and `|q|/(μ p0)` over every observed increment.
+    top: (f64, f64),
+    /// `(increment, p/p0, |q|/(μ p0))` of the drawn increments, each `[row][col]`.
     frames: Vec<PqFrame<usize>>,
+}
+
+/// The largest value of a window map, from `start` (the order of `f64::max`'s comparisons does
+/// not change the result).
+fn largest(start: f64, map: &WindowMap) -> f64 {
+    map.iter().flatten().copied().fold(start, f64::max)
 }
 
 impl CycleFrames {
@@ -229,17 +242,23 @@ impl CycleFrames {
         let rows = (0..grid.n2)
             .filter(|&j| (grid.centre(0, j).1 / a).abs() <= 1.3)
             .collect();
+        let cycle = lp.path().len() - lp.path().cycle_start();
         Self {
             cols,
             rows,
+            drawn: frame_records(cycle, MAX_FRAMES),
+            observed: 0,
+            top: (0.0, 0.0),
             frames: Vec::new(),
         }
     }
 
-    /// After an increment: its fields, if it belongs to the cycle.
+    /// After an increment: if it belongs to the cycle, its largest values, and its fields if it
+    /// is drawn.
     pub fn observe(&mut self, lp: &FrettingLoop) {
         let k = lp.rows().len() - 1;
-        if k < lp.path().cycle_start() {
+        let start = lp.path().cycle_start();
+        if k < start {
             return;
         }
         let n2 = lp.solver().problem().grid().n2;
@@ -254,14 +273,19 @@ impl CycleFrames {
         };
         let p = field(&|c| st.pressure[c] / p0);
         let q = field(&|c| st.shear[0][c].hypot(st.shear[1][c]) / mu_p0);
-        self.frames.push((k, p, q));
+        self.observed += 1;
+        self.top = (largest(self.top.0, &p), largest(self.top.1, &q));
+        if self.drawn.binary_search(&(k - start)).is_ok() {
+            self.frames.push((k, p, q));
+        }
     }
 
-    /// Writes the animation: one frame per increment of the cycle when all were observed — up to
-    /// [`MAX_FRAMES`], else that many evenly spaced with the first and the last increment
-    /// ([`frame_records`], the rule of `wear_depth.gif`); after a resume that missed some, one
-    /// frame per loop point A–D (the fields the loop keeps). Each map's colour scale runs from 0
-    /// to its largest value over the whole cycle (every increment observed, drawn or not).
+    /// Writes the animation: the drawn increments of the cycle when all were observed (one
+    /// frame per increment up to [`MAX_FRAMES`], else that many evenly spaced with the first and
+    /// the last increment: [`frame_records`], the rule of `wear_depth.gif`); after a resume that
+    /// missed some, one frame per loop point A–D (the fields the loop keeps). Each map's colour
+    /// scale runs from 0 to its largest value over the whole cycle (every increment observed,
+    /// drawn or not).
     pub fn write(&self, path: &Path, lp: &FrettingLoop) -> Result<(), FigureError> {
         let grid = *lp.solver().problem().grid();
         let n2 = grid.n2;
@@ -269,16 +293,17 @@ impl CycleFrames {
         let p0 = lp.case().hertz_pressure();
         let mu_p0 = lp.case().friction * p0;
         let mu_w = lp.case().friction * lp.case().hertz_force();
-        let complete = self.frames.len() == lp.path().len() - lp.path().cycle_start();
+        let complete = self.observed == lp.path().len() - lp.path().cycle_start();
         let field = |v: &[f64], s: f64| -> Vec<Vec<f64>> {
             self.rows
                 .iter()
                 .map(|&j| self.cols.iter().map(|&i| v[i * n2 + j] / s).collect())
                 .collect()
         };
-        let frames: Vec<PqFrame<String>> = if complete {
+        let (frames, (pmax, qmax)): (Vec<PqFrame<String>>, _) = if complete {
             let start = lp.path().cycle_start();
-            self.frames
+            let frames = self
+                .frames
                 .iter()
                 .map(|(k, p, q)| {
                     let row = &lp.rows()[*k];
@@ -286,7 +311,7 @@ impl CycleFrames {
                         format!(
                             "Increment {} of {}: δx = {:.4} μm, Q/μW = {:.3}",
                             k - start,
-                            self.frames.len() - 1,
+                            self.observed - 1,
                             row.d * 1e6,
                             row.q[0] / mu_w
                         ),
@@ -294,9 +319,11 @@ impl CycleFrames {
                         q.clone(),
                     )
                 })
-                .collect()
+                .collect();
+            (frames, self.top)
         } else {
-            lp.points()
+            let frames: Vec<PqFrame<String>> = lp
+                .points()
                 .iter()
                 .map(|f| {
                     let q: Vec<f64> = f.shear[0]
@@ -310,20 +337,12 @@ impl CycleFrames {
                         field(&q, mu_p0),
                     )
                 })
-                .collect()
-        };
-        let top = |pick: fn(&PqFrame<String>) -> &WindowMap| {
-            frames
+                .collect();
+            let top = frames
                 .iter()
-                .flat_map(|f| pick(f).iter().flatten().copied())
-                .fold(0.0, f64::max)
+                .fold((0.0, 0.0), |(p, q), f| (largest(p, &f.1), largest(q, &f.2)));
+            (frames, top)
         };
-        let (pmax, qmax) = (top(|f| &f.1), top(|f| &f.2));
-        let mut frames: Vec<Option<PqFrame<String>>> = frames.into_iter().map(Some).collect();
-        let frames: Vec<PqFrame<String>> = frame_records(frames.len(), MAX_FRAMES)
-            .into_iter()
-            .filter_map(|k| frames[k].take())
-            .collect();
         let xs: Vec<f64> = self.cols.iter().map(|&i| grid.centre(i, 0).0 / a).collect();
         let ys: Vec<f64> = self.rows.iter().map(|&j| grid.centre(0, j).1 / a).collect();
         let fail =

@@ -320,3 +320,62 @@ fn the_loop_with_looser_eim_solves_reproduces_the_reference() {
         assert!(err.to_string().contains("EIM change factor"), "{err}");
     }
 }
+
+/// A checkpoint's fingerprint records the EIM change factor the nested loop uses, not `None`
+/// when the case leaves it to the library (a later change of the default is caught); a
+/// checkpoint of stops 21–22 (the case as given, `None`, meaning 10⁻²) is accepted while the
+/// run uses 10⁻² — the same loop — and continues bit for bit, and refused with another factor;
+/// without inhomogeneities the factor is not used and not recorded (fingerprint unchanged).
+#[test]
+fn a_checkpoint_records_the_eim_change_factor_used() {
+    let mut case = LoopCase {
+        grid: 16,
+        normal_steps: 2,
+        ..LoopCase::default()
+    };
+    let a = case.hertz_radius();
+    case.inhomogeneities.push(Inhomogeneity {
+        shape: Shape::Sphere {
+            x: 0.0,
+            y: 0.0,
+            z: 0.6 * a,
+            r: 0.4 * a,
+        },
+        e: 420e9,
+        nu: NU,
+    });
+    let mut whole = FrettingLoop::new(case.clone()).unwrap();
+    whole.step().unwrap().unwrap();
+    let snap = whole.snapshot();
+    let used = LoopCase {
+        eim_change_factor: Some(DEFAULT_EIM_CHANGE_FACTOR),
+        ..case.clone()
+    };
+    assert_eq!(snap.fingerprint, format!("{used:?}"));
+    assert!(snap.fingerprint.contains("eim_change_factor: Some(0.01)"));
+    let legacy = halfspace_sam::drivers::fretting_loop::LoopSnapshot {
+        fingerprint: format!("{case:?}"),
+        ..snap.clone()
+    };
+    let mut resumed = FrettingLoop::resume(case.clone(), legacy.clone()).unwrap();
+    assert_eq!(resumed.snapshot(), snap);
+    whole.step().unwrap().unwrap();
+    resumed.step().unwrap().unwrap();
+    assert_eq!(resumed.snapshot(), whole.snapshot());
+    let other = LoopCase {
+        eim_change_factor: Some(REFERENCE_EIM_CHANGE_FACTOR),
+        ..case.clone()
+    };
+    for s in [legacy, snap] {
+        let err = FrettingLoop::resume(other.clone(), s)
+            .err()
+            .expect("refused");
+        assert!(err.to_string().contains("another configuration"), "{err}");
+    }
+    let plain = LoopCase {
+        grid: 16,
+        ..LoopCase::default()
+    };
+    let fingerprint = FrettingLoop::new(plain.clone()).unwrap().fingerprint();
+    assert_eq!(fingerprint, format!("{plain:?}"));
+}

@@ -12,8 +12,7 @@
 
 use crate::contact::{shift_for_force, ContactProblem, IncrementInfo};
 use crate::eim::{
-    Backend, EimFields, EimInfo, EimParams, EimSystem, InclusionSet, Inhomogeneity, Space,
-    SurfaceResponse,
+    EimFields, EimInfo, EimParams, EimSystem, InclusionSet, Inhomogeneity, SurfaceResponse,
 };
 use crate::normal::NormalLoad;
 use crate::SamError;
@@ -254,16 +253,7 @@ impl InhomogeneousContact {
                 allowed: "≥ 1 (use ContactProblem without inhomogeneities)",
             });
         }
-        let fields = EimFields::new(
-            grid,
-            e,
-            nu,
-            &set.layers,
-            &set.layers,
-            set.window,
-            Space::HalfSpace,
-            Backend::Fft,
-        )?;
+        let fields = EimFields::for_inclusions(grid, e, nu, &set)?;
         let n = grid.len();
         let layers = set.layers.len();
         let cells = set.len();

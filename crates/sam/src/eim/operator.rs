@@ -279,6 +279,42 @@ impl Work {
             y_hat: (0..outputs * on).map(|_| fft.new_spectrum()).collect(),
         }
     }
+
+    /// The spectra of the eigenstrain components `eigen` on the whole grid into `x_hat`; `skip`
+    /// marks the components zero everywhere (not transformed; [`LayeredSpectra::accumulate`]
+    /// passes over them).
+    fn transform_inputs(&mut self, fft: &mut Fft2d, eigen: &[Vec<f64>]) -> Result<(), SamError> {
+        for ((f, hat), sk) in eigen
+            .iter()
+            .zip(self.x_hat.iter_mut())
+            .zip(self.skip.iter_mut())
+        {
+            *sk = f.iter().all(|v| *v == 0.0);
+            if !*sk {
+                fft.forward(f, hat)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// `fields` = the surface operator `spectra` applied to the input spectra of `inputs`
+    /// ([`Work::transform_inputs`]): accumulated in this work's output spectra, one inverse
+    /// transform per field (docs/theory-sam.md#eigen-displacements).
+    fn surface_fields(
+        &mut self,
+        fft: &mut Fft2d,
+        spectra: &LayeredSpectra,
+        inputs: &Work,
+        fields: &mut [Vec<f64>],
+    ) -> Result<(), SamError> {
+        let zero = C64::new(0.0, 0.0);
+        self.y_hat.iter_mut().for_each(|s| s.fill(zero));
+        spectra.accumulate(&inputs.x_hat, &inputs.skip, &mut self.y_hat)?;
+        for (hat, field) in self.y_hat.iter_mut().zip(fields.iter_mut()) {
+            fft.inverse(hat, field)?;
+        }
+        Ok(())
+    }
 }
 
 /// The EIM field operators between source layers (where the eigenstrain lives) and target layers
@@ -313,6 +349,27 @@ pub struct EimFields {
 }
 
 impl EimFields {
+    /// The operators the contact solvers use for `set` (docs/theory-sam.md#nested-loops): sources
+    /// and targets on the set's layers and window, in the half-space `(E, ν)`, FFT backend
+    /// ([`EimFields::new`]).
+    pub fn for_inclusions(
+        grid: SurfaceGrid,
+        e: f64,
+        nu: f64,
+        set: &super::geometry::InclusionSet,
+    ) -> Result<Self, SamError> {
+        Self::new(
+            grid,
+            e,
+            nu,
+            &set.layers,
+            &set.layers,
+            set.window,
+            Space::HalfSpace,
+            Backend::Fft,
+        )
+    }
+
     /// Plans the operators for eigenstrains on `source_layers` and strains on `target_layers` (layer
     /// numbers `k`, centre depth `(2k+1)Δ`, `Δ` = the grid's half cell size), both on `window`, in a
     /// matrix `(E, ν)`. Refuses up front a request whose stored spectra would not fit in memory.
@@ -569,25 +626,13 @@ impl EimFields {
             let Layered::Fast(surface) = surface else {
                 unreachable!("matched above")
             };
-            let vw = &mut self.volume_work;
-            for ((f, hat), sk) in eigen
-                .iter()
-                .zip(vw.x_hat.iter_mut())
-                .zip(vw.skip.iter_mut())
-            {
-                *sk = f.iter().all(|v| *v == 0.0);
-                if !*sk {
-                    self.fft.forward(f, hat)?;
-                }
-            }
-            let zero = C64::new(0.0, 0.0);
-            let sw = &mut self.surface_work;
-            sw.y_hat.iter_mut().for_each(|s| s.fill(zero));
-            surface.accumulate(&vw.x_hat, &vw.skip, &mut sw.y_hat)?;
-            for (hat, field) in sw.y_hat.iter_mut().zip(self.surface_fields.iter_mut()) {
-                self.fft.inverse(hat, field)?;
-            }
-            return Ok(());
+            self.volume_work.transform_inputs(&mut self.fft, eigen)?;
+            return self.surface_work.surface_fields(
+                &mut self.fft,
+                surface,
+                &self.volume_work,
+                &mut self.surface_fields,
+            );
         }
         self.surface_fields_from_window(eigen)
     }
@@ -636,29 +681,21 @@ impl EimFields {
         else {
             unreachable!("checked by the caller")
         };
-        let vw = &mut self.volume_work;
-        for ((f, hat), sk) in eigen
-            .iter()
-            .zip(vw.x_hat.iter_mut())
-            .zip(vw.skip.iter_mut())
-        {
-            *sk = f.iter().all(|v| *v == 0.0);
-            if !*sk {
-                self.fft.forward(f, hat)?;
-            }
-        }
+        self.volume_work.transform_inputs(&mut self.fft, eigen)?;
         let zero = C64::new(0.0, 0.0);
+        let vw = &mut self.volume_work;
         vw.y_hat.iter_mut().for_each(|s| s.fill(zero));
         volume.accumulate(&vw.x_hat, &vw.skip, &mut vw.y_hat)?;
-        let sw = &mut self.surface_work;
-        sw.y_hat.iter_mut().for_each(|s| s.fill(zero));
-        surface.accumulate(&vw.x_hat, &vw.skip, &mut sw.y_hat)?;
-        for (hat, field) in sw.y_hat.iter_mut().zip(self.surface_fields.iter_mut()) {
-            self.fft.inverse(hat, field)?;
-        }
+        self.surface_work.surface_fields(
+            &mut self.fft,
+            surface,
+            &self.volume_work,
+            &mut self.surface_fields,
+        )?;
         let lw = &mut self.love_work;
         self.fft
             .forward(&self.surface_fields[0], &mut lw.x_hat[0])?;
+        let vw = &mut self.volume_work;
         love.accumulate(&lw.x_hat, &[false, true, true], &mut vw.y_hat)?;
         for (hat, field) in vw.y_hat.iter_mut().zip(strain.iter_mut()) {
             self.fft.inverse(hat, field)?;

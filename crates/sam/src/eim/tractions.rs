@@ -3,9 +3,7 @@
 //! surface eigen-displacements (docs/theory-sam.md#mirror-image-and-correction-pressure, docs/theory-sam.md#eigen-displacements) in one call — what a stress analysis of a loaded
 //! surface (and the reference comparisons) needs.
 
-use super::{
-    Backend, EimFields, EimInfo, EimParams, EimSystem, InclusionSet, Inhomogeneity, Space,
-};
+use super::{EimFields, EimInfo, EimParams, EimSystem, InclusionSet, Inhomogeneity};
 use crate::{SamError, SurfaceGrid};
 
 /// The eigenstrains and what they do to the surface.
@@ -35,16 +33,7 @@ pub fn solve_under_tractions(
     params: &EimParams,
 ) -> Result<TractionSolution, SamError> {
     let set = InclusionSet::new(&grid, inhomogeneities)?;
-    let fields = EimFields::new(
-        grid,
-        e,
-        nu,
-        &set.layers,
-        &set.layers,
-        set.window,
-        Space::HalfSpace,
-        Backend::Fft,
-    )?;
+    let fields = EimFields::for_inclusions(grid, e, nu, &set)?;
     let mut sys = EimSystem::new(fields, set.clone(), e, nu)?;
     let mut applied = vec![vec![0.0; set.window.len()]; set.layers.len() * 6];
     sys.fields().traction_strain(p, q, &mut applied)?;

@@ -13,89 +13,167 @@ use crate::SamError;
 /// `δx = 0` on the way back, D `δx = −A`.
 pub const POINT_LABELS: [&str; 4] = ["A", "B", "C", "D"];
 
-/// A fretting loop: a sphere of radius `radius` (rigid, or elastic with
-/// [`LoopCase::indenter`]) on a flat half-space `(e, nu)` with Coulomb friction `friction`, normal
-/// force ramped to `force` (or the approach to [`LoopCase::approach`]) in `normal_steps` equal
-/// steps, then the shift cycled with amplitude `amplitude` in steps `shift_step`, on `grid²` cells
-/// over `extent_over_a · a` (`a` the Hertz radius of the pair). Defaults: [LN11]'s homogeneous
-/// case (rigid sphere, R = 105 μm, E = 210 GPa, ν = 0.3, μ = 0.3, W = 80 mN in 80 steps,
-/// A = 0.04 μm in 0.002 μm steps, 64² over 4.16a).
-///
-/// The two bodies enter the contact through their compliances (docs/theory-sam.md#two-bodies):
-/// `1/E* = Σ(1 − ν²)/E`, the tangential compliance `Σ(2 − ν)/G` of Mindlin's slip shift and the
-/// normal–tangential coupling `κ` (a difference: zero for identical bodies). Inhomogeneities and
-/// subsurface stresses belong to the flat, with its own `(e, nu)`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct LoopCase {
-    /// Sphere radius R (m).
-    pub radius: f64,
-    /// Young's modulus of the half-space (matrix) (Pa).
-    pub e: f64,
-    /// Poisson ratio of the half-space.
-    pub nu: f64,
-    /// Coulomb friction coefficient μ > 0.
-    pub friction: f64,
-    /// Final normal force W (N) under force control; must be 0 when [`LoopCase::approach`] is
-    /// given (exactly one of them sets the normal load).
-    pub force: f64,
-    /// Final rigid approach δ (m) under approach control (`None`: force control by `force`).
-    /// The approach is ramped like the force, `δ_i = δ i / n`; the force `W(δ)` is computed.
-    pub approach: Option<f64>,
-    /// The indenter (the sphere): [`Body::Rigid`] ([LN11]) or [`Body::Elastic`] `{ e, nu }`.
-    pub indenter: Body,
-    /// Normal load steps.
-    pub normal_steps: usize,
-    /// Shift amplitude A (m).
-    pub amplitude: f64,
-    /// Shift step (m).
-    pub shift_step: f64,
-    /// Cells per side.
-    pub grid: usize,
-    /// Domain side over the Hertz radius.
-    pub extent_over_a: f64,
-    /// Inhomogeneities below the surface (none: the homogeneous loop).
-    pub inhomogeneities: Vec<Inhomogeneity>,
-    /// Depth (m) of the von Mises field stored at the points A–D (`None`: not computed).
-    pub subsurface_depth: Option<f64>,
-    /// Depth (m) of the box whose stress history over the closed cycle is recorded for the
-    /// fatigue criteria ([`super::CycleStress`]; `None`: not recorded).
-    pub fatigue_depth: Option<f64>,
-    /// How the inhomogeneous body's surface response enters the increments
-    /// (docs/theory-sam.md#surface-response-operator): `None` — the nested contact ↔ EIM loop of
-    /// [LN11] Fig. 2 in every increment (the reference path); `Some(r)` — the surface-response
-    /// operator, built once over the cells within `r · a` of the axis (`a` the Hertz radius),
-    /// applied instead of the EIM solves. Ignored without inhomogeneities.
-    pub surface_operator_over_a: Option<f64>,
-    /// The EIM change factor `η` of the nested loop (each outer pass's EIM solved to `η` times
-    /// the last outer change, docs/theory-sam.md#outer-loop-tolerances; in (0, 1]): `None` — the
-    /// default of [`NestedParams::eim_change_factor`] (or the one passed to
-    /// [`super::FrettingLoop::with_params`]). Used by the nested loop only.
-    pub eim_change_factor: Option<f64>,
+/// Declares a struct holding the nine keys a fretting loop's case ([`LoopCase`]) and its
+/// configurations (`halfspace_cases::config::LoopConfig`, read from TOML and Python dicts) share,
+/// each declared once, here, with its type, documentation and default ([LN11]'s homogeneous
+/// case): `radius, e, nu, friction`, then the struct's `load` fields, then `normal_steps,
+/// amplitude, shift_step, grid, extent_over_a`, then its `rest` fields — in this order, which is
+/// the order of `{:?}` (checkpoint fingerprints) and of serde's list of expected keys. Each own
+/// field is written `name: Type = default`; the macro also writes `Default` and
+/// `loop_keys`/`set_loop_keys`, which copy the shared keys through [`LoopKeys`].
+#[macro_export]
+macro_rules! fretting_loop_keys {
+    (
+        $(#[$attr:meta])*
+        $vis:vis struct $name:ident {
+            load {
+                $($(#[$load_attr:meta])* $load:ident : $load_ty:ty = $load_default:expr),* $(,)?
+            }
+            rest {
+                $($(#[$rest_attr:meta])* $rest:ident : $rest_ty:ty = $rest_default:expr),* $(,)?
+            }
+        }
+    ) => {
+        $(#[$attr])*
+        $vis struct $name {
+            /// Sphere radius R (m).
+            pub radius: f64,
+            /// Young's modulus of the half-space (matrix) (Pa).
+            pub e: f64,
+            /// Poisson ratio of the half-space.
+            pub nu: f64,
+            /// Coulomb friction coefficient μ > 0.
+            pub friction: f64,
+            $($(#[$load_attr])* pub $load: $load_ty,)*
+            /// Normal load steps.
+            pub normal_steps: usize,
+            /// Shift amplitude A (m).
+            pub amplitude: f64,
+            /// Shift step (m).
+            pub shift_step: f64,
+            /// Cells per side.
+            pub grid: usize,
+            /// Domain side over the Hertz radius.
+            pub extent_over_a: f64,
+            $($(#[$rest_attr])* pub $rest: $rest_ty,)*
+        }
+
+        impl ::std::default::Default for $name {
+            /// [LN11]'s homogeneous case.
+            fn default() -> Self {
+                Self {
+                    radius: 105e-6,
+                    e: 210e9,
+                    nu: 0.3,
+                    friction: 0.3,
+                    $($load: $load_default,)*
+                    normal_steps: 80,
+                    amplitude: 0.04e-6,
+                    shift_step: 0.002e-6,
+                    grid: 64,
+                    extent_over_a: 4.16,
+                    $($rest: $rest_default,)*
+                }
+            }
+        }
+
+        impl $name {
+            /// The keys shared by every fretting-loop struct (`LoopKeys`).
+            pub fn loop_keys(&self) -> $crate::drivers::fretting_loop::LoopKeys {
+                $crate::drivers::fretting_loop::LoopKeys {
+                    radius: self.radius,
+                    e: self.e,
+                    nu: self.nu,
+                    friction: self.friction,
+                    normal_steps: self.normal_steps,
+                    amplitude: self.amplitude,
+                    shift_step: self.shift_step,
+                    grid: self.grid,
+                    extent_over_a: self.extent_over_a,
+                }
+            }
+
+            /// These shared keys set to `keys`'.
+            pub fn set_loop_keys(&mut self, keys: $crate::drivers::fretting_loop::LoopKeys) {
+                self.radius = keys.radius;
+                self.e = keys.e;
+                self.nu = keys.nu;
+                self.friction = keys.friction;
+                self.normal_steps = keys.normal_steps;
+                self.amplitude = keys.amplitude;
+                self.shift_step = keys.shift_step;
+                self.grid = keys.grid;
+                self.extent_over_a = keys.extent_over_a;
+            }
+        }
+    };
 }
 
-impl Default for LoopCase {
-    fn default() -> Self {
-        Self {
-            radius: 105e-6,
-            e: 210e9,
-            nu: 0.3,
-            friction: 0.3,
-            force: 0.08,
-            approach: None,
-            indenter: Body::Rigid,
-            normal_steps: 80,
-            amplitude: 0.04e-6,
-            shift_step: 0.002e-6,
-            grid: 64,
-            extent_over_a: 4.16,
-            inhomogeneities: Vec::new(),
-            subsurface_depth: None,
-            fatigue_depth: None,
-            surface_operator_over_a: None,
-            eim_change_factor: None,
+fretting_loop_keys! {
+    /// The keys every fretting-loop struct shares, alone ([`fretting_loop_keys!`]): how
+    /// [`LoopCase`] and a configuration pass them to each other.
+    #[derive(Debug, Clone, Copy, PartialEq)]
+    pub struct LoopKeys {
+        load {}
+        rest {}
+    }
+}
+
+fretting_loop_keys! {
+    /// A fretting loop: a sphere of radius `radius` (rigid, or elastic with
+    /// [`LoopCase::indenter`]) on a flat half-space `(e, nu)` with Coulomb friction `friction`,
+    /// normal force ramped to `force` (or the approach to [`LoopCase::approach`]) in
+    /// `normal_steps` equal steps, then the shift cycled with amplitude `amplitude` in steps
+    /// `shift_step`, on `grid²` cells over `extent_over_a · a` (`a` the Hertz radius of the pair).
+    /// Defaults: [LN11]'s homogeneous case (rigid sphere, R = 105 μm, E = 210 GPa, ν = 0.3,
+    /// μ = 0.3, W = 80 mN in 80 steps, A = 0.04 μm in 0.002 μm steps, 64² over 4.16a); the keys
+    /// shared with the configurations are declared by [`fretting_loop_keys!`].
+    ///
+    /// The two bodies enter the contact through their compliances (docs/theory-sam.md#two-bodies):
+    /// `1/E* = Σ(1 − ν²)/E`, the tangential compliance `Σ(2 − ν)/G` of Mindlin's slip shift and the
+    /// normal–tangential coupling `κ` (a difference: zero for identical bodies). Inhomogeneities and
+    /// subsurface stresses belong to the flat, with its own `(e, nu)`.
+    #[derive(Debug, Clone, PartialEq)]
+    pub struct LoopCase {
+        load {
+            /// Final normal force W (N) under force control; must be 0 when
+            /// [`LoopCase::approach`] is given (exactly one of them sets the normal load).
+            force: f64 = 0.08,
+            /// Final rigid approach δ (m) under approach control (`None`: force control by
+            /// `force`). The approach is ramped like the force, `δ_i = δ i / n`; the force `W(δ)`
+            /// is computed.
+            approach: Option<f64> = None,
+            /// The indenter (the sphere): [`Body::Rigid`] ([LN11]) or [`Body::Elastic`]
+            /// `{ e, nu }`.
+            indenter: Body = Body::Rigid,
+        }
+        rest {
+            /// Inhomogeneities below the surface (none: the homogeneous loop).
+            inhomogeneities: Vec<Inhomogeneity> = Vec::new(),
+            /// Depth (m) of the von Mises field stored at the points A–D (`None`: not computed).
+            subsurface_depth: Option<f64> = None,
+            /// Depth (m) of the box whose stress history over the closed cycle is recorded for the
+            /// fatigue criteria ([`super::CycleStress`]; `None`: not recorded).
+            fatigue_depth: Option<f64> = None,
+            /// How the inhomogeneous body's surface response enters the increments
+            /// (docs/theory-sam.md#surface-response-operator): `None` — the nested contact ↔ EIM
+            /// loop of [LN11] Fig. 2 in every increment (the reference path); `Some(r)` — the
+            /// surface-response operator, built once over the cells within `r · a` of the axis
+            /// (`a` the Hertz radius), applied instead of the EIM solves. Ignored without
+            /// inhomogeneities.
+            surface_operator_over_a: Option<f64> = None,
+            /// The EIM change factor `η` of the nested loop (each outer pass's EIM solved to `η`
+            /// times the last outer change, docs/theory-sam.md#outer-loop-tolerances; in (0, 1]):
+            /// `None` — the default of [`NestedParams::eim_change_factor`] (or the one passed to
+            /// [`super::FrettingLoop::with_params`]). Used by the nested loop only.
+            eim_change_factor: Option<f64> = None,
         }
     }
 }
+
+/// The EIM change factor a checkpoint fingerprint of stops 21–22 meant by
+/// `eim_change_factor: None` (the library's default then, 10⁻²; [`LoopCase::check_fingerprint`]).
+pub const UNRECORDED_EIM_CHANGE_FACTOR: f64 = 1e-2;
 
 impl LoopCase {
     /// The flat half-space as a body of the pair.
@@ -183,6 +261,43 @@ impl LoopCase {
             e_ratio,
         )?);
         Ok(self)
+    }
+
+    /// The case as it runs with the outer-loop parameters `nested`: with inhomogeneities and the
+    /// nested loop, [`LoopCase::eim_change_factor`] is the factor that loop uses (the case's, or
+    /// `nested`'s default); otherwise the case unchanged (the factor is not used). A checkpoint's
+    /// fingerprint is this case as `{:?}`, so it records the value used and a change of the
+    /// library's default is caught ([`LoopCase::check_fingerprint`]).
+    pub fn as_run(&self, nested: NestedParams) -> LoopCase {
+        let mut case = self.clone();
+        if !self.inhomogeneities.is_empty() && self.surface_operator_over_a.is_none() {
+            case.eim_change_factor = Some(self.nested_params(nested).eim_change_factor);
+        }
+        case
+    }
+
+    /// A checkpoint fingerprint `recorded` checked against this case's run with `nested`, whose
+    /// fingerprint is `current` (`{:?}` of a struct holding [`LoopCase::as_run`]): accepted when
+    /// equal, or — the checkpoints of stops 21–22, whose fingerprint held the case as given
+    /// (`eim_change_factor: None` when defaulted), `given` — when equal to `given` while the run
+    /// uses [`UNRECORDED_EIM_CHANGE_FACTOR`], the default of those stops: the same loop, step
+    /// for step. Any other checkpoint is refused ([`SamError::InvalidInput`]).
+    pub fn check_fingerprint(
+        &self,
+        nested: NestedParams,
+        recorded: &str,
+        current: &str,
+        given: &str,
+    ) -> Result<(), SamError> {
+        let unrecorded_default = self.eim_change_factor.is_none()
+            && self.as_run(nested).eim_change_factor == Some(UNRECORDED_EIM_CHANGE_FACTOR);
+        if recorded == current || (unrecorded_default && recorded == given) {
+            Ok(())
+        } else {
+            Err(SamError::InvalidInput(
+                "the checkpoint was made with another configuration".into(),
+            ))
+        }
     }
 
     /// `base` with the body response of [`LoopCase::surface_operator_over_a`]

@@ -91,6 +91,8 @@ pub struct FrettingLoop {
     /// The complete cycle's full history, computed at the first [`FrettingLoop::cycle_stress`].
     cycle_stress: std::sync::OnceLock<CycleStress>,
     cycle_sources: Option<CycleSources>,
+    /// The outer-loop parameters it was planned with (before the case's own).
+    nested: NestedParams,
 }
 
 impl FrettingLoop {
@@ -121,9 +123,15 @@ impl FrettingLoop {
             ..ContactParams::default()
         };
         let problem = ContactProblem::new(grid, compliance, geometry, params)?;
-        let nested = case.nested_params(nested);
-        let solver = ContactSolver::new(problem, case.e, case.nu, &case.inhomogeneities, nested)?;
+        let solver = ContactSolver::new(
+            problem,
+            case.e,
+            case.nu,
+            &case.inhomogeneities,
+            case.nested_params(nested),
+        )?;
         Ok(Self {
+            nested,
             path: case.path(),
             case,
             solver,
@@ -140,11 +148,9 @@ impl FrettingLoop {
     /// the next increment repeats the uninterrupted loop's bit for bit.
     pub fn resume(case: LoopCase, snapshot: LoopSnapshot) -> Result<Self, SamError> {
         let mut lp = Self::new(case)?;
-        if snapshot.fingerprint != lp.fingerprint() {
-            return Err(SamError::InvalidInput(
-                "the checkpoint was made with another configuration".into(),
-            ));
-        }
+        let given = format!("{:?}", lp.case);
+        lp.case
+            .check_fingerprint(lp.nested, &snapshot.fingerprint, &lp.fingerprint(), &given)?;
         lp.check_snapshot(&snapshot)?;
         lp.solver
             .restore(&snapshot.state, snapshot.eigen.as_ref())?;
@@ -379,9 +385,10 @@ impl FrettingLoop {
         Ok(())
     }
 
-    /// The configuration as text (a checkpoint is resumed only with the same one).
+    /// The configuration as text, the EIM change factor the one used ([`LoopCase::as_run`]; a
+    /// checkpoint is resumed only with the same one, [`LoopCase::check_fingerprint`]).
     pub fn fingerprint(&self) -> String {
-        format!("{:?}", self.case)
+        format!("{:?}", self.case.as_run(self.nested))
     }
 
     /// The case.

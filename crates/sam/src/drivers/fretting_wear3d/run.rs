@@ -139,6 +139,8 @@ pub struct WearSeconds {
 /// [`crate::drivers::fretting_loop`] with the worn depth added to the gap after each computed
 /// cycle; one computed cycle stands for `ΔN` cycles ([`FrettingWear3d::step`]).
 pub struct FrettingWear3d {
+    /// The outer-loop parameters it was planned with (before the case's own).
+    nested: NestedParams,
     case: WearCase,
     path: LoadPath,
     solver: ContactSolver,
@@ -212,8 +214,13 @@ impl FrettingWear3d {
             ..ContactParams::default()
         };
         let problem = ContactProblem::new(grid, compliance, unworn.clone(), params)?;
-        let nested = lc.nested_params(nested);
-        let solver = ContactSolver::new(problem, lc.e, lc.nu, &lc.inhomogeneities, nested)?;
+        let solver = ContactSolver::new(
+            problem,
+            lc.e,
+            lc.nu,
+            &lc.inhomogeneities,
+            lc.nested_params(nested),
+        )?;
         let n = grid.len();
         let over_inhomogeneity = (0..n)
             .map(|k| {
@@ -222,6 +229,7 @@ impl FrettingWear3d {
             })
             .collect();
         Ok(Self {
+            nested,
             path: case.path(),
             case,
             solver,
@@ -247,11 +255,13 @@ impl FrettingWear3d {
     /// next wear step repeats the uninterrupted run's bit for bit.
     pub fn resume(case: WearCase, snapshot: WearSnapshot) -> Result<Self, SamError> {
         let mut run = Self::new(case)?;
-        if snapshot.fingerprint != run.fingerprint() {
-            return Err(SamError::InvalidInput(
-                "the checkpoint was made with another configuration".into(),
-            ));
-        }
+        let given = format!("{:?}", run.case);
+        run.case.fretting.check_fingerprint(
+            run.nested,
+            &snapshot.fingerprint,
+            &run.fingerprint(),
+            &given,
+        )?;
         run.check_snapshot(&snapshot)?;
         run.solver
             .restore(&snapshot.state, snapshot.eigen.as_ref())?;
@@ -348,9 +358,15 @@ impl FrettingWear3d {
         Ok(())
     }
 
-    /// The configuration as text (a checkpoint is resumed only with the same one).
+    /// The configuration as text, the EIM change factor the one used
+    /// ([`crate::drivers::fretting_loop::LoopCase::as_run`]; a checkpoint is resumed only with the
+    /// same one, [`crate::drivers::fretting_loop::LoopCase::check_fingerprint`]).
     pub fn fingerprint(&self) -> String {
-        format!("{:?}", self.case)
+        let case = WearCase {
+            fretting: self.case.fretting.as_run(self.nested),
+            ..self.case.clone()
+        };
+        format!("{case:?}")
     }
 
     /// The case.
