@@ -118,7 +118,10 @@ pub fn run(args: StudyArgs) -> Result<(), CliError> {
         }
         Study::EimOperator => {
             let timing = studies::eim_operator(args.grid, args.layers).map_err(|e| match e {
-                StudyError::Input(m) => CliError::Spec(format!("--layers: {m}")),
+                // The one input of this study a user gives besides the grid: its flag named.
+                StudyError::Input(m) if m.starts_with("layers") => {
+                    CliError::Spec(format!("--layers: {m}"))
+                }
                 e => e.into(),
             })?;
             if args.json {

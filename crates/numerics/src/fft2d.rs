@@ -593,10 +593,15 @@ impl<T: Precision> Fft2d<T> {
         Ok(())
     }
 
-    /// Runs `f` on the work buffers (allocated here at the first call).
+    /// Runs `f` on the work buffers (allocated here at the first call). The buffers are taken out
+    /// of the lock for the duration of `f` and put back after it: `f` forks onto rayon's workers,
+    /// and a worker waiting in that join may run another caller's solve on a clone of this
+    /// transform ([`crate::parallel::on_pool`]), which must not find the lock held by its own
+    /// thread. A clone used concurrently allocates its own buffers (only then); results do not
+    /// depend on which buffers a call gets.
     fn with_work<R>(&self, f: impl FnOnce(&mut Work<T>) -> R) -> R {
-        let mut guard = self.work.lock().unwrap_or_else(|e| e.into_inner());
-        let work = guard.get_or_insert_with(|| {
+        let taken = self.work.lock().unwrap_or_else(|e| e.into_inner()).take();
+        let mut work = taken.unwrap_or_else(|| {
             let p = &self.plans;
             let zero = Complex::new(T::zero(), T::zero());
             let row_scratch_len = p.row_fwd.get_scratch_len().max(p.row_inv.get_scratch_len());
@@ -611,7 +616,9 @@ impl<T: Precision> Fft2d<T> {
                 col_scratch: vec![vec![zero; col_scratch_len.max(1)]; self.threads],
             }
         });
-        f(work)
+        let result = f(&mut work);
+        *self.work.lock().unwrap_or_else(|e| e.into_inner()) = Some(work);
+        result
     }
 
     /// Spectrum (column-major) of the (padded) field whose row `a` (`P₂` values) `fill(a, row)`
@@ -895,6 +902,38 @@ fn wrap(a: usize, n: usize) -> Option<i64> {
 mod tests {
     use super::*;
     use crate::testkit::lcg;
+
+    /// Clones sharing one set of work buffers, solved at once from several threads through
+    /// [`crate::parallel::on_pool`] (a worker waiting in a join may pick up another caller's solve
+    /// on a clone): every product finishes and equals the serial one bit for bit.
+    #[test]
+    fn clones_solved_at_once_on_the_pool_agree() {
+        let (n1, n2) = (130, 128);
+        let mut fft = Fft2d::new(n1, n2).unwrap();
+        let x = lcg(21, n1 * n2);
+        let k = lcg(22, fft.spectrum_len());
+        let mut spec = fft.new_spectrum();
+        let mut serial = vec![0.0; n1 * n2];
+        fft.convolve_real(&x, &k, &mut spec, &mut serial).unwrap();
+        std::thread::scope(|s| {
+            for _ in 0..4 {
+                let mut fft = fft.clone();
+                let (x, k, serial) = (&x, &k, &serial);
+                s.spawn(move || {
+                    let mut spec = fft.new_spectrum();
+                    let mut y = vec![0.0; n1 * n2];
+                    for _ in 0..20 {
+                        crate::parallel::on_pool(|| fft.convolve_real(x, k, &mut spec, &mut y))
+                            .unwrap();
+                        assert!(y
+                            .iter()
+                            .zip(serial)
+                            .all(|(a, b)| a.to_bits() == b.to_bits()));
+                    }
+                });
+            }
+        });
+    }
 
     /// The fused product equals forward, real product and inverse done apart, bit for bit, padded
     /// and periodic, below and above the parallel threshold, with unequal (and odd) sides.

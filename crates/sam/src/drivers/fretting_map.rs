@@ -4,6 +4,7 @@
 use std::time::Instant;
 
 use super::fretting_loop::{FrettingLoop, FrettingRegime, LoopCase};
+use crate::contact::NestedParams;
 use crate::SamError;
 
 /// The points of a fretting map: the loop of `base` at every `(W_i, A_j)` of `loads × amplitudes`.
@@ -266,10 +267,35 @@ impl FrettingMap {
         })
     }
 
-    /// The configuration of point `(i, j)` as text (a checkpointed point is reused only with the
-    /// same one).
+    /// The configuration of point `(i, j)` as text, the EIM change factor the one its loop uses
+    /// ([`LoopCase::as_run`] with the parameters of [`FrettingLoop::new`]); a checkpointed point
+    /// is reused only when [`FrettingMap::accepts_point_fingerprint`].
     pub fn point_fingerprint(&self, i: usize, j: usize) -> Result<String, SamError> {
-        Ok(format!("{:?}", self.point_case(i, j)?))
+        Ok(format!(
+            "{:?}",
+            self.point_case(i, j)?.as_run(NestedParams::default())
+        ))
+    }
+
+    /// Whether a checkpointed point's fingerprint `recorded` belongs to point `(i, j)` of this
+    /// map, `suffix` being what the caller appended to [`FrettingMap::point_fingerprint`] (the
+    /// fatigue constants): equal to the current fingerprint, or — a point written before the
+    /// fingerprint held the factor used (the case as given, `eim_change_factor: None`) — equal
+    /// to that while the run uses the factor those points were computed with
+    /// ([`LoopCase::check_fingerprint`]).
+    pub fn accepts_point_fingerprint(
+        &self,
+        i: usize,
+        j: usize,
+        recorded: &str,
+        suffix: &str,
+    ) -> Result<bool, SamError> {
+        let case = self.point_case(i, j)?;
+        let current = format!("{}{suffix}", self.point_fingerprint(i, j)?);
+        let given = format!("{case:?}{suffix}");
+        Ok(case
+            .check_fingerprint(NestedParams::default(), recorded, &current, &given)
+            .is_ok())
     }
 }
 
@@ -300,6 +326,62 @@ mod tests {
         let c = map.point_case(1, 0).unwrap();
         approx::assert_relative_eq!(c.extent_over_a, base.extent_over_a, max_relative = 1e-14);
         assert!(map.point_case(2, 0).is_err());
+    }
+
+    /// A point's fingerprint holds the EIM change factor its loop uses; a point written with the
+    /// case as given (`None`) is reused only while that factor is the one those points had.
+    #[test]
+    fn point_fingerprints_hold_the_factor_used() {
+        use crate::contact::inhomogeneous::DEFAULT_EIM_CHANGE_FACTOR;
+        use crate::eim::{Inhomogeneity, Shape};
+        let mut base = small();
+        let a = base.hertz_radius();
+        base.inhomogeneities.push(Inhomogeneity {
+            shape: Shape::Sphere {
+                x: 0.0,
+                y: 0.0,
+                z: 0.6 * a,
+                r: 0.4 * a,
+            },
+            e: 420e9,
+            nu: 0.3,
+        });
+        let map = FrettingMap::new(base.clone(), vec![0.08], vec![0.02e-6]).unwrap();
+        let current = map.point_fingerprint(0, 0).unwrap();
+        assert!(current.contains(&format!(
+            "eim_change_factor: Some({DEFAULT_EIM_CHANGE_FACTOR:?})"
+        )));
+        let given = format!("{:?}", map.point_case(0, 0).unwrap());
+        assert!(given.contains("eim_change_factor: None"));
+        for suffix in ["", "Some(FatigueConfig)"] {
+            let accepts = |recorded: String| {
+                map.accepts_point_fingerprint(0, 0, &recorded, suffix)
+                    .unwrap()
+            };
+            assert!(accepts(format!("{current}{suffix}")));
+            // The old spelling: reused while the default is the factor it was computed with.
+            assert_eq!(
+                accepts(format!("{given}{suffix}")),
+                DEFAULT_EIM_CHANGE_FACTOR
+                    == crate::drivers::fretting_loop::UNRECORDED_EIM_CHANGE_FACTOR
+            );
+            assert!(!accepts(format!("{given}{suffix}x")));
+        }
+        // Another factor given: the old spelling of the default is refused.
+        let other = FrettingMap::new(
+            LoopCase {
+                eim_change_factor: Some(1e-3),
+                ..base
+            },
+            vec![0.08],
+            vec![0.02e-6],
+        )
+        .unwrap();
+        assert!(!other.accepts_point_fingerprint(0, 0, &given, "").unwrap());
+        let other_current = other.point_fingerprint(0, 0).unwrap();
+        assert!(other
+            .accepts_point_fingerprint(0, 0, &other_current, "")
+            .unwrap());
     }
 
     #[test]

@@ -171,8 +171,9 @@ fretting_loop_keys! {
     }
 }
 
-/// The EIM change factor a checkpoint fingerprint of stops 21–22 meant by
-/// `eim_change_factor: None` (the library's default then, 10⁻²; [`LoopCase::check_fingerprint`]).
+/// The EIM change factor meant by `eim_change_factor: None` in a checkpoint fingerprint written
+/// before fingerprints recorded the factor used (before commit `ce12b57`, when the library's
+/// default was 10⁻²; [`LoopCase::check_fingerprint`]).
 pub const UNRECORDED_EIM_CHANGE_FACTOR: f64 = 1e-2;
 
 impl LoopCase {
@@ -278,9 +279,9 @@ impl LoopCase {
 
     /// A checkpoint fingerprint `recorded` checked against this case's run with `nested`, whose
     /// fingerprint is `current` (`{:?}` of a struct holding [`LoopCase::as_run`]): accepted when
-    /// equal, or — the checkpoints of stops 21–22, whose fingerprint held the case as given
-    /// (`eim_change_factor: None` when defaulted), `given` — when equal to `given` while the run
-    /// uses [`UNRECORDED_EIM_CHANGE_FACTOR`], the default of those stops: the same loop, step
+    /// equal, or — a checkpoint written before commit `ce12b57`, whose fingerprint held the case
+    /// as given (`eim_change_factor: None` when defaulted), `given` — when equal to `given` while
+    /// the run uses [`UNRECORDED_EIM_CHANGE_FACTOR`], the default then: the same loop, step
     /// for step. Any other checkpoint is refused ([`SamError::InvalidInput`]).
     pub fn check_fingerprint(
         &self,
