@@ -530,7 +530,7 @@ mod tests {
             row[w] = -4.0 - next();
         }
         let x: Vec<f64> = (0..n).map(|_| next()).collect();
-        for active in [n, 31] {
+        for active in [n, n - 1, n - 2, 31, 3, 2] {
             for row in p.band.chunks_mut(2 * w + 1).skip(active) {
                 row.fill(0.0);
             }
@@ -545,6 +545,18 @@ mod tests {
                 .zip(&general)
                 .all(|(a, b)| a.to_bits() == b.to_bits()));
             assert!(fixed.iter().zip(&x).any(|(a, b)| a != b));
+            // On the leading block of `active + w` nodes (the stages' support) with a zero tail:
+            // the block of the whole vector's answer.
+            let block = (active + w).min(n);
+            let mut tail_free = x.clone();
+            tail_free[block..].fill(0.0);
+            let mut short = tail_free[..block].to_vec();
+            p.substitute_fixed::<PRECONDITIONER_WIDTH>(&mut short, active);
+            p.substitute(&mut tail_free, active);
+            assert!(short
+                .iter()
+                .zip(&tail_free)
+                .all(|(a, b)| a.to_bits() == b.to_bits()));
         }
     }
 }
