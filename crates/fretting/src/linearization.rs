@@ -49,6 +49,9 @@ pub(crate) struct RosenbrockMatrix {
     gap_edge: f64,
     /// `β = γ Δτ`.
     pub(crate) beta: f64,
+    /// The dimension the operator presents ([`RosenbrockMatrix::set_dim`]): `N`, or the
+    /// leading block of [`RosenbrockMatrix::support`] nodes.
+    dim: usize,
     slope: Vec<f64>,
     g: Vec<f64>,
     q: Vec<f64>,
@@ -86,6 +89,7 @@ impl RosenbrockMatrix {
             gap_last: 0.0,
             gap_edge: 1.0,
             beta: 0.0,
+            dim: n,
             slope: vec![0.0; n],
             g: vec![0.0; n],
             q: vec![0.0; n],
@@ -137,6 +141,23 @@ impl RosenbrockMatrix {
     /// The contact nodes `m` of the frozen state.
     pub(crate) fn contact_nodes(&self) -> usize {
         self.contact_nodes
+    }
+
+    /// The leading nodes `0..s` outside which `W = I − βJ` is the identity and `J v` reads no
+    /// entry of `v`: `s = m + 3` (the nodes [`RosenbrockMatrix::equivalent_near_contact`]
+    /// reads; `J v` vanishes from `m` on), at least the grid's smallest and at most `N`.
+    pub(crate) fn support(&self) -> usize {
+        (self.contact_nodes + 3)
+            .max(SquaredGrid::MIN_NODES)
+            .min(self.grid.len())
+    }
+
+    /// Presents `W` as an operator on the first `dim` nodes (`support() ≤ dim ≤ N`): on vectors
+    /// that vanish beyond them it is the whole `W`'s leading block, bit for bit (GMRES on the
+    /// stage's support, docs/fretting-wear.md, "Cost per step").
+    pub(crate) fn set_dim(&mut self, dim: usize) {
+        debug_assert!(dim >= self.support() && dim <= self.grid.len());
+        self.dim = dim;
     }
 
     /// `J v` at the frozen state (see the module docs).
@@ -301,6 +322,9 @@ pub(crate) struct BandPreconditioner {
     pub(crate) active: usize,
     pub(crate) probe: Vec<f64>,
     pub(crate) response: Vec<f64>,
+    /// The dimension the operator presents (as [`RosenbrockMatrix::set_dim`]; `active + w` and
+    /// more: the rows `0..active` reach `w` columns beyond).
+    pub(crate) dim: usize,
 }
 
 impl BandPreconditioner {
@@ -318,6 +342,7 @@ impl BandPreconditioner {
             active: n,
             probe: vec![0.0; n],
             response: vec![0.0; n],
+            dim: n,
         }
     }
 
@@ -366,7 +391,7 @@ impl BandPreconditioner {
 impl BandPreconditioner {
     /// The forward and back substitutions of [`LinearOperator::apply`] on the rows `0..active`.
     fn substitute(&self, y: &mut [f64], active: usize) {
-        let (n, w) = (self.n, self.width);
+        let (n, w) = (y.len(), self.width);
         let colours = 2 * w + 1;
         for i in 0..active {
             let lo = i.saturating_sub(w);
@@ -392,7 +417,7 @@ impl BandPreconditioner {
     /// time: the interior rows with fixed-length slices (unrolled, no bounds checks), the rows
     /// at the ends as in the general loop. The same operations in the same order: the same bits.
     fn substitute_fixed<const W: usize>(&self, y: &mut [f64], active: usize) {
-        let n = self.n;
+        let n = y.len();
         let colours = 2 * W + 1;
         for i in 0..active {
             let row = &self.lu[i * colours..(i + 1) * colours];
@@ -431,17 +456,19 @@ impl BandPreconditioner {
 
 impl LinearOperator for BandPreconditioner {
     fn dim(&self) -> usize {
-        self.n
+        self.dim
     }
 
-    /// `y = M⁻¹ x` (forward and back substitution; `y = x` when not factored).
+    /// `y = M⁻¹ x` (forward and back substitution; `y = x` when not factored) on the first
+    /// [`LinearOperator::dim`] nodes: the rows `0..active` and the `w` columns they reach lie in
+    /// them, the rest is the identity (the same bits as on all `N`).
     fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), NumericsError> {
-        halfspace_numerics::linop::check_lengths(self.n, x, y)?;
+        halfspace_numerics::linop::check_lengths(self.dim, x, y)?;
         y.copy_from_slice(x);
         if !self.factored {
             return Ok(());
         }
-        let (n, w) = (self.n, self.width);
+        let (n, w) = (self.dim, self.width);
         // Rows from `active` on are those of the identity (`y_i = x_i`).
         let active = self.active.min(n);
         if w == PRECONDITIONER_WIDTH {
@@ -455,12 +482,12 @@ impl LinearOperator for BandPreconditioner {
 
 impl LinearOperator for RosenbrockMatrix {
     fn dim(&self) -> usize {
-        self.grid.len()
+        self.dim
     }
 
-    /// `y = x − β J x`.
+    /// `y = x − β J x` (on the first [`LinearOperator::dim`] nodes).
     fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), NumericsError> {
-        halfspace_numerics::linop::check_lengths(self.grid.len(), x, y)?;
+        halfspace_numerics::linop::check_lengths(self.dim, x, y)?;
         self.jacobian(x, y).map_err(|e| match e {
             MdrError::Numerics(n) => n,
             _ => NumericsError::InvalidParameter {
@@ -503,7 +530,7 @@ mod tests {
             row[w] = -4.0 - next();
         }
         let x: Vec<f64> = (0..n).map(|_| next()).collect();
-        for active in [n, 31] {
+        for active in [n, n - 1, n - 2, 31, 3, 2] {
             for row in p.band.chunks_mut(2 * w + 1).skip(active) {
                 row.fill(0.0);
             }
@@ -518,6 +545,18 @@ mod tests {
                 .zip(&general)
                 .all(|(a, b)| a.to_bits() == b.to_bits()));
             assert!(fixed.iter().zip(&x).any(|(a, b)| a != b));
+            // On the leading block of `active + w` nodes (the stages' support) with a zero tail:
+            // the block of the whole vector's answer.
+            let block = (active + w).min(n);
+            let mut tail_free = x.clone();
+            tail_free[block..].fill(0.0);
+            let mut short = tail_free[..block].to_vec();
+            p.substitute_fixed::<PRECONDITIONER_WIDTH>(&mut short, active);
+            p.substitute(&mut tail_free, active);
+            assert!(short
+                .iter()
+                .zip(&tail_free)
+                .all(|(a, b)| a.to_bits() == b.to_bits()));
         }
     }
 }

@@ -134,6 +134,17 @@ struct Contact {
     radii: ContactRadii,
 }
 
+/// What [`FrettingSimulation::contact_state_with`] leaves for the step's start: `g`, `σ`, `p`,
+/// the slip, the rate and the contact.
+struct StartRate {
+    g: Vec<f64>,
+    sigma: Vec<f64>,
+    p: Vec<f64>,
+    slip: Vec<f64>,
+    rate: Vec<f64>,
+    contact: Option<Contact>,
+}
+
 /// `γ = 1 + 1/√2` of ROS2.
 const ROS2_GAMMA: f64 = 1.0 + std::f64::consts::FRAC_1_SQRT_2;
 /// The first adaptive step.
@@ -174,6 +185,9 @@ pub struct FrettingSimulation {
     rhs: Vec<f64>,
     trial: Vec<f64>,
     start: Vec<f64>,
+    /// `g`, `σ`, `p`, the slip and the rate of the step's start and its contact, put back after a
+    /// rejected attempt instead of evaluated again (the same bits).
+    start_rate: StartRate,
     /// `a²` of the step's start (the edge where g reaches d).
     start_edge_squared: f64,
     /// The rate of the nodes that entered the contact in the second stage's trial profile, and
@@ -308,6 +322,14 @@ impl FrettingSimulation {
             rhs: vec![0.0; n],
             trial: vec![0.0; n],
             start: vec![0.0; n],
+            start_rate: StartRate {
+                g: vec![0.0; n],
+                sigma: vec![0.0; n],
+                p: vec![0.0; n],
+                slip: vec![0.0; n],
+                rate: vec![0.0; n],
+                contact: None,
+            },
             start_edge_squared: 0.0,
             entered: vec![0.0; n],
             entered_nodes: 0..0,
@@ -722,6 +744,13 @@ impl FrettingSimulation {
     /// Freezes the Jacobian at the current (start) profile and keeps that profile.
     fn linearize(&mut self, contact: Contact) -> Result<(), FrettingError> {
         self.start.copy_from_slice(&self.state.profile);
+        let kept = &mut self.start_rate;
+        kept.g.copy_from_slice(&self.g);
+        kept.sigma.copy_from_slice(&self.sigma);
+        kept.p.copy_from_slice(&self.p);
+        kept.slip.copy_from_slice(&self.slip);
+        kept.rate.copy_from_slice(&self.rate);
+        kept.contact = Some(contact);
         self.start_edge_squared = contact.edge_radius * contact.edge_radius;
         self.matrix.freeze(
             &self.slip,
@@ -754,10 +783,17 @@ impl FrettingSimulation {
         Ok(())
     }
 
-    /// Puts the start profile and its rate back after a rejected attempt.
+    /// Puts the start profile and its rate back after a rejected attempt (kept by
+    /// [`FrettingSimulation::linearize`]: the bits an evaluation of the start would give).
     fn restore_start(&mut self) -> Result<(), FrettingError> {
         self.state.profile.copy_from_slice(&self.start);
-        self.current = None;
+        let kept = &self.start_rate;
+        self.g.copy_from_slice(&kept.g);
+        self.sigma.copy_from_slice(&kept.sigma);
+        self.p.copy_from_slice(&kept.p);
+        self.slip.copy_from_slice(&kept.slip);
+        self.rate.copy_from_slice(&kept.rate);
+        self.current = kept.contact;
         self.contact()?;
         Ok(())
     }
@@ -859,13 +895,45 @@ impl FrettingSimulation {
                 params.tolerance = (0.01 * tolerance / (dtau * norm)).clamp(KRYLOV.tolerance, 1e-3);
             }
         }
-        let info = if self.precondition {
-            self.gmres
-                .solve(&mut self.matrix, &mut self.precond, b, x, &params)
+        // W is the identity beyond the contact nodes' support (and M beyond the band's rows):
+        // when b and the warm start vanish there (the frozen-contact stages), so do GMRES's
+        // vectors, and GMRES runs on the leading block alone — the same iterates bit for bit
+        // (docs/fretting-wear.md, "Cost per step").
+        let block = self
+            .matrix
+            .support()
+            .max(if self.precondition {
+                self.precond.active.min(n) + self.precond.width()
+            } else {
+                0
+            })
+            .min(n);
+        let d = if b[block..].iter().all(|&v| v == 0.0) && x[block..].iter().all(|&v| v == 0.0) {
+            block
         } else {
-            self.gmres
-                .solve(&mut self.matrix, &mut Identity(n), b, x, &params)
+            n
         };
+        self.matrix.set_dim(d);
+        self.precond.dim = d;
+        let info = if self.precondition {
+            self.gmres.solve(
+                &mut self.matrix,
+                &mut self.precond,
+                &b[..d],
+                &mut x[..d],
+                &params,
+            )
+        } else {
+            self.gmres.solve(
+                &mut self.matrix,
+                &mut Identity(d),
+                &b[..d],
+                &mut x[..d],
+                &params,
+            )
+        };
+        self.matrix.set_dim(n);
+        self.precond.dim = n;
         let info = info.map_err(MdrError::from)?;
         self.krylov_iterations += info.iterations as u64;
         Ok(info.iterations)

@@ -129,7 +129,10 @@ impl Gmres {
     }
 
     /// Solves `A x = b` with the preconditioner `M⁻¹` (`precond` applies `M⁻¹`); `x` is the warm
-    /// start and the result.
+    /// start and the result. The operators may be of any dimension `d ≤ n` (the work arrays'
+    /// first `d` entries are used): a caller whose system is the identity beyond its first `d`
+    /// unknowns, with `b` and `x` vanishing there, solves on those `d` alone — the same
+    /// iterates, since every sum over the zero tail only adds zeros.
     pub fn solve(
         &mut self,
         a: &mut dyn LinearOperator,
@@ -139,12 +142,12 @@ impl Gmres {
         params: &KrylovParams,
     ) -> Result<KrylovInfo, NumericsError> {
         params.validate()?;
-        let n = self.n;
-        if a.dim() != n || precond.dim() != n {
+        let n = a.dim();
+        if n > self.n || precond.dim() != n {
             return Err(NumericsError::LengthMismatch {
                 what: "GMRES operator dimension",
-                expected: n,
-                got: if a.dim() != n { a.dim() } else { precond.dim() },
+                expected: if n > self.n { self.n } else { n },
+                got: if n > self.n { n } else { precond.dim() },
             });
         }
         crate::linop::check_lengths(n, b, x)?;
@@ -161,11 +164,12 @@ impl Gmres {
         let mut residual;
         loop {
             // r = b − A x.
-            a.apply(x, &mut self.r)?;
-            for (ri, bi) in self.r.iter_mut().zip(b) {
+            let r = &mut self.r[..n];
+            a.apply(x, r)?;
+            for (ri, bi) in r.iter_mut().zip(b) {
                 *ri = bi - *ri;
             }
-            let beta = norm(&self.r);
+            let beta = norm(r);
             residual = beta / b_norm;
             if !residual.is_finite() || x.iter().any(|v| !v.is_finite()) {
                 return Err(no_convergence("GMRES", iterations, residual));
@@ -179,7 +183,7 @@ impl Gmres {
             if iterations >= params.max_iterations {
                 return Err(no_convergence("GMRES", iterations, residual));
             }
-            for (v, r) in self.v[0].iter_mut().zip(&self.r) {
+            for (v, r) in self.v[0][..n].iter_mut().zip(&self.r[..n]) {
                 *v = r / beta;
             }
             self.g.fill(0.0);
@@ -188,22 +192,22 @@ impl Gmres {
             while k < m && iterations < params.max_iterations {
                 iterations += 1;
                 // w = A M⁻¹ v_k.
-                precond.apply(&self.v[k], &mut self.z)?;
-                a.apply(&self.z, &mut self.w)?;
+                precond.apply(&self.v[k][..n], &mut self.z[..n])?;
+                a.apply(&self.z[..n], &mut self.w[..n])?;
                 // Modified Gram–Schmidt.
                 for i in 0..=k {
-                    let hik = dot(&self.w, &self.v[i]);
+                    let hik = dot(&self.w[..n], &self.v[i][..n]);
                     self.h[k * (m + 1) + i] = hik;
-                    for (w, v) in self.w.iter_mut().zip(&self.v[i]) {
+                    for (w, v) in self.w[..n].iter_mut().zip(&self.v[i][..n]) {
                         *w -= hik * v;
                     }
                 }
-                let hk1 = norm(&self.w);
+                let hk1 = norm(&self.w[..n]);
                 self.h[k * (m + 1) + k + 1] = hk1;
                 if hk1 > 0.0 {
                     let (head, tail) = self.v.split_at_mut(k + 1);
                     let _ = head;
-                    for (v, w) in tail[0].iter_mut().zip(&self.w) {
+                    for (v, w) in tail[0][..n].iter_mut().zip(&self.w[..n]) {
                         *v = w / hk1;
                     }
                 }
@@ -243,15 +247,15 @@ impl Gmres {
                 let d = self.h[i * (m + 1) + i];
                 self.y[i] = if d != 0.0 { s / d } else { 0.0 };
             }
-            self.w.fill(0.0);
+            self.w[..n].fill(0.0);
             for j in 0..k {
                 let yj = self.y[j];
-                for (w, v) in self.w.iter_mut().zip(&self.v[j]) {
+                for (w, v) in self.w[..n].iter_mut().zip(&self.v[j][..n]) {
                     *w += yj * v;
                 }
             }
-            precond.apply(&self.w, &mut self.z)?;
-            for (xi, zi) in x.iter_mut().zip(&self.z) {
+            precond.apply(&self.w[..n], &mut self.z[..n])?;
+            for (xi, zi) in x.iter_mut().zip(&self.z[..n]) {
                 *xi += zi;
             }
             if !self.confirm && residual < params.tolerance {
@@ -481,6 +485,58 @@ mod tests {
         )
         .unwrap_err();
         assert!(matches!(err, NumericsError::NoConvergence { .. }), "{err}");
+    }
+
+    /// A system that is the identity beyond its first `d` unknowns, with `b` and the warm start
+    /// vanishing there, solved on those `d` by a `Gmres` sized for more (after a full-size solve
+    /// left its work arrays dirty) gives the full solve's iterates bit for bit; an operator
+    /// larger than the work arrays is refused.
+    #[test]
+    fn gmres_on_a_leading_block_matches_the_full_solve_bit_for_bit() {
+        let (n, d) = (40, 23);
+        let block = matrix(d, 5);
+        let mut full = vec![0.0; n * n];
+        for i in 0..n {
+            for j in 0..n {
+                full[i * n + j] = if i < d && j < d {
+                    block.a[i * d + j]
+                } else if i == j {
+                    1.0
+                } else {
+                    0.0
+                };
+            }
+        }
+        let mut full = DenseMatrix::from_row_major(n, full).unwrap();
+        let mut block = block;
+        let mut b = vec![0.0; n];
+        for (i, v) in b.iter_mut().enumerate().take(d) {
+            *v = (i as f64 * 0.3).sin() + 0.5;
+        }
+        let params = KrylovParams {
+            tolerance: 1e-11,
+            restart: 7,
+            ..Default::default()
+        };
+        let mut gmres = Gmres::new(n, 7);
+        let mut x_full = vec![0.0; n];
+        let info_full = gmres
+            .solve(&mut full, &mut Identity(n), &b, &mut x_full, &params)
+            .unwrap();
+        let mut x_block = vec![0.0; d];
+        let info_block = gmres
+            .solve(&mut block, &mut Identity(d), &b[..d], &mut x_block, &params)
+            .unwrap();
+        assert_eq!(info_full, info_block);
+        assert!(x_full[d..].iter().all(|&v| v == 0.0));
+        for (p, q) in x_full.iter().zip(&x_block) {
+            assert_eq!(p.to_bits(), q.to_bits());
+        }
+        let mut big = matrix(n + 1, 3);
+        let mut x = vec![0.0; n + 1];
+        assert!(gmres
+            .solve(&mut big, &mut Identity(n + 1), &[1.0; 41], &mut x, &params)
+            .is_err());
     }
 
     #[test]
