@@ -194,6 +194,9 @@ pub struct FrettingSimulation {
     /// the range of them.
     entered: Vec<f64>,
     entered_nodes: std::ops::Range<usize>,
+    /// Whether the last attempt was rejected because its result's contact reached the end of
+    /// the grid (reported as [`FrettingError::ContactOutsideGrid`] if the step then fails).
+    outside_grid: bool,
     /// `a_t²` of the second stage's trial contact (the edge the entered nodes' wear assumes).
     trial_edge_squared: f64,
     /// GMRES iterations so far (not part of the state: a diagnostic).
@@ -333,6 +336,7 @@ impl FrettingSimulation {
             start_edge_squared: 0.0,
             entered: vec![0.0; n],
             entered_nodes: 0..0,
+            outside_grid: false,
             trial_edge_squared: 0.0,
             krylov_iterations: 0,
             edge_shape: vec![0.0; n],
@@ -516,6 +520,7 @@ impl FrettingSimulation {
         let (new_tau, dtau) = match self.params.stepping {
             TimeStepping::ExplicitEuler { dtau } => {
                 self.euler_step(dtau);
+                self.current = None;
                 (self.fixed_tau(self.state.step + 1, dtau), dtau)
             }
             TimeStepping::Fixed { dtau } => {
@@ -534,7 +539,9 @@ impl FrettingSimulation {
         };
         self.state.step += 1;
         self.state.tau = new_tau;
-        self.current = None;
+        // The ROS2 steps leave the contact of their result in `current` when it is up to date
+        // (evaluated for the error estimate; a function of the profile alone, so reusing it is
+        // bit for bit the evaluation it saves) and clear it whenever the profile changes after.
         let contact = self.contact()?;
         let radii = contact.radii;
         self.state.tau_history.push(new_tau);
@@ -584,6 +591,7 @@ impl FrettingSimulation {
     /// One ROS2 attempt from the current profile (kept in `start`) at `dtau`; leaves the new profile
     /// in `state.profile` and returns the error estimate `max_i Δτ |k₁ + k₂|_i / 2`.
     fn ros2_attempt(&mut self, dtau: f64) -> Result<f64, FrettingError> {
+        self.outside_grid = false;
         self.matrix.beta = ROS2_GAMMA * dtau;
         if self.precondition {
             self.precond.factor(self.matrix.beta);
@@ -661,7 +669,10 @@ impl FrettingSimulation {
                 Ok(e) => e,
                 // The result's contact reaches beyond the grid: no estimate (rejected; a fixed
                 // step stops at its contact, as before).
-                Err(FrettingError::ContactOutsideGrid { .. }) => return Ok(f64::INFINITY),
+                Err(FrettingError::ContactOutsideGrid { .. }) => {
+                    self.outside_grid = true;
+                    return Ok(f64::INFINITY);
+                }
                 Err(e) => return Err(e),
             };
             if outside_error.0 > error {
@@ -869,6 +880,13 @@ impl FrettingSimulation {
             };
             dtau = quantized_step(attempt * shrink);
             if dtau < 1e-14 * self.params.tau_end.max(1.0) {
+                // Steps shrunk because every result reached beyond the grid: the domain is too
+                // short, not the tolerance too tight.
+                if self.outside_grid {
+                    return Err(FrettingError::ContactOutsideGrid {
+                        length: self.params.length,
+                    });
+                }
                 return Err(FrettingError::StepTooSmall {
                     tau: self.state.tau,
                     dtau,

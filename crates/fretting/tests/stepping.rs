@@ -584,7 +584,10 @@ fn global_error_is_a_multiple_of_the_tolerance() {
             // Measured 0.32–6.55 tol (docs/fretting-wear.md): the global error is a bounded
             // multiple of the tolerance at every tolerance, not growing as it shrinks.
             for (tau, e) in ratios {
-                assert!(e < 10.0, "k = {k}, tol {tolerance:e}, τ = {tau}: {e:.2} tol");
+                assert!(
+                    e < 10.0,
+                    "k = {k}, tol {tolerance:e}, τ = {tau}: {e:.2} tol"
+                );
             }
         }
     }
