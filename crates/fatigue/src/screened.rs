@@ -24,7 +24,9 @@
 //!   `γ_a = half range / G`.
 use rayon::prelude::*;
 
-use crate::critical_plane::{fatemi_socie, fs_plane_value, swt, tangent_basis, PlaneScratch};
+use crate::critical_plane::{
+    fatemi_socie, fs_plane_value, swt, tangent_basis, PathColumns, PlaneScratch,
+};
 use crate::error::FatigueError;
 use crate::field::{FieldParams, Maximum};
 use crate::invariant::{crossland_dang_van, InvariantScratch};
@@ -182,6 +184,7 @@ pub struct PatchScratch {
     heap: std::collections::BinaryHeap<Patch>,
     shear: Vec<[f64; 2]>,
     hull: Vec<[f64; 2]>,
+    columns: PathColumns,
 }
 
 /// The unit normal through the point `(u, v)` of the cube face `face`.
@@ -310,6 +313,9 @@ pub fn fatemi_socie_patch_bound(
         let full = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + off).sqrt();
         [2f64.sqrt() * frob, largest_principal_bound(s), 1e-12 * full]
     }));
+    if threshold.is_some() {
+        scratch.columns.fill(path);
+    }
     let g = material.shear_modulus();
     let kq = material.fs_k / material.yield_stress;
     let per_increment = &scratch.per_increment;
@@ -390,7 +396,7 @@ pub fn fatemi_socie_patch_bound(
             // threshold early where the point can.
             let n = face_normal(p.face, um, vm);
             lower = lower.max(fs_plane_value(
-                path,
+                &scratch.columns,
                 &n,
                 g,
                 kq,
@@ -685,6 +691,35 @@ impl<T> Drop for Pooled<'_, T> {
     }
 }
 
+/// Orders `order[sorted..]` far enough that `order[..end]` (at least) holds the indices of the
+/// largest `key` in decreasing order, ties by increasing index — for indices given in increasing
+/// order the prefix a stable sort by decreasing `key` gives, without sorting the rest: the next
+/// block (at least `end − sorted`, at least 256 and at least `sorted`, so the blocks double) is
+/// selected (`select_nth_unstable_by`, linear) and sorted. `order[..sorted]` must already be
+/// so ordered and precede the rest; returns the new `sorted`.
+pub fn largest_first(
+    order: &mut [usize],
+    sorted: usize,
+    end: usize,
+    key: impl Fn(usize) -> f64,
+) -> usize {
+    let end = end.min(order.len());
+    if end <= sorted {
+        return sorted;
+    }
+    let block = (end - sorted)
+        .max(sorted)
+        .max(256)
+        .min(order.len() - sorted);
+    let descending = |x: &usize, y: &usize| key(*y).total_cmp(&key(*x)).then(x.cmp(y));
+    let rest = &mut order[sorted..];
+    if block < rest.len() {
+        rest.select_nth_unstable_by(block - 1, descending);
+    }
+    rest[..block].sort_unstable_by(descending);
+    sorted + block
+}
+
 /// One screen (module doc): the points not yet `done`, in decreasing order of `bound`, evaluated
 /// by `eval` (`K` values per point into `fields`, `best` their running maxima) in parallel batches
 /// of 16, until the next bound is below `fraction × best[which]` (with `fraction > 0` and
@@ -703,8 +738,9 @@ fn screen<const K: usize, S: Default + Send>(
     eval: &PointCriteria<'_, K, S>,
     refine: Option<&Refine<'_>>,
 ) -> Result<usize, FatigueError> {
+    // Ordered lazily: only the prefix the batches reach is selected and sorted.
     let mut order: Vec<usize> = (0..bound.len()).filter(|&p| !done[p]).collect();
-    order.sort_by(|&a, &b| bound[b].total_cmp(&bound[a]));
+    let mut sorted = 0;
     let batch = 16;
     // Workers' buffers kept across batches (the critical-plane scratch builds its lattice
     // neighbour lists once).
@@ -714,6 +750,7 @@ fn screen<const K: usize, S: Default + Send>(
     let mut evaluated = 0;
     let mut kept = Vec::with_capacity(batch);
     while next < order.len() {
+        sorted = largest_first(&mut order, sorted, next + batch, |p| bound[p]);
         let b = best[which];
         let below = |value: f64| fraction > 0.0 && b > 0.0 && value < fraction * b;
         if below(bound[order[next]]) {
