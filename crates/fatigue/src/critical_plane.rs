@@ -183,12 +183,7 @@ impl PlaneScratch {
             }
         }
         if self.directions.len() != params.coarse_directions {
-            let m = params.coarse_directions;
-            self.directions.clear();
-            self.directions.extend((0..m).map(|j| {
-                let psi = std::f64::consts::PI * j as f64 / m as f64;
-                [psi.cos(), psi.sin()]
-            }));
+            in_plane_directions(params.coarse_directions, &mut self.directions);
         }
         self.trace.clear();
         self.trace.extend(path.iter().map(|s| s[0] + s[1] + s[2]));
@@ -464,6 +459,41 @@ pub(crate) fn fs_plane_value(
     hull: &mut Vec<[f64; 2]>,
 ) -> f64 {
     fs_plane_exact(path, n, g, k_over_sy, shear, hull).0
+}
+
+/// Whether Fatemi–Socie on the plane `n` (unit) reaches `threshold`, with the caller's buffers:
+/// first on the in-plane `directions` (`M` of them over `[0, π)`: a lower bound within the factor
+/// `cos(π/2M)` of the exact value), the exact value ([`fs_plane_value`], the convex hull) only
+/// when that one can still reach `threshold` (`coarse ≥ threshold · cos(π/2M)`); `cos_half_step`
+/// is `cos(π/2M)`. Returns a lower bound of the plane's value that is `≥ threshold` if the exact
+/// value is.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn fs_plane_reaches(
+    path: &PathColumns,
+    n: &[f64; 3],
+    g: f64,
+    k_over_sy: f64,
+    threshold: f64,
+    directions: &[[f64; 2]],
+    cos_half_step: f64,
+    shear: &mut Vec<[f64; 2]>,
+    hull: &mut Vec<[f64; 2]>,
+) -> f64 {
+    let coarse = fs_plane_coarse(path, n, g, k_over_sy, directions, shear);
+    // 1e-9: the rounding of the two evaluations, only ever to compute the exact value more often.
+    if coarse >= threshold || coarse < threshold * cos_half_step * (1.0 - 1e-9) {
+        return coarse;
+    }
+    fs_plane_value(path, n, g, k_over_sy, shear, hull).max(coarse)
+}
+
+/// The `m` in-plane directions `(cos ψ, sin ψ)`, `ψ = jπ/m`, of the coarse stage.
+pub(crate) fn in_plane_directions(m: usize, out: &mut Vec<[f64; 2]>) {
+    out.clear();
+    out.extend((0..m).map(|j| {
+        let psi = std::f64::consts::PI * j as f64 / m as f64;
+        [psi.cos(), psi.sin()]
+    }));
 }
 
 /// Fatemi–Socie on the coarse in-plane directions `directions` (lower bound of the exact value).

@@ -25,7 +25,8 @@
 use rayon::prelude::*;
 
 use crate::critical_plane::{
-    fatemi_socie, fs_plane_value, swt, tangent_basis, PathColumns, PlaneScratch,
+    fatemi_socie, fs_plane_reaches, in_plane_directions, swt, tangent_basis, CriticalPlaneParams,
+    PathColumns, PlaneScratch,
 };
 use crate::error::FatigueError;
 use crate::field::{FieldParams, Maximum};
@@ -185,6 +186,7 @@ pub struct PatchScratch {
     shear: Vec<[f64; 2]>,
     hull: Vec<[f64; 2]>,
     columns: PathColumns,
+    directions: Vec<[f64; 2]>,
 }
 
 /// The unit normal through the point `(u, v)` of the cube face `face`.
@@ -279,7 +281,8 @@ fn shear_on_patch_bound(
 /// from the 12 squares of side 1 of the three faces, the patch of the largest bound is split in
 /// four until that bound is below `threshold` (the point cannot reach it), or a plane's value
 /// (a lower bound from the patch centres: half the largest `|τ(t) − τ(0)|`, and with a
-/// threshold the exact value on the centre plane of each patch split) reaches `threshold`,
+/// threshold the value on the centre plane of each patch split, on the 12 default in-plane
+/// directions and exact only where those cannot decide, `fs_plane_reaches`) reaches `threshold`,
 /// or after [`FS_PATCH_SPLITS`] splits (always, with no threshold). Returns the largest patch bound then, never above
 /// [`critical_plane_bounds`]'s.
 pub fn fatemi_socie_patch_bound(
@@ -313,9 +316,16 @@ pub fn fatemi_socie_patch_bound(
         let full = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + off).sqrt();
         [2f64.sqrt() * frob, largest_principal_bound(s), 1e-12 * full]
     }));
+    // The centre planes' values (with a threshold) first on the default coarse in-plane
+    // directions, exact only where those can still reach the threshold.
+    let m = CriticalPlaneParams::default().coarse_directions;
     if threshold.is_some() {
         scratch.columns.fill(path);
+        if scratch.directions.len() != m {
+            in_plane_directions(m, &mut scratch.directions);
+        }
     }
+    let cos_half_step = (std::f64::consts::FRAC_PI_2 / m as f64).cos();
     let g = material.shear_modulus();
     let kq = material.fs_k / material.yield_stress;
     let per_increment = &scratch.per_increment;
@@ -391,15 +401,18 @@ pub fn fatemi_socie_patch_bound(
         }
         let Some(p) = heap.pop() else { break };
         let (um, vm) = (0.5 * (p.u[0] + p.u[1]), 0.5 * (p.v[0] + p.v[1]));
-        if threshold.is_some() {
-            // The exact value on the most promising plane: a lower bound that reaches the
-            // threshold early where the point can.
+        if let Some(t) = threshold {
+            // The value on the most promising plane: a lower bound that reaches the threshold
+            // early where the point can (exact where the coarse directions do not decide).
             let n = face_normal(p.face, um, vm);
-            lower = lower.max(fs_plane_value(
+            lower = lower.max(fs_plane_reaches(
                 &scratch.columns,
                 &n,
                 g,
                 kq,
+                t,
+                &scratch.directions,
+                cos_half_step,
                 &mut scratch.shear,
                 &mut scratch.hull,
             ));
