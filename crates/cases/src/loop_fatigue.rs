@@ -12,7 +12,9 @@ use crate::data::{AttrValue, Record};
 use crate::fatigue::critical_plane::{fatemi_socie, swt, PlaneScratch};
 use crate::fatigue::field::{FieldParams, Maximum};
 use crate::fatigue::invariant::{crossland_dang_van, InvariantScratch};
-use crate::fatigue::screened::{critical_plane_bounds, invariant_bounds, reference_bounds};
+use crate::fatigue::screened::{
+    critical_plane_bounds, invariant_bounds, largest_first, reference_bounds,
+};
 use crate::fatigue::{evaluate_screened, Material, ScreenedIndices, Voigt};
 use crate::sam::drivers::fretting_loop::{CycleSources, CycleStress, FrettingLoop, LoopCase};
 use crate::sam::subsurface::SubsurfacePlan;
@@ -296,7 +298,7 @@ pub fn reachable_levels(
     let mut seed: Vec<usize> = vec![layers];
     for c in 0..4 {
         let mut order: Vec<usize> = (0..cells).collect();
-        order.sort_by(|&x, &y| a[y][c].total_cmp(&a[x][c]));
+        largest_first(&mut order, 0, SEED_CELLS, |p| a[p][c]);
         seed.extend(order.iter().take(SEED_CELLS).map(|p| p / n));
     }
     seed.sort_unstable();
@@ -327,7 +329,7 @@ pub fn reachable_levels(
     let fatigue = |e: halfspace_fatigue::FatigueError| SamError::InvalidInput(e.to_string());
     for c in 0..4 {
         let mut order: Vec<usize> = (0..seed_cells).collect();
-        order.sort_by(|&x, &y| path_bounds[y][c].total_cmp(&path_bounds[x][c]));
+        largest_first(&mut order, 0, SEED_CELLS, |p| path_bounds[p][c]);
         for &q in order.iter().take(SEED_CELLS) {
             let path = path_of(q);
             let value = match c {

@@ -153,6 +153,8 @@ pub struct PlaneScratch {
     hull: Vec<[f64; 2]>,
     pair_norms: Vec<f64>,
     active: Vec<(u32, u32)>,
+    used: Vec<u32>,
+    columns: PathColumns,
     neighbours: Vec<u32>,
     neighbour_start: Vec<usize>,
 }
@@ -181,15 +183,11 @@ impl PlaneScratch {
             }
         }
         if self.directions.len() != params.coarse_directions {
-            let m = params.coarse_directions;
-            self.directions.clear();
-            self.directions.extend((0..m).map(|j| {
-                let psi = std::f64::consts::PI * j as f64 / m as f64;
-                [psi.cos(), psi.sin()]
-            }));
+            in_plane_directions(params.coarse_directions, &mut self.directions);
         }
         self.trace.clear();
         self.trace.extend(path.iter().map(|s| s[0] + s[1] + s[2]));
+        self.columns.fill(path);
     }
 }
 
@@ -317,9 +315,80 @@ pub fn swt(
     })
 }
 
+/// The path's six Voigt components as columns over the increments, filled once per path: the
+/// per-normal sums `w·σ(t)` of [`shear_path`] then run over contiguous increments (vectorised),
+/// with the arithmetic of [`dot6`] term for term.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct PathColumns {
+    columns: [Vec<f64>; 6],
+}
+
+impl PathColumns {
+    pub(crate) fn new(path: &[Voigt]) -> Self {
+        let mut c = Self::default();
+        c.fill(path);
+        c
+    }
+
+    pub(crate) fn fill(&mut self, path: &[Voigt]) {
+        for (k, column) in self.columns.iter_mut().enumerate() {
+            column.clear();
+            column.extend(path.iter().map(|s| s[k]));
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.columns[0].len()
+    }
+
+    /// `w·σ(t)` at increment `t`, the sum in [`dot6`]'s order.
+    #[inline]
+    fn dot(&self, w: &[f64; 6], t: usize) -> f64 {
+        let c = &self.columns;
+        w[0] * c[0][t]
+            + w[1] * c[1][t]
+            + w[2] * c[2][t]
+            + w[3] * c[3][t]
+            + w[4] * c[4][t]
+            + w[5] * c[5][t]
+    }
+
+    /// `σ_n,max = max_t w·σ(t)`: the value of a running `>` comparison over `t` (the first of
+    /// equal maxima), taken in four interleaved lanes (vectorised) — the same value, since the
+    /// sums are finite; only a zero maximum could differ (in its sign) and is taken again in order.
+    fn max_dot(&self, w: &[f64; 6]) -> f64 {
+        let [c0, c1, c2, c3, c4, c5] = &self.columns;
+        let m = self.len();
+        let (c0, c1, c2, c3, c4, c5) = (&c0[..m], &c1[..m], &c2[..m], &c3[..m], &c4[..m], &c5[..m]);
+        let sum = |t: usize| {
+            w[0] * c0[t] + w[1] * c1[t] + w[2] * c2[t] + w[3] * c3[t] + w[4] * c4[t] + w[5] * c5[t]
+        };
+        let mut lanes = [f64::NEG_INFINITY; 4];
+        let whole = m - m % 4;
+        for t0 in (0..whole).step_by(4) {
+            for (j, lane) in lanes.iter_mut().enumerate() {
+                let sn = sum(t0 + j);
+                *lane = if sn > *lane { sn } else { *lane };
+            }
+        }
+        let mut smax = f64::NEG_INFINITY;
+        for lane in lanes.into_iter().chain((whole..m).map(sum)) {
+            smax = if lane > smax { lane } else { smax };
+        }
+        if smax == 0.0 {
+            smax = f64::NEG_INFINITY;
+            for t in 0..m {
+                let sn = sum(t);
+                smax = if sn > smax { sn } else { smax };
+            }
+        }
+        smax
+    }
+}
+
 /// The shear traction components `(u·σ·n, v·σ·n)` over the path into `shear`; returns `σ_n,max`.
 fn shear_path(
-    path: &[Voigt],
+    path: &PathColumns,
     n: &[f64; 3],
     shear: &mut Vec<[f64; 2]>,
 ) -> (f64, [f64; 3], [f64; 3]) {
@@ -329,21 +398,34 @@ fn shear_path(
         bilinear_weights(&u, n),
         bilinear_weights(&v, n),
     );
+    let m = path.len();
+    let [c0, c1, c2, c3, c4, c5] = &path.columns;
+    let (c0, c1, c2, c3, c4, c5) = (&c0[..m], &c1[..m], &c2[..m], &c3[..m], &c4[..m], &c5[..m]);
     shear.clear();
-    let mut smax = f64::NEG_INFINITY;
-    for s in path {
-        let sn = dot6(&wn, s);
-        smax = if sn > smax { sn } else { smax };
-        shear.push([dot6(&wu, s), dot6(&wv, s)]);
-    }
-    (smax, u, v)
+    shear.extend((0..m).map(|t| {
+        [
+            wu[0] * c0[t]
+                + wu[1] * c1[t]
+                + wu[2] * c2[t]
+                + wu[3] * c3[t]
+                + wu[4] * c4[t]
+                + wu[5] * c5[t],
+            wv[0] * c0[t]
+                + wv[1] * c1[t]
+                + wv[2] * c2[t]
+                + wv[3] * c3[t]
+                + wv[4] * c4[t]
+                + wv[5] * c5[t],
+        ]
+    }));
+    (path.max_dot(&wn), u, v)
 }
 
 /// Fatemi–Socie on the plane `n` maximised exactly over in-plane directions: the half range of
 /// `τ_nm(t) = m·τ(t)` maximised over unit `m` is half the diameter of the planar shear path
 /// `{τ(t)}` (docs/fatigue.md, Eq. F7). Returns `(value, γ_a, σ_n,max, m)`.
 fn fs_plane_exact(
-    path: &[Voigt],
+    path: &PathColumns,
     n: &[f64; 3],
     g: f64,
     k_over_sy: f64,
@@ -369,7 +451,7 @@ fn fs_plane_exact(
 /// buffers (`g` the shear modulus, `k_over_sy = k/σ_y`): a lower bound of [`fatemi_socie`]'s
 /// maximum over planes.
 pub(crate) fn fs_plane_value(
-    path: &[Voigt],
+    path: &PathColumns,
     n: &[f64; 3],
     g: f64,
     k_over_sy: f64,
@@ -379,9 +461,44 @@ pub(crate) fn fs_plane_value(
     fs_plane_exact(path, n, g, k_over_sy, shear, hull).0
 }
 
+/// Whether Fatemi–Socie on the plane `n` (unit) reaches `threshold`, with the caller's buffers:
+/// first on the in-plane `directions` (`M` of them over `[0, π)`: a lower bound within the factor
+/// `cos(π/2M)` of the exact value), the exact value ([`fs_plane_value`], the convex hull) only
+/// when that one can still reach `threshold` (`coarse ≥ threshold · cos(π/2M)`); `cos_half_step`
+/// is `cos(π/2M)`. Returns a lower bound of the plane's value that is `≥ threshold` if the exact
+/// value is.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn fs_plane_reaches(
+    path: &PathColumns,
+    n: &[f64; 3],
+    g: f64,
+    k_over_sy: f64,
+    threshold: f64,
+    directions: &[[f64; 2]],
+    cos_half_step: f64,
+    shear: &mut Vec<[f64; 2]>,
+    hull: &mut Vec<[f64; 2]>,
+) -> f64 {
+    let coarse = fs_plane_coarse(path, n, g, k_over_sy, directions, shear);
+    // 1e-9: the rounding of the two evaluations, only ever to compute the exact value more often.
+    if coarse >= threshold || coarse < threshold * cos_half_step * (1.0 - 1e-9) {
+        return coarse;
+    }
+    fs_plane_value(path, n, g, k_over_sy, shear, hull).max(coarse)
+}
+
+/// The `m` in-plane directions `(cos ψ, sin ψ)`, `ψ = jπ/m`, of the coarse stage.
+pub(crate) fn in_plane_directions(m: usize, out: &mut Vec<[f64; 2]>) {
+    out.clear();
+    out.extend((0..m).map(|j| {
+        let psi = std::f64::consts::PI * j as f64 / m as f64;
+        [psi.cos(), psi.sin()]
+    }));
+}
+
 /// Fatemi–Socie on the coarse in-plane directions `directions` (lower bound of the exact value).
 fn fs_plane_coarse(
-    path: &[Voigt],
+    path: &PathColumns,
     n: &[f64; 3],
     g: f64,
     k_over_sy: f64,
@@ -421,7 +538,7 @@ pub fn fatemi_socie_on_plane(
     let n = normalize(*n);
     let (mut shear, mut hull) = (Vec::new(), Vec::new());
     let (value, gamma_a, smax, m) = fs_plane_exact(
-        path,
+        &PathColumns::new(path),
         &n,
         material.shear_modulus(),
         material.fs_k / material.yield_stress,
@@ -460,9 +577,10 @@ pub fn fatemi_socie(
     let kq = material.fs_k / material.yield_stress;
     let mut shear = std::mem::take(&mut scratch.shear);
     let mut hull = std::mem::take(&mut scratch.hull);
+    let columns = std::mem::take(&mut scratch.columns);
     scratch.values.clear();
     for n in &scratch.coarse {
-        let v = fs_plane_coarse(path, n, g, kq, &scratch.directions, &mut shear);
+        let v = fs_plane_coarse(&columns, n, g, kq, &scratch.directions, &mut shear);
         scratch.values.push(v);
     }
     let mut evaluations = scratch.coarse.len();
@@ -477,7 +595,7 @@ pub fn fatemi_socie(
         let i = scratch.chosen[c];
         let directions = &scratch.directions;
         let (n1, v1, evals1) = refine(
-            |n, _| fs_plane_coarse(path, n, g, kq, directions, &mut shear),
+            |n, _| fs_plane_coarse(&columns, n, g, kq, directions, &mut shear),
             scratch.coarse[i],
             scratch.values[i],
             h0,
@@ -502,18 +620,19 @@ pub fn fatemi_socie(
         if count > 1 && v1 >= 0.0 && v1 < best1 * factor * (1.0 - PRUNE_MARGIN) {
             continue;
         }
-        let v1 = fs_plane_exact(path, &n1, g, kq, &mut shear, &mut hull).0;
+        let v1 = fs_plane_exact(&columns, &n1, g, kq, &mut shear, &mut hull).0;
         let mut screen = Screen {
             anchor: None,
             radius: 0.0,
             norms: &scratch.pair_norms,
             active: &mut scratch.active,
+            used: &mut scratch.used,
         };
         let mut exact = |n: &[f64; 3], h: f64| {
             if screened {
-                fs_plane_screened(path, n, h, g, kq, &mut shear, &mut hull, &mut screen)
+                fs_plane_screened(&columns, n, h, g, kq, &mut shear, &mut hull, &mut screen)
             } else {
-                fs_plane_exact(path, n, g, kq, &mut shear, &mut hull).0
+                fs_plane_exact(&columns, n, g, kq, &mut shear, &mut hull).0
             }
         };
         let (mut n, mut v, evals) = refine(&mut exact, n1, v1, h1, params.angular_tolerance);
@@ -535,9 +654,10 @@ pub fn fatemi_socie(
             best = (v, n);
         }
     }
-    let (value, gamma_a, smax, m) = fs_plane_exact(path, &best.1, g, kq, &mut shear, &mut hull);
+    let (value, gamma_a, smax, m) = fs_plane_exact(&columns, &best.1, g, kq, &mut shear, &mut hull);
     scratch.shear = shear;
     scratch.hull = hull;
+    scratch.columns = columns;
     Ok(FatemiSocie {
         value,
         normal: best.1,
@@ -601,6 +721,8 @@ struct Screen<'a> {
     radius: f64,
     norms: &'a [f64],
     active: &'a mut Vec<(u32, u32)>,
+    /// The increments of the `active` pairs (each once).
+    used: &'a mut Vec<u32>,
 }
 
 /// Fatemi–Socie on the plane `n`, exact over in-plane directions, with pair screening: a step
@@ -608,7 +730,7 @@ struct Screen<'a> {
 /// with radius `4h`; larger steps scan all pairs.
 #[allow(clippy::too_many_arguments)]
 fn fs_plane_screened(
-    path: &[Voigt],
+    path: &PathColumns,
     n: &[f64; 3],
     h: f64,
     g: f64,
@@ -617,11 +739,28 @@ fn fs_plane_screened(
     hull: &mut Vec<[f64; 2]>,
     screen: &mut Screen,
 ) -> f64 {
-    let (smax, _, _) = shear_path(path, n, shear);
     let inside = screen.anchor.is_some_and(|a| {
         let c = (a[0] - n[0]).powi(2) + (a[1] - n[1]).powi(2) + (a[2] - n[2]).powi(2);
         c.sqrt() <= screen.radius
     });
+    let smax = if inside {
+        // Near the anchor only the increments of the active pairs are read: their shear
+        // components alone (the same sums as `shear_path`), `σ_n,max` over the whole path.
+        let (u, v) = tangent_basis(n);
+        let (wn, wu, wv) = (
+            bilinear_weights(n, n),
+            bilinear_weights(&u, n),
+            bilinear_weights(&v, n),
+        );
+        shear.resize(path.len(), [0.0; 2]);
+        for &t in screen.used.iter() {
+            let t = t as usize;
+            shear[t] = [path.dot(&wu, t), path.dot(&wv, t)];
+        }
+        path.max_dot(&wn)
+    } else {
+        shear_path(path, n, shear).0
+    };
     let d2 = |p: &[f64; 2], q: &[f64; 2]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
     let mut best: f64 = 0.0;
     if !inside && h > SCREEN_ABOVE_STEP && shear.len() > DIAMETER_PAIRS_UP_TO {
@@ -667,6 +806,12 @@ fn fs_plane_screened(
                 k += 1;
             }
         }
+        screen.used.clear();
+        for &(i, j) in screen.active.iter() {
+            screen.used.extend([i, j]);
+        }
+        screen.used.sort_unstable();
+        screen.used.dedup();
         screen.anchor = Some(*n);
         screen.radius = r;
     }
@@ -921,16 +1066,17 @@ pub fn fatemi_socie_brute_force(
     let g = material.shear_modulus();
     let kq = material.fs_k / material.yield_stress;
     let (mut shear, mut hull) = (Vec::new(), Vec::new());
+    let columns = PathColumns::new(path);
     let mut best = (f64::NEG_INFINITY, [0.0, 0.0, 1.0]);
     let mut evaluations = 0;
     for_each_grid_normal(step, |n| {
-        let v = fs_plane_exact(path, n, g, kq, &mut shear, &mut hull).0;
+        let v = fs_plane_exact(&columns, n, g, kq, &mut shear, &mut hull).0;
         evaluations += 1;
         if v > best.0 {
             best = (v, *n);
         }
     });
-    let (value, gamma_a, smax, m) = fs_plane_exact(path, &best.1, g, kq, &mut shear, &mut hull);
+    let (value, gamma_a, smax, m) = fs_plane_exact(&columns, &best.1, g, kq, &mut shear, &mut hull);
     Ok(FatemiSocie {
         value,
         normal: best.1,
@@ -975,6 +1121,7 @@ mod tests {
         let (g, kq) = (80e9, 1e-9);
         let (mut shear, mut hull, mut norms, mut active) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut used = Vec::new();
         let mut checked = 0;
         // 40 increments (all pairs in the full evaluation) and 81, the fretting loop's cycle
         // (the hull: equal to 1e-12, the collinearity tolerance of `diameter_hull`).
@@ -991,6 +1138,7 @@ mod tests {
                     })
                     .collect();
                 pair_norms(&path, &mut norms);
+                let columns = PathColumns::new(&path);
                 let n0 = normalize([uniform(), uniform(), uniform()]);
                 for h in [0.05, 0.01, 1e-3, 1e-4] {
                     let mut screen = Screen {
@@ -998,10 +1146,19 @@ mod tests {
                         radius: 0.0,
                         norms: &norms,
                         active: &mut active,
+                        used: &mut used,
                     };
-                    let full = fs_plane_exact(&path, &n0, g, kq, &mut shear, &mut hull).0;
-                    let anchored =
-                        fs_plane_screened(&path, &n0, h, g, kq, &mut shear, &mut hull, &mut screen);
+                    let full = fs_plane_exact(&columns, &n0, g, kq, &mut shear, &mut hull).0;
+                    let anchored = fs_plane_screened(
+                        &columns,
+                        &n0,
+                        h,
+                        g,
+                        kq,
+                        &mut shear,
+                        &mut hull,
+                        &mut screen,
+                    );
                     assert!(
                         (full - anchored).abs() <= tol * full,
                         "{anchored} vs {full}"
@@ -1009,9 +1166,9 @@ mod tests {
                     for _ in 0..40 {
                         let scale = 6.0 * h * uniform().abs();
                         let n = normalize(std::array::from_fn(|k| n0[k] + scale * uniform()));
-                        let full = fs_plane_exact(&path, &n, g, kq, &mut shear, &mut hull).0;
+                        let full = fs_plane_exact(&columns, &n, g, kq, &mut shear, &mut hull).0;
                         let s = fs_plane_screened(
-                            &path,
+                            &columns,
                             &n,
                             h,
                             g,

@@ -24,7 +24,10 @@
 //!   `γ_a = half range / G`.
 use rayon::prelude::*;
 
-use crate::critical_plane::{fatemi_socie, fs_plane_value, swt, tangent_basis, PlaneScratch};
+use crate::critical_plane::{
+    fatemi_socie, fs_plane_reaches, in_plane_directions, swt, tangent_basis, CriticalPlaneParams,
+    PathColumns, PlaneScratch,
+};
 use crate::error::FatigueError;
 use crate::field::{FieldParams, Maximum};
 use crate::invariant::{crossland_dang_van, InvariantScratch};
@@ -182,6 +185,8 @@ pub struct PatchScratch {
     heap: std::collections::BinaryHeap<Patch>,
     shear: Vec<[f64; 2]>,
     hull: Vec<[f64; 2]>,
+    columns: PathColumns,
+    directions: Vec<[f64; 2]>,
 }
 
 /// The unit normal through the point `(u, v)` of the cube face `face`.
@@ -276,7 +281,8 @@ fn shear_on_patch_bound(
 /// from the 12 squares of side 1 of the three faces, the patch of the largest bound is split in
 /// four until that bound is below `threshold` (the point cannot reach it), or a plane's value
 /// (a lower bound from the patch centres: half the largest `|τ(t) − τ(0)|`, and with a
-/// threshold the exact value on the centre plane of each patch split) reaches `threshold`,
+/// threshold the value on the centre plane of each patch split, on the 12 default in-plane
+/// directions and exact only where those cannot decide, `fs_plane_reaches`) reaches `threshold`,
 /// or after [`FS_PATCH_SPLITS`] splits (always, with no threshold). Returns the largest patch bound then, never above
 /// [`critical_plane_bounds`]'s.
 pub fn fatemi_socie_patch_bound(
@@ -310,6 +316,16 @@ pub fn fatemi_socie_patch_bound(
         let full = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + off).sqrt();
         [2f64.sqrt() * frob, largest_principal_bound(s), 1e-12 * full]
     }));
+    // The centre planes' values (with a threshold) first on the default coarse in-plane
+    // directions, exact only where those can still reach the threshold.
+    let m = CriticalPlaneParams::default().coarse_directions;
+    if threshold.is_some() {
+        scratch.columns.fill(path);
+        if scratch.directions.len() != m {
+            in_plane_directions(m, &mut scratch.directions);
+        }
+    }
+    let cos_half_step = (std::f64::consts::FRAC_PI_2 / m as f64).cos();
     let g = material.shear_modulus();
     let kq = material.fs_k / material.yield_stress;
     let per_increment = &scratch.per_increment;
@@ -385,15 +401,18 @@ pub fn fatemi_socie_patch_bound(
         }
         let Some(p) = heap.pop() else { break };
         let (um, vm) = (0.5 * (p.u[0] + p.u[1]), 0.5 * (p.v[0] + p.v[1]));
-        if threshold.is_some() {
-            // The exact value on the most promising plane: a lower bound that reaches the
-            // threshold early where the point can.
+        if let Some(t) = threshold {
+            // The value on the most promising plane: a lower bound that reaches the threshold
+            // early where the point can (exact where the coarse directions do not decide).
             let n = face_normal(p.face, um, vm);
-            lower = lower.max(fs_plane_value(
-                path,
+            lower = lower.max(fs_plane_reaches(
+                &scratch.columns,
                 &n,
                 g,
                 kq,
+                t,
+                &scratch.directions,
+                cos_half_step,
                 &mut scratch.shear,
                 &mut scratch.hull,
             ));
@@ -672,6 +691,35 @@ impl<T> Drop for Pooled<'_, T> {
     }
 }
 
+/// Orders `order[sorted..]` far enough that `order[..end]` (at least) holds the indices of the
+/// largest `key` in decreasing order, ties by increasing index — for indices given in increasing
+/// order the prefix a stable sort by decreasing `key` gives, without sorting the rest: the next
+/// block (at least `end − sorted`, at least 256 and at least `sorted`, so the blocks double) is
+/// selected (`select_nth_unstable_by`, linear) and sorted. `order[..sorted]` must already be
+/// so ordered and precede the rest; returns the new `sorted`.
+pub fn largest_first(
+    order: &mut [usize],
+    sorted: usize,
+    end: usize,
+    key: impl Fn(usize) -> f64,
+) -> usize {
+    let end = end.min(order.len());
+    if end <= sorted {
+        return sorted;
+    }
+    let block = (end - sorted)
+        .max(sorted)
+        .max(256)
+        .min(order.len() - sorted);
+    let descending = |x: &usize, y: &usize| key(*y).total_cmp(&key(*x)).then(x.cmp(y));
+    let rest = &mut order[sorted..];
+    if block < rest.len() {
+        rest.select_nth_unstable_by(block - 1, descending);
+    }
+    rest[..block].sort_unstable_by(descending);
+    sorted + block
+}
+
 /// One screen (module doc): the points not yet `done`, in decreasing order of `bound`, evaluated
 /// by `eval` (`K` values per point into `fields`, `best` their running maxima) in parallel batches
 /// of 16, until the next bound is below `fraction × best[which]` (with `fraction > 0` and
@@ -690,8 +738,9 @@ fn screen<const K: usize, S: Default + Send>(
     eval: &PointCriteria<'_, K, S>,
     refine: Option<&Refine<'_>>,
 ) -> Result<usize, FatigueError> {
+    // Ordered lazily: only the prefix the batches reach is selected and sorted.
     let mut order: Vec<usize> = (0..bound.len()).filter(|&p| !done[p]).collect();
-    order.sort_by(|&a, &b| bound[b].total_cmp(&bound[a]));
+    let mut sorted = 0;
     let batch = 16;
     // Workers' buffers kept across batches (the critical-plane scratch builds its lattice
     // neighbour lists once).
@@ -701,6 +750,7 @@ fn screen<const K: usize, S: Default + Send>(
     let mut evaluated = 0;
     let mut kept = Vec::with_capacity(batch);
     while next < order.len() {
+        sorted = largest_first(&mut order, sorted, next + batch, |p| bound[p]);
         let b = best[which];
         let below = |value: f64| fraction > 0.0 && b > 0.0 && value < fraction * b;
         if below(bound[order[next]]) {

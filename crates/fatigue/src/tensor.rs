@@ -85,8 +85,14 @@ pub fn principal_values(s: &Voigt) -> [f64; 3] {
             }
         }
     }
+    // Descending by `total_cmp` (a three-element sorting network: values equal under
+    // `total_cmp` are the same bits, so the result is the sort's).
     let mut v = [m[0][0], m[1][1], m[2][2]];
-    v.sort_by(|x, y| y.total_cmp(x));
+    for (i, j) in [(0, 1), (1, 2), (0, 1)] {
+        if v[i].total_cmp(&v[j]).is_lt() {
+            v.swap(i, j);
+        }
+    }
     v
 }
 

@@ -400,3 +400,29 @@ fn hertz_normal_cycle_on_the_axis_matches_the_closed_forms() {
         assert!(rel(r.swt[0], swt_closed) < 1e-6);
     }
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(200))]
+    /// `largest_first`, block by block, gives the prefix of the stable sort by decreasing key
+    /// (ties — many, the keys drawn from few values, NaN among them — by increasing index).
+    #[test]
+    fn largest_first_is_the_stable_sort_prefix(
+        keys in proptest::collection::vec(proptest::sample::select(vec![-1.0, 0.0, 0.5, 2.0, f64::NAN, -0.0]), 0..1500),
+        steps in proptest::collection::vec(1usize..400, 1..8),
+    ) {
+        let mut reference: Vec<usize> = (0..keys.len()).collect();
+        reference.sort_by(|&a, &b| keys[b].total_cmp(&keys[a]));
+        let mut order: Vec<usize> = (0..keys.len()).collect();
+        let (mut sorted, mut end) = (0, 0);
+        for step in steps {
+            end += step;
+            sorted = halfspace_fatigue::screened::largest_first(&mut order, sorted, end, |p| keys[p]);
+            let reach = end.min(keys.len());
+            proptest::prop_assert!(sorted >= reach);
+            proptest::prop_assert_eq!(&order[..sorted], &reference[..sorted]);
+        }
+        let mut all = order.clone();
+        all.sort_unstable();
+        proptest::prop_assert_eq!(all, (0..keys.len()).collect::<Vec<_>>());
+    }
+}
