@@ -291,7 +291,7 @@ impl FrettingMap {
         suffix: &str,
     ) -> Result<bool, SamError> {
         let case = self.point_case(i, j)?;
-        let current = format!("{}{suffix}", self.point_fingerprint(i, j)?);
+        let current = format!("{:?}{suffix}", case.as_run(NestedParams::default()));
         let given = format!("{case:?}{suffix}");
         Ok(case
             .check_fingerprint(NestedParams::default(), recorded, &current, &given)
