@@ -923,8 +923,10 @@ mod tests {
                     let mut spec = fft.new_spectrum();
                     let mut y = vec![0.0; n1 * n2];
                     for _ in 0..20 {
-                        crate::parallel::on_pool(|| fft.convolve_real(x, k, &mut spec, &mut y))
-                            .unwrap();
+                        crate::parallel::on_pool(n1 * n2, || {
+                            fft.convolve_real(x, k, &mut spec, &mut y)
+                        })
+                        .unwrap();
                         assert!(y
                             .iter()
                             .zip(serial)
