@@ -25,15 +25,21 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 /// and the passes' sections run on threads: [`crate::fft2d::PARALLEL_CELLS`]).
 pub const PARTNER_CELLS: usize = crate::fft2d::PARALLEL_CELLS;
 
+/// Grids of more than this many cells get no partner: from 512² the sections are long enough
+/// that a wake-up is a small part of them, and the partner's polling cost ≈ 4 % of the wall time
+/// (docs/performance.md, "A partner that does not sleep").
+pub const PARTNER_MAX_CELLS: usize = 256 * 256;
+
 /// `f()` run on one of the global rayon pool's worker threads (the caller waits): directly when
 /// the caller already is one, or when the pool has one thread (nothing runs in parallel then).
-/// With `cells ≥` [`PARTNER_CELLS`] (the size of the problem `f` solves) a partner job keeps
-/// another worker polling for `f`'s parallel sections until `f` returns (module doc). The result
-/// is the same bit for bit as `f()` on the calling thread; only where it runs differs.
+/// With [`PARTNER_CELLS`] `≤ cells ≤` [`PARTNER_MAX_CELLS`] (the size of the problem `f`
+/// solves) a partner job keeps another worker polling for `f`'s parallel sections until `f`
+/// returns (module doc). The result is the same bit for bit as `f()` on the calling thread; only
+/// where it runs differs.
 pub fn on_pool<R: Send>(cells: usize, f: impl FnOnce() -> R + Send) -> R {
     if rayon::current_thread_index().is_some() || rayon::current_num_threads() <= 1 {
         f()
-    } else if cells < PARTNER_CELLS {
+    } else if !(PARTNER_CELLS..=PARTNER_MAX_CELLS).contains(&cells) {
         rayon::scope(|_| f())
     } else {
         let done = AtomicBool::new(false);
@@ -101,7 +107,7 @@ mod tests {
         }
         // From outside any pool (the test thread) with the global pool of ≥ 2 threads: a worker.
         // With a partner, the closure's own parallel sections run and the partner ends.
-        for cells in [16, PARTNER_CELLS] {
+        for cells in [16, PARTNER_CELLS, 4 * PARTNER_MAX_CELLS] {
             let (worker, value) = on_pool(cells, || (rayon::current_thread_index(), 6 * 7));
             assert_eq!(value, 42);
             if rayon::current_num_threads() > 1 {
