@@ -1,24 +1,87 @@
-//! Where a solve runs: on one of rayon's worker threads (docs/performance.md, "The solve on the
-//! pool's threads").
+//! Where a solve runs: on one of rayon's worker threads, the others kept awake for its sections
+//! (docs/performance.md, "The solve on the pool's threads" and "A partner that does not sleep").
 //!
 //! A parallel section (`par_iter`, `rayon::join`) started from a thread **outside** the pool is
 //! injected into the pool's queue, and the calling thread blocks on a lock until a worker has run
 //! it: every section costs a hand-off to a (possibly sleeping) worker and a wake-up of the caller.
 //! A solve at 128² runs ≈ 12–15 such sections per iteration of ≈ 0.5–1 ms, so from the main
 //! thread the second thread hardly paid. Started **on** a worker, a section is pushed to that
-//! worker's own deque and the other worker (spinning between sections, or woken once) steals
-//! half of it; the caller works on the other half and never sleeps.
+//! worker's own deque and the other worker steals half of it; the caller works on the other half
+//! and never sleeps.
+//!
+//! Between two sections (a dot product, a convergence test, the serial bookkeeping) the other
+//! worker finds no work; after a few rounds rayon puts it to sleep, and the next section must wake
+//! it with a futex call on the solving thread's path, then wait for the kernel (and, on a virtual
+//! machine, the host) to run it again: the cost that varied from process to process. [`on_pool`]
+//! therefore starts, next to a large solve, a **partner** job: whichever worker steals it polls
+//! for the solve's sections (`rayon::yield_now`) until the solve is done, so it is awake at every
+//! section (its processor time during the solve is spent waiting, not computing).
 //!
 //! [`on_pool`] runs a whole solve on a worker: one hand-off per solve instead of one per section.
 
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+/// Grids of at least this many cells get a partner in [`on_pool`] (the size from which the FFTs'
+/// and the passes' sections run on threads: [`crate::fft2d::PARALLEL_CELLS`]).
+pub const PARTNER_CELLS: usize = crate::fft2d::PARALLEL_CELLS;
+
+/// Grids of more than this many cells get no partner: from 512² the sections are long enough
+/// that a wake-up is a small part of them, and the partner's polling cost ≈ 4 % of the wall time
+/// (docs/performance.md, "A partner that does not sleep").
+pub const PARTNER_MAX_CELLS: usize = 256 * 256;
+
 /// `f()` run on one of the global rayon pool's worker threads (the caller waits): directly when
 /// the caller already is one, or when the pool has one thread (nothing runs in parallel then).
-/// The result is the same bit for bit as `f()` on the calling thread; only where it runs differs.
-pub fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
+/// With [`PARTNER_CELLS`] `≤ cells ≤` [`PARTNER_MAX_CELLS`] (the size of the problem `f`
+/// solves) a partner job keeps another worker polling for `f`'s parallel sections until `f`
+/// returns (module doc). The result is the same bit for bit as `f()` on the calling thread; only
+/// where it runs differs.
+pub fn on_pool<R: Send>(cells: usize, f: impl FnOnce() -> R + Send) -> R {
     if rayon::current_thread_index().is_some() || rayon::current_num_threads() <= 1 {
         f()
-    } else {
+    } else if !(PARTNER_CELLS..=PARTNER_MAX_CELLS).contains(&cells) {
         rayon::scope(|_| f())
+    } else {
+        let done = AtomicBool::new(false);
+        let owner = AtomicUsize::new(usize::MAX);
+        let (r, ()) = rayon::join(
+            || {
+                owner.store(
+                    rayon::current_thread_index().unwrap_or(usize::MAX),
+                    Ordering::Release,
+                );
+                let r = f();
+                done.store(true, Ordering::Release);
+                r
+            },
+            || partner(&done, &owner),
+        );
+        r
+    }
+}
+
+/// The partner of [`on_pool`]: runs the pool's pending jobs (the solve's section halves) as they
+/// appear, and spins between them, until `done`. On the solve's own thread (it popped its partner
+/// while waiting in a join) it returns at once: it must not block the frames below it.
+fn partner(done: &AtomicBool, owner: &AtomicUsize) {
+    if rayon::current_thread_index() == Some(owner.load(Ordering::Acquire)) {
+        return;
+    }
+    let mut idle = 0u32;
+    while !done.load(Ordering::Acquire) {
+        match rayon::yield_now() {
+            Some(rayon::Yield::Executed) => idle = 0,
+            Some(rayon::Yield::Idle) => {
+                idle = idle.wrapping_add(1);
+                if idle % 64 == 0 {
+                    // Lets another runnable task of a loaded machine have this core now and then.
+                    std::thread::yield_now();
+                } else {
+                    std::hint::spin_loop();
+                }
+            }
+            None => return,
+        }
     }
 }
 
@@ -36,14 +99,25 @@ mod tests {
                 .build()
                 .unwrap();
             // From inside the pool: inline.
-            let inside = pool.install(|| on_pool(|| rayon::current_thread_index().is_some()));
-            assert!(inside);
+            for cells in [16, PARTNER_CELLS] {
+                let inside =
+                    pool.install(|| on_pool(cells, || rayon::current_thread_index().is_some()));
+                assert!(inside);
+            }
         }
         // From outside any pool (the test thread) with the global pool of ≥ 2 threads: a worker.
-        let (worker, value) = on_pool(|| (rayon::current_thread_index(), 6 * 7));
-        assert_eq!(value, 42);
-        if rayon::current_num_threads() > 1 {
-            assert!(worker.is_some());
+        // With a partner, the closure's own parallel sections run and the partner ends.
+        for cells in [16, PARTNER_CELLS, 4 * PARTNER_MAX_CELLS] {
+            let (worker, value) = on_pool(cells, || (rayon::current_thread_index(), 6 * 7));
+            assert_eq!(value, 42);
+            if rayon::current_num_threads() > 1 {
+                assert!(worker.is_some());
+            }
+            let sum: u64 = on_pool(cells, || {
+                use rayon::prelude::*;
+                (0..100_000u64).into_par_iter().map(|k| k % 7).sum()
+            });
+            assert_eq!(sum, (0..100_000u64).map(|k| k % 7).sum());
         }
     }
 }

@@ -409,7 +409,9 @@ impl InhomogeneousContact {
     fn solve(&mut self, load: NormalLoad, shift: [f64; 2]) -> Result<NestedInfo, SamError> {
         // On one of rayon's worker threads, the EIM products with the contact solves
         // ([`halfspace_numerics::parallel::on_pool`]).
-        halfspace_numerics::parallel::on_pool(|| self.solve_here(load, shift))
+        halfspace_numerics::parallel::on_pool(self.problem.grid().len(), || {
+            self.solve_here(load, shift)
+        })
     }
 
     /// [`InhomogeneousContact::solve`] on the calling thread.

@@ -437,7 +437,9 @@ impl<S: OperatorSet> ContactProblem<S> {
         shift: [f64; 2],
         slack: f64,
     ) -> Result<IncrementInfo, SamError> {
-        halfspace_numerics::parallel::on_pool(|| self.solve_loosely_here(load, shift, slack))
+        halfspace_numerics::parallel::on_pool(self.grid.len(), || {
+            self.solve_loosely_here(load, shift, slack)
+        })
     }
 
     /// [`ContactProblem::solve_loosely`] on the calling thread.

@@ -314,7 +314,9 @@ impl<S: OperatorSet> NormalSolver<S> {
     ) -> Result<NormalInfo, SamError> {
         // On one of rayon's worker threads: one hand-off per solve, not one per parallel section
         // (docs/performance.md, "The solve on the pool's threads").
-        halfspace_numerics::parallel::on_pool(|| self.solve_in(h, load, p, params, Finish::Double))
+        halfspace_numerics::parallel::on_pool(self.grid.len(), || {
+            self.solve_in(h, load, p, params, Finish::Double)
+        })
     }
 
     /// [`NormalSolver::solve`]; `finish` says whether a mixed-precision solve may stop in single
