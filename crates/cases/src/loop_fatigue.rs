@@ -239,9 +239,12 @@ const SEED_CELLS: usize = 16;
 /// ([`halfspace_fatigue::screened::reference_bounds`]). The surface layer and the levels holding
 /// the `SEED_CELLS` cells of largest `A` of each criterion are computed first; each criterion
 /// at their `SEED_CELLS` cells of largest path bound (the bounds of
-/// [`halfspace_fatigue::evaluate_screened`]) gives a lower bound `L` of its maximum; a level is then computed only if one of its cells has
-/// `A ≥ fraction · L` for some criterion (all levels where some `L ≤ 0`). Every cell whose value
-/// reaches `fraction ×` the maximum is therefore in a computed level.
+/// [`halfspace_fatigue::evaluate_screened`]) gives a lower bound `L` of its maximum; a level is a
+/// candidate if one of its cells has `A ≥ fraction · L` for some criterion (all levels where
+/// some `L ≤ 0`), and computed only if the anchored bound ([`AnchoredBound`]) of one of those
+/// cells also reaches `fraction · L`. Every cell whose value reaches `fraction ×` the maximum is
+/// therefore in a computed level. The seed's history is kept and the other computed levels'
+/// merged into it ([`CycleStress::merged`]).
 // Index loops over the four criteria read like the bounds they compare.
 #[allow(clippy::needless_range_loop)]
 pub fn reachable_levels(
