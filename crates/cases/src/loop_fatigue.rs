@@ -13,7 +13,7 @@ use crate::fatigue::critical_plane::{fatemi_socie, swt, PlaneScratch};
 use crate::fatigue::field::{FieldParams, Maximum};
 use crate::fatigue::invariant::{crossland_dang_van, InvariantScratch};
 use crate::fatigue::screened::{
-    critical_plane_bounds, invariant_bounds, largest_first, reference_bounds,
+    anchored_bounds, critical_plane_bounds, invariant_bounds, largest_first, reference_bounds,
 };
 use crate::fatigue::{evaluate_screened, Material, ScreenedIndices, Voigt};
 use crate::sam::drivers::fretting_loop::{CycleSources, CycleStress, FrettingLoop, LoopCase};
@@ -239,9 +239,12 @@ const SEED_CELLS: usize = 16;
 /// ([`halfspace_fatigue::screened::reference_bounds`]). The surface layer and the levels holding
 /// the `SEED_CELLS` cells of largest `A` of each criterion are computed first; each criterion
 /// at their `SEED_CELLS` cells of largest path bound (the bounds of
-/// [`halfspace_fatigue::evaluate_screened`]) gives a lower bound `L` of its maximum; a level is then computed only if one of its cells has
-/// `A ≥ fraction · L` for some criterion (all levels where some `L ≤ 0`). Every cell whose value
-/// reaches `fraction ×` the maximum is therefore in a computed level.
+/// [`halfspace_fatigue::evaluate_screened`]) gives a lower bound `L` of its maximum; a level is a
+/// candidate if one of its cells has `A ≥ fraction · L` for some criterion (all levels where
+/// some `L ≤ 0`), and computed only if the anchored bound ([`AnchoredBound`]) of one of those
+/// cells also reaches `fraction · L`. Every cell whose value reaches `fraction ×` the maximum is
+/// therefore in a computed level. The seed's history is kept and the other computed levels'
+/// merged into it ([`CycleStress::merged`]).
 // Index loops over the four criteria read like the bounds they compare.
 #[allow(clippy::needless_range_loop)]
 pub fn reachable_levels(
@@ -355,23 +358,171 @@ pub fn reachable_levels(
             lower[c] = lower[c].max(value);
         }
     }
-    let kept: Vec<usize> = all
+    // The levels the reference bound keeps, then those of them the anchored bound keeps.
+    let reaches = |b: &[f64; 4]| (0..4).any(|c| lower[c] <= 0.0 || b[c] >= fraction * lower[c]);
+    let candidates: Vec<usize> = all
         .iter()
         .copied()
-        .filter(|&k| {
-            seed.contains(&k)
-                || (0..n).any(|cell| {
-                    let b = &a[k * n + cell];
-                    (0..4).any(|c| lower[c] <= 0.0 || b[c] >= fraction * lower[c])
-                })
-        })
+        .filter(|&k| !seed.contains(&k) && (0..n).any(|cell| reaches(&a[k * n + cell])))
         .collect();
-    if kept == seed {
+    if candidates.is_empty() {
         return Ok(seed_history);
     }
-    // The seed's levels are computed again with the others (one history in memory at a time).
-    drop(seed_history);
-    lp.cycle_history(Some(&kept))
+    let others = anchored_levels(lp, sources, &candidates, &a, &reaches, matrix)?;
+    if others.is_empty() {
+        return Ok(seed_history);
+    }
+    // The seed's history is kept; only the other levels are computed.
+    seed_history.merged(lp.cycle_history(Some(&others))?)
+}
+
+/// Groups of increments of the anchored level bound ([`AnchoredBound`]).
+const ANCHOR_GROUPS: usize = 8;
+
+/// The levels of `candidates` (increasing) that the anchored bound cannot rule out
+/// (docs/fatigue.md, "Layers the screen cannot reach", step 6): each cell of a candidate level
+/// whose reference bound `a` reaches is bounded again by [`AnchoredBound`] (the smaller of the two
+/// counts) and the level is kept if one of its cells still `reaches`.
+fn anchored_levels(
+    lp: &FrettingLoop,
+    sources: &CycleSources,
+    candidates: &[usize],
+    a: &[[f64; 4]],
+    reaches: &dyn Fn(&[f64; 4]) -> bool,
+    matrix: &Material,
+) -> Result<Vec<usize>, SamError> {
+    let Some(bound) = AnchoredBound::new(lp, sources, candidates)? else {
+        return Ok(candidates.to_vec());
+    };
+    let n = bound.cells;
+    let mut scratch = (Vec::new(), Vec::new());
+    let kept = candidates
+        .iter()
+        .enumerate()
+        .filter(|&(i, &k)| {
+            (0..n).any(|cell| {
+                let reference = &a[k * n + cell];
+                if !reaches(reference) {
+                    return false;
+                }
+                let anchored = bound.cell(i * n + cell, matrix, &mut scratch);
+                reaches(&std::array::from_fn(|c| anchored[c].min(reference[c])))
+            })
+        })
+        .map(|(_, &k)| k)
+        .collect();
+    Ok(kept)
+}
+
+/// The anchored level bound of a homogeneous loop on some levels of its box (docs/fatigue.md,
+/// "Layers the screen cannot reach", step 6): the exact stresses at `ANCHOR_GROUPS + 1` anchor
+/// increments `t_g` (evenly spaced from the first to the last, with the turning points of the
+/// cycle among them when its increments are `4q + 1`), and per group `g` the residual
+/// `r_g(t) = τ(t) − ((1 − w) τ(t_g) + w τ(t_{g+1}))`, `w = (t − t_g)/(t_{g+1} − t_g)`, of the
+/// linear interpolation of the tractions between its anchors, bounded at every cell by
+/// [`SubsurfacePlan::deviation_bounds_of`] of `max_{t ∈ g} |r_g(t)|` (Love's stresses are
+/// linear in the tractions, so `σ(t)` is the interpolation of the anchors' stresses plus the
+/// stress of `r_g(t)`); [`AnchoredBound::cell`] gives the four criteria's
+/// [`halfspace_fatigue::screened::anchored_bounds`].
+pub struct AnchoredBound {
+    /// Cells per level.
+    cells: usize,
+    /// The anchors' stresses `fields[anchor][component][position-in-levels · N₁N₂ + cell]`.
+    fields: Vec<[Vec<f64>; 6]>,
+    /// The groups' deviation bounds `bounds[group][functional][…]` (incl. the rounding margin).
+    bounds: Vec<[Vec<f64>; 6]>,
+    /// `10⁻⁹` of the largest stress and bound: the rounding of the transforms of `σ(t)` and of
+    /// the anchors.
+    rounding: f64,
+}
+
+impl AnchoredBound {
+    /// The anchored bound on the box levels `levels` (increasing) of the loop `lp` with the
+    /// cycle `sources`; `None` for a cycle of fewer than 3 increments (nothing to interpolate).
+    pub fn new(
+        lp: &FrettingLoop,
+        sources: &CycleSources,
+        levels: &[usize],
+    ) -> Result<Option<Self>, SamError> {
+        let case = lp.case();
+        let depth = case
+            .fatigue_depth
+            .ok_or_else(|| SamError::InvalidInput("no fatigue depth".into()))?;
+        let grid = *lp.solver().problem().grid();
+        let n = grid.len();
+        let increments = sources.recorded;
+        if increments < 3 {
+            return Ok(None);
+        }
+        let groups = ANCHOR_GROUPS.min(increments - 1);
+        let mut anchors: Vec<usize> = (0..=groups)
+            .map(|g| (2 * g * (increments - 1) + groups) / (2 * groups))
+            .collect();
+        anchors.dedup();
+        let friction = lp.solver().problem().friction() > 0.0;
+        let components = if friction { 3 } else { 1 };
+        let traction = |t: usize, c: usize, cell: usize| sources.tractions[(t * 3 + c) * n + cell];
+        let mut residual = vec![vec![vec![0.0f64; n]; 3]; anchors.len() - 1];
+        for (g, r) in residual.iter_mut().enumerate() {
+            let (t0, t1) = (anchors[g], anchors[g + 1]);
+            for (c, rc) in r.iter_mut().enumerate().take(components) {
+                for (cell, out) in rc.iter_mut().enumerate() {
+                    let (v0, v1) = (traction(t0, c, cell), traction(t1, c, cell));
+                    let mut largest = 0.0f64;
+                    for t in t0 + 1..t1 {
+                        let w = (t - t0) as f64 / (t1 - t0) as f64;
+                        largest =
+                            largest.max((traction(t, c, cell) - ((1.0 - w) * v0 + w * v1)).abs());
+                    }
+                    *out = largest;
+                }
+            }
+        }
+        let mut plan = SubsurfacePlan::with_levels(&grid, case.e, case.nu, depth, levels)?;
+        let mut fields = Vec::with_capacity(anchors.len());
+        for &t in &anchors {
+            let (p, q, _) = sources.increment(t);
+            fields.push(plan.stress(p, friction.then_some(q), None)?.0);
+        }
+        let maps: Vec<[&[f64]; 3]> = residual
+            .iter()
+            .map(|r| [&r[0][..], &r[1][..], &r[2][..]])
+            .collect();
+        let bounds = plan.deviation_bounds_of(&maps)?;
+        let scale = fields
+            .iter()
+            .flat_map(|f| f.iter())
+            .chain(bounds.iter().flat_map(|b| b.iter()))
+            .flat_map(|f| f.iter())
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        Ok(Some(Self {
+            cells: n,
+            fields,
+            bounds,
+            rounding: 1e-9 * scale,
+        }))
+    }
+
+    /// `[Crossland, Dang Van, SWT, Fatemi–Socie]` bounds of cell `q` (position in the levels ·
+    /// `N₁N₂` + cell) with the constants `matrix`; `scratch` holds the anchors' path and the
+    /// groups' deviations.
+    pub fn cell(
+        &self,
+        q: usize,
+        matrix: &Material,
+        scratch: &mut (Vec<Voigt>, Vec<[f64; 6]>),
+    ) -> [f64; 4] {
+        let (path, deviation) = scratch;
+        path.clear();
+        path.extend(self.fields.iter().map(|f| std::array::from_fn(|c| f[c][q])));
+        deviation.clear();
+        deviation.extend(
+            self.bounds
+                .iter()
+                .map(|b| std::array::from_fn(|f| b[f][q] + self.rounding)),
+        );
+        anchored_bounds(path, deviation, matrix)
+    }
 }
 
 /// The volume fields' names in results.h5 (each `(layers, N₁, N₂)`).
@@ -543,6 +694,46 @@ mod tests {
                 }
             }
             assert!(reached > 0);
+        }
+        // The anchored bound is above every level's exact maxima (the screened evaluation of the
+        // level's history alone with fraction 1 gives them), on every level of the box.
+        let sources = lp.cycle_sources().unwrap();
+        let levels: Vec<usize> = (0..=layers).collect();
+        let bound = AnchoredBound::new(&lp, sources, &levels).unwrap().unwrap();
+        let mut scratch = (Vec::new(), Vec::new());
+        let inc = whole.increments;
+        for k in levels {
+            let path = &whole.stress[k * per * inc * 6..(k + 1) * per * inc * 6];
+            let e = evaluate_screened(
+                path,
+                inc,
+                &materials,
+                &vec![0; per],
+                &FieldParams::default(),
+                1.0,
+            )
+            .unwrap();
+            let exact = [
+                e.crossland_max.value,
+                e.dang_van_max.value,
+                e.swt_max.value,
+                e.fatemi_socie_max.value,
+            ];
+            let mut largest = [f64::NEG_INFINITY; 4];
+            for cell in 0..per {
+                let b = bound.cell(k * per + cell, &materials[0], &mut scratch);
+                for c in 0..4 {
+                    largest[c] = largest[c].max(b[c]);
+                }
+            }
+            for c in 0..4 {
+                assert!(
+                    exact[c] <= largest[c],
+                    "level {k}, criterion {c}: maximum {} above the anchored bound {}",
+                    exact[c],
+                    largest[c]
+                );
+            }
         }
     }
 

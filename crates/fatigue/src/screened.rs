@@ -451,25 +451,110 @@ pub fn fatemi_socie_patch_bound(
 /// * Fatemi–Socie `≤ D/G · max(0, 1 + k S₁/σ_y)` (`|m·Δs·n| ≤ (λ₁ − λ₃)(Δs)/2 ≤ |y(Δs)|`).
 ///
 /// `D` is taken `× (1 + 10⁻⁹)` plus `10⁻¹²` of `|y(σ^ref)| + D` for the rounding of the exact
-/// ball and of the principal values.
+/// ball and of the principal values. [`anchored_bounds`] with the one anchor `σ^ref`.
 pub fn reference_bounds(reference: &Voigt, deviation: &[f64; 6], material: &Material) -> [f64; 4] {
     let y_ref = deviator_coordinates(reference);
     let y_norm = y_ref.iter().map(|v| v * v).sum::<f64>().sqrt();
     let d = deviation[..5].iter().map(|v| v * v).sum::<f64>().sqrt();
     let d = d * (1.0 + 1e-9) + 1e-12 * (y_norm + d);
     let h = hydrostatic(reference) + deviation[5];
-    let t = material.t_minus1;
-    let crossland = (d + material.alpha_crossland() * h) / t;
-    let dang_van = (d + material.alpha_dang_van() * h) / t;
-    let two_over_root3 = 2.0 / 3f64.sqrt();
     let lambda1 = principal_values(&deviator(reference))[0] + 1e-12 * y_norm;
-    let s1 = h + lambda1 + two_over_root3 * d;
+    let s1 = h + lambda1 + 2.0 / 3f64.sqrt() * d;
+    enclosure_bounds(d, h, s1, deviation[5], material)
+}
+
+/// Upper bounds `[Crossland, Dang Van, SWT, Fatemi–Socie]` of every path whose states lie near
+/// the polygon of exact `anchors` (docs/fatigue.md, "Layers the screen cannot reach", the
+/// anchored bound): each state is an anchor or `σ(t) = σ̃(t) + Δ(t)` with `σ̃(t)` on the segment
+/// between anchors `g` and `g + 1` and `|y_i(Δ(t))| ≤ deviation[g][i]` (`i < 5`, Eq. F1),
+/// `|σ_H(Δ(t))| ≤ deviation[g][5]` (`g < deviation.len()`; one anchor and one deviation: the
+/// states near that anchor). With `c` the componentwise mid-range of the anchors' `y`,
+/// `c_H` that of their `σ_H` and `D_g = |(deviation[g][0..5])|`:
+///
+/// * every `y(σ(t))` lies in the ball of radius `ρ = max_g (max(|y(a_g) − c|, |y(a_{g+1}) − c|)
+///   + D_g)` about `c` (`|y − c|` is convex, so on a segment it is largest at an end), so
+///   `√J₂,a ≤ ρ` and `τ_Tresca(ŝ) ≤ ρ`;
+/// * `σ_H,max ≤ h = max_g (max(σ_H(a_g), σ_H(a_{g+1})) + deviation[g][5])`, and
+///   `|σ_H(t) − c_H| ≤ H = max_g (max |σ_H − c_H| at its ends + deviation[g][5])`;
+/// * `σ₁(t) ≤ S₁ = max_g (max σ₁ at its ends + deviation[g][5] + (2/√3) D_g)` (`σ₁` is convex
+///   in `σ`; Weyl's inequality and `λ₁(Δs) ≤ (2/√3)|y(Δs)|`);
+///
+/// and the criteria are bounded as in [`reference_bounds`] with `ρ` for `D` (SWT with `H` for the
+/// hydrostatic half range). `ρ` is taken `× (1 + 10⁻⁹)` plus `10⁻¹²` of `max_a |y(a)| + ρ`, the
+/// principal values `+ 10⁻¹² max_a |y(a)|`, for the rounding. Needs at least one anchor.
+pub fn anchored_bounds(anchors: &[Voigt], deviation: &[[f64; 6]], material: &Material) -> [f64; 4] {
+    let mut lo = [f64::INFINITY; 6];
+    let mut hi = [f64::NEG_INFINITY; 6];
+    let mut y_norm = 0.0f64;
+    // Per anchor: y, σ_H, σ₁.
+    let states: Vec<([f64; 5], f64, f64)> = anchors
+        .iter()
+        .map(|a| {
+            let y = deviator_coordinates(a);
+            let sh = hydrostatic(a);
+            for i in 0..5 {
+                lo[i] = lo[i].min(y[i]);
+                hi[i] = hi[i].max(y[i]);
+            }
+            lo[5] = lo[5].min(sh);
+            hi[5] = hi[5].max(sh);
+            y_norm = y_norm.max(y.iter().map(|v| v * v).sum::<f64>().sqrt());
+            (y, sh, sh + principal_values(&deviator(a))[0])
+        })
+        .collect();
+    let centre: [f64; 6] = std::array::from_fn(|i| 0.5 * (lo[i] + hi[i]));
+    let radius = |y: &[f64; 5]| {
+        (0..5)
+            .map(|i| (y[i] - centre[i]).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
+    let (mut rho, mut h, mut s1, mut range) =
+        (0.0f64, f64::NEG_INFINITY, f64::NEG_INFINITY, 0.0f64);
+    let last = states.len().saturating_sub(1);
+    // The anchors themselves (deviation 0), then each segment's ends widened by its deviation.
+    let zero = [[0.0; 6]];
+    let spans = states
+        .iter()
+        .map(|s| (std::slice::from_ref(s), &zero[0]))
+        .chain(deviation.iter().enumerate().filter_map(|(g, dev)| {
+            states
+                .get(g.min(last)..=(g + 1).min(last))
+                .map(|ends| (ends, dev))
+        }));
+    for (ends, dev) in spans {
+        let d = dev[..5].iter().map(|v| v * v).sum::<f64>().sqrt();
+        for (y, sh, sigma1) in ends {
+            rho = rho.max(radius(y) + d);
+            h = h.max(sh + dev[5]);
+            s1 = s1.max(sigma1 + dev[5] + 2.0 / 3f64.sqrt() * d * (1.0 + 1e-9));
+            range = range.max((sh - centre[5]).abs() * (1.0 + 1e-9) + dev[5]);
+        }
+    }
+    let rho = rho * (1.0 + 1e-9) + 1e-12 * (y_norm + rho);
+    enclosure_bounds(rho, h, s1 + 1e-12 * y_norm, range, material)
+}
+
+/// The four bounds of a path whose deviator coordinates lie in a ball of radius `rho` (the
+/// ball's norm of Eq. F1), with `σ_H ≤ h`, `σ₁ ≤ s1` and `σ_H` within `hydrostatic_range` of
+/// one value ([`reference_bounds`], [`anchored_bounds`]).
+fn enclosure_bounds(
+    rho: f64,
+    h: f64,
+    s1: f64,
+    hydrostatic_range: f64,
+    material: &Material,
+) -> [f64; 4] {
+    let t = material.t_minus1;
+    let crossland = (rho + material.alpha_crossland() * h) / t;
+    let dang_van = (rho + material.alpha_dang_van() * h) / t;
+    let two_over_root3 = 2.0 / 3f64.sqrt();
     let nu = material.poisson;
     let strain =
-        ((1.0 + nu) * two_over_root3 * d + (1.0 - 2.0 * nu) * deviation[5]) / material.young;
+        ((1.0 + nu) * two_over_root3 * rho + (1.0 - 2.0 * nu) * hydrostatic_range) / material.young;
     let swt = s1.max(0.0) * strain;
-    let fs =
-        d / material.shear_modulus() * (1.0 + material.fs_k * s1 / material.yield_stress).max(0.0);
+    let fs = rho / material.shear_modulus()
+        * (1.0 + material.fs_k * s1 / material.yield_stress).max(0.0);
     [crossland, dang_van, swt, fs]
 }
 

@@ -9,8 +9,8 @@ use halfspace_fatigue::critical_plane::{
 };
 use halfspace_fatigue::invariant::{crossland_dang_van, InvariantScratch};
 use halfspace_fatigue::screened::{
-    critical_plane_bounds, fatemi_socie_patch_bound, invariant_bounds, reference_bounds,
-    PatchScratch, FS_PATCH_SPLITS,
+    anchored_bounds, critical_plane_bounds, fatemi_socie_patch_bound, invariant_bounds,
+    reference_bounds, PatchScratch, FS_PATCH_SPLITS,
 };
 use halfspace_fatigue::tensor::{deviator_from_coordinates, hydrostatic};
 use halfspace_fatigue::{evaluate_field, evaluate_screened, FieldParams, Material, Voigt};
@@ -198,6 +198,97 @@ fn reference_bounds_bound_all_four_criteria() {
         assert!(h_max <= hydrostatic(&reference) + deviation[5] * (1.0 + 1e-12));
     }
     eprintln!("smallest bound/value over 80 paths (C, DV, SWT, FS): {worst:?}");
+}
+
+/// The anchored bound (docs/fatigue.md, "Layers the screen cannot reach", step 6) above the
+/// four criteria of 120 paths whose states lie on the polygon of random anchors (2–10 of them,
+/// under compression, in tension and mixed) plus per-segment deviations — random inside each
+/// segment's box and at its corners, at the anchors and between them; with one anchor and one
+/// deviation it is [`reference_bounds`] (to rounding).
+#[test]
+fn anchored_bounds_bound_all_four_criteria() {
+    let m = steel();
+    let params = FieldParams::default();
+    let mut rng = Rng::new(9191);
+    let mut plane = PlaneScratch::default();
+    let mut inv = InvariantScratch::default();
+    let mut worst = [f64::INFINITY; 4];
+    for case in 0..120 {
+        let scale = 1e8 * (1.0 + rng.normal().abs());
+        let shift = [-3.0, 1.0, 0.0, -0.5][case % 4] * scale;
+        let count = 2 + case % 9;
+        let anchors: Vec<Voigt> = (0..count)
+            .map(|_| {
+                std::array::from_fn(|k| rng.normal() * scale + if k < 3 { shift } else { 0.0 })
+            })
+            .collect();
+        // Small deviations (the loop's case) and large ones.
+        let size = if case % 2 == 0 { 0.05 } else { 0.5 };
+        let deviation: Vec<[f64; 6]> = (0..count - 1)
+            .map(|_| std::array::from_fn(|_| rng.normal().abs() * size * scale))
+            .collect();
+        let mut path: Vec<Voigt> = anchors.clone();
+        for (g, dev) in deviation.iter().enumerate() {
+            for t in 0..6 {
+                let w = if t == 0 {
+                    0.0
+                } else if t == 5 {
+                    1.0
+                } else {
+                    rng.uniform()
+                };
+                let unit = |rng: &mut Rng| {
+                    if case % 3 == 0 {
+                        if rng.uniform() < 0.5 {
+                            1.0
+                        } else {
+                            -1.0
+                        }
+                    } else {
+                        2.0 * rng.uniform() - 1.0
+                    }
+                };
+                let y: [f64; 5] = std::array::from_fn(|i| unit(&mut rng) * dev[i]);
+                let h = unit(&mut rng) * dev[5];
+                let d = deviator_from_coordinates(&y);
+                path.push(std::array::from_fn(|k| {
+                    (1.0 - w) * anchors[g][k]
+                        + w * anchors[g + 1][k]
+                        + d[k]
+                        + if k < 3 { h } else { 0.0 }
+                }));
+            }
+        }
+        let b = anchored_bounds(&anchors, &deviation, &m);
+        let (c, dv) = crossland_dang_van(&path, &m, &mut inv).unwrap();
+        let s = swt(&path, &m, &params.plane, &mut plane).unwrap().value;
+        let f = fatemi_socie(&path, &m, &params.plane, &mut plane)
+            .unwrap()
+            .value;
+        for (k, (v, bound)) in [c.index, dv.index, s, f].iter().zip(b).enumerate() {
+            assert!(
+                *v <= bound,
+                "case {case}: criterion {k} = {v} above its bound {bound}"
+            );
+            if *v > 0.0 {
+                worst[k] = worst[k].min(bound / v);
+            }
+        }
+        // One anchor, one deviation: the reference bound.
+        let one = anchored_bounds(&anchors[..1], &deviation[..1], &m);
+        let reference = reference_bounds(&anchors[0], &deviation[0], &m);
+        // Absolute floors for bounds near 0: Crossland, Dang Van, SWT (Pa), Fatemi–Socie.
+        let floor = [1e-9, 1e-9, 1e-3, 1e-12];
+        for k in 0..4 {
+            assert!(
+                (one[k] - reference[k]).abs() <= 1e-8 * reference[k].abs() + floor[k],
+                "case {case}: criterion {k}: {} vs {}",
+                one[k],
+                reference[k]
+            );
+        }
+    }
+    eprintln!("smallest bound/value over 120 paths (C, DV, SWT, FS): {worst:?}");
 }
 
 #[test]

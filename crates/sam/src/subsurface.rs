@@ -461,13 +461,23 @@ impl SubsurfacePlan {
     /// convolution per level with the kernels' absolute values (tabulated at every offset),
     /// enlarged by `10⁻⁹` of itself and of its largest value for the rounding of the transforms.
     pub fn deviation_bounds(&mut self, amplitude: [&[f64]; 3]) -> Result<[Vec<f64>; 6], SamError> {
+        let mut all = self.deviation_bounds_of(&[amplitude])?;
+        Ok(all.remove(0))
+    }
+
+    /// [`SubsurfacePlan::deviation_bounds`] of several amplitude maps `amplitudes[g]` (one
+    /// result each, in order), the kernels' spectra built once for all of them.
+    pub fn deviation_bounds_of(
+        &mut self,
+        amplitudes: &[[&[f64]; 3]],
+    ) -> Result<Vec<[Vec<f64>; 6]>, SamError> {
         let n = self.grid.len();
-        if amplitude.iter().any(|a| a.len() != n) {
+        if let Some(bad) = amplitudes.iter().flatten().find(|a| a.len() != n) {
             return Err(SamError::Numerics(
                 halfspace_numerics::NumericsError::LengthMismatch {
                     what: "traction amplitude field",
                     expected: n,
-                    got: amplitude[0].len(),
+                    got: bad.len(),
                 },
             ));
         }
@@ -478,30 +488,35 @@ impl SubsurfacePlan {
         let fft = &mut self.fft;
         let spectra =
             LayeredSpectra::new(fft, &self.targets, &[0], &[(Family::Difference, &kernel)])?;
-        let mut hats: Vec<Vec<C64>> = (0..3).map(|_| fft.new_spectrum()).collect();
-        let mut skip = [false; 3];
-        for j in 0..3 {
-            skip[j] = amplitude[j].iter().all(|v| *v == 0.0);
-            if !skip[j] {
-                fft.forward(amplitude[j], &mut hats[j])?;
-            }
-        }
         let levels = self.levels.len();
+        let mut hats: Vec<Vec<C64>> = (0..3).map(|_| fft.new_spectrum()).collect();
         let mut out: Vec<Vec<C64>> = (0..levels * 6).map(|_| fft.new_spectrum()).collect();
-        spectra.accumulate(&hats, &skip, &mut out)?;
-        let mut bounds: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; levels * n]);
         let mut field = vec![0.0; n];
-        for (a, h) in out.iter_mut().enumerate() {
-            let (level, f) = (a / 6, a % 6);
-            fft.inverse(h, &mut field)?;
-            bounds[f][level * n..(level + 1) * n].copy_from_slice(&field);
+        let mut results = Vec::with_capacity(amplitudes.len());
+        for amplitude in amplitudes {
+            let mut skip = [false; 3];
+            for j in 0..3 {
+                skip[j] = amplitude[j].iter().all(|v| *v == 0.0);
+                if !skip[j] {
+                    fft.forward(amplitude[j], &mut hats[j])?;
+                }
+            }
+            out.iter_mut().for_each(|o| o.fill(C64::default()));
+            spectra.accumulate(&hats, &skip, &mut out)?;
+            let mut bounds: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; levels * n]);
+            for (a, h) in out.iter_mut().enumerate() {
+                let (level, f) = (a / 6, a % 6);
+                fft.inverse(h, &mut field)?;
+                bounds[f][level * n..(level + 1) * n].copy_from_slice(&field);
+            }
+            for b in bounds.iter_mut() {
+                let largest = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                b.iter_mut()
+                    .for_each(|v| *v = v.max(0.0) * (1.0 + 1e-9) + 1e-9 * largest);
+            }
+            results.push(bounds);
         }
-        for b in bounds.iter_mut() {
-            let largest = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            b.iter_mut()
-                .for_each(|v| *v = v.max(0.0) * (1.0 + 1e-9) + 1e-9 * largest);
-        }
-        Ok(bounds)
+        Ok(results)
     }
 }
 

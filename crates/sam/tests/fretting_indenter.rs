@@ -327,3 +327,27 @@ fn the_cycle_stress_history_is_the_field_at_each_increment_and_resumes_bit_for_b
     assert_eq!(sources.tractions.len(), h.increments * 3 * 256);
     assert!(FrettingLoop::resume(case, bare).is_err());
 }
+
+/// Histories of one cycle on disjoint levels merge into the history of their union, bit for bit
+/// (`CycleStress::merged`, the screen's seed kept: docs/fatigue.md, "Layers the screen cannot
+/// reach"); overlapping levels are refused.
+#[test]
+fn histories_on_disjoint_levels_merge_bit_for_bit() {
+    let case = with_history();
+    let mut lp = FrettingLoop::new(case).unwrap();
+    lp.run(|_| std::ops::ControlFlow::Continue(())).unwrap();
+    let (layers, _) = lp.cycle_levels().unwrap();
+    assert!(layers >= 2);
+    let seed = lp.cycle_history(Some(&[0, layers])).unwrap();
+    let other = lp.cycle_history(Some(&[1])).unwrap();
+    let union = lp.cycle_history(Some(&[0, 1, layers])).unwrap();
+    let merged = seed.clone().merged(other.clone()).unwrap();
+    assert_eq!(merged, union);
+    assert_eq!(
+        other.clone().merged(seed.clone()).unwrap(),
+        union,
+        "either order"
+    );
+    assert!(seed.clone().merged(seed).is_err());
+    assert!(union.merged(other).is_err());
+}

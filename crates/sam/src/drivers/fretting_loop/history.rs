@@ -110,6 +110,54 @@ impl CycleStress {
         })
     }
 
+    /// The history on the levels of `self` and `other` together (in increasing box level): two
+    /// histories of one box and cycle, on disjoint levels, each complete. Each level's paths are
+    /// copied as they are, bit for bit.
+    pub fn merged(self, other: CycleStress) -> Result<CycleStress, SamError> {
+        let same_box = self.grid == other.grid
+            && self.layers == other.layers
+            && self.increments == other.increments
+            && self.recorded == self.increments
+            && other.recorded == other.increments
+            && self.materials == other.materials;
+        if !same_box || self.level_of.iter().any(|k| other.level_of.contains(k)) {
+            return Err(SamError::InvalidInput(
+                "cycle stress history: only complete histories of one box on disjoint levels \
+                 merge"
+                    .into(),
+            ));
+        }
+        let mut level_of: Vec<usize> = self
+            .level_of
+            .iter()
+            .chain(&other.level_of)
+            .copied()
+            .collect();
+        level_of.sort_unstable();
+        let per = self.grid.len();
+        let block = per * self.increments * 6;
+        let mut stress = Vec::with_capacity(level_of.len() * block);
+        let mut material = Vec::with_capacity(level_of.len() * per);
+        for k in &level_of {
+            let (from, at) = match self.level_of.iter().position(|l| l == k) {
+                Some(at) => (&self, at),
+                None => (
+                    &other,
+                    other.level_of.iter().position(|l| l == k).unwrap_or(0),
+                ),
+            };
+            stress.extend_from_slice(&from.stress[at * block..(at + 1) * block]);
+            material.extend_from_slice(&from.material[at * per..(at + 1) * per]);
+        }
+        Ok(CycleStress {
+            surface: level_of.contains(&self.layers),
+            level_of,
+            stress,
+            material,
+            ..self
+        })
+    }
+
     /// Stores the six stress components `stress[c][p]` of the box as the next increment.
     pub(super) fn record(&mut self, stress: &[Vec<f64>; 6]) -> Result<(), SamError> {
         let t = self.recorded;
