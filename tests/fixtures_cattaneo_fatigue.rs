@@ -891,6 +891,60 @@ fn surface_refinement_survey() {
                 pts.len()
             );
         }
+        // Where the surface layer's error sits: its cell-centre paths against the closed form
+        // (datasets/cattaneo_fatigue_surface.json), by region — within 1.5 cells of the rim
+        // r = a, the rest of the slip annulus swept by the stick circle (c* − 1.5h < r < a −
+        // 1.5h), the stick zone inside it, and outside the rim.
+        let hist = lp.cycle_stress().unwrap().unwrap();
+        let sf = &fx["grids"][n.to_string()];
+        let (cells, centres) = (rows(&sf["cells"]), rows(&sf["points"]));
+        let stress = sf["stress"].as_array().unwrap();
+        let cell_a = h / a;
+        let mut region_err = [[0.0f64; 2]; 4];
+        let mut paths = Vec::new();
+        let mut reference = Vec::new();
+        let mut region_of = Vec::new();
+        for (m, (c, x)) in cells.iter().zip(&centres).enumerate() {
+            let r = x[0].hypot(x[1]);
+            let region = if (r - 1.0).abs() < 1.5 * cell_a {
+                0
+            } else if r > 1.0 {
+                3
+            } else if r > C_STAR - 1.5 * cell_a {
+                1
+            } else {
+                2
+            };
+            let q = hist.layers * n * n + c[0] as usize * n + c[1] as usize;
+            let path = &hist.stress[q * 41 * 6..(q + 1) * 41 * 6];
+            let want: Vec<f64> = rows(&stress[m])
+                .into_iter()
+                .flatten()
+                .map(|v| v * pz)
+                .collect();
+            let e = path
+                .iter()
+                .zip(&want)
+                .map(|(g, w)| (g - w).abs() / pz)
+                .fold(0.0, f64::max);
+            region_err[region][0] = region_err[region][0].max(e);
+            paths.extend_from_slice(path);
+            reference.extend_from_slice(&want);
+            region_of.push(region);
+        }
+        let (got, want) = (
+            indices_of(&paths, cells.len()),
+            indices_of(&reference, cells.len()),
+        );
+        for (m, &region) in region_of.iter().enumerate() {
+            region_err[region][1] = region_err[region][1].max((got[0][m] - want[0][m]).abs());
+        }
+        eprintln!(
+            "{n}²: surface layer vs the closed form, max |Δσ|/p₀ (Crossland |Δ|): rim ±1.5h {:.2e} ({:.2e}), \
+             slip annulus {:.2e} ({:.2e}), stick zone {:.2e} ({:.2e}), outside {:.2e} ({:.2e})",
+            region_err[0][0], region_err[0][1], region_err[1][0], region_err[1][1],
+            region_err[2][0], region_err[2][1], region_err[3][0], region_err[3][1]
+        );
         eprintln!("{n}²: {:.1} s", t0.elapsed().as_secs_f64());
     }
     let fine_paths: Vec<f64> = fine["stress"]
