@@ -455,6 +455,57 @@ impl FrettingLoop {
         Some((layers, (0..=layers).collect()))
     }
 
+    /// The stress path of the closed cycle at arbitrary points `(x₁, x₂, depth > 0)` off the
+    /// box's lattice, `out[(m · increments + t) · 6 + k]` (Voigt, Pa): Love's rectangle stresses
+    /// of the recorded tractions `p, q` of each increment by direct summation
+    /// ([`crate::subsurface::stress_at_points`], the twin of the box's layers at the cell
+    /// centres; docs/theory-sam.md#love-rectangle-stresses), with the flat's constants. Used to
+    /// evaluate the criteria at fixed points below the surface whatever the grid (their maxima
+    /// at a fixed depth converge with the grid; docs/fatigue.md, "Near-surface maxima at a fixed
+    /// depth"). O(cells) per point and increment. Errors: no recorded cycle, an incomplete one,
+    /// a loop with inhomogeneities (their eigenstrains are not summed here), a point at depth
+    /// ≤ 0 (the surface `z = 0` has the logarithmic singularities of the piecewise-constant
+    /// tractions' jumps on the cell edges).
+    pub fn cycle_stress_at(&self, points: &[[f64; 3]]) -> Result<Vec<f64>, SamError> {
+        let Some(sources) = self.cycle_sources.as_ref() else {
+            return Err(SamError::InvalidInput(
+                "this loop records no stress history (no fatigue depth)".into(),
+            ));
+        };
+        let increments = self.path.len() - self.path.cycle_start();
+        if sources.recorded != increments {
+            return Err(SamError::InvalidInput(format!(
+                "the cycle is not complete: {} of {increments} increments recorded",
+                sources.recorded
+            )));
+        }
+        if self.solver.nested().is_some() {
+            return Err(SamError::InvalidInput(
+                "stress paths at arbitrary points: loops with inhomogeneities are not supported"
+                    .into(),
+            ));
+        }
+        let grid = *self.solver.problem().grid();
+        let frictional = self.solver.problem().friction() > 0.0;
+        let mut out = vec![0.0; points.len() * increments * 6];
+        for t in 0..increments {
+            let (p, q, _) = sources.increment(t);
+            let stress = crate::subsurface::stress_at_points(
+                &grid,
+                self.case.e,
+                self.case.nu,
+                p,
+                frictional.then_some(q),
+                None,
+                points,
+            )?;
+            for (m, s) in stress.iter().enumerate() {
+                out[(m * increments + t) * 6..(m * increments + t + 1) * 6].copy_from_slice(s);
+            }
+        }
+        Ok(out)
+    }
+
     /// The stress history of the increments recorded so far on the levels `levels` of the box
     /// (increasing; `None`: every level), computed from the cycle's tractions and, with
     /// inhomogeneities, eigenstrains: Love's stresses and the EIM disturbance with the flat's
