@@ -58,6 +58,19 @@ impl Anderson {
         self.has_previous = false;
     }
 
+    /// Starts a new fixed-point problem whose map differs from the last one by a constant
+    /// (`G'(x) = G(x) + c`, e.g. an affine map with a new right-hand side): the stored
+    /// differences stay valid (`Δf = ΔG − Δx` does not depend on `c`) and are kept; only the
+    /// pairing of the next iterate with the previous one is dropped.
+    pub fn forget_previous(&mut self) {
+        self.has_previous = false;
+    }
+
+    /// `(len, depth)`: the vector length and the history depth.
+    pub fn shape(&self) -> (usize, usize) {
+        (self.len, self.depth)
+    }
+
     /// One step: given `x = x_k` and `g = G(x_k)`, overwrites `x` with `x_{k+1}` (module formula)
     /// with mixing `omega ∈ (0, 1]`. Returns the number of history columns used.
     pub fn step(&mut self, x: &mut [f64], g: &[f64], omega: f64) -> Result<usize, NumericsError> {

@@ -7,11 +7,13 @@
 //! * [`richardson`]: the preconditioned Richardson iteration `x ← x + M⁻¹ (b − A x)`. With the block
 //!   matrix of the exact self term as `M` this is the block-Jacobi scheme of the equivalent inclusion
 //!   method (docs/theory-sam.md#solving-the-eim-equations). Stops when `max|Δx| / max|x| < tol`; stops with an error, not a
-//!   hang, when the iteration diverges.
+//!   hang, when the iteration diverges. [`richardson_mixed`] adds Anderson mixing whose history
+//!   is kept across solves with the same operator.
 //!
 //! Both take a warm start in `x`, never print, and return what they did ([`KrylovInfo`]) or
 //! [`NumericsError::NoConvergence`].
 
+use crate::anderson::Anderson;
 use crate::linop::LinearOperator;
 use crate::NumericsError;
 
@@ -282,18 +284,117 @@ pub fn richardson(
     x: &mut [f64],
     params: &KrylovParams,
 ) -> Result<KrylovInfo, NumericsError> {
+    richardson_mixed(a, precond, b, x, params, None)
+}
+
+/// What [`richardson_mixed`] keeps between solves with one operator `A` and preconditioner `M`
+/// (and new right-hand sides): the Anderson history of its iterates, and the last solve's last
+/// iterate `x_J` with its exact residual `r_J = b − A x_J`, so that a solve warm-started from the
+/// last result `x_J + M⁻¹r_J` with a new `b'` knows the residual of `x_J` without applying `A`:
+/// `b' − A x_J = r_J + (b' − b)`.
+#[derive(Debug, Clone)]
+pub struct RichardsonRecycle {
+    mixing: Anderson,
+    start: Vec<f64>,
+    residual: Vec<f64>,
+    rhs: Vec<f64>,
+    result: Vec<f64>,
+    valid: bool,
+}
+
+impl RichardsonRecycle {
+    /// For vectors of length `len`, with `depth` Anderson differences.
+    pub fn new(len: usize, depth: usize) -> Self {
+        Self {
+            mixing: Anderson::new(len, depth),
+            start: vec![0.0; len],
+            residual: vec![0.0; len],
+            rhs: vec![0.0; len],
+            result: vec![0.0; len],
+            valid: false,
+        }
+    }
+
+    /// `(len, depth)`.
+    pub fn shape(&self) -> (usize, usize) {
+        self.mixing.shape()
+    }
+
+    /// Forgets everything kept: the next solve is plain [`richardson`] from its warm start.
+    pub fn forget(&mut self) {
+        self.mixing.reset();
+        self.valid = false;
+    }
+}
+
+/// [`richardson`] recycling what earlier solves with the same `A` and `M` learned, when `recycle`
+/// is given (docs/theory-sam.md#solving-the-eim-equations):
+///
+/// * **Anderson mixing** of the iterates: with `G(x) = x + M⁻¹(b − A x)`, `x_{k+1}` is the
+///   Anderson step of `(x_k, G(x_k))` ([`crate::anderson`], mixing `ω = 1`). `G` is affine and its
+///   differences `Δf = −M⁻¹A Δx` do not depend on `b`, so the history of earlier solves stays
+///   valid and is kept ([`Anderson::forget_previous`]): a new solve's first step already projects
+///   on it.
+/// * **The first residual without an application**: when the warm start `x` is, bit for bit, the
+///   last solve's result, the iteration restarts from that solve's last iterate `x_J`, whose
+///   residual for the new `b` is `r_J + (b − b_J)` (exact in exact arithmetic), so the first step
+///   costs no application of `A` and adds `M⁻¹(b − b_J)` to the old result.
+///
+/// The stop is [`richardson`]'s, on the step `max|G(x_k) − x_k| / max|G(x_k)|`, and the result
+/// is the plain step `G(x_k)`; [`KrylovInfo::iterations`] counts applications of `A`. `None` is
+/// [`richardson`], bit for bit.
+pub fn richardson_mixed(
+    a: &mut dyn LinearOperator,
+    precond: &mut dyn LinearOperator,
+    b: &[f64],
+    x: &mut [f64],
+    params: &KrylovParams,
+    mut recycle: Option<&mut RichardsonRecycle>,
+) -> Result<KrylovInfo, NumericsError> {
     params.validate()?;
     let n = a.dim();
     crate::linop::check_lengths(n, b, x)?;
     let mut r = vec![0.0; n];
     let mut dx = vec![0.0; n];
+    let mut before = Vec::new();
+    // Whether the first residual is known (the warm start is the last result).
+    let mut known = false;
+    if let Some(rc) = recycle.as_deref_mut() {
+        if rc.shape().0 != n {
+            return Err(NumericsError::LengthMismatch {
+                what: "recycled Richardson state",
+                expected: n,
+                got: rc.shape().0,
+            });
+        }
+        rc.mixing.forget_previous();
+        before = vec![0.0; n];
+        known = rc.valid
+            && x.iter()
+                .zip(&rc.result)
+                .all(|(p, q)| p.to_bits() == q.to_bits());
+        if known {
+            x.copy_from_slice(&rc.start);
+            for (ri, ((rj, bi), bj)) in r.iter_mut().zip(rc.residual.iter().zip(b).zip(&rc.rhs)) {
+                *ri = rj + (bi - bj);
+            }
+        }
+        rc.valid = false;
+    }
+    let mut applications = 0;
     let mut best = f64::INFINITY;
     for it in 1..=params.max_iterations {
-        a.apply(x, &mut r)?;
-        for (ri, bi) in r.iter_mut().zip(b) {
-            *ri = bi - *ri;
+        if it > 1 || !known {
+            a.apply(x, &mut r)?;
+            applications += 1;
+            for (ri, bi) in r.iter_mut().zip(b) {
+                *ri = bi - *ri;
+            }
         }
         precond.apply(&r, &mut dx)?;
+        if recycle.is_some() {
+            before.copy_from_slice(x);
+        }
         let mut change: f64 = 0.0;
         let mut size: f64 = 0.0;
         let mut finite = true;
@@ -315,8 +416,15 @@ pub fn richardson(
             return Err(no_convergence("block Jacobi", it, rel));
         }
         if rel < params.tolerance {
+            if let Some(rc) = recycle.as_deref_mut() {
+                rc.start.copy_from_slice(&before);
+                rc.residual.copy_from_slice(&r);
+                rc.rhs.copy_from_slice(b);
+                rc.result.copy_from_slice(x);
+                rc.valid = true;
+            }
             return Ok(KrylovInfo {
-                iterations: it,
+                iterations: applications,
                 residual: rel,
             });
         }
@@ -327,6 +435,11 @@ pub fn richardson(
         }
         if it == params.max_iterations {
             return Err(no_convergence("block Jacobi", it, rel));
+        }
+        if let Some(rc) = recycle.as_deref_mut() {
+            // `x` holds G(x_k), `before` x_k: the mixed iterate into `x`.
+            rc.mixing.step(&mut before, x, 1.0)?;
+            x.copy_from_slice(&before);
         }
     }
     Err(no_convergence(
@@ -485,6 +598,99 @@ mod tests {
         )
         .unwrap_err();
         assert!(matches!(err, NumericsError::NoConvergence { .. }), "{err}");
+    }
+
+    /// Block Jacobi with Anderson mixing ([`richardson_mixed`]) against the plain iteration (the
+    /// naive control) on `A = I − 0.45 (S + Sᵀ)` (`S` the shift; Jacobi rate ≈ 0.9): the same
+    /// solution to the stopping error, in fewer applications; a second right-hand side solved
+    /// with the first solve's history kept needs fewer applications than with a fresh history
+    /// (the differences do not depend on `b`); without mixing it is `richardson` bit for bit.
+    #[test]
+    fn anderson_mixed_richardson_recycles_its_history_across_right_hand_sides() {
+        let n = 40;
+        let mut a = vec![0.0; n * n];
+        for i in 0..n {
+            a[i * n + i] = 1.0;
+            if i + 1 < n {
+                a[i * n + i + 1] = -0.45;
+                a[(i + 1) * n + i] = -0.45;
+            }
+        }
+        let mut a = DenseMatrix::from_row_major(n, a).unwrap();
+        let params = KrylovParams {
+            tolerance: 1e-11,
+            max_iterations: 5000,
+            restart: 1,
+        };
+        let solve = |a: &mut DenseMatrix, b: &[f64], recycle: Option<&mut RichardsonRecycle>| {
+            let mut x = vec![0.0; n];
+            let info = richardson_mixed(a, &mut Identity(n), b, &mut x, &params, recycle).unwrap();
+            (x, info.iterations)
+        };
+        let b1: Vec<f64> = (0..n).map(|i| 1.0 + (0.3 * i as f64).sin()).collect();
+        let b2: Vec<f64> = (0..n).map(|i| (0.2 * i as f64).cos() - 0.5).collect();
+        let (plain1, k_plain1) = solve(&mut a, &b1, None);
+        let mut control = vec![0.0; n];
+        richardson(&mut a, &mut Identity(n), &b1, &mut control, &params).unwrap();
+        assert!(plain1
+            .iter()
+            .zip(&control)
+            .all(|(p, q)| p.to_bits() == q.to_bits()));
+        let (plain2, _) = solve(&mut a, &b2, None);
+        let mut acc = RichardsonRecycle::new(n, 6);
+        let (mixed1, k_mixed1) = solve(&mut a, &b1, Some(&mut acc));
+        let (mixed2, k_recycled) = solve(&mut a, &b2, Some(&mut acc));
+        let (fresh2, k_fresh) = solve(&mut a, &b2, Some(&mut RichardsonRecycle::new(n, 6)));
+        // Warm-started from the last result, a new right-hand side's first step is free: a
+        // b close to the last one converges in fewer applications than from the same start
+        // with the history forgotten (observed 40 against 43).
+        let b3: Vec<f64> = b2.iter().map(|v| v * (1.0 + 1e-4)).collect();
+        let mut x3 = mixed2.clone();
+        let warm = richardson_mixed(
+            &mut a,
+            &mut Identity(n),
+            &b3,
+            &mut x3,
+            &params,
+            Some(&mut acc),
+        )
+        .unwrap()
+        .iterations;
+        acc.forget();
+        let mut x3_cold = mixed2.clone();
+        let cold = richardson_mixed(
+            &mut a,
+            &mut Identity(n),
+            &b3,
+            &mut x3_cold,
+            &params,
+            Some(&mut acc),
+        )
+        .unwrap()
+        .iterations;
+        assert!(warm < cold, "{warm} against {cold}");
+        let (plain3, _) = solve(&mut a, &b3, None);
+        let err = x3
+            .iter()
+            .zip(&plain3)
+            .fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
+        assert!(
+            err < 1e-8 * plain3.iter().fold(0.0f64, |m, v| m.max(v.abs())),
+            "{err:e}"
+        );
+        let scale = plain1.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (x, y) in [(&mixed1, &plain1), (&mixed2, &plain2), (&fresh2, &plain2)] {
+            let err = x
+                .iter()
+                .zip(y)
+                .fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
+            // The stop leaves an error of about rate/(1 − rate) × tolerance ≈ 1e-10 relative.
+            assert!(err < 1e-8 * scale, "{err:e}");
+        }
+        // Observed: 212 applications plain, 76 mixed; on the second right-hand side 80 with a
+        // fresh history, 64 with the first solve's.
+        assert!(2 * k_mixed1 < k_plain1, "{k_mixed1} against {k_plain1}");
+        assert!(k_recycled < k_fresh, "{k_recycled} against {k_fresh}");
     }
 
     /// A system that is the identity beyond its first `d` unknowns, with `b` and the warm start

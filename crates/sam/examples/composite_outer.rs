@@ -9,8 +9,10 @@
 //! reference over every increment (in `p₀`) and a hash of the final state's bits (equal hashes
 //! from two binaries: bit for bit the same loop).
 //!
-//! Run: `cargo run --release -p halfspace-sam --example composite_outer -- N [increments] [m,η[,g][,t<tol>] ...]`
+//! Run: `cargo run --release -p halfspace-sam --example composite_outer -- N [increments] [m,η[,g][,t<tol>][,r<depth>] ...]`
 //! (`increments` 0: the whole loop; `g`: GMRES; `t<tol>`: the outer tolerance, default 1e-6;
+//! `r<depth>`: block Jacobi with Anderson mixing recycled across an increment's passes,
+//! `EimParams::recycled_depth`;
 //! default variant `3,1e-2`). Single thread for CPU
 //! comparisons: `RAYON_NUM_THREADS=1`.
 
@@ -43,10 +45,10 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let n = args.first().and_then(|v| v.parse().ok()).unwrap_or(32);
     let limit = args.get(1).and_then(|v| v.parse().ok()).unwrap_or(0);
-    // Variants `m,η[,g][,t<tol>]`: Anderson depth, EIM change factor, `g` for GMRES instead of
-    // the automatic EIM method (block Jacobi for these fibres), `t<tol>` for the outer tolerance
-    // (default 1e-6).
-    let specs: Vec<(usize, f64, bool, f64)> = args
+    // Variants `m,η[,g][,t<tol>][,r<depth>]`: Anderson depth, EIM change factor, `g` for GMRES
+    // instead of the automatic EIM method (block Jacobi for these fibres), `t<tol>` for the outer
+    // tolerance (default 1e-6), `r<depth>` for the EIM's recycled Anderson depth (default 0).
+    let specs: Vec<(usize, f64, bool, f64, usize)> = args
         .iter()
         .skip(2)
         .map(|v| {
@@ -55,16 +57,21 @@ fn main() {
                 .iter()
                 .find_map(|x| x.strip_prefix('t'))
                 .map_or(NestedParams::default().tolerance, |t| t.parse().unwrap());
+            let recycled = f[2..]
+                .iter()
+                .find_map(|x| x.strip_prefix('r'))
+                .map_or(0, |t| t.parse().unwrap());
             (
                 f[0].parse().unwrap(),
                 f[1].parse().unwrap(),
                 f[2..].contains(&"g"),
                 tolerance,
+                recycled,
             )
         })
         .collect();
     let specs = if specs.is_empty() {
-        vec![(3, 1e-2, false, NestedParams::default().tolerance)]
+        vec![(3, 1e-2, false, NestedParams::default().tolerance, 0)]
     } else {
         specs
     };
@@ -84,7 +91,7 @@ fn main() {
         )
         .unwrap(),
     )];
-    for &(m, eta, gmres, tolerance) in &specs {
+    for &(m, eta, gmres, tolerance, recycled) in &specs {
         let base = NestedParams::default();
         let params = NestedParams {
             eim: EimParams {
@@ -93,6 +100,7 @@ fn main() {
                 } else {
                     base.eim.method
                 },
+                recycled_depth: recycled,
                 ..base.eim
             },
             anderson_depth: m,
@@ -101,7 +109,9 @@ fn main() {
             ..base
         };
         variants.push((
-            format!("depth {m}, EIM factor {eta:e}, GMRES {gmres}, outer tolerance {tolerance:e}"),
+            format!(
+                "depth {m}, EIM factor {eta:e}, GMRES {gmres}, outer tolerance {tolerance:e}, EIM recycled depth {recycled}"
+            ),
             FrettingLoop::with_params(case.clone(), params).unwrap(),
         ));
     }
@@ -133,9 +143,9 @@ fn main() {
     }
     println!("composite loop (stiff fibres, fibre-centred) at {n}², {steps} increments");
     println!(
-        "| variant | outer passes | EIM applications | CPU (s) | contact / EIM / surface fields (s) | max |Δp|, |Δq| / p₀ | state bits |"
+        "| variant | outer passes | EIM applications | CPU (s) | contact / EIM / surface fields (s) | alternations / normal / tangential iterations | max |Δp|, |Δq| / p₀ | state bits |"
     );
-    println!("|---|---:|---:|---:|---:|---:|---|");
+    println!("|---|---:|---:|---:|---:|---:|---:|---|");
     for (i, (name, lp)) in variants.iter().enumerate() {
         let outer: usize = lp.rows().iter().map(|r| r.outer_iterations).sum();
         let eim: usize = lp.rows().iter().map(|r| r.eim_iterations).sum();
@@ -151,12 +161,16 @@ fn main() {
             });
         // Wall seconds of the parts (docs/performance.md: one thread, so close to CPU).
         let t = lp.seconds();
+        let w = lp.contact_work();
         println!(
-            "| {name} | {outer} | {eim} | {:.1} | {:.1} / {:.1} / {:.1} | {:.2e} | {bits:016x} |",
+            "| {name} | {outer} | {eim} | {:.1} | {:.1} / {:.1} / {:.1} | {} / {} / {} | {:.2e} | {bits:016x} |",
             cpu[i],
             t.contact,
             t.eim + t.traction_strain,
             t.disturbance,
+            w.alternations,
+            w.normal_iterations,
+            w.tangential_iterations,
             worst[i] / p0
         );
     }

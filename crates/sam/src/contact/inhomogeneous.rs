@@ -417,6 +417,9 @@ impl InhomogeneousContact {
     /// [`InhomogeneousContact::solve`] on the calling thread.
     fn solve_here(&mut self, load: NormalLoad, shift: [f64; 2]) -> Result<NestedInfo, SamError> {
         self.anderson.reset();
+        // The EIM history recycled across this increment's passes starts empty: the increment
+        // depends only on the checkpointed state ([`InhomogeneousContact::set_warm_start`]).
+        self.system.forget_recycled();
         let mut eim_iterations = 0;
         let mut work = ContactWork::default();
         let mut seconds = NestedSeconds::default();

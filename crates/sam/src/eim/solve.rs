@@ -13,7 +13,9 @@
 
 use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
-use halfspace_numerics::krylov::{richardson, Gmres, KrylovInfo, KrylovParams};
+use halfspace_numerics::krylov::{
+    richardson_mixed, Gmres, KrylovInfo, KrylovParams, RichardsonRecycle,
+};
 use halfspace_numerics::linop::{check_lengths, LinearOperator};
 use halfspace_numerics::NumericsError;
 
@@ -47,6 +49,14 @@ pub struct EimParams {
     /// GMRES restart length (100: with 50, soft inhomogeneities (E_I/E_m = 0.1) of a few hundred
     /// cells stagnate; reduced automatically when the Krylov basis would exceed 2 GiB).
     pub restart: usize,
+    /// Block Jacobi only, when > 0: what earlier solves of one [`EimSystem`] learned is
+    /// recycled until [`EimSystem::forget_recycled`] ([`richardson_mixed`]): Anderson mixing of
+    /// the iterates with this many differences (they do not depend on the right-hand side, so an
+    /// outer pass's solve starts by projecting on the earlier passes' iterations), and a solve
+    /// warm-started from the last result gets its first residual without an operator
+    /// application (docs/theory-sam.md#solving-the-eim-equations). 0: plain block Jacobi
+    /// ([LN11], the reference).
+    pub recycled_depth: usize,
 }
 
 impl Default for EimParams {
@@ -56,6 +66,7 @@ impl Default for EimParams {
             tolerance: 1e-10,
             max_iterations: 3000,
             restart: 100,
+            recycled_depth: 0,
         }
     }
 }
@@ -106,6 +117,9 @@ pub struct EimSystem {
     strain: Vec<Vec<f64>>,
     /// GMRES work arrays, kept between solves (warm outer loops do not reallocate).
     gmres: Option<Gmres>,
+    /// The block-Jacobi iteration's Anderson history ([`EimParams::recycled_depth`]), kept
+    /// between solves.
+    mixing: Option<RichardsonRecycle>,
 }
 
 impl EimSystem {
@@ -159,6 +173,7 @@ impl EimSystem {
             eigen: vec![vec![0.0; n]; layers * 6],
             strain: vec![vec![0.0; n]; layers * 6],
             gmres: None,
+            mixing: None,
         })
     }
 
@@ -239,7 +254,15 @@ impl EimSystem {
                 r
             }
             EimMethod::BlockJacobi | EimMethod::Auto => {
-                richardson(self, &mut pre, &b, eps_star, &kp)
+                let depth = params.recycled_depth;
+                let mut mixing = match self.mixing.take() {
+                    _ if depth == 0 => None,
+                    Some(m) if m.shape() == (n, depth) => Some(m),
+                    _ => Some(RichardsonRecycle::new(n, depth)),
+                };
+                let r = richardson_mixed(self, &mut pre, &b, eps_star, &kp, mixing.as_mut());
+                self.mixing = mixing;
+                r
             }
         }
         .map_err(|e| match e {
@@ -263,6 +286,15 @@ impl EimSystem {
             residual: info.residual,
             method,
         })
+    }
+
+    /// Forgets the block-Jacobi history recycled across solves ([`EimParams::recycled_depth`]):
+    /// the next solve starts as plain block Jacobi from its warm start (a checkpointed loop calls
+    /// it at every increment, so a resumed increment repeats the uninterrupted one bit for bit).
+    pub fn forget_recycled(&mut self) {
+        if let Some(m) = self.mixing.as_mut() {
+            m.forget();
+        }
     }
 
     /// The disturbance strain of `eps_star` at the inclusion layers (the fields are kept for

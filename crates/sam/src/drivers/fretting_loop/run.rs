@@ -9,7 +9,7 @@ use super::metrics::LoopMetrics;
 use super::row::LoopRow;
 use crate::contact::ContactSolver;
 use crate::contact::{ContactParams, ContactProblem, ContactState};
-use crate::contact::{NestedParams, NestedWarmStart};
+use crate::contact::{ContactWork, NestedParams, NestedWarmStart};
 use crate::kernels::surface::{Body, Compliance};
 use crate::normal::NormalLoad;
 use crate::subsurface::SubsurfacePlan;
@@ -88,6 +88,7 @@ pub struct FrettingLoop {
     points: Vec<PointFields>,
     max_transverse_slip: f64,
     seconds: LoopSeconds,
+    contact_work: ContactWork,
     /// The complete cycle's full history, computed at the first [`FrettingLoop::cycle_stress`].
     cycle_stress: std::sync::OnceLock<CycleStress>,
     cycle_sources: Option<CycleSources>,
@@ -139,6 +140,7 @@ impl FrettingLoop {
             points: Vec::new(),
             max_transverse_slip: 0.0,
             seconds: LoopSeconds::default(),
+            contact_work: ContactWork::default(),
             cycle_stress: std::sync::OnceLock::new(),
             cycle_sources: None,
         })
@@ -568,6 +570,12 @@ impl FrettingLoop {
         self.seconds
     }
 
+    /// The contact solves' work summed over the increments since this object was made (with
+    /// inhomogeneities; zero without: [`ContactWork`]).
+    pub fn contact_work(&self) -> ContactWork {
+        self.contact_work
+    }
+
     /// Whether every increment is done.
     pub fn is_done(&self) -> bool {
         self.rows.len() >= self.path.len()
@@ -593,6 +601,11 @@ impl FrettingLoop {
                 self.seconds.traction_strain += n.seconds.traction_strain;
                 self.seconds.eim += n.seconds.eim;
                 self.seconds.disturbance += n.seconds.disturbance;
+                let w = &mut self.contact_work;
+                w.solves += n.contact_work.solves;
+                w.alternations += n.contact_work.alternations;
+                w.normal_iterations += n.contact_work.normal_iterations;
+                w.tangential_iterations += n.contact_work.tangential_iterations;
             }
             None => self.seconds.contact += start.elapsed().as_secs_f64(),
         }
