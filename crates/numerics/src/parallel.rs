@@ -50,13 +50,23 @@ pub fn on_pool<R: Send>(cells: usize, f: impl FnOnce() -> R + Send) -> R {
                     rayon::current_thread_index().unwrap_or(usize::MAX),
                     Ordering::Release,
                 );
-                let r = f();
-                done.store(true, Ordering::Release);
-                r
+                // Set when `f` returns or unwinds: a panicking `f` must not leave a stolen
+                // partner polling forever (rayon's join waits for it before it re-raises).
+                let _done = SetOnDrop(&done);
+                f()
             },
             || partner(&done, &owner),
         );
         r
+    }
+}
+
+/// Sets its flag when dropped, on return or unwinding alike.
+struct SetOnDrop<'a>(&'a AtomicBool);
+
+impl Drop for SetOnDrop<'_> {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::Release);
     }
 }
 
@@ -88,6 +98,22 @@ fn partner(done: &AtomicBool, owner: &AtomicUsize) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A closure that panics with a partner running: the panic reaches the caller (the partner
+    /// stops polling) instead of the process hanging.
+    #[test]
+    fn a_panic_with_a_partner_reaches_the_caller() {
+        let result = std::panic::catch_unwind(|| {
+            on_pool(PARTNER_CELLS, || {
+                rayon::join(
+                    || std::thread::sleep(std::time::Duration::from_millis(5)),
+                    || (),
+                );
+                panic!("the solve failed");
+            })
+        });
+        assert!(result.is_err());
+    }
 
     /// The closure runs on a worker of the pool it is called from (or inline on one thread), and
     /// its result comes back.
