@@ -481,8 +481,12 @@ pub fn reference_bounds(reference: &Voigt, deviation: &[f64; 6], material: &Mate
 ///
 /// and the criteria are bounded as in [`reference_bounds`] with `ρ` for `D` (SWT with `H` for the
 /// hydrostatic half range). `ρ` is taken `× (1 + 10⁻⁹)` plus `10⁻¹²` of `max_a |y(a)| + ρ`, the
-/// principal values `+ 10⁻¹² max_a |y(a)|`, for the rounding. Needs at least one anchor.
+/// principal values `+ 10⁻¹² max_a |y(a)|`, for the rounding. With no anchor nothing is known:
+/// every bound is `+∞` (no level can be ruled out).
 pub fn anchored_bounds(anchors: &[Voigt], deviation: &[[f64; 6]], material: &Material) -> [f64; 4] {
+    if anchors.is_empty() {
+        return [f64::INFINITY; 4];
+    }
     let mut lo = [f64::INFINITY; 6];
     let mut hi = [f64::NEG_INFINITY; 6];
     let mut y_norm = 0.0f64;

@@ -517,3 +517,10 @@ proptest::proptest! {
         proptest::prop_assert_eq!(all, (0..keys.len()).collect::<Vec<_>>());
     }
 }
+
+/// With no anchor the anchored bound knows nothing: every bound is `+∞`, so no level is ruled out.
+#[test]
+fn anchored_bounds_without_anchors_rule_nothing_out() {
+    let b = anchored_bounds(&[], &[], &steel());
+    assert!(b.iter().all(|v| *v == f64::INFINITY), "{b:?}");
+}

@@ -290,7 +290,9 @@ impl EimSystem {
 
     /// Forgets the block-Jacobi history recycled across solves ([`EimParams::recycled_depth`]):
     /// the next solve starts as plain block Jacobi from its warm start (a checkpointed loop calls
-    /// it at every increment, so a resumed increment repeats the uninterrupted one bit for bit).
+    /// it at every increment, so a resumed increment repeats the uninterrupted one bit for bit when
+    /// it runs with the same [`EimParams`]; `FrettingLoop::resume` rebuilds with the default
+    /// parameters, recycling off, and the checkpoint fingerprint does not record the depth).
     pub fn forget_recycled(&mut self) {
         if let Some(m) = self.mixing.as_mut() {
             m.forget();
