@@ -18,6 +18,12 @@
 //! section (its processor time during the solve is spent waiting, not computing).
 //!
 //! [`on_pool`] runs a whole solve on a worker: one hand-off per solve instead of one per section.
+//!
+//! Two costs of the partner a caller should know: it spends a core's time polling for the whole
+//! solve (on a machine whose other cores run the caller's own parallel work, turn it off with
+//! [`set_partner`]`(false)`), and it runs *whatever* job the pool offers it — in a pool shared
+//! with the caller's own tasks it may pick up an unrelated job and finish it before it sees that
+//! the solve is done, which delays `on_pool`'s return by that job's length (never its result).
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
@@ -30,16 +36,32 @@ pub const PARTNER_CELLS: usize = crate::fft2d::PARALLEL_CELLS;
 /// (docs/performance.md, "A partner that does not sleep").
 pub const PARTNER_MAX_CELLS: usize = 256 * 256;
 
+/// Whether [`on_pool`] starts partners (on by default).
+static PARTNER_ON: AtomicBool = AtomicBool::new(true);
+
+/// Turns [`on_pool`]'s partner on or off for the whole process (default on). Off, a solve of
+/// [`PARTNER_CELLS`]`..=`[`PARTNER_MAX_CELLS`] cells runs as a larger one does (on a worker, its
+/// sections' other halves taken by sleeping workers): the same results bit for bit, no core spent
+/// polling, more wake-ups (docs/performance.md, "A partner that does not sleep").
+pub fn set_partner(on: bool) {
+    PARTNER_ON.store(on, Ordering::Relaxed);
+}
+
+/// Whether [`on_pool`] starts partners ([`set_partner`]).
+pub fn partner_enabled() -> bool {
+    PARTNER_ON.load(Ordering::Relaxed)
+}
+
 /// `f()` run on one of the global rayon pool's worker threads (the caller waits): directly when
 /// the caller already is one, or when the pool has one thread (nothing runs in parallel then).
 /// With [`PARTNER_CELLS`] `≤ cells ≤` [`PARTNER_MAX_CELLS`] (the size of the problem `f`
 /// solves) a partner job keeps another worker polling for `f`'s parallel sections until `f`
-/// returns (module doc). The result is the same bit for bit as `f()` on the calling thread; only
+/// returns (module doc; [`set_partner`] turns it off). The result is the same bit for bit as `f()` on the calling thread; only
 /// where it runs differs.
 pub fn on_pool<R: Send>(cells: usize, f: impl FnOnce() -> R + Send) -> R {
     if rayon::current_thread_index().is_some() || rayon::current_num_threads() <= 1 {
         f()
-    } else if !(PARTNER_CELLS..=PARTNER_MAX_CELLS).contains(&cells) {
+    } else if !partner_enabled() || !(PARTNER_CELLS..=PARTNER_MAX_CELLS).contains(&cells) {
         rayon::scope(|_| f())
     } else {
         let done = AtomicBool::new(false);
@@ -144,6 +166,33 @@ mod tests {
                 (0..100_000u64).into_par_iter().map(|k| k % 7).sum()
             });
             assert_eq!(sum, (0..100_000u64).map(|k| k % 7).sum());
+        }
+    }
+
+    /// With the partner off a partner-sized solve still runs on a worker and gives the same
+    /// result bit for bit (the switch is process-wide, so other tests running meanwhile see either
+    /// setting: both give the same results).
+    #[test]
+    fn the_partner_switch_changes_where_not_what() {
+        use rayon::prelude::*;
+        let solve = || {
+            on_pool(PARTNER_CELLS, || {
+                (0..200_000u64)
+                    .into_par_iter()
+                    .map(|k| k * k % 1009)
+                    .sum::<u64>()
+            })
+        };
+        let with = solve();
+        set_partner(false);
+        assert!(!partner_enabled());
+        let without = solve();
+        let worker = on_pool(PARTNER_CELLS, rayon::current_thread_index);
+        set_partner(true);
+        assert!(partner_enabled());
+        assert_eq!(with, without);
+        if rayon::current_num_threads() > 1 {
+            assert!(worker.is_some());
         }
     }
 }
