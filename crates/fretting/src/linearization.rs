@@ -23,8 +23,6 @@ use halfspace_mdr::{CellStressTransform, Material, MdrError, ProfileTransform};
 use halfspace_numerics::linop::LinearOperator;
 use halfspace_numerics::{diff::derivative_uniform, Backend, NumericsError, SquaredGrid};
 
-use crate::simulation::PRECONDITIONER_WIDTH;
-
 /// `W = I − β J` (`β = γ Δτ`) at a frozen contact state, as a [`LinearOperator`] on all `N` nodes.
 pub(crate) struct RosenbrockMatrix {
     grid: SquaredGrid,
@@ -413,43 +411,51 @@ impl BandPreconditioner {
         }
     }
 
-    /// The substitutions of [`LinearOperator::apply`] for the half bandwidth `W` known at compile
-    /// time: the interior rows with fixed-length slices (unrolled, no bounds checks), the rows
-    /// at the ends as in the general loop. The same operations in the same order: the same bits.
-    fn substitute_fixed<const W: usize>(&self, y: &mut [f64], active: usize) {
+    /// The substitutions of [`LinearOperator::apply`] for the half bandwidth 3
+    /// ([`crate::simulation::PRECONDITIONER_WIDTH`]): the interior rows unrolled, the rows at the ends as in the
+    /// general loop; the same operations in the same order (the same bits). The three values a
+    /// row reads from the rows just solved are carried in locals (registers), not loaded back
+    /// from `y`: a (vector) load of the value stored on the previous row cannot be forwarded from
+    /// that store and waited for it on every row (docs/fretting-wear.md, "Cost per step").
+    fn substitute_width_3(&self, y: &mut [f64], active: usize) {
+        const W: usize = 3;
         let n = y.len();
         let colours = 2 * W + 1;
+        // (y_{i−3}, y_{i−2}, y_{i−1}) on row i ≥ 3.
+        let (mut y3, mut y2, mut y1) = (0.0f64, 0.0f64, 0.0f64);
         for i in 0..active {
             let row = &self.lu[i * colours..(i + 1) * colours];
             let mut s = y[i];
             if i >= W {
-                let lower: &[f64; W] = row[..W].try_into().expect("W entries");
-                let before: &[f64; W] = y[i - W..i].try_into().expect("W entries");
-                for j in 0..W {
-                    s -= lower[j] * before[j];
-                }
+                s -= row[0] * y3;
+                s -= row[1] * y2;
+                s -= row[2] * y1;
             } else {
                 for j in 0..i {
                     s -= row[j + W - i] * y[j];
                 }
             }
             y[i] = s;
+            (y3, y2, y1) = (y2, y1, s);
         }
+        // (y_{i+1}, y_{i+2}, y_{i+3}) on row i with i + 3 < n.
+        let at = |j: usize| y.get(j).copied().unwrap_or(0.0);
+        let (mut z1, mut z2, mut z3) = (at(active), at(active + 1), at(active + 2));
         for i in (0..active).rev() {
             let row = &self.lu[i * colours..(i + 1) * colours];
             let mut s = y[i];
             if i + W < n {
-                let upper: &[f64; W] = row[W + 1..].try_into().expect("W entries");
-                let after: &[f64; W] = y[i + 1..i + 1 + W].try_into().expect("W entries");
-                for j in 0..W {
-                    s -= upper[j] * after[j];
-                }
+                s -= row[W + 1] * z1;
+                s -= row[W + 2] * z2;
+                s -= row[W + 3] * z3;
             } else {
                 for j in i + 1..n {
                     s -= row[j + W - i] * y[j];
                 }
             }
-            y[i] = s * self.inverse_pivot[i];
+            let yi = s * self.inverse_pivot[i];
+            y[i] = yi;
+            (z1, z2, z3) = (yi, z1, z2);
         }
     }
 }
@@ -471,8 +477,8 @@ impl LinearOperator for BandPreconditioner {
         let (n, w) = (self.dim, self.width);
         // Rows from `active` on are those of the identity (`y_i = x_i`).
         let active = self.active.min(n);
-        if w == PRECONDITIONER_WIDTH {
-            self.substitute_fixed::<PRECONDITIONER_WIDTH>(y, active);
+        if w == 3 {
+            self.substitute_width_3(y, active);
         } else {
             self.substitute(y, active);
         }
@@ -507,6 +513,7 @@ impl LinearOperator for RosenbrockMatrix {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::simulation::PRECONDITIONER_WIDTH;
 
     /// The unrolled substitutions of the preconditioner's width give the general loop's bits, on
     /// a diagonally dominant random band (fixed seed), with all rows active and with a part.
@@ -538,7 +545,7 @@ mod tests {
             p.factor(0.7);
             assert!(p.factored);
             let (mut fixed, mut general) = (x.clone(), x.clone());
-            p.substitute_fixed::<PRECONDITIONER_WIDTH>(&mut fixed, active);
+            p.substitute_width_3(&mut fixed, active);
             p.substitute(&mut general, active);
             assert!(fixed
                 .iter()
@@ -551,7 +558,7 @@ mod tests {
             let mut tail_free = x.clone();
             tail_free[block..].fill(0.0);
             let mut short = tail_free[..block].to_vec();
-            p.substitute_fixed::<PRECONDITIONER_WIDTH>(&mut short, active);
+            p.substitute_width_3(&mut short, active);
             p.substitute(&mut tail_free, active);
             assert!(short
                 .iter()

@@ -8,8 +8,8 @@ use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use halfspace_mdr::{
-    Backend, DisplacementMethod, DisplacementTransform, Material, ProfileTransform, SquaredGrid,
-    StressTransform,
+    Backend, CellStressTransform, DisplacementMethod, DisplacementTransform, Material,
+    ProfileTransform, SquaredGrid, StressTransform,
 };
 use halfspace_numerics::conv1d::fast_length;
 use halfspace_numerics::ToeplitzConvolution;
@@ -165,6 +165,39 @@ fn bare_realfft(c: &mut Criterion) {
     group.finish();
 }
 
+/// The cell stress transform (Eq. 14 with the edge between nodes) on the first half of the grid
+/// (about the wear run's contact), FFT: `new_edge` alternates the edge `θ` every call (the wear
+/// rate's evaluations: the partial-cell series is evaluated again), `same_edge` keeps it (the
+/// implicit stages' products: the series kept).
+fn cell_stress_transform(c: &mut Criterion) {
+    let mut group = c.benchmark_group("cell_stress_transform");
+    for &n in &[2_001usize, 8_001] {
+        let grid = SquaredGrid::new(n, 1.0).unwrap();
+        let m = n / 2;
+        let q: Vec<f64> = (0..m)
+            .map(|i| 1.0 - grid.squared(i) / grid.squared(m))
+            .collect();
+        let mut sigma = vec![0.0; m];
+        let mut t = CellStressTransform::new(n, &unit(), Backend::Fft).unwrap();
+        let mut flip = false;
+        group.bench_with_input(BenchmarkId::new("new_edge", n), &n, |b, _| {
+            b.iter(|| {
+                flip = !flip;
+                let theta = if flip { 0.37 } else { 0.38 };
+                t.line_load_to_stress(&grid, black_box(&q), theta, &mut sigma)
+                    .unwrap()
+            })
+        });
+        group.bench_with_input(BenchmarkId::new("same_edge", n), &n, |b, _| {
+            b.iter(|| {
+                t.line_load_to_stress(&grid, black_box(&q), 0.37, &mut sigma)
+                    .unwrap()
+            })
+        });
+    }
+    group.finish();
+}
+
 fn config() -> Criterion {
     Criterion::default()
         .sample_size(10)
@@ -176,6 +209,6 @@ fn config() -> Criterion {
 criterion_group! {
     name = benches;
     config = config();
-    targets = profile_transform, stress_transform, engine, bare_realfft, graded_displacement
+    targets = profile_transform, stress_transform, cell_stress_transform, engine, bare_realfft, graded_displacement
 }
 criterion_main!(benches);

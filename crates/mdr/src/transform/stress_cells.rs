@@ -34,10 +34,15 @@ pub struct CellStressTransform {
     edge_powers: Vec<f64>,
     edge_theta: f64,
     edge_cells: usize,
+    /// The binomial series' factors `(γ − m)/(m + 1)`, `m = 0..SERIES_TERMS`
+    /// ([`CellStressTransform::partial_cell_power`]), divided once here instead of per node.
+    series_factors: [f64; SERIES_TERMS],
 }
 
 /// Beyond this distance (in cells) from the edge `(n + θ)^γ − n^γ` is summed as a series.
 const SERIES_FROM: usize = 64;
+/// Terms of that series (`(θ/n)^10 ≤ 64^{−10}`: below one ulp).
+const SERIES_TERMS: usize = 10;
 
 impl CellStressTransform {
     /// Builds the transform for contacts of up to `capacity` nodes.
@@ -54,6 +59,7 @@ impl CellStressTransform {
             edge_powers: vec![0.0; capacity + 1],
             edge_theta: f64::NAN,
             edge_cells: 0,
+            series_factors: std::array::from_fn(|m| (gamma - m as f64) / (m as f64 + 1.0)),
         })
     }
 
@@ -69,15 +75,18 @@ impl CellStressTransform {
     }
 
     /// `(n + θ)^γ − n^γ` for `θ ∈ (0, 1]`: `n^γ [(1 + θ/n)^γ − 1]` by its binomial series when
-    /// `n ≥ 64` (ten terms, `θ/n ≤ 1/64`: below one ulp), `powf` closer to the edge.
+    /// `n ≥ 64` (ten terms, `θ/n ≤ 1/64`: below one ulp), `powf` closer to the edge. The term
+    /// `m + 1` is the term `m` times `((γ − m)/(m + 1)) · (θ/n)`, the factor's quotient taken
+    /// from [`CellStressTransform::series_factors`] (the same value as dividing here: the same
+    /// bits, one division a node instead of eleven).
     fn partial_cell_power(&self, n: usize, theta: f64) -> f64 {
         if n < SERIES_FROM {
             return (n as f64 + theta).powf(self.gamma) - self.powers[n];
         }
         let x = theta / n as f64;
         let (mut term, mut sum) = (1.0, 0.0);
-        for m in 0..10 {
-            term *= (self.gamma - m as f64) / (m as f64 + 1.0) * x;
+        for factor in &self.series_factors {
+            term *= factor * x;
             sum += term;
         }
         self.powers[n] * sum
