@@ -22,6 +22,8 @@ test's numbers), the fit's a', p0', and for the fit the largest path error and C
 fixture's fine points (datasets/cattaneo_fatigue_surface.json), for the solver's tractions and for
 the exact Mindlin–Deresiewicz tractions sampled at the same cell centres.
 Run: python3 verify/cattaneo_surface_rim_fit.py DIR  (numpy only; about a minute).
+With --edges (python3 verify/cattaneo_surface_rim_fit.py --edges DIR [SUBCELLS]): method 2 below,
+an edge-aware continuous reconstruction instead of the fit (a few minutes).
 """
 import json
 import pathlib
@@ -200,5 +202,159 @@ def main(directory):
                   flush=True)
 
 
+# --- Method 2: an edge-aware continuous reconstruction (`--edges`) -----------------------------
+# Per increment, the pressure is reconstructed as p = sqrt(max(0, P)) with P a local least-squares
+# quadratic of p^2 over the contact cells of each cell's 7 x 7 neighbourhood (p^2 is smooth across
+# a contact rim: 1 - r^2 for Hertz), and the shear along the rim's slip direction s as
+# q = s (mu p - D), D = sqrt(max(0, Q)), Q the same fit of the slip deficit squared D^2 =
+# (mu p - s q)^2 over the stick cells (smooth across the stick-slip boundary). The surface stress at
+# a point x: every cell outside the square S of side 7h centred at x by its cell average of the
+# reconstruction (8 x 8 midpoints; cells cut by S by the rectangles outside S), the square S by
+# SUBCELLS x SUBCELLS subcells per cell width of the reconstruction, x a subcell centre (all by
+# Love's rectangle stresses at z = 0).
+SUBCELLS = 15
+
+def _corner2(f,x1,x2,d1,d2):
+    return sum(s1*s2*f(x1+s1*d1,x2+s2*d2) for s1,s2 in ((1,1),(1,-1),(-1,1),(-1,-1)))
+def love(x,y,cx,cy,d1,d2):
+    """(6, K) pressure and q1 kernels at point (x,y) for rectangles centred (cx,cy) half-widths d1,d2"""
+    return _corner2(_pressure_primitive,x-cx,y-cy,d1,d2), _corner2(_shear_primitive,x-cx,y-cy,d1,d2)
+def local_quadratic_fits(val, mask, n, h, xc, yc, rad=3):
+    """per cell: LS quadratic (scaled basis) of val over masked cells in its (2rad+1)^2 neighbourhood,
+    falling back to linear when the quadratic is ill-determined; coefficients in unscaled local coords"""
+    I=np.arange(n*n)//n; J=np.arange(n*n)%n
+    A=np.zeros((n*n,6,6)); b=np.zeros((n*n,6)); cnt=np.zeros(n*n)
+    for di in range(-rad,rad+1):
+        for dj in range(-rad,rad+1):
+            i2=I+di; j2=J+dj; ok=(i2>=0)&(i2<n)&(j2>=0)&(j2<n)
+            k=np.where(ok,i2*n+j2,0); m=ok&mask[k]
+            phi=np.array([1,di,dj,di*di,di*dj,dj*dj],float)
+            A+=m[:,None,None]*np.outer(phi,phi)[None]; b+=(m*val[k])[:,None]*phi[None]; cnt+=m
+    near=np.zeros(n*n,bool)
+    for di in (-1,0,1):
+        for dj in (-1,0,1):
+            i2=I+di; j2=J+dj; ok=(i2>=0)&(i2<n)&(j2>=0)&(j2<n); k=np.where(ok,i2*n+j2,0); near|=ok&mask[k]
+    good=(cnt>=6)&near
+    coef=np.zeros((n*n,6))
+    idx=np.where(good)[0]
+    if len(idx):
+        w=np.linalg.eigvalsh(A[idx]); quad=w[:,0]>1e-9*w[:,-1]
+        q=idx[quad]
+        coef[q]=np.linalg.solve(A[q],b[q][:,:,None])[:,:,0]
+        l=idx[~quad]
+        A3=A[l][:,:3,:3]+1e-9*np.eye(3); coef[l,:3]=np.linalg.solve(A3,b[l][:,:3,None])[:,:,0]
+    scale=np.array([1,1/h,1/h,1/h**2,1/h**2,1/h**2])
+    return coef*scale,good
+def rec_eval(coef,good,n,h,x,y,default):
+    """Evaluate the reconstruction at points x,y (arrays): the cell's own quadratic; sqrt(max(0,.))"""
+    i=np.clip(np.floor(x/h+n/2).astype(int),0,n-1); j=np.clip(np.floor(y/h+n/2).astype(int),0,n-1)
+    c=i*n+j; u=x-((i+0.5)*h-n*h/2); v=y-((j+0.5)*h-n*h/2)
+    q=coef[c]; val=q[:,0]+q[:,1]*u+q[:,2]*v+q[:,3]*u*u+q[:,4]*u*v+q[:,5]*v*v
+    out=np.where(good[c],np.sqrt(np.maximum(val,0)),default[c])
+    return out
+class Rec:
+    """The edge-aware reconstruction of one cycle's tractions (method 2 above)."""
+    def __init__(self,tr,n,h,xc,yc):
+        self.n,self.h=n,h; self.inc=[]
+        for t in range(tr.shape[0]):
+            p,q=tr[t,0],tr[t,1]
+            rim=(p>0)&(p<0.3)
+            s=np.sign((q*rim).sum()) or 1.0
+            d=np.maximum(MU*p-s*q,0)
+            pc,pg=local_quadratic_fits(p*p,p>0,n,h,xc,yc)
+            # pressure fit used only where the cell or a neighbour is out of contact or p small (edge region); elsewhere p itself
+            stick=d>1e-6*MU
+            dc,dg=local_quadratic_fits(d*d,stick,n,h,xc,yc)
+            self.inc.append((p,q,s,pc,pg,dc,dg,stick))
+    def t(self,ti,x,y):
+        p,q,s,pc,pg,dc,dg,stick=self.inc[ti]; n,h=self.n,self.h
+        i=np.clip(np.floor(x/h+n/2).astype(int),0,n-1); j=np.clip(np.floor(y/h+n/2).astype(int),0,n-1); c=i*n+j
+        pr=rec_eval(pc,pg,n,h,x,y,p)
+        # outside: cells with no contact neighbourhood -> 0 (good False & p=0 default ok)
+        dr=rec_eval(dc,dg,n,h,x,y,np.maximum(MU*p-s*q,0))
+        # D only inside the stick region's neighbourhood; if the cell's fit has few stick cells -> d=0 (slip)
+        dr=np.where(dg[c],dr,0.0)
+        dr=np.minimum(dr,2*MU*pr)
+        return pr, s*(MU*pr-dr)
+def cell_averages(rec,tr,xc,yc,h,mf=8):
+    """Cell averages (41, 3, cells) of the reconstruction, cells with r < 1.25 a."""
+    n=rec.n; out=tr.copy()
+    sel=np.where(np.hypot(xc,yc)<1.25)[0]
+    offs=((np.arange(mf)+0.5)/mf-0.5)*h
+    U,V=np.meshgrid(offs,offs,indexing='ij'); U=U.ravel(); V=V.ravel()
+    X=(xc[sel][:,None]+U[None]).ravel(); Y=(yc[sel][:,None]+V[None]).ravel()
+    for t in range(tr.shape[0]):
+        p,q=rec.t(t,X,Y)
+        out[t,0,sel]=p.reshape(len(sel),-1).mean(1); out[t,1,sel]=q.reshape(len(sel),-1).mean(1)
+    return out
+def evaluate(rec,avg,xc,yc,h,pts,L=7,M=None):
+    """Surface paths (M, 41, 6) of the reconstruction at pts (method 2 above)."""
+    M=M or 7*SUBCELLS
+    n=rec.n; res=[]
+    for (x,y) in pts:
+        s0,s1,t0,t1=x-L*h/2,x+L*h/2,y-L*h/2,y+L*h/2
+        # far field: every cell minus S, as rectangles
+        x0=xc-h/2; x1=xc+h/2; y0=yc-h/2; y1=yc+h/2
+        inter=(x1>s0)&(x0<s1)&(y1>t0)&(y0<t1)
+        rects=[]  # (cx,cy,d1,d2,cellindex)
+        far=np.where(~inter)[0]
+        kp,kq=love(x,y,xc[far],yc[far],h/2,h/2)
+        sig=np.einsum('kn,tn->tk',kp,avg[:,0,far])+np.einsum('kn,tn->tk',kq,avg[:,1,far])
+        for c in np.where(inter)[0]:
+            pieces=[]
+            ax0,ax1,ay0,ay1=x0[c],x1[c],y0[c],y1[c]
+            if ax0<s0: pieces.append((ax0,min(ax1,s0),ay0,ay1))
+            if ax1>s1: pieces.append((max(ax0,s1),ax1,ay0,ay1))
+            mx0,mx1=max(ax0,s0),min(ax1,s1)
+            if mx1>mx0:
+                if ay0<t0: pieces.append((mx0,mx1,ay0,min(ay1,t0)))
+                if ay1>t1: pieces.append((mx0,mx1,max(ay0,t1),ay1))
+            for (a0,a1,b0,b1) in pieces:
+                kp,kq=love(x,y,np.array([(a0+a1)/2]),np.array([(b0+b1)/2]),(a1-a0)/2,(b1-b0)/2)
+                sig+=np.outer(avg[:,0,c],kp[:,0])+np.outer(avg[:,1,c],kq[:,0])
+        d=L*h/M; o=(np.arange(M)+0.5)*d-L*h/2
+        U,V=np.meshgrid(o,o,indexing='ij'); X=x+U.ravel(); Y=y+V.ravel()
+        kp,kq=love(x,y,X,Y,d/2,d/2)
+        for t in range(avg.shape[0]):
+            p,q=rec.t(t,X,Y)
+            sig[t]+=kp@p+kq@q
+        res.append(sig)
+    return np.array(res)
+
+
+def main_edges(directory, which):
+    """Method 2 on the solver's tractions (`which` = "solver") or on the exact ones sampled at
+    the cell centres ("exact"): the paths and Crossland's index at the fixture's fine points."""
+    fx = json.loads((ROOT / "datasets" / "cattaneo_fatigue_surface.json").read_text())
+    fp = [(x + 1e-9, y + 1e-9) for x, y in fx["fine"]["points"]]
+    fref = np.array(fx["fine"]["stress"])
+    for n in (32, 64, 128):
+        meta = json.loads((pathlib.Path(directory) / f"tractions_{n}.json").read_text())
+        p0 = meta["p0"]
+        tr = np.fromfile(pathlib.Path(directory) / f"tractions_{n}.f64").reshape(41, 3, n * n) / p0
+        h = 2 * meta["half"] / meta["a"]
+        cell = np.arange(n * n)
+        xc, yc = (cell // n + 0.5) * h - n * h / 2, (cell % n + 0.5) * h - n * h / 2
+        if which == "exact":
+            for t in range(41):
+                tr[t, 0], tr[t, 1] = md_traction(xc, yc, t)
+        rec = Rec(tr, n, h, xc, yc)
+        got = evaluate(rec, cell_averages(rec, tr, xc, yc, h), xc, yc, h, fp)
+        err = np.abs(got - fref).max(axis=(1, 2))
+        c_got = np.array([crossland(got[m], p0) for m in range(len(fp))])
+        c_ref = np.array([crossland(fref[m], p0) for m in range(len(fp))])
+        print(f"{n}² edges ({which}, {SUBCELLS} subcells per cell): fine points max |Δσ|/p0 {err.max():.3e} "
+              f"(median {np.median(err):.3e}), max |ΔCrossland| {np.abs(c_got - c_ref).max():.3f}, Crossland max "
+              f"{c_got.max():.4f} at {np.round(fp[int(c_got.argmax())], 4).tolist()} (closed form {c_ref.max():.4f})",
+              flush=True)
+
+
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "/tmp")
+    args = [a for a in sys.argv[1:] if not a.startswith("--")]
+    directory = args[0] if args else "/tmp"
+    if "--edges" in sys.argv:
+        SUBCELLS = int(args[1]) if len(args) > 1 else SUBCELLS
+        main_edges(directory, "solver")
+        main_edges(directory, "exact")
+    else:
+        main(directory)
