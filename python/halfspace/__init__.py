@@ -731,9 +731,12 @@ class FrettingLoop:
     ``friction``, ``force`` or ``approach`` (exactly one), ``indenter_e`` and ``indenter_nu`` (an
     elastic sphere; absent: rigid), ``normal_steps``, ``amplitude``, ``shift_step``, ``grid``,
     ``extent_over_a``, ``subsurface_over_a``, ``layout``, ``fibre_e_ratio``, ``inhomogeneous_body``,
-    ``surface_operator_radius_over_a``, ``eim_change_factor`` (η in (0, 1], default 1e-2: the
+    ``surface_operator_radius_over_a``, ``eim_change_factor`` (η in (0, 1], default 3e-3: the
     nested loop's EIM solved to η × the last outer change, docs/theory-sam.md#outer-loop-tolerances;
-    only with inhomogeneities on the nested loop); ``inhomogeneity``: a
+    only with inhomogeneities on the nested loop), ``eim_recycled_depth`` (0 to 50, default 5: the
+    Anderson differences the nested loop's EIM iteration keeps across an increment's outer passes,
+    0 the plain iteration, docs/theory-sam.md#solving-the-eim-equations; same restriction);
+    ``inhomogeneity``: a
     list of tables ``{"kind": "sphere", "x": .., "E": ..}`` — the keys of the spec, and with
     ``fatigue`` that inhomogeneity's own ``{"fatigue": {"f_minus1": .., ...}}`` (see
     :meth:`fatigue`) — or of :class:`Inhomogeneity` / spec strings); the dict goes to the library

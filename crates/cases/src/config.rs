@@ -67,6 +67,11 @@ crate::sam::fretting_loop_keys! {
             /// the library's default); refused without inhomogeneities and with the surface
             /// operator (it would be ignored).
             eim_change_factor: Option<f64> = None,
+            /// The nested loop's recycled EIM depth (Anderson differences of the block-Jacobi
+            /// EIM iteration kept across an increment's outer passes, 0 to 50; 0: the plain
+            /// iteration; docs/theory-sam.md#solving-the-eim-equations; absent: the library's
+            /// default, 5); refused without inhomogeneities and with the surface operator.
+            eim_recycled_depth: Option<usize> = None,
         }
     }
 }
@@ -795,6 +800,23 @@ fn loop_case(
         }
         case.eim_change_factor = Some(eta);
     }
+    if let Some(depth) = cfg.eim_recycled_depth {
+        if case.inhomogeneities.is_empty() || case.surface_operator_over_a.is_some() {
+            return Err(SpecError(
+                "fretting loop config: eim_recycled_depth is read only by the nested contact ↔ \
+                 EIM loop (inhomogeneities with inhomogeneous_body = \"nested\"); without it the \
+                 key would be ignored"
+                    .into(),
+            ));
+        }
+        if depth > crate::sam::contact::MAX_EIM_RECYCLED_DEPTH {
+            return Err(SpecError(format!(
+                "fretting loop config: eim_recycled_depth must lie in 0..={}, got {depth}",
+                crate::sam::contact::MAX_EIM_RECYCLED_DEPTH
+            )));
+        }
+        case.eim_recycled_depth = Some(depth);
+    }
     case.validate()
         .map_err(|e| SpecError(format!("fretting loop config: {e}")))?;
     if cfg.subsurface_over_a > 0.0 {
@@ -897,7 +919,7 @@ mod tests {
              `indenter_e`, `indenter_nu`, `normal_steps`, `amplitude`, `shift_step`, `grid`, \
              `extent_over_a`, `inhomogeneity`, `layout`, `fibre_e_ratio`, `subsurface_over_a`, \
              `fatigue`, `inhomogeneous_body`, `surface_operator_radius_over_a`, \
-             `eim_change_factor`";
+             `eim_change_factor`, `eim_recycled_depth`";
         let e =
             from_toml::<LoopConfig>("radius = 1e-4\nfoo = 3\n", "--config unk.toml").unwrap_err();
         assert_eq!(
@@ -1092,6 +1114,46 @@ mod tests {
         ] {
             let e = case(&format!("{extra}eim_change_factor = 1e-2\n{base}")).unwrap_err();
             assert!(e.0.contains("eim_change_factor is read only"), "{e}");
+        }
+    }
+
+    #[test]
+    fn the_eim_recycled_depth_key_reaches_the_nested_loop_and_is_refused_where_ignored() {
+        use crate::sam::contact::{NestedParams, DEFAULT_EIM_RECYCLED_DEPTH};
+        let base = "grid = 8\n[wear]\nlaw = \"archard\"\ncoefficient = 1e-15\nbody = \"indenter\"\ncycles = 10\n";
+        let case = |text: &str| Wear3dConfig::from_toml(text, "cfg").unwrap().case(Some(16));
+        for depth in [0, 3] {
+            let c = case(&format!(
+                "layout = \"fibre-centred\"\neim_recycled_depth = {depth}\n{base}"
+            ))
+            .unwrap();
+            assert_eq!(c.fretting.eim_recycled_depth, Some(depth));
+            let nested = c.fretting.nested_params(NestedParams::default());
+            assert_eq!(nested.eim.recycled_depth, depth);
+        }
+        // Absent: the library's default.
+        let c = case(&format!("layout = \"fibre-centred\"\n{base}")).unwrap();
+        assert_eq!(c.fretting.eim_recycled_depth, None);
+        let nested = c.fretting.nested_params(NestedParams::default());
+        assert_eq!(nested.eim.recycled_depth, DEFAULT_EIM_RECYCLED_DEPTH);
+        let e = case(&format!(
+            "layout = \"fibre-centred\"\neim_recycled_depth = 51\n{base}"
+        ))
+        .unwrap_err();
+        assert!(e.0.contains("eim_recycled_depth must lie in 0..=50"), "{e}");
+        // Not a count: refused when the file is read, with its line.
+        let e = Wear3dConfig::from_toml(
+            &format!("layout = \"fibre-centred\"\neim_recycled_depth = -1\n{base}"),
+            "cfg",
+        )
+        .expect_err("refused");
+        assert!(e.0.contains("eim_recycled_depth = -1"), "{e}");
+        for extra in [
+            "",
+            "layout = \"fibre-centred\"\ninhomogeneous_body = \"surface-operator\"\n",
+        ] {
+            let e = case(&format!("{extra}eim_recycled_depth = 5\n{base}")).unwrap_err();
+            assert!(e.0.contains("eim_recycled_depth is read only"), "{e}");
         }
     }
 }

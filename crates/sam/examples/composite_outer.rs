@@ -12,8 +12,9 @@
 //! Run: `cargo run --release -p halfspace-sam --example composite_outer -- N [increments] [m,η[,g][,t<tol>][,r<depth>] ...]`
 //! (`increments` 0: the whole loop; `g`: GMRES; `t<tol>`: the outer tolerance, default 1e-6;
 //! `r<depth>`: block Jacobi with Anderson mixing recycled across an increment's passes,
-//! `EimParams::recycled_depth`;
-//! default variant `3,1e-2`). Single thread for CPU
+//! `EimParams::recycled_depth`, default `DEFAULT_EIM_RECYCLED_DEPTH` = 5, `r0` the plain
+//! iteration; default variant `3,1e-2`, the library's defaults). The reference is the plain
+//! block Jacobi with the EIM factor 10⁻³. Single thread for CPU
 //! comparisons: `RAYON_NUM_THREADS=1`.
 
 use halfspace_sam::contact::{NestedParams, REFERENCE_EIM_CHANGE_FACTOR};
@@ -47,7 +48,8 @@ fn main() {
     let limit = args.get(1).and_then(|v| v.parse().ok()).unwrap_or(0);
     // Variants `m,η[,g][,t<tol>][,r<depth>]`: Anderson depth, EIM change factor, `g` for GMRES
     // instead of the automatic EIM method (block Jacobi for these fibres), `t<tol>` for the outer
-    // tolerance (default 1e-6), `r<depth>` for the EIM's recycled Anderson depth (default 0).
+    // tolerance (default 1e-6), `r<depth>` for the EIM's recycled Anderson depth (default:
+    // `NestedParams::default()`'s, 5; `r0` the plain block Jacobi).
     let specs: Vec<(usize, f64, bool, f64, usize)> = args
         .iter()
         .skip(2)
@@ -60,7 +62,9 @@ fn main() {
             let recycled = f[2..]
                 .iter()
                 .find_map(|x| x.strip_prefix('r'))
-                .map_or(0, |t| t.parse().unwrap());
+                .map_or(NestedParams::default().eim.recycled_depth, |t| {
+                    t.parse().unwrap()
+                });
             (
                 f[0].parse().unwrap(),
                 f[1].parse().unwrap(),
@@ -71,7 +75,8 @@ fn main() {
         })
         .collect();
     let specs = if specs.is_empty() {
-        vec![(3, 1e-2, false, NestedParams::default().tolerance, 0)]
+        let base = NestedParams::default();
+        vec![(3, 1e-2, false, base.tolerance, base.eim.recycled_depth)]
     } else {
         specs
     };
@@ -86,6 +91,7 @@ fn main() {
             case.clone(),
             NestedParams {
                 eim_change_factor: REFERENCE_EIM_CHANGE_FACTOR,
+                eim: EimParams::default(),
                 ..NestedParams::default()
             },
         )

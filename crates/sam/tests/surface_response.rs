@@ -5,7 +5,8 @@
 
 use halfspace_sam::contact::{BodyResponse, ContactParams, ContactProblem};
 use halfspace_sam::contact::{
-    InhomogeneousContact, NestedParams, DEFAULT_EIM_CHANGE_FACTOR, REFERENCE_EIM_CHANGE_FACTOR,
+    InhomogeneousContact, NestedParams, DEFAULT_EIM_CHANGE_FACTOR, DEFAULT_EIM_RECYCLED_DEPTH,
+    REFERENCE_EIM_CHANGE_FACTOR,
 };
 use halfspace_sam::drivers::fretting_loop::{FrettingLoop, LoopCase};
 use halfspace_sam::eim::{solve_under_tractions, EimParams, FibreLayout, Inhomogeneity, Shape};
@@ -247,10 +248,40 @@ fn a_resumed_loop_on_the_operator_repeats_the_uninterrupted_one() {
     assert_eq!(whole.rows(), resumed.rows());
 }
 
-/// The nested loop with its default EIM change factor (`NestedParams::eim_change_factor` = 10⁻²:
-/// each pass's EIM solved to 10⁻² of the last outer change, docs/theory-sam.md#outer-loop-tolerances)
-/// against the reference nested loop (10⁻³), increment by increment over the whole loop: p, q₁, q₂
-/// within 1e-6 p₀ with fewer EIM applications; a factor outside (0, 1] is refused.
+/// A loop with the nested path's defaults (the recycled EIM iterations,
+/// `DEFAULT_EIM_RECYCLED_DEPTH`) snapshotted midway and resumed repeats the uninterrupted one bit
+/// for bit (the recycled history is forgotten at every increment's start).
+#[test]
+fn a_resumed_loop_with_recycled_eim_iterations_repeats_the_uninterrupted_one() {
+    let case = composite(2.0, None);
+    assert_eq!(
+        NestedParams::default().eim.recycled_depth,
+        DEFAULT_EIM_RECYCLED_DEPTH
+    );
+    const { assert!(DEFAULT_EIM_RECYCLED_DEPTH > 0) };
+    let mut whole = FrettingLoop::new(case.clone()).unwrap();
+    let mut part = FrettingLoop::new(case.clone()).unwrap();
+    // Past the point A and into the shift.
+    for _ in 0..7 {
+        part.step().unwrap();
+    }
+    let snap = part.snapshot();
+    assert!(snap.fingerprint.contains(&format!(
+        "eim_recycled_depth: Some({DEFAULT_EIM_RECYCLED_DEPTH})"
+    )));
+    let mut resumed = FrettingLoop::resume(case, snap).unwrap();
+    while whole.step().unwrap().is_some() {}
+    while resumed.step().unwrap().is_some() {}
+    assert_eq!(whole.snapshot(), resumed.snapshot());
+    assert_eq!(whole.rows(), resumed.rows());
+}
+
+/// The nested loop with its defaults (the EIM change factor `NestedParams::eim_change_factor` =
+/// 10⁻²: each pass's EIM solved to 10⁻² of the last outer change, docs/theory-sam.md#outer-loop-tolerances;
+/// the block-Jacobi history recycled across an increment's passes, `DEFAULT_EIM_RECYCLED_DEPTH`)
+/// against the reference nested loop (10⁻³, plain block Jacobi), increment by increment over the
+/// whole loop: p, q₁, q₂ within 1e-6 p₀ with fewer EIM applications; a factor outside (0, 1] is
+/// refused.
 #[test]
 fn the_loop_with_looser_eim_solves_reproduces_the_reference() {
     let case = composite(2.0, None);
@@ -260,6 +291,7 @@ fn the_loop_with_looser_eim_solves_reproduces_the_reference() {
     );
     let reference_params = NestedParams {
         eim_change_factor: REFERENCE_EIM_CHANGE_FACTOR,
+        eim: EimParams::default(),
         ..NestedParams::default()
     };
     let mut reference = FrettingLoop::with_params(case.clone(), reference_params).unwrap();
@@ -268,6 +300,7 @@ fn the_loop_with_looser_eim_solves_reproduces_the_reference() {
     // one passed as a parameter, bit for bit.
     let keyed_case = LoopCase {
         eim_change_factor: Some(REFERENCE_EIM_CHANGE_FACTOR),
+        eim_recycled_depth: Some(0),
         ..case.clone()
     };
     let mut keyed = FrettingLoop::new(keyed_case.clone()).unwrap();
@@ -325,7 +358,10 @@ fn the_loop_with_looser_eim_solves_reproduces_the_reference() {
 /// when the case leaves it to the library (a later change of the default is caught); a
 /// checkpoint of stops 21–22 (the case as given, `None`, meaning 10⁻²) is accepted while the
 /// run uses 10⁻² — the same loop — and continues bit for bit, and refused with another factor;
-/// without inhomogeneities the factor is not used and not recorded (fingerprint unchanged).
+/// without inhomogeneities the factor is not used and not recorded (fingerprint unchanged). The
+/// recycled EIM depth is recorded likewise; a checkpoint written before it was (the plain
+/// iteration) resumes bit for bit with `eim_recycled_depth = 0` and is refused, naming that key,
+/// under the default depth.
 #[test]
 fn a_checkpoint_records_the_eim_change_factor_used() {
     let mut case = LoopCase {
@@ -344,33 +380,83 @@ fn a_checkpoint_records_the_eim_change_factor_used() {
         e: 420e9,
         nu: NU,
     });
-    let mut whole = FrettingLoop::new(case.clone()).unwrap();
-    whole.step().unwrap().unwrap();
-    let snap = whole.snapshot();
     let used = LoopCase {
         eim_change_factor: Some(DEFAULT_EIM_CHANGE_FACTOR),
+        eim_recycled_depth: Some(DEFAULT_EIM_RECYCLED_DEPTH),
         ..case.clone()
     };
-    assert_eq!(snap.fingerprint, format!("{used:?}"));
-    assert!(snap.fingerprint.contains("eim_change_factor: Some(0.01)"));
-    let legacy = halfspace_sam::drivers::fretting_loop::LoopSnapshot {
-        fingerprint: format!("{case:?}"),
+    {
+        let mut whole = FrettingLoop::new(case.clone()).unwrap();
+        whole.step().unwrap().unwrap();
+        let snap = whole.snapshot();
+        assert_eq!(snap.fingerprint, format!("{used:?}"));
+        assert!(snap.fingerprint.contains("eim_change_factor: Some(0.003)"));
+        let mut resumed = FrettingLoop::resume(case.clone(), snap.clone()).unwrap();
+        whole.step().unwrap().unwrap();
+        resumed.step().unwrap().unwrap();
+        assert_eq!(resumed.snapshot(), whole.snapshot());
+    }
+    // Checkpoints written before the recycled depth was recorded (the plain block Jacobi, depth
+    // 0, and the factor 10⁻², then the default): after commit `ce12b57` the fingerprint holds the
+    // factor used and lacks the depth. Accepted with `eim_recycled_depth = 0` and
+    // `eim_change_factor = 1e-2` (the same loop, bit for bit); refused, naming the keys, under the
+    // defaults. One written before `ce12b57` (the case as given, `None` meaning 10⁻²) matches
+    // neither: refused.
+    let without_depth = |s: String| s.replacen(", eim_recycled_depth: None", "", 1);
+    let plain = LoopCase {
+        eim_change_factor: Some(1e-2),
+        eim_recycled_depth: Some(0),
+        ..case.clone()
+    };
+    let mut whole = FrettingLoop::new(plain.clone()).unwrap();
+    whole.step().unwrap().unwrap();
+    let snap = whole.snapshot();
+    assert!(snap.fingerprint.contains("eim_recycled_depth: Some(0)"));
+    let legacy = |fingerprint: String| halfspace_sam::drivers::fretting_loop::LoopSnapshot {
+        fingerprint,
         ..snap.clone()
     };
-    let mut resumed = FrettingLoop::resume(case.clone(), legacy.clone()).unwrap();
+    let after_ce12b57 = legacy(without_depth(format!(
+        "{:?}",
+        LoopCase {
+            eim_change_factor: Some(1e-2),
+            ..case.clone()
+        }
+    )));
+    let before_ce12b57 = legacy(without_depth(format!("{case:?}")));
+    for old in [&after_ce12b57, &before_ce12b57] {
+        assert!(!old.fingerprint.contains("eim_recycled_depth"));
+        let err = FrettingLoop::resume(case.clone(), old.clone())
+            .err()
+            .expect("refused");
+        assert!(
+            err.to_string()
+                .contains("resume it with eim_recycled_depth = 0"),
+            "{err}"
+        );
+    }
+    let mut resumed = FrettingLoop::resume(plain.clone(), after_ce12b57.clone()).unwrap();
     assert_eq!(resumed.snapshot(), snap);
     whole.step().unwrap().unwrap();
     resumed.step().unwrap().unwrap();
     assert_eq!(resumed.snapshot(), whole.snapshot());
+    let err = FrettingLoop::resume(plain.clone(), before_ce12b57.clone())
+        .err()
+        .expect("refused");
+    assert!(err.to_string().contains("another configuration"), "{err}");
     let other = LoopCase {
         eim_change_factor: Some(REFERENCE_EIM_CHANGE_FACTOR),
         ..case.clone()
     };
-    for s in [legacy, snap] {
+    let err = FrettingLoop::resume(other.clone(), snap)
+        .err()
+        .expect("refused");
+    assert!(err.to_string().contains("another configuration"), "{err}");
+    for s in [after_ce12b57, before_ce12b57] {
         let err = FrettingLoop::resume(other.clone(), s)
             .err()
             .expect("refused");
-        assert!(err.to_string().contains("another configuration"), "{err}");
+        assert!(err.to_string().contains("eim_recycled_depth = 0"), "{err}");
     }
     let plain = LoopCase {
         grid: 16,
@@ -384,7 +470,7 @@ fn a_checkpoint_records_the_eim_change_factor_used() {
 /// passes (`EimParams::recycled_depth`, docs/theory-sam.md#solving-the-eim-equations) against the
 /// reference path (`REFERENCE_EIM_CHANGE_FACTOR`, plain block Jacobi), increment by increment
 /// through the normal loading and into the tangential cycle: within 1e-6 p₀ in p and q, with
-/// fewer EIM applications than the default (plain) path.
+/// fewer EIM applications than the plain iteration at the same factor.
 #[test]
 fn recycled_eim_iterations_keep_the_loop_on_the_reference_path() {
     let mut case = LoopCase {
@@ -430,7 +516,8 @@ fn recycled_eim_iterations_keep_the_loop_on_the_reference_path() {
         }
     }
     let eim = |lp: &FrettingLoop| -> usize { lp.rows().iter().map(|r| r.eim_iterations).sum() };
-    // Observed: 6.6e-8 p₀; EIM applications 144 (reference), 113 (default), 82 (recycled).
+    // Observed with η = 10⁻² (the default before it became 3·10⁻³): 6.6e-8 p₀; EIM applications
+    // 144 (reference), 113 (plain), 82 (recycled).
     assert!(worst < 1e-6 * p0, "{:e} p0", worst / p0);
     assert!(
         eim(&loops[2]) < eim(&loops[1]),

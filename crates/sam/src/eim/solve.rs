@@ -55,7 +55,8 @@ pub struct EimParams {
     /// outer pass's solve starts by projecting on the earlier passes' iterations), and a solve
     /// warm-started from the last result gets its first residual without an operator
     /// application (docs/theory-sam.md#solving-the-eim-equations). 0: plain block Jacobi
-    /// ([LN11], the reference).
+    /// ([LN11], the reference; this struct's default). The nested contact ↔ EIM loop's default
+    /// is 5 (`crate::contact::DEFAULT_EIM_RECYCLED_DEPTH`, config key `eim_recycled_depth`).
     pub recycled_depth: usize,
 }
 
@@ -291,8 +292,8 @@ impl EimSystem {
     /// Forgets the block-Jacobi history recycled across solves ([`EimParams::recycled_depth`]):
     /// the next solve starts as plain block Jacobi from its warm start (a checkpointed loop calls
     /// it at every increment, so a resumed increment repeats the uninterrupted one bit for bit when
-    /// it runs with the same [`EimParams`]; `FrettingLoop::resume` rebuilds with the default
-    /// parameters, recycling off, and the checkpoint fingerprint does not record the depth).
+    /// it runs with the same [`EimParams`]; the checkpoint fingerprint records the depth used,
+    /// `LoopCase::eim_recycled_depth`).
     pub fn forget_recycled(&mut self) {
         if let Some(m) = self.mixing.as_mut() {
             m.forget();

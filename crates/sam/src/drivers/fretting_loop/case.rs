@@ -167,6 +167,12 @@ fretting_loop_keys! {
             /// `None` — the default of [`NestedParams::eim_change_factor`] (or the one passed to
             /// [`super::FrettingLoop::with_params`]). Used by the nested loop only.
             eim_change_factor: Option<f64> = None,
+            /// The nested loop's recycled EIM depth (Anderson differences of the block-Jacobi
+            /// iteration kept across an increment's outer passes, [`crate::eim::EimParams::recycled_depth`],
+            /// docs/theory-sam.md#solving-the-eim-equations; 0: the plain block Jacobi): `None` —
+            /// the default of [`NestedParams`] ([`crate::contact::DEFAULT_EIM_RECYCLED_DEPTH`], or
+            /// the one passed to [`super::FrettingLoop::with_params`]). Used by the nested loop only.
+            eim_recycled_depth: Option<usize> = None,
         }
     }
 }
@@ -272,7 +278,9 @@ impl LoopCase {
     pub fn as_run(&self, nested: NestedParams) -> LoopCase {
         let mut case = self.clone();
         if !self.inhomogeneities.is_empty() && self.surface_operator_over_a.is_none() {
-            case.eim_change_factor = Some(self.nested_params(nested).eim_change_factor);
+            let run = self.nested_params(nested);
+            case.eim_change_factor = Some(run.eim_change_factor);
+            case.eim_recycled_depth = Some(run.eim.recycled_depth);
         }
         case
     }
@@ -290,10 +298,41 @@ impl LoopCase {
         current: &str,
         given: &str,
     ) -> Result<(), SamError> {
+        let run = self.as_run(nested);
+        // A checkpoint written before fingerprints held the recycled EIM depth (before it became
+        // a key) was made with the plain block Jacobi: accepted, with the field left out of the
+        // fingerprints, only while this run uses depth 0 (or, without the nested loop, the
+        // depth is not used: `None`).
+        let plain = matches!(run.eim_recycled_depth, None | Some(0));
+        let unrecorded_depth = |s: &str| {
+            s.replacen(
+                &format!(", eim_recycled_depth: {:?}", self.eim_recycled_depth),
+                "",
+                1,
+            )
+            .replacen(
+                &format!(", eim_recycled_depth: {:?}", run.eim_recycled_depth),
+                "",
+                1,
+            )
+        };
         let unrecorded_default = self.eim_change_factor.is_none()
-            && self.as_run(nested).eim_change_factor == Some(UNRECORDED_EIM_CHANGE_FACTOR);
-        if recorded == current || (unrecorded_default && recorded == given) {
+            && run.eim_change_factor == Some(UNRECORDED_EIM_CHANGE_FACTOR);
+        let matches = |current: &str, given: &str| {
+            recorded == current || (unrecorded_default && recorded == given)
+        };
+        if matches(current, given)
+            || (plain && matches(&unrecorded_depth(current), &unrecorded_depth(given)))
+        {
             Ok(())
+        } else if !plain && !recorded.contains("eim_recycled_depth") {
+            Err(SamError::InvalidInput(
+                "the checkpoint was written before the recycled EIM depth was recorded, with \
+                 the plain EIM iteration and (unless its configuration gave another) \
+                 eim_change_factor = 1e-2: resume it with eim_recycled_depth = 0 and that \
+                 eim_change_factor"
+                    .into(),
+            ))
         } else {
             Err(SamError::InvalidInput(
                 "the checkpoint was made with another configuration".into(),
@@ -303,10 +342,14 @@ impl LoopCase {
 
     /// `base` with the body response of [`LoopCase::surface_operator_over_a`]
     /// ([`BodyResponse`]): the nested loop, or the surface operator over the cells within `r · a`;
-    /// and with [`LoopCase::eim_change_factor`] when given.
+    /// and with [`LoopCase::eim_change_factor`] and [`LoopCase::eim_recycled_depth`] when given.
     pub fn nested_params(&self, base: NestedParams) -> NestedParams {
         NestedParams {
             eim_change_factor: self.eim_change_factor.unwrap_or(base.eim_change_factor),
+            eim: crate::eim::EimParams {
+                recycled_depth: self.eim_recycled_depth.unwrap_or(base.eim.recycled_depth),
+                ..base.eim
+            },
             body: match self.surface_operator_over_a {
                 Some(r) => BodyResponse::SurfaceOperator {
                     radius: r * self.hertz_radius(),
@@ -414,6 +457,16 @@ impl LoopCase {
         if let Some(eta) = self.eim_change_factor {
             NestedParams {
                 eim_change_factor: eta,
+                ..NestedParams::default()
+            }
+            .validate()?;
+        }
+        if let Some(depth) = self.eim_recycled_depth {
+            NestedParams {
+                eim: crate::eim::EimParams {
+                    recycled_depth: depth,
+                    ..crate::eim::EimParams::default()
+                },
                 ..NestedParams::default()
             }
             .validate()?;
