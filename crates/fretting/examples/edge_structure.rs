@@ -4,7 +4,10 @@
 //! * `profile N K CHI TAU [DTAU]`: runs to `τ` (adaptive at tol 1e-4, or explicit Euler at `DTAU`)
 //!   and prints, on the 40 nodes inside the last contact node and 8 beyond, `g̃ − 1`, `p̃`, the
 //!   slip, the second difference of `f̃` and of `g̃`, after a line counting the "holes" (annulus
-//!   nodes inside the last contact node with `g̃ ≥ 1`) and the annulus nodes with `p̃ = 0`;
+//!   nodes inside the last contact node with `g̃ ≥ 1`) and the annulus nodes with `p̃ = 0`
+//!   (inside the last contact node and inside the outermost loaded node); `DTAU` may be
+//!   `ros2:DTAU` for fixed ROS2 steps; `--no-hole-estimate` runs the adaptive steps without the
+//!   opened-hole estimate (the scheme before it);
 //! * `rate N K CHI DTAU TAU0 TAU1 NODES`: explicit Euler from 0 to `TAU1`, printing from `TAU0` on
 //!   every step's `τ`, last contact node and wear rate `(f̃ⁿ⁺¹ − f̃ⁿ)/Δτ` at the comma-separated
 //!   `NODES`.
@@ -22,7 +25,7 @@ fn parse<T: std::str::FromStr>(args: &[String], i: usize, what: &str) -> Result<
         .map_err(|_| format!("{what}: not a number").into())
 }
 
-fn params(nodes: usize, k: f64, chi: f64, tau: f64, dtau: Option<f64>) -> FrettingParams {
+fn params(nodes: usize, k: f64, chi: f64, tau: f64, dtau: Option<TimeStepping>) -> FrettingParams {
     FrettingParams {
         nodes,
         k,
@@ -30,9 +33,7 @@ fn params(nodes: usize, k: f64, chi: f64, tau: f64, dtau: Option<f64>) -> Fretti
         length: FrettingParams::default_length(chi, k),
         tau_end: tau,
         snapshots: vec![tau],
-        stepping: dtau.map_or(TimeStepping::Adaptive { tolerance: 1e-4 }, |dtau| {
-            TimeStepping::ExplicitEuler { dtau }
-        }),
+        stepping: dtau.unwrap_or(TimeStepping::Adaptive { tolerance: 1e-4 }),
         ..FrettingParams::default()
     }
 }
@@ -50,9 +51,20 @@ fn profile(args: &[String]) -> Result<(), Failure> {
         parse(args, 2, "CHI")?,
         parse(args, 3, "TAU")?,
     );
-    let dtau = args.get(4).map(|s| s.parse::<f64>()).transpose()?;
-    let mut sim = FrettingSimulation::new(params(nodes, k, chi, tau, dtau))?;
+    let stepping = match args.get(4).map(String::as_str) {
+        None | Some("--no-hole-estimate") => None,
+        Some(s) => Some(match s.strip_prefix("ros2:") {
+            Some(dtau) => TimeStepping::Fixed {
+                dtau: dtau.parse()?,
+            },
+            None => TimeStepping::ExplicitEuler { dtau: s.parse()? },
+        }),
+    };
+    let mut sim = FrettingSimulation::new(params(nodes, k, chi, tau, stepping))?;
+    sim.set_hole_estimate(!args.iter().any(|a| a == "--no-hole-estimate"));
+    let start = std::time::Instant::now();
     sim.run(|_| false)?;
+    let seconds = start.elapsed().as_secs_f64();
     let snapshot = sim.state().snapshots.last().ok_or("no snapshot")?.clone();
     let last = last_contact_node(&mut sim)?;
     let g = sim.equivalent_profile()?.to_vec();
@@ -67,9 +79,18 @@ fn profile(args: &[String]) -> Result<(), Failure> {
     let unloaded = (first..last)
         .filter(|&i| snapshot.pressure[i] == 0.0)
         .count();
+    let loaded_last = snapshot
+        .pressure
+        .iter()
+        .rposition(|&p| p > 0.0)
+        .unwrap_or(0);
+    let unloaded_inside_loaded = (first..loaded_last)
+        .filter(|&i| snapshot.pressure[i] == 0.0)
+        .count();
     println!(
-        "τ {tau}: {} steps, last contact node {last}, annulus nodes {}, holes (g ≥ d inside) {holes}, p = 0 {unloaded}",
+        "τ {tau}: {} steps ({} rejected), {seconds:.2} s, last contact node {last}, annulus nodes {}, holes (g ≥ d inside) {holes}, p = 0 {unloaded}, p = 0 inside the outermost loaded node {unloaded_inside_loaded}",
         sim.state().step,
+        sim.state().rejected_steps,
         last.saturating_sub(first)
     );
     let f = &snapshot.profile;
@@ -101,7 +122,13 @@ fn rate(args: &[String]) -> Result<(), Failure> {
         .split(',')
         .map(str::parse)
         .collect::<Result<_, _>>()?;
-    let mut sim = FrettingSimulation::new(params(nodes, k, chi, to, Some(dtau)))?;
+    let mut sim = FrettingSimulation::new(params(
+        nodes,
+        k,
+        chi,
+        to,
+        Some(TimeStepping::ExplicitEuler { dtau }),
+    ))?;
     if let Some(&j) = watched.iter().find(|&&j| j >= nodes) {
         return Err(format!("node {j} is not on the grid of {nodes}").into());
     }
@@ -129,7 +156,7 @@ fn main() -> Result<(), Failure> {
         Some("profile") => profile(&args[1..]),
         Some("rate") => rate(&args[1..]),
         _ => Err(
-            "usage: edge_structure profile N K CHI TAU [DTAU] | rate N K CHI DTAU TAU0 TAU1 NODES"
+            "usage: edge_structure profile N K CHI TAU [DTAU | ros2:DTAU | --no-hole-estimate] | rate N K CHI DTAU TAU0 TAU1 NODES"
                 .into(),
         ),
     }

@@ -30,6 +30,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let attempts: Arc<Mutex<Vec<StepAttempt>>> = Arc::default();
     let mut sim = FrettingSimulation::new(params)?;
+    // `HOLE_ESTIMATE=off`: the adaptive steps without the opened-hole estimate.
+    sim.set_hole_estimate(std::env::var("HOLE_ESTIMATE").map_or(true, |v| v != "off"));
     let sink = Arc::clone(&attempts);
     sim.set_attempt_observer(Box::new(move |a| sink.lock().expect("lock").push(*a)));
     let start = std::time::Instant::now();
@@ -39,12 +41,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut out = std::io::BufWriter::new(std::fs::File::create(&csv)?);
     writeln!(
         out,
-        "tau,dtau,ratio,accepted,worst,edge_start,edge_trial,edge_end,gmres1,gmres2"
+        "tau,dtau,ratio,accepted,worst,edge_start,edge_trial,edge_end,gmres1,gmres2,opened_holes"
     )?;
     for a in attempts.iter() {
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{}",
             a.tau,
             a.dtau,
             a.error_ratio,
@@ -54,7 +56,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             a.edge_trial,
             a.edge_end,
             a.krylov_iterations.0,
-            a.krylov_iterations.1
+            a.krylov_iterations.1,
+            a.opened_holes
         )?;
     }
     let state = sim.state();

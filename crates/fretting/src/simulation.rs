@@ -118,6 +118,10 @@ pub struct StepAttempt {
     /// trial's discrete contact decisions are from flipping (rounding of the transforms is
     /// ~1e-13).
     pub trial_gap_margin: f64,
+    /// Holes the result opens that the embedded first-order solution `f + Δτ k₁` does not have:
+    /// annulus nodes inside the result's last contact node with `g ≥ d` where the trial has
+    /// `g < d` ([`FrettingSimulation::opened_hole_error`]; 0 when not estimated).
+    pub opened_holes: usize,
 }
 
 /// The observer of [`FrettingSimulation::set_attempt_observer`].
@@ -184,6 +188,14 @@ pub struct FrettingSimulation {
     k2: Vec<f64>,
     rhs: Vec<f64>,
     trial: Vec<f64>,
+    /// `g` of the second stage's trial `f + Δτ k₁` (the embedded first-order solution), for
+    /// [`FrettingSimulation::opened_hole_error`].
+    trial_gap: Vec<f64>,
+    /// The first node of the slip annulus (`r̃ > c̃`).
+    first_annulus_node: usize,
+    /// Whether the adaptive error estimate includes [`FrettingSimulation::opened_hole_error`]
+    /// (default on; off: the estimate of before, for comparisons).
+    hole_estimate: bool,
     start: Vec<f64>,
     /// `g`, `σ`, `p`, the slip and the rate of the step's start and its contact, put back after a
     /// rejected attempt instead of evaluated again (the same bits).
@@ -324,6 +336,13 @@ impl FrettingSimulation {
             k2: vec![0.0; n],
             rhs: vec![0.0; n],
             trial: vec![0.0; n],
+            trial_gap: vec![0.0; n],
+            first_annulus_node: grid
+                .coordinates()
+                .iter()
+                .position(|&r| r > stick)
+                .unwrap_or(n),
+            hole_estimate: true,
             start: vec![0.0; n],
             start_rate: StartRate {
                 g: vec![0.0; n],
@@ -357,6 +376,7 @@ impl FrettingSimulation {
                 entered_nodes: 0,
                 trial_outermost: 0,
                 trial_gap_margin: 0.0,
+                opened_holes: 0,
             },
             grid,
             params,
@@ -382,6 +402,13 @@ impl FrettingSimulation {
     pub fn set_frozen_contact_stages(&mut self, on: bool) {
         self.freeze_contact = on;
         self.current = None;
+    }
+
+    /// Whether the error estimate of the adaptive steps includes the holes a step opens that its
+    /// embedded first-order solution does not have (on by default, docs/fretting-wear.md, "What
+    /// sets the step"; off: the estimate of before, for comparisons). Set before the first step.
+    pub fn set_hole_estimate(&mut self, on: bool) {
+        self.hole_estimate = on;
     }
 
     /// Calls `observer` after every attempt of an error-controlled step ([`StepAttempt`]: the step,
@@ -608,6 +635,7 @@ impl FrettingSimulation {
         // rate is a smooth function of f, and the contact set moves at the step's end.
         let frozen = self.freeze_contact.then(|| self.matrix.contact_nodes() - 1);
         let trial_contact = self.contact_state_with(frozen)?;
+        self.trial_gap.copy_from_slice(&self.g);
         self.current = frozen.is_none().then_some(trial_contact);
         self.attempt.edge_trial = trial_contact.edge;
         // Nodes the trial profile brings into contact (g < d beyond the frozen edge): the
@@ -679,6 +707,14 @@ impl FrettingSimulation {
                 error = outside_error.0;
                 self.attempt.worst_node = outside_error.1;
             }
+            // `g` is the result's (before the entered nodes' correction, which acts beyond the
+            // start's contact).
+            let holes = self.opened_hole_error();
+            self.attempt.opened_holes = holes.2;
+            if self.hole_estimate && holes.0 > error {
+                error = holes.0;
+                self.attempt.worst_node = holes.1;
+            }
         }
         self.wear_entered_nodes(dtau);
         Ok(error)
@@ -725,6 +761,30 @@ impl FrettingSimulation {
             self.current = Some(end);
         }
         Ok(worst)
+    }
+
+    /// The holes the step's result opens against its embedded first-order solution: on the slip
+    /// annulus inside the result's last contact node (`c̃ < r̃_i`, `i < L`, `L` the outermost node
+    /// with `g < d`), the nodes with `g_i ≥ d` (no line load, `p = 0`: open although the contact
+    /// reaches beyond them) where the trial `f + Δτ k₁` has `g_i < d`. Such a node is a
+    /// difference of the contact set between the two solutions of the pair, which the error in
+    /// `f` does not see (`g` is the Abel transform of `f'`, Eq. 7 / 23); once open it stops
+    /// wearing and stays open. Its error is how far the result crossed, `g_i − d` (over `d`, as
+    /// `f̃`), so it falls with the step like the local error of `g`. Returns the largest, its node
+    /// and the count (docs/fretting-wear.md, "What sets the step"). Reads `g` of the result.
+    fn opened_hole_error(&self) -> (f64, usize, usize) {
+        let last = self.g.iter().rposition(|&g| g < 1.0).unwrap_or(0);
+        let mut worst = (0.0f64, 0, 0);
+        for i in self.first_annulus_node..last {
+            if self.g[i] >= 1.0 && self.trial_gap[i] < 1.0 {
+                worst.2 += 1;
+                let e = self.g[i] - 1.0;
+                if e > worst.0 {
+                    (worst.0, worst.1) = (e, i);
+                }
+            }
+        }
+        worst
     }
 
     /// The correction at the end of a step whose second stage kept the contact nodes of its start
