@@ -255,13 +255,13 @@ pub fn reachable_levels(
     fraction: f64,
 ) -> Result<CycleStress, SamError> {
     let case = lp.case();
-    let depth = case
-        .fatigue_depth
-        .ok_or_else(|| SamError::InvalidInput("no fatigue depth".into()))?;
-    let grid = *lp.solver().problem().grid();
+    let LoopBox {
+        depth,
+        grid,
+        increments,
+        friction,
+    } = LoopBox::of(lp, sources)?;
     let n = grid.len();
-    let increments = sources.recorded;
-    let friction = lp.solver().problem().friction() > 0.0;
     // τ^ref and the amplitude per cell of p, q₁, q₂ over the cycle.
     let mut reference = vec![vec![0.0; n]; 3];
     let mut amplitude = vec![vec![0.0; n]; 3];
@@ -376,6 +376,53 @@ pub fn reachable_levels(
     seed_history.merged(lp.cycle_history(Some(&others))?)
 }
 
+/// What [`reachable_levels`] and [`AnchoredBound::new`] read of a homogeneous loop's box: the
+/// box depth, the surface grid, the cycle's increments and whether the contact has friction;
+/// an error when the loop has no fatigue depth or `sources` (public fields) do not fit the
+/// loop's grid — `cells = N₁N₂`, `3 · recorded · N₁N₂` traction values and
+/// `recorded · eigen_len` eigenstrain values (docs/fatigue.md, "Layers the screen cannot reach").
+struct LoopBox {
+    depth: f64,
+    grid: crate::sam::SurfaceGrid,
+    increments: usize,
+    friction: bool,
+}
+
+impl LoopBox {
+    fn of(lp: &FrettingLoop, sources: &CycleSources) -> Result<Self, SamError> {
+        let depth = lp
+            .case()
+            .fatigue_depth
+            .ok_or_else(|| SamError::InvalidInput("no fatigue depth".into()))?;
+        let grid = *lp.solver().problem().grid();
+        let n = grid.len();
+        let increments = sources.recorded;
+        let tractions = increments.checked_mul(3 * n);
+        let eigenstrain = increments.checked_mul(sources.eigen_len);
+        if sources.cells != n
+            || tractions != Some(sources.tractions.len())
+            || eigenstrain != Some(sources.eigenstrain.len())
+        {
+            return Err(SamError::InvalidInput(format!(
+                "cycle sources of {} cells, {} increments, {} traction and {} eigenstrain values \
+                 do not fit the loop's {n} surface cells (3 · {increments} · {n} tractions, \
+                 {increments} · {} eigenstrains)",
+                sources.cells,
+                increments,
+                sources.tractions.len(),
+                sources.eigenstrain.len(),
+                sources.eigen_len,
+            )));
+        }
+        Ok(Self {
+            depth,
+            grid,
+            increments,
+            friction: lp.solver().problem().friction() > 0.0,
+        })
+    }
+}
+
 /// Groups of increments of the anchored level bound ([`AnchoredBound`]).
 const ANCHOR_GROUPS: usize = 8;
 
@@ -396,21 +443,20 @@ fn anchored_levels(
     };
     let n = bound.cells;
     let mut scratch = (Vec::new(), Vec::new());
-    let kept = candidates
-        .iter()
-        .enumerate()
-        .filter(|&(i, &k)| {
-            (0..n).any(|cell| {
-                let reference = &a[k * n + cell];
-                if !reaches(reference) {
-                    return false;
-                }
-                let anchored = bound.cell(i * n + cell, matrix, &mut scratch);
-                reaches(&std::array::from_fn(|c| anchored[c].min(reference[c])))
-            })
-        })
-        .map(|(_, &k)| k)
-        .collect();
+    let mut kept = Vec::new();
+    for (i, &k) in candidates.iter().enumerate() {
+        for cell in 0..n {
+            let reference = &a[k * n + cell];
+            if !reaches(reference) {
+                continue;
+            }
+            let anchored = bound.cell(i * n + cell, matrix, &mut scratch)?;
+            if reaches(&std::array::from_fn(|c| anchored[c].min(reference[c]))) {
+                kept.push(k);
+                break;
+            }
+        }
+    }
     Ok(kept)
 }
 
@@ -445,12 +491,13 @@ impl AnchoredBound {
         levels: &[usize],
     ) -> Result<Option<Self>, SamError> {
         let case = lp.case();
-        let depth = case
-            .fatigue_depth
-            .ok_or_else(|| SamError::InvalidInput("no fatigue depth".into()))?;
-        let grid = *lp.solver().problem().grid();
+        let LoopBox {
+            depth,
+            grid,
+            increments,
+            friction,
+        } = LoopBox::of(lp, sources)?;
         let n = grid.len();
-        let increments = sources.recorded;
         if increments < 3 {
             return Ok(None);
         }
@@ -459,7 +506,6 @@ impl AnchoredBound {
             .map(|g| (2 * g * (increments - 1) + groups) / (2 * groups))
             .collect();
         anchors.dedup();
-        let friction = lp.solver().problem().friction() > 0.0;
         let components = if friction { 3 } else { 1 };
         let traction = |t: usize, c: usize, cell: usize| sources.tractions[(t * 3 + c) * n + cell];
         let mut residual = vec![vec![vec![0.0f64; n]; 3]; anchors.len() - 1];
@@ -503,15 +549,27 @@ impl AnchoredBound {
         }))
     }
 
+    /// Cells of the bound: the levels' count · `N₁N₂`.
+    pub fn points(&self) -> usize {
+        self.fields.first().map_or(0, |f| f[0].len())
+    }
+
     /// `[Crossland, Dang Van, SWT, Fatemi–Socie]` bounds of cell `q` (position in the levels ·
-    /// `N₁N₂` + cell) with the constants `matrix`; `scratch` holds the anchors' path and the
-    /// groups' deviations.
+    /// `N₁N₂` + cell) with the constants `matrix`
+    /// ([`halfspace_fatigue::screened::anchored_bounds`]); `scratch` holds the anchors' path and
+    /// the groups' deviations. An error for `q ≥` [`AnchoredBound::points`].
     pub fn cell(
         &self,
         q: usize,
         matrix: &Material,
         scratch: &mut (Vec<Voigt>, Vec<[f64; 6]>),
-    ) -> [f64; 4] {
+    ) -> Result<[f64; 4], SamError> {
+        if q >= self.points() {
+            return Err(SamError::InvalidInput(format!(
+                "anchored bound: cell {q} of {} (levels · N₁N₂)",
+                self.points()
+            )));
+        }
         let (path, deviation) = scratch;
         path.clear();
         path.extend(self.fields.iter().map(|f| std::array::from_fn(|c| f[c][q])));
@@ -521,7 +579,7 @@ impl AnchoredBound {
                 .iter()
                 .map(|b| std::array::from_fn(|f| b[f][q] + self.rounding)),
         );
-        anchored_bounds(path, deviation, matrix)
+        Ok(anchored_bounds(path, deviation, matrix))
     }
 }
 
@@ -721,7 +779,9 @@ mod tests {
             ];
             let mut largest = [f64::NEG_INFINITY; 4];
             for cell in 0..per {
-                let b = bound.cell(k * per + cell, &materials[0], &mut scratch);
+                let b = bound
+                    .cell(k * per + cell, &materials[0], &mut scratch)
+                    .unwrap();
                 for c in 0..4 {
                     largest[c] = largest[c].max(b[c]);
                 }
@@ -734,6 +794,56 @@ mod tests {
                     largest[c]
                 );
             }
+        }
+    }
+
+    /// Cycle sources that do not fit the loop's grid (public fields) are refused with an error
+    /// by [`AnchoredBound::new`] and [`reachable_levels`] (no index panic), and
+    /// [`AnchoredBound::cell`] refuses a cell past its levels; the fitting sources give a bound.
+    #[test]
+    fn sources_off_the_grid_and_cells_past_the_levels_are_errors() {
+        let mut case = LoopCase {
+            grid: 16,
+            normal_steps: 4,
+            shift_step: 0.01e-6,
+            ..LoopCase::default()
+        };
+        case.fatigue_depth = Some(0.7 * case.hertz_radius());
+        let mut lp = FrettingLoop::new(case.clone()).unwrap();
+        lp.run(|_| std::ops::ControlFlow::Continue(())).unwrap();
+        let sources = lp.cycle_sources().unwrap().clone();
+        let (layers, _) = lp.cycle_levels().unwrap();
+        let matrix = Material {
+            f_minus1: 400e6,
+            t_minus1: 280e6,
+            young: case.e,
+            poisson: case.nu,
+            fs_k: 0.5,
+            yield_stress: 600e6,
+        };
+        let levels = [0, layers];
+        let bound = AnchoredBound::new(&lp, &sources, &levels).unwrap().unwrap();
+        assert_eq!(bound.points(), 2 * 16 * 16);
+        let mut scratch = (Vec::new(), Vec::new());
+        assert!(bound
+            .cell(bound.points() - 1, &matrix, &mut scratch)
+            .is_ok());
+        assert!(bound.cell(bound.points(), &matrix, &mut scratch).is_err());
+        let mut fewer_cells = sources.clone();
+        fewer_cells.cells = 8 * 8;
+        let mut short = sources.clone();
+        short.tractions.truncate(short.tractions.len() - 1);
+        let mut more_recorded = sources.clone();
+        more_recorded.recorded += 1;
+        let mut eigen = sources.clone();
+        eigen.eigen_len = 6;
+        for bad in [fewer_cells, short, more_recorded, eigen] {
+            assert!(
+                AnchoredBound::new(&lp, &bad, &levels).is_err(),
+                "{:?}",
+                bad.cells
+            );
+            assert!(reachable_levels(&lp, &bad, layers, &matrix, 0.5).is_err());
         }
     }
 

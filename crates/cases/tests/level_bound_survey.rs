@@ -120,7 +120,11 @@ fn level_bounds_against_the_level_maxima() {
     tables.push(("all anchors".to_string(), all_anchors));
     // The loop's anchored bound (8 groups, one residual bound per group).
     let bound = AnchoredBound::new(&lp, sources, &all).unwrap().unwrap();
-    let anchored = level_max(&|p| bound.cell(p, &matrix, &mut (Vec::new(), Vec::new())));
+    let anchored = level_max(&|p| {
+        bound
+            .cell(p, &matrix, &mut (Vec::new(), Vec::new()))
+            .unwrap()
+    });
     tables.push(("anchored (8 groups)".to_string(), anchored));
     let names = ["Crossland", "Dang Van", "SWT", "Fatemi–Socie"];
     for c in 0..4 {

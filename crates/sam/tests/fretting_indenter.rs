@@ -348,6 +348,35 @@ fn histories_on_disjoint_levels_merge_bit_for_bit() {
         union,
         "either order"
     );
-    assert!(seed.clone().merged(seed).is_err());
-    assert!(union.merged(other).is_err());
+    assert!(seed.clone().merged(seed.clone()).is_err());
+    assert!(union.merged(other.clone()).is_err());
+    // Public fields that disagree are refused (no index panic, nothing silently dropped): a
+    // level stored twice, a level outside the box, a short path, a short material list, a
+    // surface flag that does not match the levels.
+    let per = other.grid.len();
+    let block = per * other.increments * 6;
+    let mut twice = other.clone();
+    twice.level_of = vec![1, 1];
+    twice.stress.extend_from_within(..block);
+    twice.material.extend_from_within(..per);
+    let mut outside = other.clone();
+    outside.level_of = vec![layers + 1];
+    let mut short = other.clone();
+    short.stress.pop();
+    let mut few = other.clone();
+    few.material.pop();
+    let mut flag = other.clone();
+    flag.surface = true;
+    for (name, bad) in [
+        ("twice", twice),
+        ("outside", outside),
+        ("short path", short),
+        ("short materials", few),
+        ("surface flag", flag),
+    ] {
+        assert!(bad.check_shape().is_err(), "{name}");
+        assert!(seed.clone().merged(bad.clone()).is_err(), "{name}");
+        assert!(bad.merged(seed.clone()).is_err(), "{name}");
+    }
+    assert!(seed.check_shape().is_ok() && other.check_shape().is_ok());
 }

@@ -113,7 +113,13 @@ impl CycleStress {
     /// The history on the levels of `self` and `other` together (in increasing box level): two
     /// histories of one box and cycle, on disjoint levels, each complete. Each level's paths are
     /// copied as they are, bit for bit.
+    ///
+    /// An error unless both are consistent ([`CycleStress::check_shape`]: `stress` and
+    /// `material` of their levels' length, levels distinct and in the box), of the same box,
+    /// complete, and on disjoint levels.
     pub fn merged(self, other: CycleStress) -> Result<CycleStress, SamError> {
+        self.check_shape()?;
+        other.check_shape()?;
         let same_box = self.grid == other.grid
             && self.layers == other.layers
             && self.increments == other.increments
@@ -156,6 +162,53 @@ impl CycleStress {
             material,
             ..self
         })
+    }
+
+    /// Checks that the public fields agree: `level_of` distinct box levels `≤ layers` (`layers`
+    /// the surface layer, present iff `surface`), `stress` of `levels · N₁N₂ · increments · 6`
+    /// values, `material` of `levels · N₁N₂`, `recorded ≤ increments`.
+    pub fn check_shape(&self) -> Result<(), SamError> {
+        let per = self.grid.len();
+        let fail = |what: String| {
+            Err(SamError::InvalidInput(format!(
+                "cycle stress history: {what}"
+            )))
+        };
+        if let Some(&k) = self.level_of.iter().find(|&&k| k > self.layers) {
+            return fail(format!(
+                "level {k} outside the box of {} layers",
+                self.layers
+            ));
+        }
+        let mut seen = vec![false; self.layers + 1];
+        for &k in &self.level_of {
+            if std::mem::replace(&mut seen[k], true) {
+                return fail(format!("level {k} stored twice"));
+            }
+        }
+        if self.surface != self.level_of.contains(&self.layers) {
+            return fail("the surface flag does not match its levels".into());
+        }
+        let points = self.levels().checked_mul(per);
+        let values = points
+            .and_then(|p| p.checked_mul(self.increments))
+            .and_then(|v| v.checked_mul(6));
+        if values != Some(self.stress.len()) || points != Some(self.material.len()) {
+            return fail(format!(
+                "{} stress and {} material values for {} levels of {per} cells, {} increments",
+                self.stress.len(),
+                self.material.len(),
+                self.levels(),
+                self.increments
+            ));
+        }
+        if self.recorded > self.increments {
+            return fail(format!(
+                "{} of {} increments recorded",
+                self.recorded, self.increments
+            ));
+        }
+        Ok(())
     }
 
     /// Stores the six stress components `stress[c][p]` of the box as the next increment.
