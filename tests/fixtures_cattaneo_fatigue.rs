@@ -956,12 +956,12 @@ fn surface_refinement_survey() {
         // A change that converges the rim (a finer contact solution there) fails this survey
         // on purpose: its findings, and docs/fatigue.md's, then need measuring again.
         assert!(
-            region_err[3][0] < 1e-2,
+            region_err[3][0] < 6e-3,
             "{n}²: outside the rim {:.2e} p₀",
             region_err[3][0]
         );
         assert!(
-            region_err[0][0] > 5e-2 && region_err[0][0] > 10.0 * region_err[3][0],
+            region_err[0][0] > 0.1 && region_err[0][0] > 10.0 * region_err[3][0],
             "{n}²: the rim error {:.2e} p₀ against {:.2e} outside",
             region_err[0][0],
             region_err[3][0]

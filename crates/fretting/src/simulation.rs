@@ -406,7 +406,9 @@ impl FrettingSimulation {
 
     /// Whether the error estimate of the adaptive steps includes the holes a step opens that its
     /// embedded first-order solution does not have (on by default, docs/fretting-wear.md, "What
-    /// sets the step"; off: the estimate of before, for comparisons). Set before the first step.
+    /// sets the step"; off: the estimate of before, for comparisons). Set before the first step;
+    /// not part of the checkpointed state (as [`FrettingSimulation::set_edge_cell_rates`]): a
+    /// resumed run repeats the uninterrupted one bit for bit when it is set the same way again.
     pub fn set_hole_estimate(&mut self, on: bool) {
         self.hole_estimate = on;
     }
@@ -770,9 +772,12 @@ impl FrettingSimulation {
     /// difference of the contact set between the two solutions of the pair, which the error in
     /// `f` does not see (`g` is the Abel transform of `f'`, Eq. 7 / 23); once open it stops
     /// wearing and stays open. Its error is how far the result crossed, `g_i − d` (over `d`, as
-    /// `f̃`), so it falls with the step like the local error of `g`. Returns the largest, its node
-    /// and the count (docs/fretting-wear.md, "What sets the step"). Reads `g` of the result.
+    /// `f̃`): an indicator put in the estimate's units, not a bound of a defined error (its order
+    /// in the step is not measured; it vanishes when the two solutions agree on the contact set).
+    /// Holes the first-order solution opens too are not seen. Returns the largest, its node and
+    /// the count (docs/fretting-wear.md, "What sets the step"). Reads `g` of the result.
     fn opened_hole_error(&self) -> (f64, usize, usize) {
+        // No node in contact (`g ≥ d` everywhere): no contact set, so no hole (an empty range).
         let last = self.g.iter().rposition(|&g| g < 1.0).unwrap_or(0);
         let mut worst = (0.0f64, 0, 0);
         for i in self.first_annulus_node..last {
