@@ -175,6 +175,9 @@ pub fn cell_materials(
     case: &LoopCase,
     h: &CycleStress,
 ) -> Result<(Vec<Material>, Vec<u16>), SpecError> {
+    // `position` indexes the history's levels: its shape first (a typed error, no panic).
+    h.check_shape()
+        .map_err(|e| SpecError(format!("fatigue: {e}")))?;
     let own = cfg.inhomogeneity_materials(&case.inhomogeneities);
     let mut materials = vec![cfg.matrix(case.e, case.nu)];
     let mut material_of = vec![0u16; h.material.len()];

@@ -59,9 +59,15 @@ pub fn partner_enabled() -> bool {
 /// returns (module doc; [`set_partner`] turns it off). The result is the same bit for bit as `f()` on the calling thread; only
 /// where it runs differs.
 pub fn on_pool<R: Send>(cells: usize, f: impl FnOnce() -> R + Send) -> R {
+    on_pool_with(partner_enabled(), cells, f)
+}
+
+/// [`on_pool`] with the partner switch given (`partner_on`: whether a partner may start) instead of
+/// read from [`set_partner`]'s process-wide setting.
+fn on_pool_with<R: Send>(partner_on: bool, cells: usize, f: impl FnOnce() -> R + Send) -> R {
     if rayon::current_thread_index().is_some() || rayon::current_num_threads() <= 1 {
         f()
-    } else if !partner_enabled() || !(PARTNER_CELLS..=PARTNER_MAX_CELLS).contains(&cells) {
+    } else if !partner_on || !(PARTNER_CELLS..=PARTNER_MAX_CELLS).contains(&cells) {
         rayon::scope(|_| f())
     } else {
         let done = AtomicBool::new(false);
@@ -169,30 +175,26 @@ mod tests {
         }
     }
 
-    /// With the partner off a partner-sized solve still runs on a worker and gives the same
-    /// result bit for bit (the switch is process-wide, so other tests running meanwhile see either
-    /// setting: both give the same results).
+    /// With the partner off a partner-sized solve still runs on a worker and returns its
+    /// result (called through `on_pool_with`, so the process-wide switch stays on for the other
+    /// tests of this binary, which exercise the partner); the switch reads back what was set.
     #[test]
-    fn the_partner_switch_changes_where_not_what() {
+    fn without_a_partner_a_solve_still_runs_on_a_worker() {
         use rayon::prelude::*;
-        let solve = || {
-            on_pool(PARTNER_CELLS, || {
-                (0..200_000u64)
-                    .into_par_iter()
-                    .map(|k| k * k % 1009)
-                    .sum::<u64>()
+        let sum = |partner_on| {
+            on_pool_with(partner_on, PARTNER_CELLS, || {
+                let s: u64 = (0..200_000u64).into_par_iter().map(|k| k * k % 1009).sum();
+                (s, rayon::current_thread_index())
             })
         };
-        let with = solve();
-        set_partner(false);
-        assert!(!partner_enabled());
-        let without = solve();
-        let worker = on_pool(PARTNER_CELLS, rayon::current_thread_index);
-        set_partner(true);
-        assert!(partner_enabled());
+        let (with, _) = sum(true);
+        let (without, worker) = sum(false);
+        assert_eq!(with, (0..200_000u64).map(|k| k * k % 1009).sum::<u64>());
         assert_eq!(with, without);
         if rayon::current_num_threads() > 1 {
             assert!(worker.is_some());
         }
+        set_partner(true);
+        assert!(partner_enabled());
     }
 }

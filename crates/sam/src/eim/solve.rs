@@ -57,6 +57,7 @@ pub struct EimParams {
     /// application (docs/theory-sam.md#solving-the-eim-equations). 0: plain block Jacobi
     /// ([LN11], the reference; this struct's default). The nested contact ↔ EIM loop's default
     /// is 5 (`crate::contact::DEFAULT_EIM_RECYCLED_DEPTH`, config key `eim_recycled_depth`).
+    /// Reduced automatically when its (2·depth + 7) vectors would exceed 2 GiB.
     pub recycled_depth: usize,
 }
 
@@ -255,7 +256,11 @@ impl EimSystem {
                 r
             }
             EimMethod::BlockJacobi | EimMethod::Auto => {
-                let depth = params.recycled_depth;
+                // The recycled history holds (2·depth + 7) vectors of the system's size: capped
+                // at 2 GiB like the Krylov basis (the nested loop refuses depths above
+                // `MAX_EIM_RECYCLED_DEPTH` up front).
+                let vectors = (2usize << 30) / (8 * n.max(1));
+                let depth = params.recycled_depth.min(vectors.saturating_sub(7) / 2);
                 let mut mixing = match self.mixing.take() {
                     _ if depth == 0 => None,
                     Some(m) if m.shape() == (n, depth) => Some(m),

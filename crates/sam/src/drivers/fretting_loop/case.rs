@@ -289,8 +289,10 @@ impl LoopCase {
     /// fingerprint is `current` (`{:?}` of a struct holding [`LoopCase::as_run`]): accepted when
     /// equal, or — a checkpoint written before commit `ce12b57`, whose fingerprint held the case
     /// as given (`eim_change_factor: None` when defaulted), `given` — when equal to `given` while
-    /// the run uses [`UNRECORDED_EIM_CHANGE_FACTOR`], the default then: the same loop, step
-    /// for step. Any other checkpoint is refused ([`SamError::InvalidInput`]).
+    /// the run uses [`UNRECORDED_EIM_CHANGE_FACTOR`], the default then (given by the run's
+    /// configuration or defaulted): the same loop, step for step. A checkpoint without the
+    /// recycled EIM depth is accepted only by a run with depth 0. Any other checkpoint is refused
+    /// ([`SamError::InvalidInput`], naming the keys when the depth is not recorded).
     pub fn check_fingerprint(
         &self,
         nested: NestedParams,
@@ -321,11 +323,22 @@ impl LoopCase {
         let matches = |current: &str, given: &str| {
             recorded == current || (unrecorded_default && recorded == given)
         };
+        // A checkpoint written before `ce12b57` holds `eim_change_factor: None` for the factor
+        // then defaulted (10⁻²): the same loop as a run that gives that factor explicitly.
+        let given_as_defaulted = given.replacen(
+            &format!("eim_change_factor: {:?}", self.eim_change_factor),
+            "eim_change_factor: None",
+            1,
+        );
+        let legacy_default = plain
+            && run.eim_change_factor == Some(UNRECORDED_EIM_CHANGE_FACTOR)
+            && recorded == unrecorded_depth(&given_as_defaulted);
         if matches(current, given)
             || (plain && matches(&unrecorded_depth(current), &unrecorded_depth(given)))
+            || legacy_default
         {
             Ok(())
-        } else if !plain && !recorded.contains("eim_recycled_depth") {
+        } else if !recorded.contains("eim_recycled_depth") {
             Err(SamError::InvalidInput(
                 "the checkpoint was written before the recycled EIM depth was recorded, with \
                  the plain EIM iteration and (unless its configuration gave another) \

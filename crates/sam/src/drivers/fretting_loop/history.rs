@@ -180,11 +180,11 @@ impl CycleStress {
                 self.layers
             ));
         }
-        let mut seen = vec![false; self.layers + 1];
-        for &k in &self.level_of {
-            if std::mem::replace(&mut seen[k], true) {
-                return fail(format!("level {k} stored twice"));
-            }
+        // Sorted copy: no allocation sized by the (public, unchecked) `layers`.
+        let mut sorted = self.level_of.clone();
+        sorted.sort_unstable();
+        if let Some(w) = sorted.windows(2).find(|w| w[0] == w[1]) {
+            return fail(format!("level {} stored twice", w[0]));
         }
         if self.surface != self.level_of.contains(&self.layers) {
             return fail("the surface flag does not match its levels".into());
