@@ -1393,6 +1393,11 @@ fn indenter_approach_fatigue_and_wear3d_keys_are_refused_in_one_line() {
             "eim_change_factor = 1e-2\n".into(),
             vec!["eim_change_factor", "read only"],
         ),
+        (
+            "EIM recycled depth without inhomogeneities",
+            "eim_recycled_depth = 5\n".into(),
+            vec!["eim_recycled_depth", "read only"],
+        ),
     ];
     for (name, text, needles) in &loop_cases {
         let cfg = write(
@@ -1439,6 +1444,16 @@ fn indenter_approach_fatigue_and_wear3d_keys_are_refused_in_one_line() {
             "EIM factor",
             format!("layout = \"fibre-centred\"\neim_change_factor = 2\n{wear}"),
             vec!["eim_change_factor", "(0, 1]", "2"],
+        ),
+        (
+            "EIM recycled depth",
+            format!("layout = \"fibre-centred\"\neim_recycled_depth = 1000\n{wear}"),
+            vec!["eim_recycled_depth", "0..=50", "1000"],
+        ),
+        (
+            "negative EIM recycled depth",
+            format!("layout = \"fibre-centred\"\neim_recycled_depth = -1\n{wear}"),
+            vec!["eim_recycled_depth"],
         ),
     ];
     // A checkpoint interval beyond what a duration holds: refused, not a panic.

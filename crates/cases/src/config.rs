@@ -784,15 +784,20 @@ fn loop_case(
                 Some(r.unwrap_or(DEFAULT_SURFACE_OPERATOR_RADIUS_OVER_A));
         }
     }
-    if let Some(eta) = cfg.eim_change_factor {
+    // The nested loop's keys: refused where no nested loop would read them.
+    let nested_only = |case: &crate::sam::drivers::fretting_loop::LoopCase, key: &str| {
         if case.inhomogeneities.is_empty() || case.surface_operator_over_a.is_some() {
-            return Err(SpecError(
-                "fretting loop config: eim_change_factor is read only by the nested contact ↔ \
-                 EIM loop (inhomogeneities with inhomogeneous_body = \"nested\"); without it the \
-                 key would be ignored"
-                    .into(),
-            ));
+            Err(SpecError(format!(
+                "fretting loop config: {key} is read only by the nested contact ↔ EIM loop \
+                 (inhomogeneities with inhomogeneous_body = \"nested\"); without it the key \
+                 would be ignored"
+            )))
+        } else {
+            Ok(())
         }
+    };
+    if let Some(eta) = cfg.eim_change_factor {
+        nested_only(&case, "eim_change_factor")?;
         if !(eta > 0.0 && eta <= 1.0) {
             return Err(SpecError(format!(
                 "fretting loop config: eim_change_factor must lie in (0, 1], got {eta}"
@@ -801,14 +806,7 @@ fn loop_case(
         case.eim_change_factor = Some(eta);
     }
     if let Some(depth) = cfg.eim_recycled_depth {
-        if case.inhomogeneities.is_empty() || case.surface_operator_over_a.is_some() {
-            return Err(SpecError(
-                "fretting loop config: eim_recycled_depth is read only by the nested contact ↔ \
-                 EIM loop (inhomogeneities with inhomogeneous_body = \"nested\"); without it the \
-                 key would be ignored"
-                    .into(),
-            ));
-        }
+        nested_only(&case, "eim_recycled_depth")?;
         if depth > crate::sam::contact::MAX_EIM_RECYCLED_DEPTH {
             return Err(SpecError(format!(
                 "fretting loop config: eim_recycled_depth must lie in 0..={}, got {depth}",
