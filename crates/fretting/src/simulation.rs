@@ -433,7 +433,7 @@ impl FrettingSimulation {
     /// estimate is its error), with the holes that solution opens and the result keeps closed,
     /// `g_i − d`, in the estimate instead (only with the hole estimate on). Off: such holes join
     /// the estimate and reject the attempt. Fewer steps (default run 890 → 641; graded k = −0.5,
-    /// χ = 0.9, N = 2001 to τ = 3: 15 722 → 9894), but the default run's touching radius at
+    /// χ = 0.9, N = 2001 to τ = 30: 57 204 → 22 156, no holes), but the default run's touching radius at
     /// τ = 3, in the near-grazing phase, is 1.3e-3 off the converged reference (2e-4 with it off)
     /// (docs/fretting-wear.md, "What sets the step"). Set before the first step; not part of the
     /// checkpointed state (as [`FrettingSimulation::set_hole_estimate`]).
