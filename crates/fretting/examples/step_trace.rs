@@ -1,7 +1,9 @@
 //! Where the adaptive steps of the MDR wear run go (docs/fretting-wear.md, "Time integration"):
 //! every attempt of the error-controlled ROS2 steps through the attempt observer, written as CSV
 //! (τ, Δτ, error ratio, accepted, the node of the largest error and the contact edge at the
-//! start, the second stage's trial and the end, GMRES iterations), and a summary on stdout.
+//! start, the second stage's trial and the end, GMRES iterations, the holes the result opens, the
+//! three parts of the error estimate and whether the result is the first-order solution), and a
+//! summary on stdout (with the holes at the end).
 //!
 //! `cargo run --release -p halfspace-fretting --example step_trace -- N K CHI [TOL] [TAU_END] [CSV]`
 
@@ -32,6 +34,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut sim = FrettingSimulation::new(params)?;
     // `HOLE_ESTIMATE=off`: the adaptive steps without the opened-hole estimate.
     sim.set_hole_estimate(std::env::var("HOLE_ESTIMATE").map_or(true, |v| v != "off"));
+    // `FIRST_ORDER_FALLBACK=on`: an attempt whose result opens holes takes its first-order
+    // solution (experimental, off by default).
+    sim.set_first_order_fallback(std::env::var("FIRST_ORDER_FALLBACK").is_ok_and(|v| v == "on"));
     let sink = Arc::clone(&attempts);
     sim.set_attempt_observer(Box::new(move |a| sink.lock().expect("lock").push(*a)));
     let start = std::time::Instant::now();
@@ -41,12 +46,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut out = std::io::BufWriter::new(std::fs::File::create(&csv)?);
     writeln!(
         out,
-        "tau,dtau,ratio,accepted,worst,edge_start,edge_trial,edge_end,gmres1,gmres2,opened_holes"
+        "tau,dtau,ratio,accepted,worst,edge_start,edge_trial,edge_end,gmres1,gmres2,opened_holes,err_ros2,err_outside,err_hole,first_order"
     )?;
     for a in attempts.iter() {
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             a.tau,
             a.dtau,
             a.error_ratio,
@@ -57,15 +62,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             a.edge_end,
             a.krylov_iterations.0,
             a.krylov_iterations.1,
-            a.opened_holes
+            a.opened_holes,
+            a.error_terms[0],
+            a.error_terms[1],
+            a.error_terms[2],
+            u8::from(a.first_order)
         )?;
     }
+    // Holes at the end: annulus nodes inside the last contact node with g ≥ d.
+    let stick = halfspace_fretting::limit::stick_radius(chi);
+    let first = sim
+        .grid()
+        .coordinates()
+        .iter()
+        .position(|&r| r > stick)
+        .unwrap_or(0);
+    let g = sim.equivalent_profile()?;
+    let last = g.iter().rposition(|&x| x < 1.0).unwrap_or(0);
+    let holes = (first..last).filter(|&i| g[i] >= 1.0).count();
     let state = sim.state();
     let r_star = sim.limit_contact_radius();
     let cell = sim.grid().step() / (2.0 * r_star);
     let a = *state.contact_radius_history.last().unwrap_or(&0.0);
     println!(
-        "steps {} ({} rejected), GMRES {}, a/a0 {a:.6} ({:+.2} cells from r*), V/V∞ − 1 {:+.3e}, {seconds:.2} s",
+        "steps {} ({} rejected), GMRES {}, a/a0 {a:.6} ({:+.2} cells from r*), V/V∞ − 1 {:+.3e}, holes {holes}, {seconds:.2} s",
         state.step,
         state.rejected_steps,
         sim.krylov_iterations(),

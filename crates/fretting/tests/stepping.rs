@@ -647,3 +647,43 @@ fn global_error_is_a_multiple_of_the_tolerance() {
         }
     }
 }
+
+/// The experimental first-order fallback (`FrettingSimulation::set_first_order_fallback`,
+/// docs/fretting-wear.md, "What sets the step"): in the graded run's phase with holes (k = −0.5,
+/// χ = 0.9, N = 501 to τ = 1) it takes fewer attempts than the default scheme, ends within a few
+/// tolerances of it in f (the global error of either is up to 6.6 tol, docs/fretting-wear.md,
+/// "The quantized step") and opens no more holes. Measured: 622 (98) steps against 700 (92),
+/// max |Δf| 1.12e-4 (1.1 tol), 0 holes both.
+#[test]
+fn first_order_fallback_takes_fewer_steps() {
+    let (k, chi, nodes) = (-0.5, 0.9, 501);
+    let params = FrettingParams {
+        chi,
+        k,
+        nodes,
+        length: FrettingParams::default_length(chi, k),
+        tau_end: 1.0,
+        snapshots: vec![1.0],
+        ..Default::default()
+    };
+    let mut default = run(params.clone());
+    let mut fallback = FrettingSimulation::new(params).unwrap();
+    fallback.set_first_order_fallback(true);
+    fallback.run(|_| false).unwrap();
+    let attempts = |s: &FrettingSimulation| s.state().step + s.state().rejected_steps;
+    let difference = max_abs_diff(&default.state().profile, &fallback.state().profile);
+    let (holes_default, holes_fallback) = (holes(&mut default), holes(&mut fallback));
+    println!(
+        "fallback: {} steps ({} rejected) vs {} ({}); max |Δf| {difference:.2e}; holes {holes_fallback} vs {holes_default}",
+        fallback.state().step,
+        fallback.state().rejected_steps,
+        default.state().step,
+        default.state().rejected_steps
+    );
+    assert!(attempts(&fallback) < attempts(&default));
+    assert!(holes_fallback <= holes_default);
+    assert!(
+        difference < 5.0 * TimeStepping::DEFAULT_TOLERANCE,
+        "{difference}"
+    );
+}
