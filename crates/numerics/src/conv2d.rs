@@ -8,7 +8,9 @@
 use std::borrow::Cow;
 
 pub use crate::fft2d::KernelFn;
-use crate::fft2d::{multiply_accumulate, Fft2d, C64};
+use rayon::prelude::*;
+
+use crate::fft2d::{multiply_accumulate, Fft2d, C64, PARALLEL_CELLS};
 pub use crate::op::GridOperator;
 use crate::op::{check_fields, BlockConvolution, OperatorShape};
 use crate::NumericsError;
@@ -22,7 +24,13 @@ pub struct DcFft2d {
     spectra: Vec<Option<Vec<C64>>>,
     inputs_hat: Vec<Vec<C64>>,
     out_hat: Vec<C64>,
+    /// Whether the spectrum products run on rayon's threads (the grid has at least
+    /// [`PARALLEL_CELLS`] cells and the pool more than one thread, as the transforms).
+    parallel: bool,
 }
+
+/// Spectrum values per chunk of the parallel spectrum product (64 KiB): 9 chunks at 128².
+const SPECTRUM_CHUNK: usize = 4096;
 
 impl DcFft2d {
     /// Plans the operator for kernels `kernels[o * n_in + i]` (`None` = zero block) on a core of
@@ -65,6 +73,10 @@ impl DcFft2d {
         Ok(Self {
             inputs_hat: vec![fft.new_spectrum(); n_in],
             out_hat: fft.new_spectrum(),
+            parallel: {
+                let (n1, n2) = fft.shape();
+                n1 * n2 >= PARALLEL_CELLS && rayon::current_num_threads() > 1
+            },
             fft,
             n_in,
             n_out,
@@ -94,18 +106,35 @@ impl GridOperator for DcFft2d {
         for (xi, hat) in x.iter().zip(self.inputs_hat.iter_mut()) {
             self.fft.forward(xi, hat)?;
         }
+        let inputs = &self.inputs_hat;
         for (o, yo) in y.iter_mut().enumerate() {
-            self.out_hat.fill(C64::new(0.0, 0.0));
-            let mut any = false;
-            for i in 0..self.n_in {
-                if let Some(k) = &self.spectra[o * self.n_in + i] {
-                    any = true;
-                    multiply_accumulate(&mut self.out_hat, k, &self.inputs_hat[i]);
-                }
-            }
-            if !any {
+            let blocks = &self.spectra[o * self.n_in..(o + 1) * self.n_in];
+            if blocks.iter().all(Option::is_none) {
                 yo.fill(0.0);
                 continue;
+            }
+            // ŷ_o = Σ_i K̂_oi x̂_i, chunk by chunk (each value summed from zero in input order as
+            // before: the same bits on one or more threads); on threads as the transforms are
+            // (docs/performance.md, "The contact solves on two threads").
+            let product = |(c, acc): (usize, &mut [C64])| {
+                let range = c * SPECTRUM_CHUNK..c * SPECTRUM_CHUNK + acc.len();
+                acc.fill(C64::new(0.0, 0.0));
+                for (k, x) in blocks.iter().zip(inputs) {
+                    if let Some(k) = k {
+                        multiply_accumulate(acc, &k[range.clone()], &x[range.clone()]);
+                    }
+                }
+            };
+            if self.parallel {
+                self.out_hat
+                    .par_chunks_mut(SPECTRUM_CHUNK)
+                    .enumerate()
+                    .for_each(product);
+            } else {
+                self.out_hat
+                    .chunks_mut(SPECTRUM_CHUNK)
+                    .enumerate()
+                    .for_each(product);
             }
             self.fft.inverse(&mut self.out_hat, yo)?;
         }

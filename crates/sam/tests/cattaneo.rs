@@ -243,3 +243,57 @@ fn the_tangential_solver_on_its_dense_twin_gives_the_same_shear() {
         assert!(worst < 1e-12 * MU * p0, "{:e}", worst / (MU * p0));
     }
 }
+
+/// The active-set solve runs its passes and spectrum products on rayon's threads at 128²
+/// (docs/performance.md, "The contact solves on two threads"): on pools of one and two threads it
+/// gives the same shear and slip bit for bit, with the same count of block products (Q/μP = 0.6
+/// then 0.9, warm-started).
+#[test]
+fn the_active_set_solve_is_bit_for_bit_on_one_and_two_threads() {
+    let Case {
+        grid,
+        c,
+        bound,
+        k_cm,
+        ..
+    } = case();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut tang = TangentialSolver::new(grid, &c).unwrap();
+            let z = || [vec![0.0; grid.len()], vec![0.0; grid.len()]];
+            let (mut q, mut s) = (z(), z());
+            let mut products = Vec::new();
+            for ratio in [0.6, 0.9] {
+                let d1 = k_cm * (1.0 - (1.0f64 - ratio).powf(2.0 / 3.0));
+                let (b0, b1) = (vec![d1; grid.len()], vec![0.0; grid.len()]);
+                let [q0, q1] = &mut q;
+                let [s0, s1] = &mut s;
+                let info = tang
+                    .solve(
+                        &bound,
+                        [&b0, &b1],
+                        [q0, q1],
+                        [s0, s1],
+                        &TangentialParams::default(),
+                    )
+                    .unwrap();
+                products.push(info.iterations);
+            }
+            (q, s, products)
+        })
+    };
+    let (q1, s1, i1) = run(1);
+    let (q2, s2, i2) = run(2);
+    assert_eq!(i1, i2);
+    let bits =
+        |v: &[Vec<f64>; 2]| -> Vec<u64> { v.iter().flatten().map(|x| x.to_bits()).collect() };
+    assert!(
+        bits(&q1) == bits(&q2),
+        "shear differs between thread counts"
+    );
+    assert!(bits(&s1) == bits(&s2), "slip differs between thread counts");
+}

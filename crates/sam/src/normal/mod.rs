@@ -35,7 +35,7 @@ use halfspace_numerics::fft2d::{Fft2d, PARALLEL_CELLS};
 use halfspace_numerics::op::{EvenKernelOperator, FftOperators, OperatorSet};
 
 mod continuation;
-mod passes;
+pub(crate) mod passes;
 
 use crate::{Compliance, SamError, SurfaceGrid};
 use continuation::{coarser, prolong, restrict};

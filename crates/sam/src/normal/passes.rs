@@ -9,22 +9,22 @@
 use std::ops::Range;
 
 /// Cells per chunk (16 KiB of each field): 8 chunks at 128², 32 at 256².
-pub(super) const CHUNK: usize = 2048;
+pub(crate) const CHUNK: usize = 2048;
 
 /// Grids with at least this many cells run their passes on rayon's threads (below, the hand-offs
 /// cost more than the passes; measured in docs/performance.md).
-pub(super) const PARALLEL_PASS_CELLS: usize = 128 * 128;
+pub(crate) const PARALLEL_PASS_CELLS: usize = 128 * 128;
 
 /// The chunks of a grid of `n` cells.
 #[derive(Debug, Clone, Copy)]
-pub(super) struct Chunks {
+pub(crate) struct Chunks {
     n: usize,
     parallel: bool,
 }
 
 impl Chunks {
     /// The chunks of `n` cells; on threads when `n ≥ PARALLEL_PASS_CELLS` and rayon has more than one.
-    pub(super) fn new(n: usize) -> Self {
+    pub(crate) fn new(n: usize) -> Self {
         Self {
             n,
             parallel: n >= PARALLEL_PASS_CELLS && rayon::current_num_threads() > 1,
@@ -32,13 +32,13 @@ impl Chunks {
     }
 
     /// Number of chunks, `⌈n / CHUNK⌉`.
-    pub(super) fn count(&self) -> usize {
+    pub(crate) fn count(&self) -> usize {
         self.n.div_ceil(CHUNK)
     }
 
     /// `out[c] = body(range_c, [fields restricted to range_c])` for every chunk `c` (in parallel
     /// or in order; `out` has [`Chunks::count`] entries). The body reads other fields by the range.
-    pub(super) fn run<const M: usize, R: Send>(
+    pub(crate) fn run<const M: usize, R: Send>(
         &self,
         out: &mut [R],
         fields: [&mut [f64]; M],
@@ -94,7 +94,7 @@ fn split_run<const M: usize, R: Send>(
 /// `Σ_i f(i)` over `i < len` (each of the `S` components), in four interleaved lanes added as
 /// `(l₀ + l₁) + (l₂ + l₃)`. `f` may write the cell `i` of the chunk's fields.
 #[inline(always)]
-pub(super) fn sum_lanes<const S: usize>(
+pub(crate) fn sum_lanes<const S: usize>(
     len: usize,
     mut f: impl FnMut(usize) -> [f64; S],
 ) -> [f64; S] {
@@ -118,7 +118,7 @@ pub(super) fn sum_lanes<const S: usize>(
 }
 
 /// `Σ_c parts[c]` in chunk order, componentwise.
-pub(super) fn total<const S: usize>(parts: &[[f64; S]]) -> [f64; S] {
+pub(crate) fn total<const S: usize>(parts: &[[f64; S]]) -> [f64; S] {
     let mut t = [0.0; S];
     for p in parts {
         for s in 0..S {

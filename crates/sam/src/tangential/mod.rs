@@ -22,6 +22,7 @@ use halfspace_numerics::op::{BlockConvolution, FftOperators, GridOperator, Opera
 
 mod active_set;
 
+use crate::normal::passes::Chunks;
 use crate::{Compliance, SamError, SurfaceGrid};
 
 /// Rounds (set updates) of the active-set method before the solve falls back to FISTA.
@@ -147,6 +148,9 @@ pub struct TangentialSolver<S: OperatorSet = FftOperators> {
     z: [Vec<f64>; 2],
     stick: Vec<bool>,
     preconditioner: Option<Circulant2d>,
+    /// Per-chunk sums and maxima of the active set's passes (crate::normal::passes: fixed chunks,
+    /// so the same bits on one or more threads).
+    sums: Vec<f64>,
 }
 
 impl TangentialSolver {
@@ -214,6 +218,7 @@ impl<S: OperatorSet> TangentialSolver<S> {
             z: z(),
             stick: vec![false; n],
             preconditioner: None,
+            sums: vec![0.0; Chunks::new(n).count()],
         })
     }
 
