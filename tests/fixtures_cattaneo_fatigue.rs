@@ -163,6 +163,7 @@ fn cattaneo_mindlin_maxima_and_their_locations_converge_to_the_cubature() {
         // layer's maximum is (asserted below).
         screen_fraction: 0.15,
         inhomogeneity: None,
+        process_volume: None,
         own: Vec::new(),
     };
     // errors[grid][criterion]: (|first-layer max − reference window max| (relative for SWT, FS),
@@ -440,6 +441,7 @@ fn cattaneo_mindlin_surface_layer_matches_the_closed_form_surface_stresses() {
         depth_over_a: 0.6,
         screen_fraction: 0.5,
         inhomogeneity: None,
+        process_volume: None,
         own: Vec::new(),
     };
     // Per grid: stress errors (all window cells, cells r ≥ 1.1a r = a), and per

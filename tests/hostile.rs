@@ -1359,6 +1359,11 @@ fn indenter_approach_fatigue_and_wear3d_keys_are_refused_in_one_line() {
             vec!["screen_fraction", "2"],
         ),
         (
+            "fatigue process volume",
+            format!("{fatigue}process_volume = -1e-6\n"),
+            vec!["process_volume", "> 0 m"],
+        ),
+        (
             "fatigue key",
             format!("{fatigue}f_minus_one = 1\n"),
             vec!["f_minus_one"],

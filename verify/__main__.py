@@ -1,4 +1,4 @@
-"""python -m verify {quad,fe,fe-inclusion,hyp2f1,subsurface,graded-wear,wear-path,all,check}
+"""python -m verify {quad,fe,fe-inclusion,hyp2f1,subsurface,graded-wear,wear-path,process-volume,all,check}
 
 quad    scipy-quadrature references  -> datasets/quadrature.h5 + datasets/npy/quad_*
 subsurface  Hertz subsurface stresses by cubature of Boussinesq/Cerruti
@@ -11,6 +11,10 @@ graded-wear  limiting worn profiles of graded media by quadrature
                                      -> datasets/graded_wear.h5 + datasets/npy/graded_wear__*
 wear-path  the fretting-wear path a(τ), f(a0, τ), V(τ) by an independent solver (grid uniform in r,
         exact cell integrals, Heun steps) -> datasets/wear_path.h5 + datasets/npy/wear_path__*
+process-volume  the Cattaneo–Mindlin cycle's stress paths averaged over process volumes (cubes of side
+        0.25a, 0.5a) by Gauss cubature of the Boussinesq/Cerruti integrals
+                                     -> datasets/cattaneo_process_volume.h5 + datasets/npy/cattaneo_pv_*  (minutes;
+        not in `all`)
 all     all of the above
 check   regenerate quad, hyp2f1, subsurface, graded-wear and wear-path in a temporary directory and compare with the committed files
         (values to 1e-12 relative, the time-integrated wear path to 1e-6); exit 1 on a difference
@@ -98,6 +102,13 @@ def run_fe(root):
     write_generated("fe", "fe", "scikit-fem", fe.generate(), root, t)
 
 
+def run_process_volume(root):
+    from . import cattaneo_process_volume
+    t = time.time()
+    write_generated("process-volume", "cattaneo_process_volume", "cubature-cattaneo-process-volume",
+                    cattaneo_process_volume.generate(), root, t)
+
+
 def check():
     from . import store
     import h5py
@@ -153,10 +164,12 @@ def main(argv):
         run_fe(root)
     if what in ("fe-inclusion", "all"):
         run_fe_inclusion(root)
+    if what == "process-volume":
+        run_process_volume(root)
     if what == "check":
         return 0 if check() else 1
     if what not in ("quad", "fe", "fe-inclusion", "hyp2f1", "subsurface", "graded-wear", "wear-path", "all",
-                    "check"):
+                    "check", "process-volume"):
         print(__doc__)
         return 2
     return 0

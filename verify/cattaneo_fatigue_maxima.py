@@ -92,7 +92,7 @@ def disc_stress(point, c, disp, refine=1):
     """∫ K(P − ξ, z) sqrt(c² − |ξ|²) dξ over |ξ| < c: the stress (6,) at `point` = (x, y, z)."""
     x0, y0, z0 = point
     pr = np.hypot(x0, y0)
-    n_phi, n_rho = 16 * refine, 32 * refine
+    n_phi, n_rho = int(round(16 * refine)), int(round(32 * refine))
     if pr < c:
         # φ about the outward direction (shortest ray); ρ_b(φ) from the quadratic of the rim.
         phi_out = np.arctan2(y0, x0) if pr > 0 else 0.0

@@ -549,6 +549,24 @@ class FatigueResult(Result):
     dang_van: NDArray[np.float64]
     swt: NDArray[np.float64]
     fatemi_socie: NDArray[np.float64]
+    #: With ``process_volume`` (m) in the fatigue dict (docs/fatigue.md, "Process volume"): the
+    #: maxima of the four indices on the stress history averaged over a cube of that side, the
+    #: centres ``[x, y, z]`` (m) of their cubes, the ``process_volume`` block (``side``,
+    #: ``cells_inside``, counts, ``seconds``) and the fields ``crossland_pv``, … (layers, N₁, N₂;
+    #: NaN where the cube leaves the box or the screen skipped the cell); ``None`` without it.
+    crossland_pv_max: float | None = None
+    crossland_pv_max_at: list[float] | None = None
+    dang_van_pv_max: float | None = None
+    dang_van_pv_max_at: list[float] | None = None
+    swt_pv_max: float | None = None
+    swt_pv_max_at: list[float] | None = None
+    fatemi_socie_pv_max: float | None = None
+    fatemi_socie_pv_max_at: list[float] | None = None
+    process_volume: dict[str, Any] | None = None
+    crossland_pv: NDArray[np.float64] | None = None
+    dang_van_pv: NDArray[np.float64] | None = None
+    swt_pv: NDArray[np.float64] | None = None
+    fatemi_socie_pv: NDArray[np.float64] | None = None
 
 
 class MapResult(Result):
@@ -790,7 +808,7 @@ class FrettingLoop:
         Fatemi–Socie over the stress history of its closed cycle; docs/fatigue.md), as
         ``halfspace fretting-loop`` with the same ``[fatigue]`` table: ``config["fatigue"]`` holds
         its keys (``f_minus1``, ``t_minus1``, ``fs_k``, ``yield_stress``, ``depth_over_a``,
-        ``screen_fraction``, ``inhomogeneity``), and an ``inhomogeneity`` entry's dict may hold
+        ``screen_fraction``, ``inhomogeneity``, ``process_volume``), and an ``inhomogeneity`` entry's dict may hold
         ``"fatigue": {"f_minus1": …, "t_minus1": …, "fs_k": …, "yield_stress": …}`` (any subset:
         that inhomogeneity's own constants, the others from ``fatigue["inhomogeneity"]``, else
         the matrix's; docs/fatigue.md, "Materials"). Evaluated once (GIL released), then kept.

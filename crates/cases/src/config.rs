@@ -130,7 +130,9 @@ impl InhomogeneityFatigue {
 /// default 1.5), `screen_fraction` (SWT and Fatemi–Socie are evaluated exactly where their
 /// upper bound reaches this fraction of the maximum, default 0.5; 0: everywhere) and
 /// `[fatigue.inhomogeneity]`, the constants of every inhomogeneity without its own `fatigue`
-/// table (absent: the matrix's).
+/// table (absent: the matrix's), and `process_volume` (m): the side ℓ of the process volume whose
+/// averaged stress history the criteria are also evaluated on (docs/fatigue.md, "Process volume";
+/// absent: not evaluated).
 #[derive(Clone, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct FatigueConfig {
@@ -144,6 +146,8 @@ pub struct FatigueConfig {
     pub screen_fraction: f64,
     #[serde(default)]
     pub inhomogeneity: Option<FatigueConstants>,
+    #[serde(default)]
+    pub process_volume: Option<f64>,
     /// Not a key: the `fatigue` tables of the `[[inhomogeneity]]` entries, in their order (the
     /// case's first inhomogeneities), filled by [`LoopConfig::fatigue_config`].
     #[serde(skip)]
@@ -171,6 +175,10 @@ impl std::fmt::Debug for FatigueConfig {
             .field("depth_over_a", &self.depth_over_a)
             .field("screen_fraction", &self.screen_fraction)
             .field("inhomogeneity", &self.inhomogeneity);
+        // Only when given: the fingerprints of configurations without it are unchanged.
+        if let Some(side) = self.process_volume {
+            d.field("process_volume", &side);
+        }
         if self.own.iter().any(Option::is_some) {
             d.field("own", &self.own);
         }
@@ -544,6 +552,17 @@ impl LoopConfig {
                     .into(),
             ));
         }
+        if self
+            .fatigue
+            .as_ref()
+            .is_some_and(|f| f.process_volume.is_some())
+        {
+            return Err(SpecError(
+                "fretting map config: [fatigue] process_volume is read by fretting-loop only (the \
+                 map's crack risk is the pointwise maxima); remove it"
+                    .into(),
+            ));
+        }
         let largest = loads.iter().copied().fold(f64::NAN, f64::max);
         let mut cfg = self.clone();
         if largest.is_finite() && largest > 0.0 {
@@ -841,6 +860,14 @@ fn loop_case(
                 "fretting loop config: [fatigue] screen_fraction must lie in [0, 1], got {}",
                 f.screen_fraction
             )));
+        }
+        if let Some(side) = f.process_volume {
+            if !(side.is_finite() && side > 0.0) {
+                return Err(SpecError(format!(
+                    "fretting loop config: [fatigue] process_volume must be finite and > 0 m, \
+                     got {side}"
+                )));
+            }
         }
         f.matrix(case.e, case.nu)
             .validate()

@@ -469,6 +469,7 @@ mod tests {
             depth_over_a: 1.0,
             screen_fraction: 0.5,
             inhomogeneity: None,
+            process_volume: None,
             own: Vec::new(),
         };
         let plain = map();

@@ -12,10 +12,14 @@ use crate::data::{AttrValue, Record};
 use crate::fatigue::critical_plane::{fatemi_socie, swt, PlaneScratch};
 use crate::fatigue::field::{FieldParams, Maximum};
 use crate::fatigue::invariant::{crossland_dang_van, InvariantScratch};
+use crate::fatigue::process_volume::volume_centre;
 use crate::fatigue::screened::{
     anchored_bounds, critical_plane_bounds, invariant_bounds, largest_first, reference_bounds,
 };
-use crate::fatigue::{evaluate_screened, Material, ScreenedIndices, Voigt};
+use crate::fatigue::{
+    evaluate_process_volume, evaluate_screened, BoxNodes, Material, ScreenedIndices, Voigt,
+    VolumeParams,
+};
 use crate::sam::drivers::fretting_loop::{CycleSources, CycleStress, FrettingLoop, LoopCase};
 use crate::sam::subsurface::SubsurfacePlan;
 use crate::sam::SamError;
@@ -43,6 +47,26 @@ pub struct LoopFatigue {
     /// `screen_fraction ×` any maximum: [`reachable_levels`]).
     pub levels_computed: usize,
     /// Wall time of the evaluation (s).
+    pub seconds: f64,
+    /// The criteria on the history averaged over the process volume (`[fatigue]
+    /// process_volume`; docs/fatigue.md, "Process volume").
+    pub process_volume: Option<VolumeFatigue>,
+}
+
+/// The four index fields on the stress history averaged over a process volume of side `side`
+/// ([`halfspace_fatigue::evaluate_process_volume`] on the whole box), in the layout of
+/// [`LoopFatigue::indices`] (layers by depth, the surface first; `NaN` where the volume leaves the
+/// box or the screen skipped the cell).
+#[derive(Debug, Clone)]
+pub struct VolumeFatigue {
+    /// The side ℓ of the cube (m).
+    pub side: f64,
+    pub indices: ScreenedIndices,
+    /// Centres `[x, y, max(z, ℓ/2)]` of the process volumes of the four maxima (m).
+    pub at: [[f64; 3]; 4],
+    /// Cells whose volume lies inside the box.
+    pub inside: usize,
+    /// Wall time of the averaging and the criteria (s).
     pub seconds: f64,
 }
 
@@ -149,16 +173,114 @@ pub fn evaluate_loop_fatigue(
     ] {
         m.point = slot(m.point);
     }
+    let x: Vec<f64> = (0..g.n1).map(|i| g.centre(i, 0).0).collect();
+    let y: Vec<f64> = (0..g.n2).map(|j| g.centre(0, j).1).collect();
+    let z: Vec<f64> = order.iter().map(|&k| h.depth(k)).collect();
+    let increments = h.increments;
+    drop(h);
+    let process_volume = match cfg.process_volume {
+        Some(side) => Some(volume_fatigue(lp, cfg, side, &all, &order)?),
+        None => None,
+    };
     Ok(LoopFatigue {
         at,
         indices,
         layers: order.len(),
         shape: (g.n1, g.n2),
-        x: (0..g.n1).map(|i| g.centre(i, 0).0).collect(),
-        y: (0..g.n2).map(|j| g.centre(0, j).1).collect(),
-        z: order.iter().map(|&k| h.depth(k)).collect(),
-        increments: h.increments,
+        x,
+        y,
+        z,
+        increments,
         levels_computed,
+        seconds: start.elapsed().as_secs_f64(),
+        process_volume,
+    })
+}
+
+/// The criteria on the whole box's history averaged over the process volume of side `side`
+/// (docs/fatigue.md, "Process volume"): the history of every level of the box (`all`), each cell
+/// of its own material ([`cell_materials`]), through
+/// [`halfspace_fatigue::evaluate_process_volume`] with the `[fatigue]` screen; the fields
+/// reordered by depth (`order`, as [`evaluate_loop_fatigue`]'s). Errors: `side` below a cell or
+/// beyond the box (typed, from the fatigue crate).
+fn volume_fatigue(
+    lp: &FrettingLoop,
+    cfg: &FatigueConfig,
+    side: f64,
+    all: &[usize],
+    order: &[usize],
+) -> Result<VolumeFatigue, SpecError> {
+    let start = Instant::now();
+    let fail = |e: &dyn std::fmt::Display| SpecError(format!("fatigue: process volume: {e}"));
+    let h = lp.cycle_history(Some(all)).map_err(|e| fail(&e))?;
+    let (materials, material_of) = cell_materials(cfg, lp.case(), &h)?;
+    let g = h.grid;
+    let x: Vec<f64> = (0..g.n1).map(|i| g.centre(i, 0).0).collect();
+    let y: Vec<f64> = (0..g.n2).map(|j| g.centre(0, j).1).collect();
+    let depth: Vec<f64> = h.level_of.iter().map(|&k| h.depth(k)).collect();
+    let per = g.len();
+    let CycleStress {
+        stress, increments, ..
+    } = h;
+    let params = VolumeParams {
+        side,
+        fraction: cfg.screen_fraction,
+        field: FieldParams::default(),
+    };
+    let nodes = BoxNodes {
+        x: &x,
+        y: &y,
+        depth: &depth,
+    };
+    let e = evaluate_process_volume(
+        stress,
+        increments,
+        &nodes,
+        &materials,
+        &material_of,
+        &params,
+    )
+    .map_err(|e| fail(&e))?;
+    let mut indices = e.indices;
+    // The box's level k (surface last) to the fields' slot (by depth, surface first).
+    let slot = |p: usize| {
+        let k = order.iter().position(|&k| k == p / per).unwrap_or(0);
+        k * per + p % per
+    };
+    let centre = |p: usize| {
+        let (k, flat) = (p / per, p % per);
+        volume_centre([x[flat / g.n2], y[flat % g.n2], depth[k]], side)
+    };
+    let at = [
+        centre(indices.crossland_max.point),
+        centre(indices.dang_van_max.point),
+        centre(indices.swt_max.point),
+        centre(indices.fatemi_socie_max.point),
+    ];
+    for f in [
+        &mut indices.crossland,
+        &mut indices.dang_van,
+        &mut indices.swt,
+        &mut indices.fatemi_socie,
+    ] {
+        *f = order
+            .iter()
+            .flat_map(|&k| f[k * per..(k + 1) * per].iter().copied())
+            .collect();
+    }
+    for m in [
+        &mut indices.crossland_max,
+        &mut indices.dang_van_max,
+        &mut indices.swt_max,
+        &mut indices.fatemi_socie_max,
+    ] {
+        m.point = slot(m.point);
+    }
+    Ok(VolumeFatigue {
+        side,
+        indices,
+        at,
+        inside: e.inside,
         seconds: start.elapsed().as_secs_f64(),
     })
 }
@@ -591,11 +713,13 @@ pub const FATIGUE_FIELDS: [&str; 4] = ["crossland", "dang_van", "swt", "fatemi_s
 
 impl LoopFatigue {
     /// The JSON keys `crossland_max`, `crossland_max_at` ([x, y, z] m), `dang_van_max(_at)`,
-    /// `swt_max(_at)` (Pa), `fatemi_socie_max(_at)`, and the evaluation's cost.
+    /// `swt_max(_at)` (Pa), `fatemi_socie_max(_at)`, and the evaluation's cost; with a process
+    /// volume also `crossland_pv_max`, `crossland_pv_max_at` (the centre of the maximum's cube,
+    /// m), … for the four criteria and the `process_volume` block.
     pub fn summary(&self) -> Value {
         let i = &self.indices;
         let finite = |v: f64| if v.is_finite() { json!(v) } else { Value::Null };
-        json!({
+        let mut summary = json!({
             "crossland_max": finite(i.crossland_max.value),
             "crossland_max_at": self.at[0],
             "dang_van_max": finite(i.dang_van_max.value),
@@ -615,12 +739,42 @@ impl LoopFatigue {
                 "fatemi_socie_evaluated": i.fatemi_socie_evaluated,
                 "seconds": self.seconds,
             },
-        })
+        });
+        if let (Some(v), Some(out)) = (&self.process_volume, summary.as_object_mut()) {
+            let i = &v.indices;
+            for (k, (name, m)) in FATIGUE_FIELDS
+                .iter()
+                .zip([
+                    i.crossland_max,
+                    i.dang_van_max,
+                    i.swt_max,
+                    i.fatemi_socie_max,
+                ])
+                .enumerate()
+            {
+                out.insert(format!("{name}_pv_max"), finite(m.value));
+                out.insert(format!("{name}_pv_max_at"), json!(v.at[k]));
+            }
+            out.insert(
+                "process_volume".into(),
+                json!({
+                    "side": v.side,
+                    "cells_inside": v.inside,
+                    "invariant_evaluated": i.invariant_evaluated,
+                    "swt_evaluated": i.swt_evaluated,
+                    "fatemi_socie_evaluated": i.fatemi_socie_evaluated,
+                    "seconds": v.seconds,
+                }),
+            );
+        }
+        summary
     }
 
     /// `rec` with `z` (layer depths, m: 0 the surface layer, then `(2k + 1)Δ`) and the four
     /// volume fields `(layers, N₁, N₂)` (`NaN`
-    /// where the screen skipped them), the maxima as attributes.
+    /// where the screen skipped them), the maxima as attributes; with a process volume also
+    /// `crossland_pv`, … (the same shape, `NaN` also where the cube leaves the box), their maxima
+    /// and the side `process_volume` (m) as attributes.
     pub fn record(&self, rec: Record) -> Record {
         let shape = [self.layers, self.shape.0, self.shape.1];
         let i = &self.indices;
@@ -647,6 +801,27 @@ impl LoopFatigue {
                 .attr(&format!("{name}_max_x"), AttrValue::Float(self.at[k][0]))
                 .attr(&format!("{name}_max_y"), AttrValue::Float(self.at[k][1]))
                 .attr(&format!("{name}_max_z"), AttrValue::Float(self.at[k][2]));
+        }
+        if let Some(v) = &self.process_volume {
+            let i = &v.indices;
+            rec = rec.attr("process_volume", AttrValue::Float(v.side));
+            for (k, (name, (field, m))) in FATIGUE_FIELDS
+                .iter()
+                .zip([
+                    (&i.crossland, i.crossland_max),
+                    (&i.dang_van, i.dang_van_max),
+                    (&i.swt, i.swt_max),
+                    (&i.fatemi_socie, i.fatemi_socie_max),
+                ])
+                .enumerate()
+            {
+                rec = rec
+                    .shaped(&format!("{name}_pv"), field.clone(), &shape)
+                    .attr(&format!("{name}_pv_max"), AttrValue::Float(m.value))
+                    .attr(&format!("{name}_pv_max_x"), AttrValue::Float(v.at[k][0]))
+                    .attr(&format!("{name}_pv_max_y"), AttrValue::Float(v.at[k][1]))
+                    .attr(&format!("{name}_pv_max_z"), AttrValue::Float(v.at[k][2]));
+            }
         }
         rec
     }
@@ -689,6 +864,7 @@ mod tests {
             depth_over_a: 1.5,
             screen_fraction: 0.5,
             inhomogeneity: None,
+            process_volume: None,
             own: Vec::new(),
         };
         let mut lp = FrettingLoop::new(case.clone()).unwrap();

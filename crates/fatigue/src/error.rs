@@ -60,4 +60,22 @@ pub enum FatigueError {
         points: usize,
         increments: usize,
     },
+    /// The process volume is smaller than a cell of the box (docs/fatigue.md, "Process volume").
+    #[error(
+        "process volume side {side} m is below a cell of the box ({cell} m): the average would \
+         interpolate within one cell"
+    )]
+    ProcessVolumeBelowCell { side: f64, cell: f64 },
+    /// The process volume does not fit in the box.
+    #[error(
+        "process volume side {side} m is beyond the box (its smallest extent, or no point's \
+         volume inside it: {reach} m)"
+    )]
+    ProcessVolumeBeyondBox { side: f64, reach: f64 },
+    /// The nodes of the box along one axis are not increasing.
+    #[error("process volume: the {axis} nodes of the box: {reason}")]
+    ProcessVolumeNodes {
+        axis: &'static str,
+        reason: &'static str,
+    },
 }
