@@ -1176,9 +1176,12 @@ impl FrettingSimulation {
 
     /// Runs until `τ_end` (or until `after_step` returns true after a step, for checkpoints and
     /// progress).
+    /// Each step runs on a worker of the rayon pool with a partner polling for its sections (the
+    /// transforms' split FFTs on two threads, docs/performance.md, "Two threads in the MDR wear
+    /// run"): the same results bit for bit on any number of threads.
     pub fn run(&mut self, mut after_step: impl FnMut(&Self) -> bool) -> Result<(), FrettingError> {
         while !self.is_finished() {
-            self.step()?;
+            halfspace_numerics::parallel::on_pool_with_partner(|| self.step())?;
             if after_step(self) {
                 return Ok(());
             }
