@@ -1217,9 +1217,21 @@ impl FrettingSimulation {
 
     /// Runs until `τ_end` (or until `after_step` returns true after a step, for checkpoints and
     /// progress).
+    /// On grids whose transforms split their FFTs (`2N − 1` padded to
+    /// `halfspace_numerics::conv1d::SPLIT_FROM` or more) each step runs on a worker of the rayon
+    /// pool with a partner polling for its sections (the split FFTs' halves on two threads,
+    /// docs/performance.md, "Two threads in the MDR wear run"); smaller grids run on the calling
+    /// thread (nothing to share, no core spent polling). The same results bit for bit on any
+    /// number of threads.
     pub fn run(&mut self, mut after_step: impl FnMut(&Self) -> bool) -> Result<(), FrettingError> {
+        use halfspace_numerics::conv1d::{plan_length, SPLIT_FROM};
+        let split = plan_length(2 * self.grid.len() - 1) >= SPLIT_FROM;
         while !self.is_finished() {
-            self.step()?;
+            if split {
+                halfspace_numerics::parallel::on_pool_with_partner(|| self.step())?;
+            } else {
+                self.step()?;
+            }
             if after_step(self) {
                 return Ok(());
             }

@@ -3,11 +3,12 @@
 //! for (the first `m` outputs of a causal convolution depend only on the first `m` inputs).
 //!
 //! Two backends evaluate the *same* sum (design.md: they agree to rounding):
-//! * [`Backend::Fft`]: zero-padded to a 5-smooth length `P ≥ 2n − 1` (docs/theory-mdr.md#p7-fft-details: without the
+//! * [`Backend::Fft`]: zero-padded to a 5-smooth length `P ≥ 2n − 1` ([`plan_length`]) (docs/theory-mdr.md#p7-fft-details: without the
 //!   padding the product is circular), kernel spectrum computed once, `apply` allocation-free;
 //!   O(P log P). With [`ToeplitzConvolution::plan_shorter_lengths`] it also plans a ladder of
 //!   shorter lengths `P_l ≥ 2c_l − 1` (`c_l` falling by 4/5 a rung) and an input of length
-//!   `m ≤ c_l` uses the shortest such plan: the same sum, `O(m log m)` for short inputs.
+//!   `m ≤ c_l` uses the shortest such plan: the same sum, `O(m log m)` for short inputs. From
+//!   [`SPLIT_FROM`] a plan's transforms run as two halves that may take two threads.
 //! * [`Backend::Mvm`]: the lower-triangular Toeplitz matrix–vector product, O(m²), with four
 //!   independent accumulators per row.
 
@@ -57,6 +58,24 @@ pub fn fast_length(min: usize) -> usize {
     best
 }
 
+/// Padded lengths from which a plan whose length is a multiple of 4 evaluates its real FFTs as
+/// two of half the length, on the even and on the odd samples ([`SplitFft`]): two independent
+/// transforms that run on two threads. Below it the hand-offs between threads cost more than
+/// they save: at `N = 2001` (`P` of 2048–4050) the split was 9 % slower on one thread and slower
+/// still on two (docs/performance.md, "Two threads in the MDR wear run").
+pub const SPLIT_FROM: usize = 8192;
+
+/// The padded length of a plan for `P ≥ min`: [`fast_length`]`(min)`, or from [`SPLIT_FROM`] on
+/// the smallest multiple of 4 of the form `4 · 2^a 3^b 5^c` (so that the plan splits, [`SplitFft`]).
+pub fn plan_length(min: usize) -> usize {
+    let p = fast_length(min);
+    if p >= SPLIT_FROM && p % 4 != 0 {
+        4 * fast_length(min.div_ceil(4))
+    } else {
+        p
+    }
+}
+
 struct FftPlan {
     /// Longest input (the kernel entries it holds).
     capacity: usize,
@@ -67,6 +86,151 @@ struct FftPlan {
     time: Vec<f64>,
     freq: Vec<Complex<f64>>,
     scratch: Vec<Complex<f64>>,
+    /// The transforms split in halves (padded lengths from [`SPLIT_FROM`], multiples of 4).
+    split: Option<SplitFft>,
+}
+
+/// The real FFTs of length `P = 2M` (`M` even) of a plan as two of length `M`, one on the even
+/// and one on the odd samples (radix-2 decimation in time; Cooley & Tukey 1965):
+///
+/// `X_k = E_k + w^k O_k`, `X_{M−k} = conj(E_k − w^k O_k)`, `k = 0..=M/2`, `w = e^{−2πi/P}`,
+///
+/// and for the inverse of `Y = X ⊙ S` (decimation in frequency)
+///
+/// `Ŷ^e_k = Y_k + conj(Y_{M−k})`, `Ŷ^o_k = (Y_k − conj(Y_{M−k})) w^{−k}`, `y_{2j} = IDFT_M(Ŷ^e)_j`,
+/// `y_{2j+1} = IDFT_M(Ŷ^o)_j`
+///
+/// (`Y_{k+M} = conj(Y_{M−k})` for a real `y`). The two halves of each transform are independent:
+/// they run on two threads of the pool (`rayon::join`) when called on a worker of a pool of two or
+/// more (docs/performance.md, "Two threads in the MDR wear run"); the arithmetic is the same on
+/// one thread, so the result is the same bit for bit on any number of threads.
+struct SplitFft {
+    /// `M = P/2`.
+    half: usize,
+    forward: Arc<dyn RealToComplex<f64>>,
+    inverse: Arc<dyn ComplexToReal<f64>>,
+    /// `w^k`, `k = 0..=M/2`.
+    twiddles: Vec<Complex<f64>>,
+    /// The even samples' lane and the odd samples'.
+    lanes: [SplitLane; 2],
+}
+
+/// One half of a [`SplitFft`]: its samples, their spectrum and the scratch of its transforms.
+struct SplitLane {
+    time: Vec<f64>,
+    freq: Vec<Complex<f64>>,
+    scratch: Vec<Complex<f64>>,
+}
+
+impl SplitFft {
+    fn new(p: usize, planner: &mut RealFftPlanner<f64>) -> Self {
+        debug_assert!(p % 4 == 0);
+        let half = p / 2;
+        let forward = planner.plan_fft_forward(half);
+        let inverse = planner.plan_fft_inverse(half);
+        let scratch_len = forward.get_scratch_len().max(inverse.get_scratch_len());
+        let lane = || SplitLane {
+            time: vec![0.0; half],
+            freq: forward.make_output_vec(),
+            scratch: vec![Complex::new(0.0, 0.0); scratch_len],
+        };
+        let lanes = [lane(), lane()];
+        let twiddles = (0..=half / 2)
+            .map(|k| {
+                if 4 * k == p {
+                    // w^{P/4} = −i exactly.
+                    Complex::new(0.0, -1.0)
+                } else {
+                    let angle = -2.0 * std::f64::consts::PI * k as f64 / p as f64;
+                    Complex::new(angle.cos(), angle.sin())
+                }
+            })
+            .collect();
+        Self {
+            half,
+            forward,
+            inverse,
+            twiddles,
+            lanes,
+        }
+    }
+
+    /// `y = IDFT_P(DFT_P(x, zero-padded) ⊙ spectrum)[..m]` (`spectrum` the `P/2 + 1` bins of a
+    /// real signal's transform, the normalization folded in), `m = x.len() = y.len()`.
+    fn convolve(&mut self, spectrum: &[Complex<f64>], x: &[f64], y: &mut [f64]) {
+        let half = self.half;
+        let [even, odd] = &mut self.lanes;
+        let (forward, inverse) = (&self.forward, &self.inverse);
+        join_if_on_pool(
+            || even.forward(forward, x, 0),
+            || odd.forward(forward, x, 1),
+        );
+        // Both spectra become the halves' spectra of Y = X ⊙ S, in place (bin k reads and writes
+        // bin k only).
+        for (k, ((e, o), w)) in even
+            .freq
+            .iter_mut()
+            .zip(odd.freq.iter_mut())
+            .zip(&self.twiddles)
+            .enumerate()
+        {
+            let t = *w * *o;
+            let xk = *e + t;
+            let xmk = (*e - t).conj();
+            let yk = xk * spectrum[k];
+            let ymk = (xmk * spectrum[half - k]).conj();
+            *e = yk + ymk;
+            *o = (yk - ymk) * w.conj();
+        }
+        // Real DC and Nyquist bins of the halves' real signals: clear the rounding there so the
+        // inverse transforms accept them.
+        for lane in [&mut *even, &mut *odd] {
+            let last = lane.freq.len() - 1;
+            lane.freq[0].im = 0.0;
+            lane.freq[last].im = 0.0;
+        }
+        join_if_on_pool(|| even.inverse(inverse), || odd.inverse(inverse));
+        let m = y.len();
+        for (j, pair) in y.chunks_mut(2).enumerate() {
+            pair[0] = even.time[j];
+            if let Some(o) = pair.get_mut(1) {
+                *o = odd.time[j];
+            }
+        }
+        debug_assert!(m <= 2 * half);
+    }
+}
+
+impl SplitLane {
+    /// The spectrum of the samples `x_{2j + parity}` (zero beyond `x`).
+    fn forward(&mut self, plan: &Arc<dyn RealToComplex<f64>>, x: &[f64], parity: usize) {
+        let mut filled = 0;
+        for (t, v) in self.time.iter_mut().zip(x.iter().skip(parity).step_by(2)) {
+            *t = *v;
+            filled += 1;
+        }
+        self.time[filled..].fill(0.0);
+        plan.process_with_scratch(&mut self.time, &mut self.freq, &mut self.scratch)
+            .expect("buffer lengths come from the plan");
+    }
+
+    /// The samples of the spectrum `freq` (unnormalized inverse), into `time`.
+    fn inverse(&mut self, plan: &Arc<dyn ComplexToReal<f64>>) {
+        plan.process_with_scratch(&mut self.freq, &mut self.time, &mut self.scratch)
+            .expect("buffer lengths come from the plan");
+    }
+}
+
+/// `(a(), b())`, on two threads (`rayon::join`) when called on a worker of a pool of two or more,
+/// else one after the other on the calling thread (a join from outside the pool would hand both
+/// to the pool and wait: a wake-up per call). The same results either way.
+fn join_if_on_pool(a: impl FnOnce() + Send, b: impl FnOnce() + Send) {
+    if rayon::current_thread_index().is_some() && rayon::current_num_threads() > 1 {
+        rayon::join(a, b);
+    } else {
+        a();
+        b();
+    }
 }
 
 enum Engine {
@@ -106,7 +270,7 @@ impl ToeplitzConvolution {
         let engine = match backend {
             Backend::Mvm => Engine::Mvm,
             Backend::Fft => {
-                let p = fast_length(2 * kernel.len() - 1);
+                let p = plan_length(2 * kernel.len() - 1);
                 Engine::Fft(vec![FftPlan::new(&kernel, p)])
             }
         };
@@ -170,7 +334,7 @@ impl ToeplitzConvolution {
             if c < SHORTEST_RUNG {
                 break;
             }
-            let p = fast_length(2 * c - 1);
+            let p = plan_length(2 * c - 1);
             if p < longest {
                 // The plan holds every input its padding allows: c = ⌈P/2⌉.
                 let capacity = p.div_ceil(2).min(self.kernel.len());
@@ -233,6 +397,7 @@ impl FftPlan {
             *s *= scale;
         }
         let freq = forward.make_output_vec();
+        let split = (p >= SPLIT_FROM && p % 4 == 0).then(|| SplitFft::new(p, &mut planner));
         Self {
             capacity: n,
             forward,
@@ -241,10 +406,15 @@ impl FftPlan {
             time,
             freq,
             scratch,
+            split,
         }
     }
 
     fn apply(&mut self, x: &[f64], y: &mut [f64]) {
+        if let Some(split) = &mut self.split {
+            split.convolve(&self.spectrum, x, y);
+            return;
+        }
         let m = x.len();
         self.time[..m].copy_from_slice(x);
         self.time[m..].fill(0.0);
@@ -393,6 +563,63 @@ mod tests {
             .iter()
             .zip(&y_ladder)
             .all(|(a, c)| a.to_bits() == c.to_bits()));
+    }
+
+    /// The plans from [`SPLIT_FROM`] on are split (a multiple of 4): every input length of a
+    /// ladder against the naive sum (fixed seeds), and the same bits on a pool of one thread, on a
+    /// pool of two (called on a worker with a partner: the halves on two threads) and outside any
+    /// pool.
+    #[test]
+    fn split_plans_match_the_naive_sum_on_any_number_of_threads() {
+        for min in [SPLIT_FROM, 8193, 10001, 12001, 16001] {
+            let p = plan_length(min);
+            assert!(p >= min && p % 4 == 0, "{min}: {p}");
+            assert!(p <= fast_length(min.div_ceil(4)) * 4);
+        }
+        assert_eq!(plan_length(4001), fast_length(4001));
+        let n = 6000;
+        let b = lcg(17, n);
+        let x = lcg(18, n);
+        let want = naive(&b, &x);
+        let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1.0);
+        let (b, x) = (&b, &x);
+        let run = |threads: Option<usize>| -> Vec<Vec<f64>> {
+            let mut op = ToeplitzConvolution::new(b.clone(), Backend::Fft).unwrap();
+            op.plan_shorter_lengths();
+            let mut go = move || {
+                [n, n - 1, 5001, 4800, 4097, 3000, 700]
+                    .iter()
+                    .map(|&m| {
+                        let mut y = vec![0.0; m];
+                        op.apply(&x[..m], &mut y).unwrap();
+                        y
+                    })
+                    .collect::<Vec<_>>()
+            };
+            match threads {
+                None => go(),
+                Some(t) => rayon::ThreadPoolBuilder::new()
+                    .num_threads(t)
+                    .build()
+                    .unwrap()
+                    .install(|| crate::parallel::on_pool_with_partner(go)),
+            }
+        };
+        let one = run(Some(1));
+        for y in &one {
+            for (i, (a, w)) in y.iter().zip(&want).enumerate() {
+                assert!(
+                    (a - w).abs() <= 1e-13 * scale * (n as f64).sqrt(),
+                    "m = {}, i = {i}: {a} vs {w}",
+                    y.len()
+                );
+            }
+        }
+        for other in [run(Some(2)), run(None)] {
+            for (a, c) in one.iter().zip(&other) {
+                assert!(a.iter().zip(c).all(|(u, v)| u.to_bits() == v.to_bits()));
+            }
+        }
     }
 
     #[test]

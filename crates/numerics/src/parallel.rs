@@ -62,6 +62,14 @@ pub fn on_pool<R: Send>(cells: usize, f: impl FnOnce() -> R + Send) -> R {
     on_pool_with(partner_enabled(), cells, f)
 }
 
+/// [`on_pool`] with a partner whatever the problem's size (unless [`set_partner`]`(false)`): for
+/// a computation of many sections of a few tens of microseconds each, where a wake-up per section
+/// would cost as much as the section (the MDR wear run's split FFTs, docs/performance.md, "Two
+/// threads in the MDR wear run"). The same result bit for bit as `f()` on the calling thread.
+pub fn on_pool_with_partner<R: Send>(f: impl FnOnce() -> R + Send) -> R {
+    on_pool_with(partner_enabled(), PARTNER_CELLS, f)
+}
+
 /// [`on_pool`] with the partner switch given (`partner_on`: whether a partner may start) instead of
 /// read from [`set_partner`]'s process-wide setting.
 fn on_pool_with<R: Send>(partner_on: bool, cells: usize, f: impl FnOnce() -> R + Send) -> R {
