@@ -1041,7 +1041,7 @@ fn near_surface_maxima_at_a_fixed_depth_converge_with_the_grid() {
         // The twin: at the box's own cell centres of the first layer the paths are the history's.
         let h = lp.cycle_stress().unwrap().unwrap();
         let probe: Vec<usize> = (0..n * n).step_by(n * n / 7 + 1).collect();
-        let at: Vec<[f64; 3]> = probe.iter().map(|&p| h.position(p)).collect();
+        let at: Vec<[f64; 3]> = probe.iter().map(|&p| h.position(p).unwrap()).collect();
         let direct = lp.cycle_stress_at(&at).unwrap();
         let twin = probe
             .iter()
