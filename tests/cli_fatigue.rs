@@ -194,3 +194,35 @@ fn an_inhomogeneitys_own_limits_change_exactly_its_cells() {
         }
     }
 }
+
+/// `fretting-loop --help` names every key of its `--config` file: the list serde gives for an
+/// unknown key (`expected one of …`) against the help text.
+#[test]
+fn the_help_names_every_config_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("out");
+    let c = config(dir.path(), "unknown.toml", "no_such_key = 1\n");
+    let out = run(&[
+        "fretting-loop",
+        "--config",
+        &c,
+        "--out",
+        o.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    let list = err
+        .split("expected one of")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no key list in {err:?}"));
+    let keys: Vec<&str> = list.split('`').skip(1).step_by(2).collect();
+    assert!(keys.len() >= 20, "{keys:?}");
+    for key in ["eim_change_factor", "eim_recycled_depth", "fatigue", "grid"] {
+        assert!(keys.contains(&key), "{key} not in {keys:?}");
+    }
+    let help = run(&["fretting-loop", "--help"]);
+    assert!(help.status.success());
+    let help = String::from_utf8_lossy(&help.stdout);
+    let missing: Vec<&&str> = keys.iter().filter(|k| !help.contains(**k)).collect();
+    assert!(missing.is_empty(), "--help lacks {missing:?}");
+}

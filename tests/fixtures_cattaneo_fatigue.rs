@@ -72,7 +72,7 @@ fn cattaneo_mindlin_cycle_matches_the_cubature_of_the_closed_form_tractions() {
                 .map(|v| v.as_u64().unwrap() as usize)
                 .collect();
             let p = cell[2] * n * n + cell[0] * n + cell[1];
-            let pos = h.position(p);
+            let pos = h.position(p).unwrap();
             for (c, want) in entry["point"].as_array().unwrap().iter().enumerate() {
                 assert!(
                     (pos[c] / a - want.as_f64().unwrap()).abs() < 1e-9,
@@ -221,7 +221,7 @@ fn cattaneo_mindlin_maxima_and_their_locations_converge_to_the_cubature() {
         let mut computed = Vec::with_capacity(reference.len());
         for (c, want) in cells.iter().zip(&points) {
             let p = c[2] * n * n + c[0] * n + c[1];
-            let pos = h.position(p);
+            let pos = h.position(p).unwrap();
             for k in 0..3 {
                 assert!((pos[k] / a - want[k]).abs() < 1e-9, "{pos:?} vs {want:?}");
             }
@@ -269,7 +269,7 @@ fn cattaneo_mindlin_maxima_and_their_locations_converge_to_the_cubature() {
                 NAMES[k]
             );
             maxima[k] = value;
-            first_layer_at[k] = h.position(flat);
+            first_layer_at[k] = h.position(flat).unwrap();
             assert!((first_layer_at[k][2] / a - cell / 2.0).abs() < 1e-9);
         }
         let (window_x, window_y) = (
@@ -475,7 +475,7 @@ fn cattaneo_mindlin_surface_layer_matches_the_closed_form_surface_stresses() {
         let away: Vec<bool> = points.iter().map(|p| p[0].hypot(p[1]) >= 1.1).collect();
         for (m, (c, want)) in cells.iter().zip(&points).enumerate() {
             let p = h.layers * n * n + c[0] as usize * n + c[1] as usize;
-            let pos = h.position(p);
+            let pos = h.position(p).unwrap();
             assert!((pos[0] / a - want[0]).abs() < 1e-9 && (pos[1] / a - want[1]).abs() < 1e-9);
             assert_eq!(pos[2], 0.0);
             let path = &h.stress[p * 41 * 6..(p + 1) * 41 * 6];
@@ -1043,7 +1043,7 @@ fn near_surface_maxima_at_a_fixed_depth_converge_with_the_grid() {
         // The twin: at the box's own cell centres of the first layer the paths are the history's.
         let h = lp.cycle_stress().unwrap().unwrap();
         let probe: Vec<usize> = (0..n * n).step_by(n * n / 7 + 1).collect();
-        let at: Vec<[f64; 3]> = probe.iter().map(|&p| h.position(p)).collect();
+        let at: Vec<[f64; 3]> = probe.iter().map(|&p| h.position(p).unwrap()).collect();
         let direct = lp.cycle_stress_at(&at).unwrap();
         let twin = probe
             .iter()

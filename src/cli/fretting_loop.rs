@@ -32,7 +32,12 @@ use super::CliError;
 pub struct FrettingLoopArgs {
     /// TOML file with any of: radius, e, nu, friction, force or approach, indenter_e and indenter_nu
     /// (elastic sphere; absent: rigid), normal_steps, amplitude, shift_step, grid,
-    /// extent_over_a, subsurface_over_a, [[inhomogeneity]], layout, fibre_e_ratio.
+    /// extent_over_a, subsurface_over_a, [[inhomogeneity]], layout, fibre_e_ratio; [fatigue]
+    /// (the fatigue criteria over the closed cycle, docs/fatigue.md); with inhomogeneities
+    /// inhomogeneous_body ("nested", the default, or "surface-operator") and
+    /// surface_operator_radius_over_a (default 1.3), and for the nested loop eim_change_factor
+    /// (in (0, 1]; default 3e-3) and eim_recycled_depth (0 to 50; default 5;
+    /// docs/theory-sam.md).
     #[arg(long)]
     config: Option<PathBuf>,
     /// Output directory (results.h5, the figures of [LN11] Figs. 6–9, checkpoint.npz while running).

@@ -106,12 +106,12 @@ pub fn evaluate_loop_fatigue(
         cfg.screen_fraction,
     )
     .map_err(|e| fail(&e))?;
-    let at = |m: &Maximum| h.position(m.point);
+    let at = |m: &Maximum| h.position(m.point).map_err(|e| fail(&e));
     let at = [
-        at(&indices.crossland_max),
-        at(&indices.dang_van_max),
-        at(&indices.swt_max),
-        at(&indices.fatemi_socie_max),
+        at(&indices.crossland_max)?,
+        at(&indices.dang_van_max)?,
+        at(&indices.swt_max)?,
+        at(&indices.fatemi_socie_max)?,
     ];
     // The stored levels into the whole box (level `k` at `k · N₁N₂`, the surface layer
     // `k = layers` last); the levels not computed are NaN like the cells the screen skipped.
@@ -307,7 +307,9 @@ pub fn cell_materials(
         if m == 0 {
             continue;
         }
-        let at = h.position(p);
+        let at = h
+            .position(p)
+            .map_err(|e| SpecError(format!("fatigue: {e}")))?;
         let mut holders = case
             .inhomogeneities
             .iter()
@@ -369,7 +371,9 @@ const SEED_CELLS: usize = 16;
 /// some `L ≤ 0`), and computed only if the anchored bound ([`AnchoredBound`]) of one of those
 /// cells also reaches `fraction · L`. Every cell whose value reaches `fraction ×` the maximum is
 /// therefore in a computed level. The seed's history is kept and the other computed levels'
-/// merged into it ([`CycleStress::merged`]).
+/// merged into it ([`CycleStress::merged`]). Errors: a loop with inhomogeneities, `sources`
+/// other than the loop's own complete cycle, `layers` other than the loop's box
+/// ([`FrettingLoop::cycle_levels`]).
 // Index loops over the four criteria read like the bounds they compare.
 #[allow(clippy::needless_range_loop)]
 pub fn reachable_levels(
@@ -382,10 +386,16 @@ pub fn reachable_levels(
     let case = lp.case();
     let LoopBox {
         depth,
+        layers: box_layers,
         grid,
         increments,
         friction,
     } = LoopBox::of(lp, sources)?;
+    if layers != box_layers {
+        return Err(SamError::InvalidInput(format!(
+            "fatigue bounds: {layers} layers asked, the loop's box has {box_layers}"
+        )));
+    }
     let n = grid.len();
     // τ^ref and the amplitude per cell of p, q₁, q₂ over the cycle.
     let mut reference = vec![vec![0.0; n]; 3];
@@ -502,12 +512,16 @@ pub fn reachable_levels(
 }
 
 /// What [`reachable_levels`] and [`AnchoredBound::new`] read of a homogeneous loop's box: the
-/// box depth, the surface grid, the cycle's increments and whether the contact has friction;
-/// an error when the loop has no fatigue depth or `sources` (public fields) do not fit the
-/// loop's grid — `cells = N₁N₂`, `3 · recorded · N₁N₂` traction values and
-/// `recorded · eigen_len` eigenstrain values (docs/fatigue.md, "Layers the screen cannot reach").
+/// box depth and layers, the surface grid, the cycle's increments and whether the contact has
+/// friction. An error (docs/fatigue.md, "Layers the screen cannot reach") when the loop has no
+/// fatigue depth, has inhomogeneities (their eigenstrains are not in the bounds), `sources` are
+/// not the loop's own ([`FrettingLoop::cycle_sources`], by identity or value), record other
+/// than the loop's closed cycle (`4q + 1` increments), or (public fields) do not fit the loop's
+/// grid — `cells = N₁N₂`, `3 · recorded · N₁N₂` traction values and `recorded · eigen_len`
+/// eigenstrain values.
 struct LoopBox {
     depth: f64,
+    layers: usize,
     grid: crate::sam::SurfaceGrid,
     increments: usize,
     friction: bool,
@@ -515,10 +529,28 @@ struct LoopBox {
 
 impl LoopBox {
     fn of(lp: &FrettingLoop, sources: &CycleSources) -> Result<Self, SamError> {
-        let depth = lp
-            .case()
-            .fatigue_depth
-            .ok_or_else(|| SamError::InvalidInput("no fatigue depth".into()))?;
+        let bad = |what: String| Err(SamError::InvalidInput(format!("fatigue bounds: {what}")));
+        let (Some(depth), Some((layers, _))) = (lp.case().fatigue_depth, lp.cycle_levels()) else {
+            return bad("the loop has no fatigue depth".into());
+        };
+        if lp.solver().nested().is_some() {
+            return bad(
+                "the level bounds are of a homogeneous loop; this one has inhomogeneities".into(),
+            );
+        }
+        if !lp
+            .cycle_sources()
+            .is_some_and(|own| std::ptr::eq(own, sources) || own == sources)
+        {
+            return bad("the cycle sources are not the loop's own".into());
+        }
+        let cycle = lp.path().len() - lp.path().cycle_start();
+        if sources.recorded != cycle {
+            return bad(format!(
+                "the cycle sources record {} increments, the loop's cycle has {cycle}",
+                sources.recorded
+            ));
+        }
         let grid = *lp.solver().problem().grid();
         let n = grid.len();
         let increments = sources.recorded;
@@ -528,7 +560,7 @@ impl LoopBox {
             || tractions != Some(sources.tractions.len())
             || eigenstrain != Some(sources.eigenstrain.len())
         {
-            return Err(SamError::InvalidInput(format!(
+            return bad(format!(
                 "cycle sources of {} cells, {} increments, {} traction and {} eigenstrain values \
                  do not fit the loop's {n} surface cells (3 · {increments} · {n} tractions, \
                  {increments} · {} eigenstrains)",
@@ -537,10 +569,11 @@ impl LoopBox {
                 sources.tractions.len(),
                 sources.eigenstrain.len(),
                 sources.eigen_len,
-            )));
+            ));
         }
         Ok(Self {
             depth,
+            layers,
             grid,
             increments,
             friction: lp.solver().problem().friction() > 0.0,
@@ -610,6 +643,8 @@ pub struct AnchoredBound {
 impl AnchoredBound {
     /// The anchored bound on the box levels `levels` (increasing) of the loop `lp` with the
     /// cycle `sources`; `None` for a cycle of fewer than 3 increments (nothing to interpolate).
+    /// Errors: those of the loop and its sources (`LoopBox::of`: a homogeneous loop, its own
+    /// complete cycle), levels not increasing or past the loop's box.
     pub fn new(
         lp: &FrettingLoop,
         sources: &CycleSources,
@@ -618,10 +653,17 @@ impl AnchoredBound {
         let case = lp.case();
         let LoopBox {
             depth,
+            layers,
             grid,
             increments,
             friction,
         } = LoopBox::of(lp, sources)?;
+        if levels.windows(2).any(|w| w[0] >= w[1]) || levels.iter().any(|&k| k > layers) {
+            return Err(SamError::InvalidInput(format!(
+                "fatigue bounds: levels {levels:?} are not increasing box levels of the loop's \
+                 0..={layers}"
+            )));
+        }
         let n = grid.len();
         if increments < 3 {
             return Ok(None);
@@ -918,7 +960,7 @@ mod tests {
         for (k, (a, b, ma, mb)) in pairs.into_iter().enumerate() {
             assert_eq!(ma.value, mb.value, "criterion {k}");
             assert_eq!(slot(ma.point), mb.point, "criterion {k}");
-            assert_eq!(whole.position(ma.point), f.at[k], "criterion {k}");
+            assert_eq!(whole.position(ma.point).unwrap(), f.at[k], "criterion {k}");
             let mut reached = 0;
             for (p, &v) in a.iter().enumerate() {
                 let w = b[slot(p)];
@@ -1024,6 +1066,77 @@ mod tests {
             );
             assert!(reachable_levels(&lp, &bad, layers, &matrix, 0.5).is_err());
         }
+        // Layers other than the loop's box, levels past it or not increasing.
+        let message = |r: Result<CycleStress, SamError>| r.unwrap_err().to_string();
+        assert!(
+            message(reachable_levels(&lp, &sources, layers + 1, &matrix, 0.5))
+                .contains("layers asked")
+        );
+        assert!(reachable_levels(&lp, &sources, layers, &matrix, 0.5).is_ok());
+        for levels in [vec![0, layers + 1], vec![1, 0], vec![2, 2]] {
+            assert!(
+                AnchoredBound::new(&lp, &sources, &levels).is_err(),
+                "{levels:?}"
+            );
+        }
+        // Sources of the same shape but of another loop (twice the load): not the loop's own.
+        let mut other = FrettingLoop::new(LoopCase {
+            force: 2.0 * case.force,
+            ..case.clone()
+        })
+        .unwrap();
+        other.run(|_| std::ops::ControlFlow::Continue(())).unwrap();
+        let foreign = other.cycle_sources().unwrap();
+        assert_eq!(
+            (foreign.cells, foreign.recorded, foreign.tractions.len()),
+            (sources.cells, sources.recorded, sources.tractions.len())
+        );
+        assert!(
+            message(reachable_levels(&lp, foreign, layers, &matrix, 0.5))
+                .contains("not the loop's own")
+        );
+        assert!(AnchoredBound::new(&lp, foreign, &levels).is_err());
+        // A loop stopped inside its cycle: its own sources record fewer increments.
+        let mut stopped = FrettingLoop::new(case.clone()).unwrap();
+        let cycle = stopped.path().len() - stopped.path().cycle_start();
+        let mut left = stopped.path().cycle_start() + cycle / 2;
+        stopped
+            .run(|_| {
+                left -= 1;
+                if left == 0 {
+                    std::ops::ControlFlow::Break(())
+                } else {
+                    std::ops::ControlFlow::Continue(())
+                }
+            })
+            .unwrap();
+        let partial = stopped.cycle_sources().unwrap();
+        assert!(partial.recorded > 0 && partial.recorded < cycle);
+        assert!(
+            message(reachable_levels(&stopped, partial, layers, &matrix, 0.5))
+                .contains("the loop's cycle has")
+        );
+        // An inhomogeneous loop.
+        let mut composite = case.clone();
+        let a = case.hertz_radius();
+        composite.inhomogeneities = vec![crate::sam::eim::Inhomogeneity {
+            shape: crate::sam::eim::Shape::Sphere {
+                x: 0.0,
+                y: 0.0,
+                z: 0.6 * a,
+                r: 0.3 * a,
+            },
+            e: 2.0 * case.e,
+            nu: case.nu,
+        }];
+        let mut nested = FrettingLoop::new(composite).unwrap();
+        nested.run(|_| std::ops::ControlFlow::Continue(())).unwrap();
+        let own = nested.cycle_sources().unwrap();
+        assert!(
+            message(reachable_levels(&nested, own, layers, &matrix, 0.5))
+                .contains("inhomogeneities")
+        );
+        assert!(AnchoredBound::new(&nested, own, &levels).is_err());
     }
 
     /// Per-inhomogeneity constants (docs/fatigue.md, "Materials"): two inhomogeneities of the
@@ -1114,7 +1227,7 @@ mod tests {
         let constants = [[500e6, 350e6, 0.8, 900e6], [300e6, 280e6, 0.5, 600e6]];
         let mut checked = [0usize; 3];
         for p in 0..h.points() {
-            let at = h.position(p);
+            let at = h.position(p).unwrap();
             let holder = case.inhomogeneities.iter().position(|i| i.contains(at));
             assert_eq!(holder.is_some(), h.material[p] != 0, "cell {p}");
             // A few cells of each kind (every cell would be slow in a debug build).

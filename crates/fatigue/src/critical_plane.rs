@@ -764,9 +764,9 @@ fn fs_plane_screened(
     let d2 = |p: &[f64; 2], q: &[f64; 2]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
     let mut best: f64 = 0.0;
     if !inside && h > SCREEN_ABOVE_STEP && shear.len() > DIAMETER_PAIRS_UP_TO {
-        // Large steps on long paths: the diameter as the full evaluation computes it (the hull;
-        // the same value as `fs_plane_exact`).
-        best = diameter_hull(shear, hull).0;
+        // Large steps on long paths: the diameter as the full evaluation computes it
+        // (`diameter`: the filtered pairs or the hull; the value of `fs_plane_exact`).
+        best = diameter(shear, hull).0;
     } else if !inside && h > SCREEN_ABOVE_STEP {
         // Large steps (probes, the first compass steps): the list would keep most pairs; one
         // plain pass over all pairs.
@@ -947,7 +947,69 @@ pub fn diameter(points: &mut [[f64; 2]], hull: &mut Vec<[f64; 2]>) -> (f64, [f64
     if points.len() <= DIAMETER_PAIRS_UP_TO {
         return diameter_brute_force(points);
     }
-    diameter_hull(points, hull)
+    diameter_filtered(points, hull)
+}
+
+/// The diameter of [`diameter`] above [`DIAMETER_PAIRS_UP_TO`] points, without sorting them all
+/// (docs/fatigue.md, "Critical-plane criteria"): a lower bound `D₀` from the extreme points along
+/// `x`, `y`, `x + y`, `x − y` (all pairs of those eight), the centre `c` of the bounding box and
+/// `R = max |q − c|`; a point `p` with `|p − c| + R < D₀` is in no pair longer than `D₀`
+/// (`|p − q| ≤ |p − c| + |q − c|`), so the diameter pair is among the others (kept with a
+/// relative margin of `1e-9` against rounding, which only keeps more). Those points, in their
+/// order, go through all pairs when at most [`DIAMETER_PAIRS_UP_TO`] are left — then the result is
+/// [`diameter_brute_force`]'s bit for bit, pair and sign included — else through
+/// [`diameter_hull`] on all of `points` (sorting them in place: the former result bit for bit,
+/// the same value to the hull's `1e-12`). Fretting cycles' shear paths are thin loops: only the
+/// points near their two ends are left. `kept` is scratch.
+pub fn diameter_filtered(points: &mut [[f64; 2]], kept: &mut Vec<[f64; 2]>) -> (f64, [f64; 2]) {
+    if points.len() < 2 {
+        return (0.0, [0.0, 0.0]);
+    }
+    // The extremes along x, y, x + y, x − y (indices of the min and max of each).
+    let mut ext = [0usize; 8];
+    let mut lo = [f64::INFINITY; 4];
+    let mut hi = [f64::NEG_INFINITY; 4];
+    for (i, p) in points.iter().enumerate() {
+        let v = [p[0], p[1], p[0] + p[1], p[0] - p[1]];
+        for k in 0..4 {
+            if v[k] < lo[k] {
+                lo[k] = v[k];
+                ext[2 * k] = i;
+            }
+            if v[k] > hi[k] {
+                hi[k] = v[k];
+                ext[2 * k + 1] = i;
+            }
+        }
+    }
+    let d2 = |a: &[f64; 2], b: &[f64; 2]| (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2);
+    let mut lower: f64 = 0.0;
+    for (k, &i) in ext.iter().enumerate() {
+        for &j in &ext[k + 1..] {
+            let d = d2(&points[i], &points[j]);
+            lower = if d > lower { d } else { lower };
+        }
+    }
+    let c = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+    let mut r2: f64 = 0.0;
+    for p in points.iter() {
+        let d = d2(p, &c);
+        r2 = if d > r2 { d } else { r2 };
+    }
+    let r = r2.sqrt();
+    // |p − c| ≥ D₀ − R, with the margin; a negative bound keeps every point.
+    let reach = lower.sqrt() * (1.0 - 1e-9) - r * (1.0 + 1e-9);
+    kept.clear();
+    if reach <= 0.0 {
+        kept.extend_from_slice(points);
+    } else {
+        let reach2 = reach * reach;
+        kept.extend(points.iter().filter(|p| d2(p, &c) >= reach2));
+    }
+    if kept.len() <= DIAMETER_PAIRS_UP_TO {
+        return diameter_brute_force(kept);
+    }
+    diameter_hull(points, kept)
 }
 
 /// The diameter of [`diameter`] by the hull and rotating calipers at any size.

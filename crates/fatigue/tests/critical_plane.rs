@@ -59,6 +59,94 @@ fn diameter_matches_brute_force() {
     }
 }
 
+/// The filtered diameter (above 64 points) is all pairs' result bit for bit (pair and sign too)
+/// wherever the filter leaves at most 64 points, else the hull's bit for bit; in both cases the
+/// all-pairs value to the hull's 1e-12. Thin loops like fretting cycles' shear paths (65–300
+/// points) always take the first branch; uniform clouds, circles (nothing filtered), collinear
+/// and duplicated points are covered too (fixed seeds).
+#[test]
+fn filtered_diameter_matches_brute_force_and_hull() {
+    let mut rng = Rng::new(2232);
+    let mut kept = Vec::new();
+    let mut hull = Vec::new();
+    let (mut by_pairs, mut by_hull) = (0, 0);
+    for trial in 0..2000 {
+        let n = 65 + trial % 236;
+        let kind = trial % 6;
+        let mut pts: Vec<[f64; 2]> = match kind {
+            // A thin loop: an ellipse of aspect 1:20 at a random angle, noisy, off-centre.
+            0 | 1 => {
+                let (a, b) = (rng.range(0.5, 2.0), rng.range(0.0, 0.1));
+                let phi = rng.range(0.0, std::f64::consts::PI);
+                let (s, c) = phi.sin_cos();
+                let centre = [rng.range(-5.0, 5.0), rng.range(-5.0, 5.0)];
+                (0..n)
+                    .map(|i| {
+                        let t = 2.0 * std::f64::consts::PI * i as f64 / n as f64;
+                        let (x, y) = (a * t.cos(), b * (2.0 * t).sin() + 0.01 * rng.normal());
+                        [centre[0] + c * x - s * y, centre[1] + s * x + c * y]
+                    })
+                    .collect()
+            }
+            // Collinear (a proportional path).
+            2 => {
+                let slope = rng.range(-3.0, 3.0);
+                (0..n)
+                    .map(|_| {
+                        let x = rng.range(-1.0, 1.0);
+                        [x, slope * x + 0.2]
+                    })
+                    .collect()
+            }
+            // On a circle: the filter keeps every point.
+            3 => (0..n)
+                .map(|i| {
+                    let t = 2.0 * std::f64::consts::PI * i as f64 / n as f64;
+                    [t.cos(), t.sin()]
+                })
+                .collect(),
+            // Duplicated points.
+            4 => {
+                let half: Vec<[f64; 2]> = (0..n / 2 + 1)
+                    .map(|_| [rng.range(-1.0, 1.0), rng.range(-0.2, 0.2)])
+                    .collect();
+                half.iter().chain(half.iter()).copied().collect()
+            }
+            _ => (0..n)
+                .map(|_| [rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)])
+                .collect(),
+        };
+        let all_pairs = diameter_brute_force(&pts);
+        let mut sorted = pts.clone();
+        let by_the_hull = diameter_hull(&mut sorted, &mut hull);
+        let got = diameter_filtered(&mut pts, &mut kept);
+        let bits = |d: (f64, [f64; 2])| (d.0.to_bits(), d.1.map(f64::to_bits));
+        if bits(got) == bits(all_pairs) {
+            by_pairs += 1;
+        } else {
+            assert_eq!(bits(got), bits(by_the_hull), "{trial}: neither twin");
+            by_hull += 1;
+        }
+        assert!(
+            (got.0 - all_pairs.0).abs() <= 1e-12 * all_pairs.0,
+            "{trial}: {} vs {}",
+            got.0,
+            all_pairs.0
+        );
+        if kind <= 2 {
+            assert_eq!(
+                bits(got),
+                bits(all_pairs),
+                "{trial}: a thin path took the hull"
+            );
+        }
+        // `diameter` above 64 points is the filtered one.
+        let mut again = pts.clone();
+        assert_eq!(bits(diameter(&mut again, &mut hull)), bits(got));
+    }
+    assert!(by_pairs >= 1000 && by_hull >= 300, "{by_pairs} / {by_hull}");
+}
+
 /// The exact in-plane maximum of Fatemi–Socie equals a fine scan of directions.
 #[test]
 fn fatemi_socie_in_plane_direction_is_exact() {

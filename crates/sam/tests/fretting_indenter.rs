@@ -274,7 +274,7 @@ fn the_cycle_stress_history_is_the_field_at_each_increment_and_resumes_bit_for_b
     // surface layer").
     assert!(h.surface);
     assert_eq!(h.points(), (h.layers + 1) * 256);
-    assert_eq!(h.position(h.layers * 256 + 3)[2], 0.0);
+    assert_eq!(h.position(h.layers * 256 + 3).unwrap()[2], 0.0);
     let top = SubsurfacePlan::with_surface(
         lp.solver().problem().grid(),
         case.e,
@@ -367,16 +367,91 @@ fn histories_on_disjoint_levels_merge_bit_for_bit() {
     few.material.pop();
     let mut flag = other.clone();
     flag.surface = true;
+    // A cell of material 1 (the first inclusion material) with no inclusion material listed.
+    let mut unknown = other.clone();
+    assert!(unknown.materials.is_empty());
+    unknown.material[per / 2] = 1;
     for (name, bad) in [
         ("twice", twice),
         ("outside", outside),
         ("short path", short),
         ("short materials", few),
         ("surface flag", flag),
+        ("unknown material", unknown.clone()),
     ] {
         assert!(bad.check_shape().is_err(), "{name}");
         assert!(seed.clone().merged(bad.clone()).is_err(), "{name}");
         assert!(bad.merged(seed.clone()).is_err(), "{name}");
     }
     assert!(seed.check_shape().is_ok() && other.check_shape().is_ok());
+    // With that material listed the history is consistent.
+    unknown.materials.push((2.0 * 210e9, 0.3));
+    assert!(unknown.check_shape().is_ok());
+    // `position` of a cell past the stored levels is an error, the last cell a position.
+    let points = other.points();
+    assert!(other.position(points - 1).is_ok());
+    assert!(other.position(points).is_err());
+    assert!(other.position(usize::MAX).is_err());
+    let mut no_levels = other.clone();
+    no_levels.level_of.clear();
+    assert!(no_levels.position(0).is_err());
+}
+
+/// The estimate counts the nested loop's recycled EIM history (`2 · depth + 7` vectors of the EIM
+/// system, `eim_recycled_depth`): at least the history of the run's own eigenstrains (6 per
+/// inclusion cell, the cycle sources' `eigen_len`), not with the surface operator, and not
+/// without inhomogeneities.
+#[test]
+fn the_estimate_counts_the_recycled_eim_history() {
+    use halfspace_sam::drivers::fretting_loop::recycled_history_bytes;
+    use halfspace_sam::eim::{Inhomogeneity, Shape};
+    let mut case = with_history();
+    let a = case.hertz_radius();
+    case.inhomogeneities = vec![Inhomogeneity {
+        shape: Shape::Sphere {
+            x: 0.0,
+            y: 0.0,
+            z: 0.6 * a,
+            r: 0.3 * a,
+        },
+        e: 2.0 * case.e,
+        nu: case.nu,
+    }];
+    let mut lp = FrettingLoop::new(case.clone()).unwrap();
+    lp.run(|_| std::ops::ControlFlow::Continue(())).unwrap();
+    let eigen_len = lp.cycle_sources().unwrap().eigen_len;
+    assert!(eigen_len >= 6);
+    let at = |depth: Option<usize>| {
+        LoopCase {
+            eim_recycled_depth: depth,
+            ..case.clone()
+        }
+        .estimate()
+        .bytes
+    };
+    let plain = at(Some(0));
+    let deep = at(Some(50)) - plain;
+    assert!(
+        deep >= (2.0 * 50.0 + 7.0) * eigen_len as f64 * 8.0,
+        "{deep}"
+    );
+    assert!(deep <= (2u64 << 30) as f64);
+    // The default depth (5) is counted when the key is absent.
+    assert!(at(None) - plain >= 17.0 * eigen_len as f64 * 8.0);
+    // The surface operator keeps no recycled history; a homogeneous loop has none.
+    let operator = LoopCase {
+        surface_operator_over_a: Some(1.3),
+        ..case.clone()
+    };
+    assert_eq!(
+        LoopCase {
+            eim_recycled_depth: Some(50),
+            ..operator.clone()
+        }
+        .estimate()
+        .bytes,
+        operator.estimate().bytes
+    );
+    assert_eq!(recycled_history_bytes(0, 1e6), 0.0);
+    assert_eq!(recycled_history_bytes(50, 1e12), (2u64 << 30) as f64);
 }

@@ -502,30 +502,42 @@ impl LoopCase {
             + 19.0 * 8.0;
         // The points A–D: eight surface fields each (and the von Mises layers, when asked).
         let points = 4.0 * cells * 8.0 * 8.0;
+        let cell = self.extent() / self.grid as f64;
+        // Eigenstrain values of the inclusion cells (6 each), bounded by every cell of the
+        // layers down to the deepest inhomogeneity (the layers of `InclusionSet::new`).
+        let eigen_len = if self.inhomogeneities.is_empty() {
+            0.0
+        } else {
+            let deepest = self
+                .inhomogeneities
+                .iter()
+                .map(|inh| inh.bounds().1)
+                .fold(0.0f64, f64::max);
+            6.0 * cells * ((deepest / cell).ceil() + 1.0)
+        };
+        // The nested loop's recycled EIM history (docs/theory-sam.md#solving-the-eim-equations):
+        // `2 · depth + 7` vectors of the EIM system's size (the eigenstrains), capped at 2 GiB
+        // like the solver's (`EimParams::recycled_depth`).
+        let recycled = if self.inhomogeneities.is_empty() || self.surface_operator_over_a.is_some()
+        {
+            0.0
+        } else {
+            let depth = self
+                .eim_recycled_depth
+                .unwrap_or(crate::contact::DEFAULT_EIM_RECYCLED_DEPTH);
+            recycled_history_bytes(depth, eigen_len)
+        };
         // The stress history of the closed cycle (docs/fatigue.md, "On the fretting loop"): the
         // path `cells · layers · (4q + 1) · 48 B` once (the checkpoints carry the increments'
         // tractions instead, counted three times: the loop's, the snapshot's and its record's),
         // Love's stored kernel spectra and one stress field per increment.
         let history = match self.fatigue_depth {
             Some(depth) => {
-                let cell = self.extent() / self.grid as f64;
                 let layers = super::CycleStress::layers_for(depth, cell);
                 let cycle = 4.0 * quarter_steps(self.amplitude, self.shift_step) + 1.0;
                 let n = self.grid;
-                // With inhomogeneities each increment also keeps 6 eigenstrains per inclusion
-                // cell; bounded by every cell of the layers down to the deepest inhomogeneity
-                // (the layers of `InclusionSet::new`).
-                let eigen_len = if self.inhomogeneities.is_empty() {
-                    0.0
-                } else {
-                    let deepest = self
-                        .inhomogeneities
-                        .iter()
-                        .map(|inh| inh.bounds().1)
-                        .fold(0.0f64, f64::max);
-                    6.0 * cells * ((deepest / cell).ceil() + 1.0)
-                };
-                // The layers and the surface layer z = 0.
+                // The layers and the surface layer z = 0; with inhomogeneities each increment's
+                // sources also keep the eigenstrains.
                 let levels = layers + 1;
                 super::CycleStress::bytes(cells, levels as f64, cycle)
                     + 3.0 * super::CycleSources::bytes(cells, eigen_len, cycle)
@@ -549,7 +561,12 @@ impl LoopCase {
             cells,
             loops: 1.0,
             concurrent: 1.0,
-            bytes: frictional * cells + points + increments * ROW_BYTES + history + operator,
+            bytes: frictional * cells
+                + points
+                + increments * ROW_BYTES
+                + history
+                + operator
+                + recycled,
             work: increments * cells * weight,
         }
     }
@@ -568,6 +585,15 @@ impl LoopCase {
         }
         path
     }
+}
+
+/// Bytes of the recycled EIM history of depth `depth` on an EIM system of `len` unknowns:
+/// `(2 · depth + 7) · len · 8`, at most 2 GiB (the cap of `EimParams::recycled_depth`).
+pub fn recycled_history_bytes(depth: usize, len: f64) -> f64 {
+    if depth == 0 {
+        return 0.0;
+    }
+    ((2.0 * depth as f64 + 7.0) * len * 8.0).min((2u64 << 30) as f64)
 }
 
 /// The increments of a fretting loop: `W_i = W i / n` (or the approach `δ_i = δ i / n` under

@@ -61,12 +61,20 @@ impl CycleStress {
         self.levels() * self.grid.len()
     }
 
-    /// The centre `(x, y, z)` of cell `p` (z the depth, m; 0 on the surface layer).
-    pub fn position(&self, p: usize) -> [f64; 3] {
+    /// The centre `(x, y, z)` of cell `p` (z the depth, m; 0 on the surface layer). An error
+    /// for a cell past the stored levels (`p ≥ levels · N₁N₂`, the public `level_of`).
+    pub fn position(&self, p: usize) -> Result<[f64; 3], SamError> {
         let per = self.grid.len();
-        let (k, flat) = (p / per, p % per);
+        let k = p.checked_div(per).unwrap_or(usize::MAX);
+        let Some(&level) = self.level_of.get(k) else {
+            return Err(SamError::InvalidInput(format!(
+                "cycle stress history: cell {p} past its {} levels of {per} cells",
+                self.levels()
+            )));
+        };
+        let flat = p % per;
         let (x, y) = self.grid.centre(flat / self.grid.n2, flat % self.grid.n2);
-        [x, y, self.depth(self.level_of[k])]
+        Ok([x, y, self.depth(level)])
     }
 
     /// Depth of the box level `k`: `(2k + 1)Δ` below the surface, 0 for the surface layer
@@ -166,7 +174,8 @@ impl CycleStress {
 
     /// Checks that the public fields agree: `level_of` distinct box levels `≤ layers` (`layers`
     /// the surface layer, present iff `surface`), `stress` of `levels · N₁N₂ · increments · 6`
-    /// values, `material` of `levels · N₁N₂`, `recorded ≤ increments`.
+    /// values, `material` of `levels · N₁N₂`, each `material` index `≤ materials.len()` (0 the
+    /// matrix, `m + 1` the entry `m` of `materials`), `recorded ≤ increments`.
     pub fn check_shape(&self) -> Result<(), SamError> {
         let per = self.grid.len();
         let fail = |what: String| {
@@ -200,6 +209,17 @@ impl CycleStress {
                 self.material.len(),
                 self.levels(),
                 self.increments
+            ));
+        }
+        if let Some((p, &m)) = self
+            .material
+            .iter()
+            .enumerate()
+            .find(|(_, &m)| m as usize > self.materials.len())
+        {
+            return fail(format!(
+                "cell {p} of material {m}, past the matrix (0) and the {} inclusion materials",
+                self.materials.len()
             ));
         }
         if self.recorded > self.increments {

@@ -21,8 +21,8 @@ mod row;
 mod run;
 
 pub use case::{
-    work_limit_hours, LoadPath, LoopCase, LoopEstimate, LoopKeys, CELL_INCREMENTS_PER_SECOND,
-    POINT_LABELS, ROW_BYTES, UNRECORDED_EIM_CHANGE_FACTOR,
+    recycled_history_bytes, work_limit_hours, LoadPath, LoopCase, LoopEstimate, LoopKeys,
+    CELL_INCREMENTS_PER_SECOND, POINT_LABELS, ROW_BYTES, UNRECORDED_EIM_CHANGE_FACTOR,
 };
 pub use history::{CycleSources, CycleStress};
 pub use metrics::{FrettingRegime, LoopMetrics};
