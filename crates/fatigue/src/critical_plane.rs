@@ -997,10 +997,11 @@ pub fn diameter_filtered(points: &mut [[f64; 2]], kept: &mut Vec<[f64; 2]>) -> (
         r2 = if d > r2 { d } else { r2 };
     }
     let r = r2.sqrt();
-    // |p − c| ≥ D₀ − R, with the margin; a negative bound keeps every point.
+    // |p − c| ≥ D₀ − R, with the margin; a negative or non-finite bound (coordinates whose
+    // squares overflow) keeps every point.
     let reach = lower.sqrt() * (1.0 - 1e-9) - r * (1.0 + 1e-9);
     kept.clear();
-    if reach <= 0.0 {
+    if !(reach > 0.0 && reach.is_finite()) {
         kept.extend_from_slice(points);
     } else {
         let reach2 = reach * reach;

@@ -147,6 +147,22 @@ fn filtered_diameter_matches_brute_force_and_hull() {
     assert!(by_pairs >= 1000 && by_hull >= 300, "{by_pairs} / {by_hull}");
 }
 
+/// Coordinates whose squared distances overflow (≈ 1e160) make the filter's cut-off non-finite:
+/// the filter keeps every point instead of dropping them all (a diameter of 0 before the fix).
+#[test]
+fn filtered_diameter_keeps_every_point_when_the_cut_off_overflows() {
+    let mut pts: Vec<[f64; 2]> = (0..80)
+        .map(|i| {
+            let t = 2.0 * std::f64::consts::PI * i as f64 / 80.0;
+            [1e160 * t.cos(), 1e159 * t.sin()]
+        })
+        .collect();
+    let mut kept = Vec::new();
+    let got = diameter_filtered(&mut pts, &mut kept);
+    // 80 points kept take the hull (which reuses `kept` as its scratch); dropping them all gave 0.
+    assert!(got.0 > 0.0, "diameter {}", got.0);
+}
+
 /// The exact in-plane maximum of Fatemi–Socie equals a fine scan of directions.
 #[test]
 fn fatemi_socie_in_plane_direction_is_exact() {

@@ -126,9 +126,13 @@ pub struct StepAttempt {
     /// tolerance): the ROS2 pair's
     /// `max_i Δτ |k₁ + k₂|_i / 2`, the outside wear's ([`FrettingSimulation::outside_wear_error`])
     /// and the opened holes' ([`FrettingSimulation::opened_hole_error`], also when it is not part
-    /// of the estimate); the error is the largest of those the estimate includes.
+    /// of the estimate; when the attempt fell back to its first-order solution, the holes that
+    /// solution opens and the second-order result keeps closed: the term that entered the
+    /// estimate, [`FrettingSimulation::set_first_order_fallback`]); the error is the largest of
+    /// those the estimate includes.
     pub error_terms: [f64; 3],
-    /// Whether the attempt's result is its first-order solution.
+    /// Whether the attempt's result is its first-order solution (only with the first-order
+    /// fallback and the frozen contact stages: without the frozen contact no attempt falls back).
     pub first_order: bool,
 }
 
@@ -436,7 +440,9 @@ impl FrettingSimulation {
     /// χ = 0.9, N = 2001 to τ = 30: 57 204 → 22 156, no holes), but the default run's touching radius at
     /// τ = 3, in the near-grazing phase, is 1.3e-3 off the converged reference (2e-4 with it off)
     /// (docs/fretting-wear.md, "What sets the step"). Set before the first step; not part of the
-    /// checkpointed state (as [`FrettingSimulation::set_hole_estimate`]).
+    /// checkpointed state (as [`FrettingSimulation::set_hole_estimate`]): a resumed run repeats
+    /// the uninterrupted one bit for bit only when it is set the same way again. Acts only with
+    /// the frozen contact stages ([`FrettingSimulation::set_frozen_contact_stages`], the default).
     pub fn set_first_order_fallback(&mut self, on: bool) {
         self.first_order_fallback = on;
     }
@@ -723,6 +729,7 @@ impl FrettingSimulation {
         }
         self.current = None;
         self.attempt.error_terms = [error, 0.0, 0.0];
+        self.attempt.first_order = false;
         if let Some(last) = frozen {
             // The wear of the nodes beyond the start's contact, estimated again from the result.
             let outside_error = match self.outside_wear_error(last + 1, dtau) {
