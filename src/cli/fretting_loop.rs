@@ -8,7 +8,7 @@ use std::time::Instant;
 use clap::Args;
 use halfspace::config::LoopConfig;
 use halfspace::data::{read_record, write_record};
-use halfspace::loop_fatigue::{evaluate_loop_fatigue, FATIGUE_FIELDS};
+use halfspace::loop_fatigue::evaluate_loop_fatigue;
 use halfspace::records::{
     case_parameters, loop_results_record, snapshot_from_record, snapshot_record,
 };
@@ -169,7 +169,10 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
             &results.with_extension("xdmf"),
             &results,
             &f.volume(),
-            &FATIGUE_FIELDS,
+            &f.volume_fields()
+                .iter()
+                .map(String::as_str)
+                .collect::<Vec<_>>(),
             "halfspace fretting-loop fatigue indices; XDMF axes Z Y X = depth (into the body), x, y (m)",
         )?;
     }

@@ -868,6 +868,17 @@ impl LoopFatigue {
         rec
     }
 
+    /// The names of the volume fields [`LoopFatigue::record`] writes, each `(layers, N₁, N₂)`:
+    /// [`FATIGUE_FIELDS`], then with a process volume `crossland_pv`, `dang_van_pv`, `swt_pv`,
+    /// `fatemi_socie_pv` (the fields the XDMF file lists).
+    pub fn volume_fields(&self) -> Vec<String> {
+        let mut names: Vec<String> = FATIGUE_FIELDS.iter().map(|s| s.to_string()).collect();
+        if self.process_volume.is_some() {
+            names.extend(FATIGUE_FIELDS.iter().map(|s| format!("{s}_pv")));
+        }
+        names
+    }
+
     /// The XDMF description of the volume fields (axes Z Y X = depth, x, y): a rectilinear
     /// lattice on the datasets `z`, `x`, `y` of results.h5 (the surface layer at `z = 0` is `Δ`
     /// above the first layer, the layers below `2Δ` apart).
@@ -883,6 +894,85 @@ impl LoopFatigue {
 mod tests {
     use super::*;
     use crate::config::LoopConfig;
+
+    /// The fields the XDMF file lists are those results.h5 holds, of the lattice's shape: the
+    /// four pointwise ones, and with a process volume also the four `*_pv` (written to an XDMF
+    /// file and read back).
+    #[test]
+    fn the_xdmf_lists_every_volume_field_of_the_record() {
+        let (layers, n1, n2) = (3, 4, 2);
+        let cells = layers * n1 * n2;
+        let maximum = halfspace_fatigue::field::Maximum {
+            value: 1.0,
+            point: 5,
+        };
+        let indices = ScreenedIndices {
+            crossland: vec![0.5; cells],
+            dang_van: vec![0.5; cells],
+            swt: vec![0.5; cells],
+            fatemi_socie: vec![0.5; cells],
+            crossland_max: maximum,
+            dang_van_max: maximum,
+            swt_max: maximum,
+            fatemi_socie_max: maximum,
+            invariant_evaluated: cells,
+            swt_evaluated: cells,
+            fatemi_socie_evaluated: cells,
+        };
+        let mut f = LoopFatigue {
+            indices: indices.clone(),
+            layers,
+            shape: (n1, n2),
+            x: vec![0.0, 1.0, 2.0, 3.0],
+            y: vec![0.0, 1.0],
+            z: vec![0.0, 0.5, 1.5],
+            at: [[0.0; 3]; 4],
+            increments: 2,
+            levels_computed: layers,
+            seconds: 0.0,
+            process_volume: None,
+        };
+        assert_eq!(f.volume_fields(), FATIGUE_FIELDS.to_vec());
+        f.process_volume = Some(VolumeFatigue {
+            side: 1.0,
+            indices,
+            at: [[0.0; 3]; 4],
+            inside: cells,
+            seconds: 0.0,
+        });
+        let names = f.volume_fields();
+        assert_eq!(names.len(), 8);
+        let rec = f.record(crate::data::Record::default());
+        for name in &names {
+            assert_eq!(rec.shape_of(name), Some(vec![layers, n1, n2]), "{name}");
+        }
+        let dir = std::env::temp_dir().join(format!("halfspace-xdmf-pv-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let xdmf = dir.join("results.xdmf");
+        let refs: Vec<&str> = names.iter().map(String::as_str).collect();
+        crate::data::write_xdmf_rectilinear(
+            &xdmf,
+            &dir.join("results.h5"),
+            &f.volume(),
+            &refs,
+            "test",
+        )
+        .unwrap();
+        let text = std::fs::read_to_string(&xdmf).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        for name in [
+            "crossland",
+            "fatemi_socie",
+            "crossland_pv",
+            "swt_pv",
+            "fatemi_socie_pv",
+        ] {
+            assert!(
+                text.contains(&format!("results.h5:/{name}<")),
+                "{name}: {text}"
+            );
+        }
+    }
 
     /// The levels the screen skips ([`reachable_levels`]) hold no cell that reaches
     /// `screen_fraction ×` a maximum: against the same screened evaluation of the whole box's

@@ -72,6 +72,25 @@ pub enum FatigueError {
          volume inside it: {reach} m)"
     )]
     ProcessVolumeBeyondBox { side: f64, reach: f64 },
+    /// No point of the box has its process volume inside the nodes: e.g. the depths start below
+    /// the surface, so the cubes of the shallow points (top face on `z = 0`) leave the box and the
+    /// deeper ones reach past its bottom.
+    #[error(
+        "process volume side {side} m: no point of the box has its cube inside the nodes \
+         (depths {depth_min} m to {depth_max} m; a cube within side/2 of the surface has its top \
+         face on z = 0: store the surface z = 0, or nodes deeper than one side below the first)"
+    )]
+    ProcessVolumeNoPointInside {
+        side: f64,
+        depth_min: f64,
+        depth_max: f64,
+    },
+    /// The material map does not have one entry per point of the box.
+    #[error("material map: {len} entries for {points} points of the box")]
+    MaterialMapLength { len: usize, points: usize },
+    /// The sizes of a box overflow the address space (`usize`).
+    #[error("{what}: the size overflows usize")]
+    SizeOverflow { what: &'static str },
     /// The nodes of the box along one axis are not increasing.
     #[error("process volume: the {axis} nodes of the box: {reason}")]
     ProcessVolumeNodes {

@@ -11,9 +11,16 @@
 //! `σ̄(t) = Σ_{i,j,k} w^x_i w^y_j w^z_k σ_{ijk}(t)`, `w^u_m = (1/ℓ) ∫_{window} φ_m(u) du`
 //!
 //! (`φ_m` the hat function of node `m` along each axis) is exact for fields linear in each
-//! coordinate and continuous in `ℓ` (partial intervals enter with their exact weights). It is
-//! applied as three banded passes along `x`, `y` and the depth, in place. Points whose volume
-//! leaves the box's nodes are not evaluated.
+//! coordinate and continuous in `ℓ` (partial intervals enter with their exact weights). For a
+//! smooth field its error is `O(h²)` in the node spacing `h` (the interpolant's): measured on a
+//! field quadratic along each axis, orders 2.04, 1.99 over two halvings of `h` (tests/process_volume.rs).
+//! It is applied as three banded passes along `x`, `y` and the depth, in place. Points whose
+//! volume leaves the box's nodes are not evaluated.
+//!
+//! Material interfaces (inclusions): the stress is averaged across them like anywhere else (the
+//! cube does not stop at an interface), and each point is then evaluated with the constants of
+//! its own material (`material_of[p]`, the material at the node, not at the cube's centre or a
+//! volume-weighted mix).
 use crate::error::FatigueError;
 use crate::field::FieldParams;
 use crate::material::Material;
@@ -92,13 +99,19 @@ fn axis_bands(nodes: &[f64], side: f64, top: bool) -> Vec<Option<Band>> {
         .collect()
 }
 
-/// The checks of [`average_over_volume`]: `side` finite, at least the largest node spacing of
-/// any axis (a cell), at most the smallest extent of the box; the nodes increasing.
+/// The checks of [`average_over_volume`]: the nodes finite and increasing; `side` finite, at
+/// most the smallest extent of the box, and on each axis at least the largest node spacing the
+/// cubes meet (a cell): along `x` and `y` every spacing (every window slides over the whole
+/// axis); along the depth the intervals within `side` of the first depth, where the surface
+/// cubes sit and the gradients the volume averages are steep. Deeper, a window narrower than a
+/// coarse interval is still the exact mean of the interpolant, so one coarse deep layer does
+/// not refuse every side.
 fn check_side(nodes: &BoxNodes<'_>, side: f64) -> Result<(), FatigueError> {
     let spacing = |u: &[f64]| u.windows(2).map(|w| w[1] - w[0]).fold(0.0f64, f64::max);
     let extent = |u: &[f64]| u[u.len() - 1] - u[0];
     for (name, u) in [("x", nodes.x), ("y", nodes.y)] {
         if u.len() < 2
+            || !u.iter().all(|v| v.is_finite())
             || u.windows(2)
                 .any(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
         {
@@ -120,18 +133,40 @@ fn check_side(nodes: &BoxNodes<'_>, side: f64) -> Result<(), FatigueError> {
             reason: "needs two or more distinct, finite depths >= 0",
         });
     }
-    let cell = spacing(nodes.x).max(spacing(nodes.y)).max(spacing(&depth));
+    // The depth intervals met by a window starting at the first depth (or the first interval).
+    let near = depth.partition_point(|&d| d < depth[0] + side).max(2);
+    let shallow = spacing(&depth[..near.min(depth.len())]);
+    // A side of exactly one cell passes (the spacing's rounding: 1e-9 relative).
+    for cell in [spacing(nodes.x), spacing(nodes.y), shallow] {
+        if !side.is_finite() || side < cell * (1.0 - 1e-9) {
+            return Err(FatigueError::ProcessVolumeBelowCell { side, cell });
+        }
+    }
     let reach = extent(nodes.x)
         .min(extent(nodes.y))
         .min(depth[depth.len() - 1]);
-    // A side of exactly one cell passes (the spacing's rounding: 1e-9 relative).
-    if !side.is_finite() || side < cell * (1.0 - 1e-9) {
-        return Err(FatigueError::ProcessVolumeBelowCell { side, cell });
-    }
     if side > reach {
         return Err(FatigueError::ProcessVolumeBeyondBox { side, reach });
     }
     Ok(())
+}
+
+/// `n₁ n₂ levels` points and `increments · 6` values per point, refused when either overflows.
+fn box_sizes(nodes: &BoxNodes<'_>, increments: usize) -> Result<(usize, usize), FatigueError> {
+    let points = nodes
+        .x
+        .len()
+        .checked_mul(nodes.y.len())
+        .and_then(|v| v.checked_mul(nodes.depth.len()))
+        .ok_or(FatigueError::SizeOverflow {
+            what: "process volume: points of the box (N1 N2 levels)",
+        })?;
+    let block = increments
+        .checked_mul(6)
+        .ok_or(FatigueError::SizeOverflow {
+            what: "process volume: values per point (increments × 6)",
+        })?;
+    Ok((points, block))
 }
 
 /// Applies `bands` along one axis of `data` in place: the axis has `n` nodes at stride `stride`
@@ -175,8 +210,9 @@ fn pass(
 /// box (module doc): `stress[(p · increments + t) · 6 + c]` (the layout of
 /// [`crate::evaluate_field`]) is overwritten by `σ̄` where the volume lies inside the nodes;
 /// returns whether each point holds its average (`false`: its volume leaves the box, the value
-/// is not an average). Errors: `side` below the largest node spacing (a cell) or beyond the
-/// box's smallest extent, nodes not increasing, and a shape that does not fit the nodes.
+/// is not an average). Errors (before the history is touched): `side` below a cell
+/// ([`check_side`]) or beyond the box's smallest extent, no point whose volume is inside, nodes
+/// not finite and increasing, sizes overflowing `usize`, a shape that does not fit the nodes.
 pub fn average_over_volume(
     stress: &mut [f64],
     increments: usize,
@@ -185,15 +221,14 @@ pub fn average_over_volume(
 ) -> Result<Vec<bool>, FatigueError> {
     check_side(nodes, side)?;
     let (n1, n2, levels) = (nodes.x.len(), nodes.y.len(), nodes.depth.len());
-    let points = n1 * n2 * levels;
-    if increments == 0 || points.checked_mul(increments * 6) != Some(stress.len()) {
+    let (points, block) = box_sizes(nodes, increments)?;
+    if increments == 0 || points.checked_mul(block) != Some(stress.len()) {
         return Err(FatigueError::FieldShape {
             len: stress.len(),
             points,
             increments,
         });
     }
-    let block = increments * 6;
     let bx = axis_bands(nodes.x, side, false);
     let by = axis_bands(nodes.y, side, false);
     // The depth axis in increasing depth: the bands on the sorted depths, mapped back to the
@@ -202,6 +237,17 @@ pub fn average_over_volume(
     order.sort_by(|&a, &b| nodes.depth[a].total_cmp(&nodes.depth[b]));
     let sorted: Vec<f64> = order.iter().map(|&k| nodes.depth[k]).collect();
     let bz_sorted = axis_bands(&sorted, side, true);
+    // A point is inside when its window is inside on every axis: refuse before overwriting.
+    if [&bx, &by, &bz_sorted]
+        .iter()
+        .any(|b| b.iter().all(Option::is_none))
+    {
+        return Err(FatigueError::ProcessVolumeNoPointInside {
+            side,
+            depth_min: sorted[0],
+            depth_max: sorted[levels - 1],
+        });
+    }
     let mut line = Vec::new();
     // x: the levels × (N₂ columns) with N₁ nodes at stride N₂.
     pass(stress, block, n1, n2, &bx, &mut line);
@@ -291,16 +337,16 @@ pub fn evaluate_process_volume(
         fraction,
         field: ref params,
     } = *params;
-    let inside = average_over_volume(&mut stress, increments, nodes, side)?;
-    if material_of.len() != inside.len() {
-        return Err(FatigueError::FieldShape {
-            len: material_of.len() * increments * 6,
-            points: inside.len(),
-            increments,
+    // The material map is checked before the averaging overwrites the history.
+    let (points, block) = box_sizes(nodes, increments)?;
+    if material_of.len() != points {
+        return Err(FatigueError::MaterialMapLength {
+            len: material_of.len(),
+            points,
         });
     }
+    let inside = average_over_volume(&mut stress, increments, nodes, side)?;
     // Compact the points inside to the front (order kept), then evaluate them.
-    let block = increments * 6;
     let mut kept = Vec::new();
     for (p, _) in inside.iter().enumerate().filter(|(_, &b)| b) {
         let to = kept.len();
@@ -308,12 +354,6 @@ pub fn evaluate_process_volume(
             stress.copy_within(p * block..(p + 1) * block, to * block);
         }
         kept.push(p);
-    }
-    if kept.is_empty() {
-        return Err(FatigueError::ProcessVolumeBeyondBox {
-            side,
-            reach: f64::NAN,
-        });
     }
     stress.truncate(kept.len() * block);
     let own: Vec<u16> = kept.iter().map(|&p| material_of[p]).collect();
