@@ -567,8 +567,11 @@ mod tests {
 
     /// The plans from [`SPLIT_FROM`] on are split (a multiple of 4): every input length of a
     /// ladder against the naive sum (fixed seeds), and the same bits on a pool of one thread, on a
-    /// pool of two (called on a worker with a partner: the halves on two threads) and outside any
-    /// pool.
+    /// worker of a pool of two (inside `install` `on_pool_with_partner` runs inline, no partner:
+    /// the halves joined with `rayon::join`, the other worker stealing one), from a thread outside
+    /// any pool through `on_pool_with_partner` (the work handed to a worker of the global pool,
+    /// a partner polling, when that pool has two or more threads) and on a plain thread outside
+    /// any pool (the halves one after the other).
     #[test]
     fn split_plans_match_the_naive_sum_on_any_number_of_threads() {
         for min in [SPLIT_FROM, 8193, 10001, 12001, 16001] {
@@ -583,6 +586,8 @@ mod tests {
         let want = naive(&b, &x);
         let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1.0);
         let (b, x) = (&b, &x);
+        // `Some(t)`: inside a pool of `t` threads; `Some(0)`: from a spawned thread through the
+        // global pool; `None`: on this thread, no pool involved.
         let run = |threads: Option<usize>| -> Vec<Vec<f64>> {
             let mut op = ToeplitzConvolution::new(b.clone(), Backend::Fft).unwrap();
             op.plan_shorter_lengths();
@@ -598,6 +603,11 @@ mod tests {
             };
             match threads {
                 None => go(),
+                Some(0) => std::thread::scope(|s| {
+                    s.spawn(|| crate::parallel::on_pool_with_partner(go))
+                        .join()
+                        .unwrap()
+                }),
                 Some(t) => rayon::ThreadPoolBuilder::new()
                     .num_threads(t)
                     .build()
@@ -615,7 +625,7 @@ mod tests {
                 );
             }
         }
-        for other in [run(Some(2)), run(None)] {
+        for other in [run(Some(2)), run(Some(0)), run(None)] {
             for (a, c) in one.iter().zip(&other) {
                 assert!(a.iter().zip(c).all(|(u, v)| u.to_bits() == v.to_bits()));
             }
