@@ -191,13 +191,13 @@ impl SplitFft {
         }
         join_if_on_pool(|| even.inverse(inverse), || odd.inverse(inverse));
         let m = y.len();
+        debug_assert!(m <= 2 * half);
         for (j, pair) in y.chunks_mut(2).enumerate() {
             pair[0] = even.time[j];
             if let Some(o) = pair.get_mut(1) {
                 *o = odd.time[j];
             }
         }
-        debug_assert!(m <= 2 * half);
     }
 }
 
@@ -312,7 +312,7 @@ impl ToeplitzConvolution {
     }
 
     /// Adds FFT plans for shorter inputs (no effect with the MVM backend): for `c = ⌊(4/5)^l n⌋ ≥ 256`
-    /// a rung zero-padded to `P_l = fast_length(2c − 1)` that holds the kernel `b_0 … b_{c_l−1}`,
+    /// a rung zero-padded to `P_l = `[`plan_length`]`(2c − 1)` (split from [`SPLIT_FROM`] on) that holds the kernel `b_0 … b_{c_l−1}`,
     /// `c_l = ⌈P_l/2⌉ ≥ c` (for inputs of length `m ≤ c_l` the outputs `i < m` need no more, and
     /// `P_l ≥ m + c_l − 1` keeps the product linear). An input of length `m` then uses the
     /// shortest plan with `c_l ≥ m`: the same sum, in `O(m log m)`; the result differs from the
