@@ -79,15 +79,29 @@ pub fn plan_length(min: usize) -> usize {
 struct FftPlan {
     /// Longest input (the kernel entries it holds).
     capacity: usize,
-    forward: Arc<dyn RealToComplex<f64>>,
-    inverse: Arc<dyn ComplexToReal<f64>>,
+    /// The padded length `P`.
+    len: usize,
     /// FFT(b) / P: the normalization of the inverse transform is folded in.
     spectrum: Vec<Complex<f64>>,
+    transforms: Transforms,
+}
+
+/// How a plan evaluates its real FFTs of length `P`.
+enum Transforms {
+    /// One transform of length `P` each way, with its buffers.
+    Whole(WholeFft),
+    /// Split in halves (padded lengths from [`SPLIT_FROM`], multiples of 4): no length-`P`
+    /// transforms or buffers kept.
+    Split(SplitFft),
+}
+
+/// The length-`P` real FFTs of a plan that does not split, and their buffers.
+struct WholeFft {
+    forward: Arc<dyn RealToComplex<f64>>,
+    inverse: Arc<dyn ComplexToReal<f64>>,
     time: Vec<f64>,
     freq: Vec<Complex<f64>>,
     scratch: Vec<Complex<f64>>,
-    /// The transforms split in halves (padded lengths from [`SPLIT_FROM`], multiples of 4).
-    split: Option<SplitFft>,
 }
 
 /// The real FFTs of length `P = 2M` (`M` even) of a plan as two of length `M`, one on the even
@@ -306,7 +320,7 @@ impl ToeplitzConvolution {
             Engine::Fft(plans) => plans
                 .iter()
                 .find(|plan| plan.capacity >= m)
-                .map(|plan| plan.time.len()),
+                .map(|plan| plan.len),
             Engine::Mvm => None,
         }
     }
@@ -328,7 +342,7 @@ impl ToeplitzConvolution {
         }
         let mut rungs = Vec::new();
         let mut c = self.kernel.len();
-        let mut longest = plans[0].time.len();
+        let mut longest = plans[0].len;
         loop {
             c = c * 4 / 5;
             if c < SHORTEST_RUNG {
@@ -377,17 +391,23 @@ impl ToeplitzConvolution {
 }
 
 impl FftPlan {
-    /// The plan of length `p ≥ 2 kernel.len() − 1` for inputs up to `kernel.len()`.
+    /// The plan of length `p ≥ 2 kernel.len() − 1` for inputs up to `kernel.len()`. The kernel's
+    /// spectrum comes from one length-`p` transform, planned here and dropped when the plan
+    /// splits.
     fn new(kernel: &[f64], p: usize) -> Self {
         let n = kernel.len();
         debug_assert!(p + 1 >= 2 * n);
         let mut planner = RealFftPlanner::<f64>::new();
         let forward = planner.plan_fft_forward(p);
-        let inverse = planner.plan_fft_inverse(p);
         let mut time = vec![0.0; p];
         time[..n].copy_from_slice(kernel);
         let mut spectrum = forward.make_output_vec();
-        let scratch_len = forward.get_scratch_len().max(inverse.get_scratch_len());
+        let split = p >= SPLIT_FROM && p % 4 == 0;
+        let inverse = (!split).then(|| planner.plan_fft_inverse(p));
+        let scratch_len = inverse
+            .as_ref()
+            .map_or(0, |inverse| inverse.get_scratch_len())
+            .max(forward.get_scratch_len());
         let mut scratch = vec![Complex::new(0.0, 0.0); scratch_len];
         forward
             .process_with_scratch(&mut time, &mut spectrum, &mut scratch)
@@ -396,32 +416,42 @@ impl FftPlan {
         for s in &mut spectrum {
             *s *= scale;
         }
-        let freq = forward.make_output_vec();
-        let split = (p >= SPLIT_FROM && p % 4 == 0).then(|| SplitFft::new(p, &mut planner));
+        let transforms = match inverse {
+            None => Transforms::Split(SplitFft::new(p, &mut planner)),
+            Some(inverse) => Transforms::Whole(WholeFft {
+                freq: forward.make_output_vec(),
+                forward,
+                inverse,
+                time,
+                scratch,
+            }),
+        };
         Self {
             capacity: n,
-            forward,
-            inverse,
+            len: p,
             spectrum,
-            time,
-            freq,
-            scratch,
-            split,
+            transforms,
         }
     }
 
     fn apply(&mut self, x: &[f64], y: &mut [f64]) {
-        if let Some(split) = &mut self.split {
-            split.convolve(&self.spectrum, x, y);
-            return;
+        match &mut self.transforms {
+            Transforms::Split(split) => split.convolve(&self.spectrum, x, y),
+            Transforms::Whole(whole) => whole.convolve(&self.spectrum, x, y),
         }
+    }
+}
+
+impl WholeFft {
+    /// `y = IDFT_P(DFT_P(x, zero-padded) ⊙ spectrum)[..m]`, `m = x.len() = y.len()`.
+    fn convolve(&mut self, spectrum: &[Complex<f64>], x: &[f64], y: &mut [f64]) {
         let m = x.len();
         self.time[..m].copy_from_slice(x);
         self.time[m..].fill(0.0);
         self.forward
             .process_with_scratch(&mut self.time, &mut self.freq, &mut self.scratch)
             .expect("buffer lengths come from the plan");
-        for (f, s) in self.freq.iter_mut().zip(&self.spectrum) {
+        for (f, s) in self.freq.iter_mut().zip(spectrum) {
             *f *= *s;
         }
         // The spectrum of a real signal has real DC (and Nyquist) bins; clear the rounding noise
