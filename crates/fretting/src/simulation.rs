@@ -569,6 +569,10 @@ impl FrettingSimulation {
     /// docs/theory-mdr.md#fretting-wear (and the paper) cut `q` at the first node outside and use Eq. 17/29; that pressure
     /// jumps by `O(1)` each time the edge crosses a node and the run does not converge under grid
     /// refinement (docs/fretting-wear.md, "The contact edge between nodes").
+    ///
+    /// Runs on the calling thread: called from outside a pool, one thread (the split FFTs'
+    /// halves one after the other); [`Self::run`] moves the steps onto the pool when the plans
+    /// split. The same bits either way.
     pub fn step(&mut self) -> Result<(), FrettingError> {
         self.contact()?;
         if self.is_finished() {
@@ -1229,7 +1233,11 @@ impl FrettingSimulation {
     /// pool with a partner polling for its sections (the split FFTs' halves on two threads,
     /// docs/performance.md, "Two threads in the MDR wear run"); smaller grids run on the calling
     /// thread (nothing to share, no core spent polling). The same results bit for bit on any
-    /// number of threads.
+    /// number of threads (tests/threads.rs). On such grids the attempt observer
+    /// ([`Self::set_attempt_observer`]) is called on that pool worker thread, not on the caller's;
+    /// `after_step` stays on the calling thread. [`Self::step`] called alone runs on the calling
+    /// thread, its FFT halves one after the other (one thread) unless that thread is itself a
+    /// worker of a pool of two or more.
     pub fn run(&mut self, mut after_step: impl FnMut(&Self) -> bool) -> Result<(), FrettingError> {
         use halfspace_numerics::conv1d::{plan_length, SPLIT_FROM};
         let split = plan_length(2 * self.grid.len() - 1) >= SPLIT_FROM;

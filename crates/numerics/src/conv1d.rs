@@ -79,15 +79,29 @@ pub fn plan_length(min: usize) -> usize {
 struct FftPlan {
     /// Longest input (the kernel entries it holds).
     capacity: usize,
-    forward: Arc<dyn RealToComplex<f64>>,
-    inverse: Arc<dyn ComplexToReal<f64>>,
+    /// The padded length `P`.
+    len: usize,
     /// FFT(b) / P: the normalization of the inverse transform is folded in.
     spectrum: Vec<Complex<f64>>,
+    transforms: Transforms,
+}
+
+/// How a plan evaluates its real FFTs of length `P`.
+enum Transforms {
+    /// One transform of length `P` each way, with its buffers.
+    Whole(WholeFft),
+    /// Split in halves (padded lengths from [`SPLIT_FROM`], multiples of 4): no length-`P`
+    /// transforms or buffers kept.
+    Split(SplitFft),
+}
+
+/// The length-`P` real FFTs of a plan that does not split, and their buffers.
+struct WholeFft {
+    forward: Arc<dyn RealToComplex<f64>>,
+    inverse: Arc<dyn ComplexToReal<f64>>,
     time: Vec<f64>,
     freq: Vec<Complex<f64>>,
     scratch: Vec<Complex<f64>>,
-    /// The transforms split in halves (padded lengths from [`SPLIT_FROM`], multiples of 4).
-    split: Option<SplitFft>,
 }
 
 /// The real FFTs of length `P = 2M` (`M` even) of a plan as two of length `M`, one on the even
@@ -191,13 +205,13 @@ impl SplitFft {
         }
         join_if_on_pool(|| even.inverse(inverse), || odd.inverse(inverse));
         let m = y.len();
+        debug_assert!(m <= 2 * half);
         for (j, pair) in y.chunks_mut(2).enumerate() {
             pair[0] = even.time[j];
             if let Some(o) = pair.get_mut(1) {
                 *o = odd.time[j];
             }
         }
-        debug_assert!(m <= 2 * half);
     }
 }
 
@@ -306,13 +320,13 @@ impl ToeplitzConvolution {
             Engine::Fft(plans) => plans
                 .iter()
                 .find(|plan| plan.capacity >= m)
-                .map(|plan| plan.time.len()),
+                .map(|plan| plan.len),
             Engine::Mvm => None,
         }
     }
 
     /// Adds FFT plans for shorter inputs (no effect with the MVM backend): for `c = ⌊(4/5)^l n⌋ ≥ 256`
-    /// a rung zero-padded to `P_l = fast_length(2c − 1)` that holds the kernel `b_0 … b_{c_l−1}`,
+    /// a rung zero-padded to `P_l = `[`plan_length`]`(2c − 1)` (split from [`SPLIT_FROM`] on) that holds the kernel `b_0 … b_{c_l−1}`,
     /// `c_l = ⌈P_l/2⌉ ≥ c` (for inputs of length `m ≤ c_l` the outputs `i < m` need no more, and
     /// `P_l ≥ m + c_l − 1` keeps the product linear). An input of length `m` then uses the
     /// shortest plan with `c_l ≥ m`: the same sum, in `O(m log m)`; the result differs from the
@@ -328,7 +342,7 @@ impl ToeplitzConvolution {
         }
         let mut rungs = Vec::new();
         let mut c = self.kernel.len();
-        let mut longest = plans[0].time.len();
+        let mut longest = plans[0].len;
         loop {
             c = c * 4 / 5;
             if c < SHORTEST_RUNG {
@@ -377,17 +391,23 @@ impl ToeplitzConvolution {
 }
 
 impl FftPlan {
-    /// The plan of length `p ≥ 2 kernel.len() − 1` for inputs up to `kernel.len()`.
+    /// The plan of length `p ≥ 2 kernel.len() − 1` for inputs up to `kernel.len()`. The kernel's
+    /// spectrum comes from one length-`p` transform, planned here and dropped when the plan
+    /// splits.
     fn new(kernel: &[f64], p: usize) -> Self {
         let n = kernel.len();
         debug_assert!(p + 1 >= 2 * n);
         let mut planner = RealFftPlanner::<f64>::new();
         let forward = planner.plan_fft_forward(p);
-        let inverse = planner.plan_fft_inverse(p);
         let mut time = vec![0.0; p];
         time[..n].copy_from_slice(kernel);
         let mut spectrum = forward.make_output_vec();
-        let scratch_len = forward.get_scratch_len().max(inverse.get_scratch_len());
+        let split = p >= SPLIT_FROM && p % 4 == 0;
+        let inverse = (!split).then(|| planner.plan_fft_inverse(p));
+        let scratch_len = inverse
+            .as_ref()
+            .map_or(0, |inverse| inverse.get_scratch_len())
+            .max(forward.get_scratch_len());
         let mut scratch = vec![Complex::new(0.0, 0.0); scratch_len];
         forward
             .process_with_scratch(&mut time, &mut spectrum, &mut scratch)
@@ -396,32 +416,42 @@ impl FftPlan {
         for s in &mut spectrum {
             *s *= scale;
         }
-        let freq = forward.make_output_vec();
-        let split = (p >= SPLIT_FROM && p % 4 == 0).then(|| SplitFft::new(p, &mut planner));
+        let transforms = match inverse {
+            None => Transforms::Split(SplitFft::new(p, &mut planner)),
+            Some(inverse) => Transforms::Whole(WholeFft {
+                freq: forward.make_output_vec(),
+                forward,
+                inverse,
+                time,
+                scratch,
+            }),
+        };
         Self {
             capacity: n,
-            forward,
-            inverse,
+            len: p,
             spectrum,
-            time,
-            freq,
-            scratch,
-            split,
+            transforms,
         }
     }
 
     fn apply(&mut self, x: &[f64], y: &mut [f64]) {
-        if let Some(split) = &mut self.split {
-            split.convolve(&self.spectrum, x, y);
-            return;
+        match &mut self.transforms {
+            Transforms::Split(split) => split.convolve(&self.spectrum, x, y),
+            Transforms::Whole(whole) => whole.convolve(&self.spectrum, x, y),
         }
+    }
+}
+
+impl WholeFft {
+    /// `y = IDFT_P(DFT_P(x, zero-padded) ⊙ spectrum)[..m]`, `m = x.len() = y.len()`.
+    fn convolve(&mut self, spectrum: &[Complex<f64>], x: &[f64], y: &mut [f64]) {
         let m = x.len();
         self.time[..m].copy_from_slice(x);
         self.time[m..].fill(0.0);
         self.forward
             .process_with_scratch(&mut self.time, &mut self.freq, &mut self.scratch)
             .expect("buffer lengths come from the plan");
-        for (f, s) in self.freq.iter_mut().zip(&self.spectrum) {
+        for (f, s) in self.freq.iter_mut().zip(spectrum) {
             *f *= *s;
         }
         // The spectrum of a real signal has real DC (and Nyquist) bins; clear the rounding noise
@@ -567,8 +597,11 @@ mod tests {
 
     /// The plans from [`SPLIT_FROM`] on are split (a multiple of 4): every input length of a
     /// ladder against the naive sum (fixed seeds), and the same bits on a pool of one thread, on a
-    /// pool of two (called on a worker with a partner: the halves on two threads) and outside any
-    /// pool.
+    /// worker of a pool of two (inside `install` `on_pool_with_partner` runs inline, no partner:
+    /// the halves joined with `rayon::join`, the other worker stealing one), from a thread outside
+    /// any pool through `on_pool_with_partner` (the work handed to a worker of the global pool,
+    /// a partner polling, when that pool has two or more threads) and on a plain thread outside
+    /// any pool (the halves one after the other).
     #[test]
     fn split_plans_match_the_naive_sum_on_any_number_of_threads() {
         for min in [SPLIT_FROM, 8193, 10001, 12001, 16001] {
@@ -583,6 +616,8 @@ mod tests {
         let want = naive(&b, &x);
         let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1.0);
         let (b, x) = (&b, &x);
+        // `Some(t)`: inside a pool of `t` threads; `Some(0)`: from a spawned thread through the
+        // global pool; `None`: on this thread, no pool involved.
         let run = |threads: Option<usize>| -> Vec<Vec<f64>> {
             let mut op = ToeplitzConvolution::new(b.clone(), Backend::Fft).unwrap();
             op.plan_shorter_lengths();
@@ -598,6 +633,11 @@ mod tests {
             };
             match threads {
                 None => go(),
+                Some(0) => std::thread::scope(|s| {
+                    s.spawn(|| crate::parallel::on_pool_with_partner(go))
+                        .join()
+                        .unwrap()
+                }),
                 Some(t) => rayon::ThreadPoolBuilder::new()
                     .num_threads(t)
                     .build()
@@ -615,7 +655,7 @@ mod tests {
                 );
             }
         }
-        for other in [run(Some(2)), run(None)] {
+        for other in [run(Some(2)), run(Some(0)), run(None)] {
             for (a, c) in one.iter().zip(&other) {
                 assert!(a.iter().zip(c).all(|(u, v)| u.to_bits() == v.to_bits()));
             }
