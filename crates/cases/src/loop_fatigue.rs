@@ -753,6 +753,36 @@ impl AnchoredBound {
 /// The volume fields' names in results.h5 (each `(layers, N₁, N₂)`).
 pub const FATIGUE_FIELDS: [&str; 4] = ["crossland", "dang_van", "swt", "fatemi_socie"];
 
+/// The four criteria's fields and maxima, in the order of [`FATIGUE_FIELDS`].
+fn criteria(i: &ScreenedIndices) -> [(&[f64], Maximum); 4] {
+    [
+        (&i.crossland, i.crossland_max),
+        (&i.dang_van, i.dang_van_max),
+        (&i.swt, i.swt_max),
+        (&i.fatemi_socie, i.fatemi_socie_max),
+    ]
+}
+
+/// `rec` with the four fields `{name}{suffix}` of shape `shape` and their maxima as attributes
+/// `{name}{suffix}_max`, `…_max_x`, `…_max_y`, `…_max_z` (`at`: the maxima's positions, m).
+fn record_criteria(
+    mut rec: Record,
+    suffix: &str,
+    i: &ScreenedIndices,
+    at: &[[f64; 3]; 4],
+    shape: &[usize; 3],
+) -> Record {
+    for (k, (name, (field, m))) in FATIGUE_FIELDS.iter().zip(criteria(i)).enumerate() {
+        rec = rec
+            .shaped(&format!("{name}{suffix}"), field.to_vec(), shape)
+            .attr(&format!("{name}{suffix}_max"), AttrValue::Float(m.value))
+            .attr(&format!("{name}{suffix}_max_x"), AttrValue::Float(at[k][0]))
+            .attr(&format!("{name}{suffix}_max_y"), AttrValue::Float(at[k][1]))
+            .attr(&format!("{name}{suffix}_max_z"), AttrValue::Float(at[k][2]));
+    }
+    rec
+}
+
 impl LoopFatigue {
     /// The JSON keys `crossland_max`, `crossland_max_at` ([x, y, z] m), `dang_van_max(_at)`,
     /// `swt_max(_at)` (Pa), `fatemi_socie_max(_at)`, and the evaluation's cost; with a process
@@ -784,16 +814,7 @@ impl LoopFatigue {
         });
         if let (Some(v), Some(out)) = (&self.process_volume, summary.as_object_mut()) {
             let i = &v.indices;
-            for (k, (name, m)) in FATIGUE_FIELDS
-                .iter()
-                .zip([
-                    i.crossland_max,
-                    i.dang_van_max,
-                    i.swt_max,
-                    i.fatemi_socie_max,
-                ])
-                .enumerate()
-            {
+            for (k, (name, (_, m))) in FATIGUE_FIELDS.iter().zip(criteria(i)).enumerate() {
                 out.insert(format!("{name}_pv_max"), finite(m.value));
                 out.insert(format!("{name}_pv_max_at"), json!(v.at[k]));
             }
@@ -819,51 +840,21 @@ impl LoopFatigue {
     /// and the side `process_volume` (m) as attributes.
     pub fn record(&self, rec: Record) -> Record {
         let shape = [self.layers, self.shape.0, self.shape.1];
-        let i = &self.indices;
-        let mut rec = rec.array("z", self.z.clone());
-        for (name, field) in
-            FATIGUE_FIELDS
-                .iter()
-                .zip([&i.crossland, &i.dang_van, &i.swt, &i.fatemi_socie])
-        {
-            rec = rec.shaped(name, field.clone(), &shape);
-        }
-        for (k, (name, m)) in FATIGUE_FIELDS
-            .iter()
-            .zip([
-                i.crossland_max,
-                i.dang_van_max,
-                i.swt_max,
-                i.fatemi_socie_max,
-            ])
-            .enumerate()
-        {
-            rec = rec
-                .attr(&format!("{name}_max"), AttrValue::Float(m.value))
-                .attr(&format!("{name}_max_x"), AttrValue::Float(self.at[k][0]))
-                .attr(&format!("{name}_max_y"), AttrValue::Float(self.at[k][1]))
-                .attr(&format!("{name}_max_z"), AttrValue::Float(self.at[k][2]));
-        }
+        let mut rec = record_criteria(
+            rec.array("z", self.z.clone()),
+            "",
+            &self.indices,
+            &self.at,
+            &shape,
+        );
         if let Some(v) = &self.process_volume {
-            let i = &v.indices;
-            rec = rec.attr("process_volume", AttrValue::Float(v.side));
-            for (k, (name, (field, m))) in FATIGUE_FIELDS
-                .iter()
-                .zip([
-                    (&i.crossland, i.crossland_max),
-                    (&i.dang_van, i.dang_van_max),
-                    (&i.swt, i.swt_max),
-                    (&i.fatemi_socie, i.fatemi_socie_max),
-                ])
-                .enumerate()
-            {
-                rec = rec
-                    .shaped(&format!("{name}_pv"), field.clone(), &shape)
-                    .attr(&format!("{name}_pv_max"), AttrValue::Float(m.value))
-                    .attr(&format!("{name}_pv_max_x"), AttrValue::Float(v.at[k][0]))
-                    .attr(&format!("{name}_pv_max_y"), AttrValue::Float(v.at[k][1]))
-                    .attr(&format!("{name}_pv_max_z"), AttrValue::Float(v.at[k][2]));
-            }
+            rec = record_criteria(
+                rec.attr("process_volume", AttrValue::Float(v.side)),
+                "_pv",
+                &v.indices,
+                &v.at,
+                &shape,
+            );
         }
         rec
     }
