@@ -5,6 +5,7 @@
 
 use std::time::Instant;
 
+use rayon::prelude::*;
 use serde_json::{json, Value};
 
 use crate::config::FatigueConfig;
@@ -48,9 +49,23 @@ pub struct LoopFatigue {
     pub levels_computed: usize,
     /// Wall time of the evaluation (s).
     pub seconds: f64,
+    /// Its parts (wall, s): [`FatigueSeconds`].
+    pub parts: FatigueSeconds,
     /// The criteria on the history averaged over the process volume (`[fatigue]
     /// process_volume`; docs/fatigue.md, "Process volume").
     pub process_volume: Option<VolumeFatigue>,
+}
+
+/// Where the evaluation's wall time goes (s; JSON `fatigue.level_bounds_seconds`,
+/// `history_seconds`, `criteria_seconds`): the bounds that choose the levels
+/// ([`reachable_levels`]: the kernel spectra of the box, the reference and anchored bounds, the
+/// seed's exact values), the stress history of the levels computed, and the screened criteria on
+/// it ([`halfspace_fatigue::evaluate_screened`]); the process volume's time is its own.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct FatigueSeconds {
+    pub level_bounds: f64,
+    pub history: f64,
+    pub criteria: f64,
 }
 
 /// The four index fields on the stress history averaged over a process volume of side `side`
@@ -90,12 +105,25 @@ pub fn evaluate_loop_fatigue(
         })?;
     let case = lp.case();
     let homogeneous = lp.solver().nested().is_none();
+    let mut parts = FatigueSeconds::default();
     let h: CycleStress = if homogeneous && cfg.screen_fraction > 0.0 {
         let matrix = cfg.matrix(case.e, case.nu);
-        reachable_levels(lp, sources, layers, &matrix, cfg.screen_fraction).map_err(|e| fail(&e))?
+        reachable_levels_timed(
+            lp,
+            sources,
+            layers,
+            &matrix,
+            cfg.screen_fraction,
+            &mut parts,
+        )
+        .map_err(|e| fail(&e))?
     } else {
-        lp.cycle_history(Some(&all)).map_err(|e| fail(&e))?
+        let history = Instant::now();
+        let h = lp.cycle_history(Some(&all)).map_err(|e| fail(&e))?;
+        parts.history = history.elapsed().as_secs_f64();
+        h
     };
+    let criteria = Instant::now();
     let (materials, material_of) = cell_materials(cfg, case, &h)?;
     let indices = evaluate_screened(
         &h.stress,
@@ -178,6 +206,7 @@ pub fn evaluate_loop_fatigue(
     let z: Vec<f64> = order.iter().map(|&k| h.depth(k)).collect();
     let increments = h.increments;
     drop(h);
+    parts.criteria = criteria.elapsed().as_secs_f64();
     let process_volume = match cfg.process_volume {
         Some(side) => Some(volume_fatigue(lp, cfg, side, &all, &order)?),
         None => None,
@@ -193,6 +222,7 @@ pub fn evaluate_loop_fatigue(
         increments,
         levels_computed,
         seconds: start.elapsed().as_secs_f64(),
+        parts,
         process_volume,
     })
 }
@@ -374,8 +404,11 @@ const SEED_CELLS: usize = 16;
 /// merged into it ([`CycleStress::merged`]). Errors: a loop with inhomogeneities, `sources`
 /// other than the loop's own complete cycle, `layers` other than the loop's box
 /// ([`FrettingLoop::cycle_levels`]).
-// Index loops over the four criteria read like the bounds they compare.
-#[allow(clippy::needless_range_loop)]
+///
+/// One plan of the whole box ([`SubsurfacePlan::with_levels`]) serves every step: its Love and
+/// bound spectra are built once, then kept for the seed, the candidates and the computed levels
+/// only ([`SubsurfacePlan::retain_levels`]); each level's history is bit for bit
+/// [`FrettingLoop::cycle_history`]'s ([`CycleStress::of_levels`]).
 pub fn reachable_levels(
     lp: &FrettingLoop,
     sources: &CycleSources,
@@ -383,6 +416,30 @@ pub fn reachable_levels(
     matrix: &Material,
     fraction: f64,
 ) -> Result<CycleStress, SamError> {
+    reachable_levels_timed(
+        lp,
+        sources,
+        layers,
+        matrix,
+        fraction,
+        &mut FatigueSeconds::default(),
+    )
+}
+
+/// [`reachable_levels`], adding its time to `parts` (the stress histories to `history`, the rest
+/// to `level_bounds`).
+// Index loops over the four criteria read like the bounds they compare.
+#[allow(clippy::needless_range_loop)]
+fn reachable_levels_timed(
+    lp: &FrettingLoop,
+    sources: &CycleSources,
+    layers: usize,
+    matrix: &Material,
+    fraction: f64,
+    parts: &mut FatigueSeconds,
+) -> Result<CycleStress, SamError> {
+    let start = Instant::now();
+    let mut in_history = 0.0;
     let case = lp.case();
     let LoopBox {
         depth,
@@ -417,7 +474,6 @@ pub fn reachable_levels(
     let q = friction.then_some([&reference[1][..], &reference[2][..]]);
     let (sigma_ref, _) = plan.stress(&reference[0], q, None)?;
     let bound = plan.deviation_bounds([&amplitude[0], &amplitude[1], &amplitude[2]])?;
-    drop(plan);
     // Rounding of the transforms of σ(t) and σ^ref: 10⁻⁹ of the largest stress and bound.
     let scale = sigma_ref
         .iter()
@@ -426,6 +482,7 @@ pub fn reachable_levels(
         .fold(0.0f64, |m, v| m.max(v.abs()));
     let cells = all.len() * n;
     let a: Vec<[f64; 4]> = (0..cells)
+        .into_par_iter()
         .map(|p| {
             let r: Voigt = std::array::from_fn(|k| sigma_ref[k][p]);
             let d: [f64; 6] = std::array::from_fn(|f| bound[f][p] + 1e-9 * scale);
@@ -441,7 +498,9 @@ pub fn reachable_levels(
     }
     seed.sort_unstable();
     seed.dedup();
-    let seed_history = lp.cycle_history(Some(&seed))?;
+    let history = Instant::now();
+    let seed_history = CycleStress::of_levels(&mut plan, &seed, sources, friction)?;
+    in_history += history.elapsed().as_secs_f64();
     // Exact criteria at the seed levels' cells of largest path bound
     // ([`halfspace_fatigue::screened::invariant_bounds`], `critical_plane_bounds`): lower bounds
     // of the maxima.
@@ -454,6 +513,7 @@ pub fn reachable_levels(
             .collect()
     };
     let path_bounds: Vec<[f64; 4]> = (0..seed_cells)
+        .into_par_iter()
         .map(|q| {
             let path = path_of(q);
             let [c, dv] = invariant_bounds(&path, matrix);
@@ -500,15 +560,36 @@ pub fn reachable_levels(
         .copied()
         .filter(|&k| !seed.contains(&k) && (0..n).any(|cell| reaches(&a[k * n + cell])))
         .collect();
+    let finish = |h: CycleStress, in_history: f64, parts: &mut FatigueSeconds| {
+        parts.history += in_history;
+        parts.level_bounds += start.elapsed().as_secs_f64() - in_history;
+        Ok(h)
+    };
     if candidates.is_empty() {
-        return Ok(seed_history);
+        return finish(seed_history, in_history, parts);
     }
-    let others = anchored_levels(lp, sources, &candidates, &a, &reaches, matrix)?;
+    plan.retain_levels(&candidates);
+    let others = anchored_levels(
+        &mut plan,
+        sources,
+        &candidates,
+        &a,
+        &reaches,
+        matrix,
+        friction,
+    )?;
     if others.is_empty() {
-        return Ok(seed_history);
+        return finish(seed_history, in_history, parts);
     }
     // The seed's history is kept; only the other levels are computed.
-    seed_history.merged(lp.cycle_history(Some(&others))?)
+    plan.retain_levels(&others);
+    plan.drop_bound_spectra();
+    let history = Instant::now();
+    let others = CycleStress::of_levels(&mut plan, &others, sources, friction)?;
+    drop(plan);
+    let merged = seed_history.merged(others)?;
+    in_history += history.elapsed().as_secs_f64();
+    finish(merged, in_history, parts)
 }
 
 /// What [`reachable_levels`] and [`AnchoredBound::new`] read of a homogeneous loop's box: the
@@ -589,33 +670,40 @@ const ANCHOR_GROUPS: usize = 8;
 /// whose reference bound `a` reaches is bounded again by [`AnchoredBound`] (the smaller of the two
 /// counts) and the level is kept if one of its cells still `reaches`.
 fn anchored_levels(
-    lp: &FrettingLoop,
+    plan: &mut SubsurfacePlan,
     sources: &CycleSources,
     candidates: &[usize],
     a: &[[f64; 4]],
-    reaches: &dyn Fn(&[f64; 4]) -> bool,
+    reaches: &(dyn Fn(&[f64; 4]) -> bool + Sync),
     matrix: &Material,
+    friction: bool,
 ) -> Result<Vec<usize>, SamError> {
-    let Some(bound) = AnchoredBound::new(lp, sources, candidates)? else {
+    let Some(bound) = AnchoredBound::from_plan(plan, sources, candidates, friction)? else {
         return Ok(candidates.to_vec());
     };
     let n = bound.cells;
-    let mut scratch = (Vec::new(), Vec::new());
-    let mut kept = Vec::new();
-    for (i, &k) in candidates.iter().enumerate() {
-        for cell in 0..n {
-            let reference = &a[k * n + cell];
-            if !reaches(reference) {
-                continue;
-            }
-            let anchored = bound.cell(i * n + cell, matrix, &mut scratch)?;
-            if reaches(&std::array::from_fn(|c| anchored[c].min(reference[c]))) {
-                kept.push(k);
-                break;
-            }
-        }
-    }
-    Ok(kept)
+    // The levels in parallel, each scanned until one of its cells reaches.
+    let kept: Vec<Option<usize>> = candidates
+        .par_iter()
+        .enumerate()
+        .map_init(
+            || (Vec::new(), Vec::new()),
+            |scratch, (i, &k)| -> Result<Option<usize>, SamError> {
+                for cell in 0..n {
+                    let reference = &a[k * n + cell];
+                    if !reaches(reference) {
+                        continue;
+                    }
+                    let anchored = bound.cell(i * n + cell, matrix, scratch)?;
+                    if reaches(&std::array::from_fn(|c| anchored[c].min(reference[c]))) {
+                        return Ok(Some(k));
+                    }
+                }
+                Ok(None)
+            },
+        )
+        .collect::<Result<_, _>>()?;
+    Ok(kept.into_iter().flatten().collect())
 }
 
 /// The anchored level bound of a homogeneous loop on some levels of its box (docs/fatigue.md,
@@ -664,7 +752,24 @@ impl AnchoredBound {
                  0..={layers}"
             )));
         }
-        let n = grid.len();
+        if increments < 3 {
+            return Ok(None);
+        }
+        let mut plan = SubsurfacePlan::with_levels(&grid, case.e, case.nu, depth, levels)?;
+        Self::from_plan(&mut plan, sources, levels, friction)
+    }
+
+    /// [`AnchoredBound::new`] with the kernel spectra of `plan` (holding the box levels
+    /// `levels`, increasing) for the cycle `sources` of a loop checked by the caller (`LoopBox`);
+    /// `friction`: the shear tractions are used.
+    fn from_plan(
+        plan: &mut SubsurfacePlan,
+        sources: &CycleSources,
+        levels: &[usize],
+        friction: bool,
+    ) -> Result<Option<Self>, SamError> {
+        let increments = sources.recorded;
+        let n = plan.grid().len();
         if increments < 3 {
             return Ok(None);
         }
@@ -691,17 +796,16 @@ impl AnchoredBound {
                 }
             }
         }
-        let mut plan = SubsurfacePlan::with_levels(&grid, case.e, case.nu, depth, levels)?;
         let mut fields = Vec::with_capacity(anchors.len());
         for &t in &anchors {
             let (p, q, _) = sources.increment(t);
-            fields.push(plan.stress(p, friction.then_some(q), None)?.0);
+            fields.push(plan.stress_of_levels(levels, p, friction.then_some(q))?);
         }
         let maps: Vec<[&[f64]; 3]> = residual
             .iter()
             .map(|r| [&r[0][..], &r[1][..], &r[2][..]])
             .collect();
-        let bounds = plan.deviation_bounds_of(&maps)?;
+        let bounds = plan.deviation_bounds_of_levels(levels, &maps)?;
         let scale = fields
             .iter()
             .flat_map(|f| f.iter())
@@ -810,6 +914,9 @@ impl LoopFatigue {
                 "swt_evaluated": i.swt_evaluated,
                 "fatemi_socie_evaluated": i.fatemi_socie_evaluated,
                 "seconds": self.seconds,
+                "level_bounds_seconds": self.parts.level_bounds,
+                "history_seconds": self.parts.history,
+                "criteria_seconds": self.parts.criteria,
             },
         });
         if let (Some(v), Some(out)) = (&self.process_volume, summary.as_object_mut()) {
@@ -921,6 +1028,7 @@ mod tests {
             increments: 2,
             levels_computed: layers,
             seconds: 0.0,
+            parts: FatigueSeconds::default(),
             process_volume: None,
         };
         assert_eq!(f.volume_fields(), FATIGUE_FIELDS.to_vec());

@@ -126,7 +126,14 @@ pub struct SubsurfacePlan {
     levels: Vec<usize>,
     targets: Vec<i64>,
     fft: Fft2d,
-    love: LayeredSpectra,
+    /// Love's kernel spectra, one per level (in the order of `levels`; each a product per depth
+    /// key, so a level's stresses do not depend on the others): `None` once dropped by
+    /// [`SubsurfacePlan::retain_levels`].
+    love: Vec<Option<LayeredSpectra>>,
+    /// The spectra of the absolute stress functionals of Love's kernels per level
+    /// ([`SubsurfacePlan::deviation_bounds`]), built at the first bound of a level and kept for
+    /// the next ones (the screen of the fatigue box bounds some levels twice).
+    abs: Vec<Option<LayeredSpectra>>,
     /// Scratch of one application, kept between the applications of a loop (no fresh pages
     /// per increment): the strain spectra and the strains of every layer.
     spectra: Vec<Vec<C64>>,
@@ -239,13 +246,16 @@ impl SubsurfacePlan {
             nu,
             s: compliance(e, nu),
         };
-        // Per depth key: a level's stresses do not depend on the other levels computed.
-        let love = LayeredSpectra::per_key(
-            &mut fft,
-            &targets,
-            &[0],
-            &[(Family::Difference, &love_kernel)],
-        )?;
+        // Per level and depth key: a level's stresses do not depend on the other levels
+        // computed (the products of one target are those of a plan of several, bit for bit).
+        let love = targets
+            .iter()
+            .map(|&t| {
+                LayeredSpectra::per_key(&mut fft, &[t], &[0], &[(Family::Difference, &love_kernel)])
+                    .map(Some)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let abs = targets.iter().map(|_| None).collect();
         Ok(Self {
             grid: *grid,
             e,
@@ -256,6 +266,7 @@ impl SubsurfacePlan {
             targets,
             fft,
             love,
+            abs,
             spectra: Vec::new(),
             strain: Vec::new(),
         })
@@ -281,9 +292,58 @@ impl SubsurfacePlan {
         &self.grid
     }
 
-    /// Bytes held by the stored spectra.
+    /// Bytes held by the stored spectra (Love's and, once built, the deviation bounds').
     pub fn bytes(&self) -> usize {
-        self.love.bytes()
+        self.love
+            .iter()
+            .chain(&self.abs)
+            .flatten()
+            .map(LayeredSpectra::bytes)
+            .sum()
+    }
+
+    /// Keeps the spectra of the levels `keep` only (the others' memory is returned; their
+    /// stresses and bounds are refused after this): the fatigue box's screen builds the plan of
+    /// every level, then applies it to the levels it cannot rule out
+    /// ([`SubsurfacePlan::stress_of_levels`]).
+    pub fn retain_levels(&mut self, keep: &[usize]) {
+        for (i, k) in self.levels.iter().enumerate() {
+            if !keep.contains(k) {
+                self.love[i] = None;
+                self.abs[i] = None;
+            }
+        }
+    }
+
+    /// Drops the deviation bounds' spectra ([`SubsurfacePlan::deviation_bounds`]).
+    pub fn drop_bound_spectra(&mut self) {
+        self.abs.iter_mut().for_each(|a| *a = None);
+    }
+
+    /// The positions in the plan's levels of the box levels `levels` (increasing, each a level
+    /// of the plan whose spectra are kept).
+    fn positions(&self, levels: &[usize]) -> Result<Vec<usize>, SamError> {
+        let at: Vec<Option<usize>> = levels
+            .iter()
+            .map(|k| {
+                self.levels
+                    .iter()
+                    .position(|l| l == k)
+                    .filter(|&i| self.love[i].is_some())
+            })
+            .collect();
+        if levels.windows(2).any(|w| w[1] <= w[0]) || at.iter().any(Option::is_none) {
+            return Err(SamError::InvalidInput(format!(
+                "subsurface levels {levels:?}: increasing levels of the plan's kept {:?}",
+                self.levels
+                    .iter()
+                    .zip(&self.love)
+                    .filter(|(_, l)| l.is_some())
+                    .map(|(k, _)| *k)
+                    .collect::<Vec<_>>()
+            )));
+        }
+        Ok(at.into_iter().flatten().collect())
     }
 
     /// The six stress components `σ` (Voigt `(11, 22, 33, 23, 13, 12)`, per cell
@@ -389,11 +449,73 @@ impl SubsurfacePlan {
             fft.inverse(&mut surf[0], &mut pc)?;
             pressure.iter_mut().zip(&pc).for_each(|(a, b)| *a += b);
         }
+        let ci: Vec<[[f64; 6]; 6]> = inclusions
+            .map(|(set, _)| {
+                set.materials
+                    .iter()
+                    .map(|&(a, b)| stiffness(a, b))
+                    .collect()
+            })
+            .unwrap_or_default();
+        let all: Vec<usize> = (0..layers).collect();
+        let stress = self.love_stress(&all, &pressure, q, out, &material, &ci)?;
+        Ok((stress, material))
+    }
+
+    /// The stresses of the box levels `levels` (increasing levels of the plan whose spectra are
+    /// kept, [`SubsurfacePlan::retain_levels`]) of the tractions `p` (and `q`), without
+    /// inclusions: [`SubsurfacePlan::stress`] on those levels only, each level bit for bit the
+    /// same (cells `position-in-levels · N₁N₂ + i N₂ + j`).
+    pub fn stress_of_levels(
+        &mut self,
+        levels: &[usize],
+        p: &[f64],
+        q: Option<[&[f64]; 2]>,
+    ) -> Result<[Vec<f64>; 6], SamError> {
+        let n = self.grid.len();
+        if p.len() != n || q.is_some_and(|q| q[0].len() != n || q[1].len() != n) {
+            return Err(SamError::Numerics(
+                halfspace_numerics::NumericsError::LengthMismatch {
+                    what: "surface traction field",
+                    expected: n,
+                    got: p.len(),
+                },
+            ));
+        }
+        let positions = self.positions(levels)?;
+        let mut out = std::mem::take(&mut self.spectra);
+        if out.len() == positions.len() * 6 {
+            out.iter_mut().for_each(|o| o.fill(C64::default()));
+        } else {
+            out = (0..positions.len() * 6)
+                .map(|_| self.fft.new_spectrum())
+                .collect();
+        }
+        let material = vec![0u16; positions.len() * n];
+        self.love_stress(&positions, p, q, out, &material, &[])
+    }
+
+    /// Love's strains of `(pressure, q₁, q₂)` added to the strain spectra `out` (6 per position,
+    /// zeroed or holding the eigenstrains' fields) on the plan's levels at `positions`, and the
+    /// stresses `σ = C : ε` with the stiffness of each cell's `material` (0 the matrix, `m + 1`
+    /// the stiffness `ci[m]`).
+    fn love_stress(
+        &mut self,
+        positions: &[usize],
+        pressure: &[f64],
+        q: Option<[&[f64]; 2]>,
+        mut out: Vec<Vec<C64>>,
+        material: &[u16],
+        ci: &[[[f64; 6]; 6]],
+    ) -> Result<[Vec<f64>; 6], SamError> {
+        let n = self.grid.len();
+        let layers = positions.len();
+        let fft = &mut self.fft;
         // Love's strains of (p + p_c, q₁, q₂).
         let zero = vec![0.0; n];
         let inputs: [&[f64]; 3] = match q {
-            Some([q1, q2]) => [&pressure, q1, q2],
-            None => [&pressure, &zero, &zero],
+            Some([q1, q2]) => [pressure, q1, q2],
+            None => [pressure, &zero, &zero],
         };
         let mut hats: Vec<Vec<C64>> = (0..3).map(|_| fft.new_spectrum()).collect();
         let mut skip = [false; 3];
@@ -403,7 +525,9 @@ impl SubsurfacePlan {
                 fft.forward(inputs[i], &mut hats[i])?;
             }
         }
-        self.love.accumulate(&hats, &skip, &mut out)?;
+        for (&at, out) in positions.iter().zip(out.chunks_mut(6)) {
+            love_of(&self.love[at])?.accumulate(&hats, &skip, out)?;
+        }
         // Strains → stresses.
         let mut strain = std::mem::take(&mut self.strain);
         if strain.len() != layers * 6 {
@@ -413,15 +537,7 @@ impl SubsurfacePlan {
             fft.inverse(h, f)?;
         }
         self.spectra = out;
-        let cm = stiffness(e, nu);
-        let ci: Vec<[[f64; 6]; 6]> = inclusions
-            .map(|(set, _)| {
-                set.materials
-                    .iter()
-                    .map(|&(a, b)| stiffness(a, b))
-                    .collect()
-            })
-            .unwrap_or_default();
+        let cm = stiffness(self.e, self.nu);
         let total = layers * n;
         let mut stress: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; total]);
         for k in 0..layers {
@@ -442,8 +558,16 @@ impl SubsurfacePlan {
                 }
             }
         }
-        Ok((stress, material))
+        self.strain = strain;
+        Ok(stress)
     }
+}
+
+/// The stored spectra of a level, or an error once [`SubsurfacePlan::retain_levels`] dropped them.
+fn love_of(love: &Option<LayeredSpectra>) -> Result<&LayeredSpectra, SamError> {
+    love.as_ref().ok_or_else(|| {
+        SamError::InvalidInput("subsurface plan: a level's spectra were dropped".into())
+    })
 }
 
 impl SubsurfacePlan {
@@ -471,6 +595,19 @@ impl SubsurfacePlan {
         &mut self,
         amplitudes: &[[&[f64]; 3]],
     ) -> Result<Vec<[Vec<f64>; 6]>, SamError> {
+        let levels = self.levels.clone();
+        self.deviation_bounds_of_levels(&levels, amplitudes)
+    }
+
+    /// [`SubsurfacePlan::deviation_bounds_of`] on the box levels `levels` only (increasing levels
+    /// of the plan whose spectra are kept, [`SubsurfacePlan::retain_levels`]): `B[f][position in
+    /// levels · N₁N₂ + cell]`, each level bit for bit the same. The kernels' spectra of a level
+    /// are built at its first bound and kept ([`SubsurfacePlan::drop_bound_spectra`]).
+    pub fn deviation_bounds_of_levels(
+        &mut self,
+        levels: &[usize],
+        amplitudes: &[[&[f64]; 3]],
+    ) -> Result<Vec<[Vec<f64>; 6]>, SamError> {
         let n = self.grid.len();
         if let Some(bad) = amplitudes.iter().flatten().find(|a| a.len() != n) {
             return Err(SamError::Numerics(
@@ -481,16 +618,26 @@ impl SubsurfacePlan {
                 },
             ));
         }
+        let positions = self.positions(levels)?;
         let kernel = AbsLoveFunctionals {
             half: self.grid.half1,
             nu: self.nu,
         };
         let fft = &mut self.fft;
-        let spectra =
-            LayeredSpectra::new(fft, &self.targets, &[0], &[(Family::Difference, &kernel)])?;
-        let levels = self.levels.len();
+        for &at in &positions {
+            if self.abs[at].is_none() {
+                // Per depth key: the products of a plan of several levels, bit for bit.
+                self.abs[at] = Some(LayeredSpectra::per_key(
+                    fft,
+                    &[self.targets[at]],
+                    &[0],
+                    &[(Family::Difference, &kernel)],
+                )?);
+            }
+        }
+        let count = positions.len();
         let mut hats: Vec<Vec<C64>> = (0..3).map(|_| fft.new_spectrum()).collect();
-        let mut out: Vec<Vec<C64>> = (0..levels * 6).map(|_| fft.new_spectrum()).collect();
+        let mut out: Vec<Vec<C64>> = (0..count * 6).map(|_| fft.new_spectrum()).collect();
         let mut field = vec![0.0; n];
         let mut results = Vec::with_capacity(amplitudes.len());
         for amplitude in amplitudes {
@@ -502,8 +649,10 @@ impl SubsurfacePlan {
                 }
             }
             out.iter_mut().for_each(|o| o.fill(C64::default()));
-            spectra.accumulate(&hats, &skip, &mut out)?;
-            let mut bounds: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; levels * n]);
+            for (&at, out) in positions.iter().zip(out.chunks_mut(6)) {
+                love_of(&self.abs[at])?.accumulate(&hats, &skip, out)?;
+            }
+            let mut bounds: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; count * n]);
             for (a, h) in out.iter_mut().enumerate() {
                 let (level, f) = (a / 6, a % 6);
                 fft.inverse(h, &mut field)?;

@@ -7,6 +7,7 @@
 //! (`σ = C_I : ε` in an inhomogeneity cell); after the layers, the surface layer `z = 0`
 //! (docs/fatigue.md, "The surface layer").
 
+use crate::subsurface::SubsurfacePlan;
 use crate::{SamError, SurfaceGrid};
 
 /// The stress path of every cell of the box over the closed cycle.
@@ -118,6 +119,41 @@ impl CycleStress {
         })
     }
 
+    /// The history of a loop without inhomogeneities on the box levels `levels` of `plan`
+    /// (increasing, their spectra kept: [`SubsurfacePlan::stress_of_levels`]) from the cycle's
+    /// recorded tractions `sources` (the shear only when `frictional`): the history
+    /// [`crate::drivers::fretting_loop::FrettingLoop::cycle_history`] computes on those levels,
+    /// bit for bit, without building their kernel spectra again (docs/fatigue.md, "Layers the
+    /// screen cannot reach"). An error for sources with eigenstrains, or levels the plan does not
+    /// hold.
+    pub fn of_levels(
+        plan: &mut SubsurfacePlan,
+        levels: &[usize],
+        sources: &CycleSources,
+        frictional: bool,
+    ) -> Result<Self, SamError> {
+        if sources.eigen_len != 0 {
+            return Err(SamError::InvalidInput(
+                "cycle stress history of a plan's levels: the loop has inhomogeneities".into(),
+            ));
+        }
+        let grid = *plan.grid();
+        let per = grid.len();
+        let mut history = CycleStress::new(
+            grid,
+            (plan.layers(), levels.to_vec()),
+            vec![0; levels.len() * per],
+            sources.recorded,
+            Vec::new(),
+        )?;
+        for t in 0..sources.recorded {
+            let (p, q, _) = sources.increment(t);
+            let stress = plan.stress_of_levels(levels, p, frictional.then_some(q))?;
+            history.record(&stress)?;
+        }
+        Ok(history)
+    }
+
     /// The history on the levels of `self` and `other` together (in increasing box level): two
     /// histories of one box and cycle, on disjoint levels, each complete. Each level's paths are
     /// copied as they are, bit for bit.
@@ -150,26 +186,64 @@ impl CycleStress {
         level_of.sort_unstable();
         let per = self.grid.len();
         let block = per * self.increments * 6;
-        let mut stress = Vec::with_capacity(level_of.len() * block);
-        let mut material = Vec::with_capacity(level_of.len() * per);
-        for k in &level_of {
-            let (from, at) = match self.level_of.iter().position(|l| l == k) {
-                Some(at) => (&self, at),
-                None => (
-                    &other,
-                    other.level_of.iter().position(|l| l == k).unwrap_or(0),
-                ),
-            };
-            stress.extend_from_slice(&from.stress[at * block..(at + 1) * block]);
-            material.extend_from_slice(&from.material[at * per..(at + 1) * per]);
+        // In the larger history's buffer (grown in place: no copy of its levels when they stay
+        // where they are, as the seed's surface layer after the layers below): its levels moved
+        // to their final places from the last one down (a level never moves to a lower place),
+        // then the other's copied in.
+        let (mut base, extra) = if self.level_of.len() >= other.level_of.len() {
+            (self, other)
+        } else {
+            (other, self)
+        };
+        if base.level_of.windows(2).any(|w| w[1] < w[0]) {
+            // Levels stored out of order: the other history's buffer the base, sorted first
+            // (each level copied once).
+            base = base.sorted();
+        }
+        let place = |k: &usize| level_of.iter().position(|l| l == k).unwrap_or(0);
+        base.stress.resize(level_of.len() * block, 0.0);
+        base.material.resize(level_of.len() * per, 0);
+        for (at, k) in base.level_of.iter().enumerate().rev() {
+            let to = place(k);
+            if to != at {
+                base.stress
+                    .copy_within(at * block..(at + 1) * block, to * block);
+                base.material
+                    .copy_within(at * per..(at + 1) * per, to * per);
+            }
+        }
+        for (at, k) in extra.level_of.iter().enumerate() {
+            let to = place(k);
+            base.stress[to * block..(to + 1) * block]
+                .copy_from_slice(&extra.stress[at * block..(at + 1) * block]);
+            base.material[to * per..(to + 1) * per]
+                .copy_from_slice(&extra.material[at * per..(at + 1) * per]);
         }
         Ok(CycleStress {
-            surface: level_of.contains(&self.layers),
+            surface: level_of.contains(&base.layers),
             level_of,
+            ..base
+        })
+    }
+
+    /// The same history with its levels in increasing order (a copy of each level).
+    fn sorted(self) -> CycleStress {
+        let per = self.grid.len();
+        let block = per * self.increments * 6;
+        let mut order: Vec<usize> = (0..self.level_of.len()).collect();
+        order.sort_unstable_by_key(|&at| self.level_of[at]);
+        let mut stress = Vec::with_capacity(self.stress.len());
+        let mut material = Vec::with_capacity(self.material.len());
+        for &at in &order {
+            stress.extend_from_slice(&self.stress[at * block..(at + 1) * block]);
+            material.extend_from_slice(&self.material[at * per..(at + 1) * per]);
+        }
+        CycleStress {
+            level_of: order.iter().map(|&at| self.level_of[at]).collect(),
             stress,
             material,
             ..self
-        })
+        }
     }
 
     /// Checks that the public fields agree: `level_of` distinct box levels `≤ layers` (`layers`
