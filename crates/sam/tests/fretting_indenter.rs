@@ -3,7 +3,7 @@
 //! dissimilar bodies against Hertz with the combined `E*`, the approach against Hertz's `W(δ)`.
 
 use halfspace_sam::analytic::mindlin;
-use halfspace_sam::drivers::fretting_loop::{FrettingLoop, LoopCase};
+use halfspace_sam::drivers::fretting_loop::{CycleStress, FrettingLoop, LoopCase};
 use halfspace_sam::{Body, Compliance};
 
 const E: f64 = 210e9;
@@ -349,6 +349,33 @@ fn histories_on_disjoint_levels_merge_bit_for_bit() {
         "either order"
     );
     assert!(seed.clone().merged(seed.clone()).is_err());
+    // A history stored out of level order merges into the same union.
+    let block = other.grid.len() * other.increments * 6;
+    let per = other.grid.len();
+    let mut reversed = seed.clone();
+    reversed.level_of.reverse();
+    reversed.stress = [&seed.stress[block..], &seed.stress[..block]].concat();
+    reversed.material = [&seed.material[per..], &seed.material[..per]].concat();
+    assert_eq!(reversed.clone().merged(other.clone()).unwrap(), union);
+    assert_eq!(other.clone().merged(reversed).unwrap(), union);
+    // The history of some levels of one plan of the whole box (its spectra kept for those
+    // levels only) is the loop's own, bit for bit.
+    let all: Vec<usize> = (0..=layers).collect();
+    let case = lp.case();
+    let mut plan = halfspace_sam::subsurface::SubsurfacePlan::with_levels(
+        lp.solver().problem().grid(),
+        case.e,
+        case.nu,
+        case.fatigue_depth.unwrap(),
+        &all,
+    )
+    .unwrap();
+    plan.retain_levels(&[0, 1, layers]);
+    let sources = lp.cycle_sources().unwrap();
+    let frictional = lp.solver().problem().friction() > 0.0;
+    let of_levels = CycleStress::of_levels(&mut plan, &[0, 1, layers], sources, frictional);
+    assert_eq!(of_levels.unwrap(), union);
+    assert!(CycleStress::of_levels(&mut plan, &[2], sources, frictional).is_err());
     assert!(union.merged(other.clone()).is_err());
     // Public fields that disagree are refused (no index panic, nothing silently dropped): a
     // level stored twice, a level outside the box, a short path, a short material list, a
