@@ -526,7 +526,8 @@ class FatigueResult(Result):
     finite; ``*_max_at`` its cell centre ``[x, y, z]`` (m, z the depth). ``fatigue``: the
     evaluation's counts and seconds (``cells``, ``layers``, ``increments``,
     ``surface_layer``, ``levels_computed``, ``invariant_evaluated``, ``swt_evaluated``,
-    ``fatemi_socie_evaluated``, ``seconds``)."""
+    ``fatemi_socie_evaluated``, ``seconds`` and its parts ``level_bounds_seconds``,
+    ``history_seconds``, ``criteria_seconds``)."""
 
     crossland_max: float | None
     crossland_max_at: list[float]
