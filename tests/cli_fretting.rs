@@ -5,7 +5,7 @@ mod common;
 
 use common::{arrays_equal, bad, ok_json, run};
 
-use halfspace::data::read_record;
+use halfspace::data::{read_record, write_record, AttrValue};
 
 #[test]
 fn default_run_is_the_reference_run_and_writes_everything() {
@@ -78,25 +78,31 @@ fn default_run_is_the_reference_run_and_writes_everything() {
     assert_eq!(v["steps"], 200);
 }
 
-#[test]
-fn resume_after_a_kill_gives_the_same_results_bit_for_bit() {
-    let dir = tempfile::tempdir().unwrap();
-    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
-    let common = ["--n", "401", "--dtau", "4e-3", "--tau-end", "2", "--json"];
+/// Runs `fretting-wear` with `common` into `a` to the end and into `b` stopped after `stop` steps
+/// (only the checkpoint is there).
+fn run_and_stop(a: &std::path::Path, b: &std::path::Path, common: &[&str], stop: &str) {
     let mut args = vec!["fretting-wear", "--out", a.to_str().unwrap()];
     args.extend(common);
     ok_json(&run(&args));
-    // Killed after 137 steps: only the checkpoint is there.
     let mut args = vec![
         "fretting-wear",
         "--out",
         b.to_str().unwrap(),
         "--stop-after",
-        "137",
+        stop,
     ];
     args.extend(common);
     assert!(run(&args).status.success());
     assert!(b.join("checkpoint.npz").is_file() && !b.join("results.h5").exists());
+}
+
+#[test]
+fn resume_after_a_kill_gives_the_same_results_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    let common = ["--n", "401", "--dtau", "4e-3", "--tau-end", "2", "--json"];
+    // Killed after 137 steps: only the checkpoint is there.
+    run_and_stop(&a, &b, &common, "137");
     // Resuming with other parameters is refused, naming the parameter.
     bad(
         &[
@@ -132,6 +138,46 @@ fn resume_after_a_kill_gives_the_same_results_bit_for_bit() {
         ],
         "checkpoint",
     );
+}
+
+/// An adaptive run's checkpoint records the adaptive scheme (`adaptive_scheme`,
+/// `halfspace_fretting::ADAPTIVE_SCHEME`): one without it (made by the scheme before the hole
+/// projection, whose steps this build would not repeat) or of another scheme is refused, naming
+/// the attribute; the intact one resumes to the uninterrupted run's results bit for bit.
+#[test]
+fn adaptive_checkpoints_record_the_scheme() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    let common = ["--n", "401", "--tau-end", "0.5", "--json"];
+    run_and_stop(&a, &b, &common, "30");
+    let checkpoint = b.join("checkpoint.npz");
+    let original = read_record(&checkpoint).unwrap();
+    assert_eq!(
+        original.get_attr("adaptive_scheme"),
+        Some(&AttrValue::Text(
+            halfspace::fretting::ADAPTIVE_SCHEME.into()
+        ))
+    );
+    let mut resume = vec!["fretting-wear", "--out", b.to_str().unwrap(), "--resume"];
+    resume.extend(common);
+    for other in [None, Some("ros2")] {
+        let mut rec = original.clone();
+        match other {
+            None => rec.attributes.retain(|(n, _)| n != "adaptive_scheme"),
+            Some(name) => {
+                for (n, v) in rec.attributes.iter_mut() {
+                    if n == "adaptive_scheme" {
+                        *v = AttrValue::Text(name.into());
+                    }
+                }
+            }
+        }
+        write_record(&checkpoint, &rec).unwrap();
+        bad(&resume, "adaptive_scheme");
+    }
+    write_record(&checkpoint, &original).unwrap();
+    ok_json(&run(&resume));
+    arrays_equal(&a.join("results.npz"), &b.join("results.npz"));
 }
 
 #[test]

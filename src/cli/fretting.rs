@@ -8,7 +8,7 @@ use clap::Args;
 use halfspace::config::Names;
 use halfspace::data::{read_record, write_record, AttrValue, Record};
 use halfspace::fretting::{
-    FrettingParams, FrettingSimulation, FrettingState, Snapshot, TimeStepping,
+    FrettingParams, FrettingSimulation, FrettingState, Snapshot, TimeStepping, ADAPTIVE_SCHEME,
 };
 use halfspace::fretting_wear::{WearConfig, WearRunCase};
 use halfspace::records::wear_summary;
@@ -106,7 +106,7 @@ fn fretting_error(e: halfspace::fretting::FrettingError) -> CliError {
 }
 
 fn params_attrs(p: &FrettingParams) -> Vec<(&'static str, AttrValue)> {
-    vec![
+    let mut attrs = vec![
         ("chi", AttrValue::Float(p.chi)),
         ("k", AttrValue::Float(p.k)),
         ("n", AttrValue::Int(p.nodes as i64)),
@@ -125,7 +125,13 @@ fn params_attrs(p: &FrettingParams) -> Vec<(&'static str, AttrValue)> {
         ("length", AttrValue::Float(p.length)),
         ("method", AttrValue::Text(p.backend.name().into())),
         ("snapshots", AttrValue::Text(format!("{:?}", p.snapshots))),
-    ]
+    ];
+    // The adaptive scheme's name: a checkpoint of another scheme (or of the one before the name
+    // was recorded) is refused, since its steps would not be repeated bit for bit.
+    if let TimeStepping::Adaptive { .. } = p.stepping {
+        attrs.push(("adaptive_scheme", AttrValue::Text(ADAPTIVE_SCHEME.into())));
+    }
+    attrs
 }
 
 fn checkpoint_record(sim: &FrettingSimulation) -> Record {
