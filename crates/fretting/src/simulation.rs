@@ -452,8 +452,10 @@ impl FrettingSimulation {
     /// its embedded first-order solution `f + Δτ k₁` keeps closed, by more than the tolerance
     /// (holes that would reject it), takes that first-order solution as its result (the pair's
     /// estimate is its error), with the holes that solution opens and the result keeps closed,
-    /// `g_i − d`, in the estimate instead (only with the hole estimate on). Off: such holes join
-    /// the estimate and reject the attempt. Fewer steps (default run 890 → 641; graded k = −0.5,
+    /// `g_i − d`, in the estimate instead (only with the hole estimate on; the projection onto
+    /// the closed set, [`FrettingSimulation::set_hole_projection`], with `λ = 0`). Off: such
+    /// attempts are projected (the default) or, with the projection off, rejected. Fewer steps
+    /// than rejecting (default run 890 → 641; graded k = −0.5,
     /// χ = 0.9, N = 2001 to τ = 30: 57 204 → 22 156, no holes), but the default run's touching radius at
     /// τ = 3, in the near-grazing phase, is 1.3e-3 off the converged reference (2e-4 with it off)
     /// (docs/fretting-wear.md, "What sets the step"). Set before the first step; not part of the
@@ -596,7 +598,9 @@ impl FrettingSimulation {
     ///   adaptive steps keep the embedded error `Δτ |k₁ + k₂|/2` (vs. the linearly implicit Euler
     ///   `f̃ + Δτ k₁`) and, on the nodes outside the start's contact, the error of their
     ///   end-of-step wear ([`FrettingSimulation::outside_wear_error`]) and the holes the result
-    ///   opens ([`FrettingSimulation::opened_hole_error`]) below the tolerance with a
+    ///   opens ([`FrettingSimulation::opened_hole_error`]; a result whose holes exceed the
+    ///   tolerance is projected onto the closed set, [`FrettingSimulation::set_hole_projection`])
+    ///   below the tolerance with a
     ///   PI controller whose steps are rounded to `2^(j/64)` ([`quantized_step`]), and land on the
     ///   snapshot times.
     ///
@@ -900,8 +904,9 @@ impl FrettingSimulation {
     /// `f̃`): an indicator put in the estimate's units, not a bound of a defined error (its order
     /// in the step is not measured; it vanishes when the two solutions agree on the contact set).
     /// Holes the first-order solution opens too are not seen. The largest joins the error
-    /// estimate (or, with [`FrettingSimulation::set_first_order_fallback`], an attempt with such
-    /// holes takes its first-order solution instead). Returns the largest, its node and the count
+    /// estimate; above the tolerance the attempt is projected onto the closed set instead
+    /// ([`FrettingSimulation::set_hole_projection`], the default; or, with
+    /// [`FrettingSimulation::set_first_order_fallback`], takes its first-order solution). Returns the largest, its node and the count
     /// (docs/fretting-wear.md, "What sets the step"). Reads `g` of the result.
     fn opened_hole_error(&self) -> (f64, usize, usize) {
         opened_holes(self.first_annulus_node, &self.g, &self.trial_gap)
