@@ -32,7 +32,7 @@ fn default_run_is_the_reference_run_and_writes_everything() {
     // By τ = 30 the run is at Popov's limit: a/a0 (the touching region) = 1.13947 against
     // r*/a0 = 1.13970 (one cell is 5.6e-4), f(a0)/d = 0.59109 (f∞(a0) = 0.590845); the loaded
     // radius is the stick radius √0.5 (the annulus carries no pressure). Adaptive steps:
-    // 890 against explicit Euler's 30 000 (docs/fretting-wear.md, "Time integration").
+    // 670 against explicit Euler's 30 000 (docs/fretting-wear.md, "Time integration").
     let a = v["contact_radius_over_a0"].as_f64().unwrap();
     assert!((a - 1.13970).abs() < 5.6e-4, "a/a0 = {a}");
     let stick = 0.5f64.sqrt();
