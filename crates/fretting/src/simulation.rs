@@ -1432,7 +1432,9 @@ fn opened_holes(first: usize, g: &[f64], other: &[f64]) -> (f64, usize, usize) {
 
 /// The relative margin `η` of [`hole_projection`]: a projected hole node ends at
 /// `d − η (d − g₁)`, closed by a fraction of its first-order gap (rounding of the transforms,
-/// ~1e-15, may still leave it at `d`: a hole of that size in the estimate).
+/// ~1e-15, may still leave it at `d`: a hole of that size in the estimate). The default run's
+/// a/a₀ at τ = 3 (near grazing) moves with it by up to 3.3 cells (η = 1e-4 … 1e-1 scanned,
+/// docs/fretting-wear.md, "How robust the τ = 3 radius is"); 1e-3 passes the accuracy test.
 const HOLE_MARGIN: f64 = 1e-3;
 
 /// `λ ∈ [0, 1]` of the projection onto the closed set
