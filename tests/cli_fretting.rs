@@ -28,6 +28,8 @@ fn default_run_is_the_reference_run_and_writes_everything() {
     }
     assert_eq!(v["tau_final"].as_f64().unwrap(), 30.0);
     assert_eq!(v["n"], 2001);
+    // The adaptive scheme that took the steps (as results and checkpoints record it).
+    assert_eq!(v["adaptive_scheme"], halfspace::fretting::ADAPTIVE_SCHEME);
     assert_eq!(v["method"], "fft");
     // By τ = 30 the run is at Popov's limit: a/a0 (the touching region) = 1.13947 against
     // r*/a0 = 1.13970 (one cell is 5.6e-4), f(a0)/d = 0.59109 (f∞(a0) = 0.590845); the loaded
@@ -143,7 +145,8 @@ fn resume_after_a_kill_gives_the_same_results_bit_for_bit() {
 /// An adaptive run's checkpoint records the adaptive scheme (`adaptive_scheme`,
 /// `halfspace_fretting::ADAPTIVE_SCHEME`): one without it (made by the scheme before the hole
 /// projection, whose steps this build would not repeat) or of another scheme is refused, naming
-/// the attribute; the intact one resumes to the uninterrupted run's results bit for bit.
+/// the attribute and saying that only `--force` (starting over) helps, and so is a manifest
+/// (`run.json`) of another scheme; the intact one resumes to the uninterrupted run's results bit for bit.
 #[test]
 fn adaptive_checkpoints_record_the_scheme() {
     let dir = tempfile::tempdir().unwrap();
@@ -174,8 +177,30 @@ fn adaptive_checkpoints_record_the_scheme() {
         }
         write_record(&checkpoint, &rec).unwrap();
         bad(&resume, "adaptive_scheme");
+        bad(&resume, "another build's adaptive scheme");
+        bad(&resume, "cannot resume it bit for bit: --force starts over");
     }
     write_record(&checkpoint, &original).unwrap();
+    // The manifest of a run of another scheme (or of none recorded) is refused the same way,
+    // before the run directory's check (which would ask for parameters no flag sets).
+    let manifest = b.join("run.json");
+    let intact = std::fs::read_to_string(&manifest).unwrap();
+    for other in [None, Some("ros2-hole-projection")] {
+        let mut m: serde_json::Value = serde_json::from_str(&intact).unwrap();
+        let parameters = m["parameters"].as_object_mut().unwrap();
+        match other {
+            None => {
+                parameters.remove("adaptive_scheme");
+            }
+            Some(name) => {
+                parameters.insert("adaptive_scheme".into(), serde_json::json!(name));
+            }
+        }
+        std::fs::write(&manifest, m.to_string()).unwrap();
+        bad(&resume, "another build's adaptive scheme");
+        bad(&resume, "--force starts over");
+    }
+    std::fs::write(&manifest, intact).unwrap();
     ok_json(&run(&resume));
     arrays_equal(&a.join("results.npz"), &b.join("results.npz"));
 }
@@ -201,6 +226,8 @@ fn configs_and_bad_input() {
     assert_eq!(v["chi"], 0.3);
     assert_eq!(v["method"], "mvm");
     assert_eq!(v["n"], 401);
+    // A fixed step (`dtau`) records no adaptive scheme.
+    assert!(v.get("adaptive_scheme").is_none(), "{v}");
     // Flags override the config.
     let out2 = dir.path().join("cfg2");
     let v = ok_json(&run(&[

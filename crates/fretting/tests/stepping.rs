@@ -646,15 +646,16 @@ fn adaptive_graded_run_opens_no_more_holes_than_explicit_euler() {
 /// The graded run at N = 2001 to τ = 3 (k = −0.5, χ = 0.9): the projection's holes against
 /// explicit Euler's, bounded by the measured trade (`cargo test --release -p halfspace-fretting
 /// --test stepping -- --ignored --nocapture holes_at_2001`; numbers in docs/fretting-wear.md,
-/// "What sets the step").
+/// "What sets the step"). Measured: 1 hole in 9396 (2176 rejected) steps against explicit
+/// Euler's 0 in 212 594 steps (316 s wall, 25.8 s CPU of the test at load ≈ 5).
 #[test]
 #[ignore = "a measurement: a few minutes"]
 fn adaptive_graded_run_holes_at_2001_nodes() {
     graded_holes_against_explicit_euler(2001, HOLES_AT_2001);
 }
 
-/// The holes the projection may leave beyond explicit Euler's at N = 2001, τ = 3 (measured in
-/// the ignored test's doc).
+/// The holes the projection may leave beyond explicit Euler's at N = 2001, τ = 3: 2 measured
+/// with `step_trace`'s snapshot times, 1 with the test's.
 const HOLES_AT_2001: usize = 2;
 
 /// The graded run (k = −0.5, χ = 0.9, `nodes`) to τ = 3: the adaptive run's holes at most
