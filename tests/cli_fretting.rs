@@ -5,7 +5,7 @@ mod common;
 
 use common::{arrays_equal, bad, ok_json, run};
 
-use halfspace::data::read_record;
+use halfspace::data::{read_record, write_record, AttrValue};
 
 #[test]
 fn default_run_is_the_reference_run_and_writes_everything() {
@@ -28,11 +28,13 @@ fn default_run_is_the_reference_run_and_writes_everything() {
     }
     assert_eq!(v["tau_final"].as_f64().unwrap(), 30.0);
     assert_eq!(v["n"], 2001);
+    // The adaptive scheme that took the steps (as results and checkpoints record it).
+    assert_eq!(v["adaptive_scheme"], halfspace::fretting::ADAPTIVE_SCHEME);
     assert_eq!(v["method"], "fft");
     // By τ = 30 the run is at Popov's limit: a/a0 (the touching region) = 1.13947 against
     // r*/a0 = 1.13970 (one cell is 5.6e-4), f(a0)/d = 0.59109 (f∞(a0) = 0.590845); the loaded
     // radius is the stick radius √0.5 (the annulus carries no pressure). Adaptive steps:
-    // 890 against explicit Euler's 30 000 (docs/fretting-wear.md, "Time integration").
+    // 670 against explicit Euler's 30 000 (docs/fretting-wear.md, "Time integration").
     let a = v["contact_radius_over_a0"].as_f64().unwrap();
     assert!((a - 1.13970).abs() < 5.6e-4, "a/a0 = {a}");
     let stick = 0.5f64.sqrt();
@@ -78,25 +80,31 @@ fn default_run_is_the_reference_run_and_writes_everything() {
     assert_eq!(v["steps"], 200);
 }
 
-#[test]
-fn resume_after_a_kill_gives_the_same_results_bit_for_bit() {
-    let dir = tempfile::tempdir().unwrap();
-    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
-    let common = ["--n", "401", "--dtau", "4e-3", "--tau-end", "2", "--json"];
+/// Runs `fretting-wear` with `common` into `a` to the end and into `b` stopped after `stop` steps
+/// (only the checkpoint is there).
+fn run_and_stop(a: &std::path::Path, b: &std::path::Path, common: &[&str], stop: &str) {
     let mut args = vec!["fretting-wear", "--out", a.to_str().unwrap()];
     args.extend(common);
     ok_json(&run(&args));
-    // Killed after 137 steps: only the checkpoint is there.
     let mut args = vec![
         "fretting-wear",
         "--out",
         b.to_str().unwrap(),
         "--stop-after",
-        "137",
+        stop,
     ];
     args.extend(common);
     assert!(run(&args).status.success());
     assert!(b.join("checkpoint.npz").is_file() && !b.join("results.h5").exists());
+}
+
+#[test]
+fn resume_after_a_kill_gives_the_same_results_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    let common = ["--n", "401", "--dtau", "4e-3", "--tau-end", "2", "--json"];
+    // Killed after 137 steps: only the checkpoint is there.
+    run_and_stop(&a, &b, &common, "137");
     // Resuming with other parameters is refused, naming the parameter.
     bad(
         &[
@@ -134,6 +142,69 @@ fn resume_after_a_kill_gives_the_same_results_bit_for_bit() {
     );
 }
 
+/// An adaptive run's checkpoint records the adaptive scheme (`adaptive_scheme`,
+/// `halfspace_fretting::ADAPTIVE_SCHEME`): one without it (made by the scheme before the hole
+/// projection, whose steps this build would not repeat) or of another scheme is refused, naming
+/// the attribute and saying that only `--force` (starting over) helps, and so is a manifest
+/// (`run.json`) of another scheme; the intact one resumes to the uninterrupted run's results bit for bit.
+#[test]
+fn adaptive_checkpoints_record_the_scheme() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    let common = ["--n", "401", "--tau-end", "0.5", "--json"];
+    run_and_stop(&a, &b, &common, "30");
+    let checkpoint = b.join("checkpoint.npz");
+    let original = read_record(&checkpoint).unwrap();
+    assert_eq!(
+        original.get_attr("adaptive_scheme"),
+        Some(&AttrValue::Text(
+            halfspace::fretting::ADAPTIVE_SCHEME.into()
+        ))
+    );
+    let mut resume = vec!["fretting-wear", "--out", b.to_str().unwrap(), "--resume"];
+    resume.extend(common);
+    for other in [None, Some("ros2")] {
+        let mut rec = original.clone();
+        match other {
+            None => rec.attributes.retain(|(n, _)| n != "adaptive_scheme"),
+            Some(name) => {
+                for (n, v) in rec.attributes.iter_mut() {
+                    if n == "adaptive_scheme" {
+                        *v = AttrValue::Text(name.into());
+                    }
+                }
+            }
+        }
+        write_record(&checkpoint, &rec).unwrap();
+        bad(&resume, "adaptive_scheme");
+        bad(&resume, "another build's adaptive scheme");
+        bad(&resume, "cannot resume it bit for bit: --force starts over");
+    }
+    write_record(&checkpoint, &original).unwrap();
+    // The manifest of a run of another scheme (or of none recorded) is refused the same way,
+    // before the run directory's check (which would ask for parameters no flag sets).
+    let manifest = b.join("run.json");
+    let intact = std::fs::read_to_string(&manifest).unwrap();
+    for other in [None, Some("ros2-hole-projection")] {
+        let mut m: serde_json::Value = serde_json::from_str(&intact).unwrap();
+        let parameters = m["parameters"].as_object_mut().unwrap();
+        match other {
+            None => {
+                parameters.remove("adaptive_scheme");
+            }
+            Some(name) => {
+                parameters.insert("adaptive_scheme".into(), serde_json::json!(name));
+            }
+        }
+        std::fs::write(&manifest, m.to_string()).unwrap();
+        bad(&resume, "another build's adaptive scheme");
+        bad(&resume, "--force starts over");
+    }
+    std::fs::write(&manifest, intact).unwrap();
+    ok_json(&run(&resume));
+    arrays_equal(&a.join("results.npz"), &b.join("results.npz"));
+}
+
 #[test]
 fn configs_and_bad_input() {
     let dir = tempfile::tempdir().unwrap();
@@ -155,6 +226,8 @@ fn configs_and_bad_input() {
     assert_eq!(v["chi"], 0.3);
     assert_eq!(v["method"], "mvm");
     assert_eq!(v["n"], 401);
+    // A fixed step (`dtau`) records no adaptive scheme.
+    assert!(v.get("adaptive_scheme").is_none(), "{v}");
     // Flags override the config.
     let out2 = dir.path().join("cfg2");
     let v = ok_json(&run(&[

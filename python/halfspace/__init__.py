@@ -434,6 +434,7 @@ class WearResult(Result):
     limit_deviation_definition: str
     wear_volume_definition: str
     tol: float | None = None
+    adaptive_scheme: str | None = None
     dtau: float | None = None
     nu: float | None = None
     tangential_constant_ratio: float | None = None

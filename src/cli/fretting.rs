@@ -8,7 +8,7 @@ use clap::Args;
 use halfspace::config::Names;
 use halfspace::data::{read_record, write_record, AttrValue, Record};
 use halfspace::fretting::{
-    FrettingParams, FrettingSimulation, FrettingState, Snapshot, TimeStepping,
+    FrettingParams, FrettingSimulation, FrettingState, Snapshot, TimeStepping, ADAPTIVE_SCHEME,
 };
 use halfspace::fretting_wear::{WearConfig, WearRunCase};
 use halfspace::records::wear_summary;
@@ -106,7 +106,7 @@ fn fretting_error(e: halfspace::fretting::FrettingError) -> CliError {
 }
 
 fn params_attrs(p: &FrettingParams) -> Vec<(&'static str, AttrValue)> {
-    vec![
+    let mut attrs = vec![
         ("chi", AttrValue::Float(p.chi)),
         ("k", AttrValue::Float(p.k)),
         ("n", AttrValue::Int(p.nodes as i64)),
@@ -125,7 +125,55 @@ fn params_attrs(p: &FrettingParams) -> Vec<(&'static str, AttrValue)> {
         ("length", AttrValue::Float(p.length)),
         ("method", AttrValue::Text(p.backend.name().into())),
         ("snapshots", AttrValue::Text(format!("{:?}", p.snapshots))),
-    ]
+    ];
+    // The adaptive scheme's name: a checkpoint of another scheme (or of the one before the name
+    // was recorded) is refused, since its steps would not be repeated bit for bit.
+    if let TimeStepping::Adaptive { .. } = p.stepping {
+        attrs.push(("adaptive_scheme", AttrValue::Text(ADAPTIVE_SCHEME.into())));
+    }
+    attrs
+}
+
+/// Why a run directory or checkpoint whose adaptive scheme (`found`, `None` when not recorded)
+/// is not this build's cannot be resumed: no flag selects another scheme, so only `--force`
+/// (starting over) helps.
+fn scheme_refusal(found: Option<&str>) -> String {
+    format!(
+        "made by another build's adaptive scheme (adaptive_scheme = {}); this build runs \
+         {ADAPTIVE_SCHEME} and cannot resume it bit for bit: --force starts over",
+        found.unwrap_or("not recorded: the scheme before the hole projection")
+    )
+}
+
+/// `--resume` of a directory whose manifest (`run.json`) records an adaptive run of another
+/// scheme than this build's: refused with [`scheme_refusal`] (before the run directory's own
+/// check, whose message would ask for parameters no flag sets). Anything else (no manifest,
+/// another command or other parameters) is left to `RunDir::claim`.
+fn check_manifest_scheme(out: &Path, params: &FrettingParams) -> Result<(), CliError> {
+    if !matches!(params.stepping, TimeStepping::Adaptive { .. }) {
+        return Ok(());
+    }
+    let path = out.join(halfspace::run_dir::MANIFEST);
+    let Some(manifest) = std::fs::read(&path)
+        .ok()
+        .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok())
+    else {
+        return Ok(());
+    };
+    let parameters = &manifest["parameters"];
+    if manifest["command"] != json!(WEAR_RUN.command) || parameters["stepping"] != json!("adaptive")
+    {
+        return Ok(());
+    }
+    let found = parameters["adaptive_scheme"].as_str();
+    if found == Some(ADAPTIVE_SCHEME) {
+        return Ok(());
+    }
+    Err(CliError::Spec(format!(
+        "--resume: the run in {} was {}",
+        out.display(),
+        scheme_refusal(found)
+    )))
 }
 
 fn checkpoint_record(sim: &FrettingSimulation) -> Record {
@@ -176,6 +224,17 @@ fn state_from_checkpoint(path: &Path, params: &FrettingParams) -> Result<Frettin
     let rec = read_record(path)?;
     let bad = |what: String| CliError::Spec(format!("--resume {}: {what}", path.display()));
     for (name, value) in params_attrs(params) {
+        if name == "adaptive_scheme" && rec.get_attr(name) != Some(&value) {
+            let found = match rec.get_attr(name) {
+                Some(AttrValue::Text(s)) => Some(s.clone()),
+                Some(other) => Some(format!("{other:?}")),
+                None => None,
+            };
+            return Err(bad(format!(
+                "the checkpoint was {}",
+                scheme_refusal(found.as_deref())
+            )));
+        }
         if rec.get_attr(name) != Some(&value) {
             return Err(bad(format!(
                 "the checkpoint was made with {name} = {:?}, this run has {:?}; resume with the same \
@@ -244,6 +303,9 @@ pub fn run(args: FrettingArgs) -> Result<(), CliError> {
         manifest.insert(name.into(), value.to_json());
     }
     manifest.insert("medium".into(), json!(format!("{medium:?}")));
+    if start_mode == Start::Resume {
+        check_manifest_scheme(&args.out, &params)?;
+    }
     let run_dir = RunDir::claim(&args.out, WEAR_RUN, manifest.into(), start_mode)?;
     let dir = run_dir.path();
     let checkpoint = dir.join("checkpoint.npz");

@@ -621,7 +621,8 @@ fn surface_record(problem: &ContactProblem, summary: &serde_json::Value) -> Reco
 
 /// The summary of a fretting-wear run (`halfspace fretting-wear --json`, the Python
 /// `fretting_wear`): the contact radius and its limit, `f̃(a₀)`, the wear volume and its limit
-/// over `π a₀² d`, the parameters, and with `ν` the graded tangential constant `c_T/c_N` and
+/// over `π a₀² d`, the parameters (for adaptive steps `tol` and `adaptive_scheme`,
+/// [`crate::fretting::ADAPTIVE_SCHEME`]), and with `ν` the graded tangential constant `c_T/c_N` and
 /// `u_max/(μ d) = c_N/c_T`.
 pub fn wear_summary(
     sim: &crate::fretting::FrettingSimulation,
@@ -657,7 +658,12 @@ pub fn wear_summary(
         "wear_volume_definition": "V / (π a0² d): worn volume 2π∫(f − f0) r dr over the contact's a0² d",
     });
     match p.stepping {
-        crate::fretting::TimeStepping::Adaptive { tolerance } => summary["tol"] = json!(tolerance),
+        crate::fretting::TimeStepping::Adaptive { tolerance } => {
+            summary["tol"] = json!(tolerance);
+            // Which adaptive scheme took the steps (as the results and checkpoints record it):
+            // two step counts of the same parameters differ by it.
+            summary["adaptive_scheme"] = json!(crate::fretting::ADAPTIVE_SCHEME);
+        }
         crate::fretting::TimeStepping::Fixed { dtau }
         | crate::fretting::TimeStepping::ExplicitEuler { dtau } => summary["dtau"] = json!(dtau),
     }

@@ -8,7 +8,8 @@
 //!   (inside the last contact node and inside the outermost loaded node); `DTAU` may be
 //!   `ros2:DTAU` for fixed ROS2 steps; `--no-hole-estimate` runs the adaptive steps without the
 //!   opened-hole estimate (the scheme before it), `--first-order-fallback` takes the first-order
-//!   solution where the result opens holes (experimental);
+//!   solution where the result opens holes (experimental), `--no-hole-projection` rejects an
+//!   attempt whose result opens holes instead of projecting it onto the closed set;
 //! * `rate N K CHI DTAU TAU0 TAU1 NODES`: explicit Euler from 0 to `TAU1`, printing from `TAU0` on
 //!   every step's `τ`, last contact node and wear rate `(f̃ⁿ⁺¹ − f̃ⁿ)/Δτ` at the comma-separated
 //!   `NODES`.
@@ -53,7 +54,10 @@ fn profile(args: &[String]) -> Result<(), Failure> {
         parse(args, 3, "TAU")?,
     );
     let stepping = match args.get(4).map(String::as_str) {
-        None | Some("--no-hole-estimate") | Some("--first-order-fallback") => None,
+        None
+        | Some("--no-hole-estimate")
+        | Some("--first-order-fallback")
+        | Some("--no-hole-projection") => None,
         Some(s) => Some(match s.strip_prefix("ros2:") {
             Some(dtau) => TimeStepping::Fixed {
                 dtau: dtau.parse()?,
@@ -64,6 +68,7 @@ fn profile(args: &[String]) -> Result<(), Failure> {
     let mut sim = FrettingSimulation::new(params(nodes, k, chi, tau, stepping))?;
     sim.set_hole_estimate(!args.iter().any(|a| a == "--no-hole-estimate"));
     sim.set_first_order_fallback(args.iter().any(|a| a == "--first-order-fallback"));
+    sim.set_hole_projection(!args.iter().any(|a| a == "--no-hole-projection"));
     let start = std::time::Instant::now();
     sim.run(|_| false)?;
     let seconds = start.elapsed().as_secs_f64();
@@ -158,7 +163,7 @@ fn main() -> Result<(), Failure> {
         Some("profile") => profile(&args[1..]),
         Some("rate") => rate(&args[1..]),
         _ => Err(
-            "usage: edge_structure profile N K CHI TAU [DTAU | ros2:DTAU | --no-hole-estimate | --first-order-fallback] | rate N K CHI DTAU TAU0 TAU1 NODES"
+            "usage: edge_structure profile N K CHI TAU [DTAU | ros2:DTAU | --no-hole-estimate | --first-order-fallback | --no-hole-projection] | rate N K CHI DTAU TAU0 TAU1 NODES"
                 .into(),
         ),
     }

@@ -37,6 +37,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // `FIRST_ORDER_FALLBACK=on`: an attempt whose result opens holes takes its first-order
     // solution (experimental, off by default).
     sim.set_first_order_fallback(std::env::var("FIRST_ORDER_FALLBACK").is_ok_and(|v| v == "on"));
+    // `HOLE_PROJECTION=off`: an attempt whose result opens holes above the tolerance is
+    // rejected instead of projected onto the closed set (the scheme before).
+    sim.set_hole_projection(std::env::var("HOLE_PROJECTION").map_or(true, |v| v != "off"));
     let sink = Arc::clone(&attempts);
     sim.set_attempt_observer(Box::new(move |a| sink.lock().expect("lock").push(*a)));
     let start = std::time::Instant::now();
@@ -46,12 +49,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut out = std::io::BufWriter::new(std::fs::File::create(&csv)?);
     writeln!(
         out,
-        "tau,dtau,ratio,accepted,worst,edge_start,edge_trial,edge_end,gmres1,gmres2,opened_holes,err_ros2,err_outside,err_hole,first_order"
+        "tau,dtau,ratio,accepted,worst,edge_start,edge_trial,edge_end,gmres1,gmres2,opened_holes,err_ros2,err_outside,err_hole,first_order,projection"
     )?;
     for a in attempts.iter() {
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             a.tau,
             a.dtau,
             a.error_ratio,
@@ -66,7 +69,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             a.error_terms[0],
             a.error_terms[1],
             a.error_terms[2],
-            u8::from(a.first_order)
+            u8::from(a.first_order),
+            a.projection
         )?;
     }
     // Holes at the end: annulus nodes inside the last contact node with g ≥ d.

@@ -167,6 +167,73 @@ fn adaptive_resume_is_bit_for_bit() {
     }
 }
 
+/// A resume across attempts projected onto the closed set (the default scheme's projection,
+/// `set_hole_projection`, λ < 1): the default run (χ = 0.5, N = 2001 to τ = 30) killed right
+/// after the first accepted projected step and half-way, then resumed, ends bit for bit where
+/// the uninterrupted run does. The observer counts the projected attempts
+/// on both sides of each kill point (asserted ≥ 1), so the projected path (its interpolated gap,
+/// the extra evaluation of the projected profile) is what the resume repeats. Measured: the first
+/// accepted projected step is step 232 of 670 (13 projected attempts up to it, 126 after); the
+/// second kill point, step 310, has 27 before and 112 after. Kill points after step 389 fail:
+/// there the touching radius falls by 2.74 cells and the checkpoint check refuses the state (it
+/// allows 2); the scheme that rejects the holes does the same (2.86 cells from step 466), so
+/// this is older than the projection.
+#[test]
+fn adaptive_resume_across_projected_attempts_is_bit_for_bit() {
+    let params = FrettingParams::default();
+    let (whole, attempts) = run_traced(params.clone());
+    let steps = whole.state().step;
+    // The step count after the first accepted projected attempt.
+    let first_projected = attempts
+        .iter()
+        .filter(|a| a.accepted)
+        .position(|a| a.projection < 1.0)
+        .expect("the default run projects an accepted attempt") as u64
+        + 1;
+    let projected = |sim: &mut FrettingSimulation| {
+        let count: Arc<Mutex<usize>> = Arc::default();
+        let sink = Arc::clone(&count);
+        sim.set_attempt_observer(Box::new(move |a| {
+            if a.projection < 1.0 {
+                *sink.lock().unwrap() += 1;
+            }
+        }));
+        count
+    };
+    // The checkpoint check refuses a history whose touching radius falls by more than two
+    // cells h/(2r*) (`fretting::checkpoint`); the default run's does at a later step (the
+    // near-grazing switches of the touching radius, docs/fretting-wear.md, "How robust the τ = 3
+    // radius is"), so the kill points stay before it.
+    let cell = whole.grid().step() / (2.0 * whole.limit_contact_radius());
+    let history = &whole.state().contact_radius_history;
+    let drops = (1..history.len()).filter(|&i| history[i] < history[i - 1] - 2.0 * cell);
+    let refused_from = drops.clone().next().map_or(steps, |i| i as u64 + 1);
+    let largest = (1..history.len())
+        .map(|i| (history[i - 1] - history[i]) / cell)
+        .fold(0.0f64, f64::max);
+    println!(
+        "touching radius: largest fall {largest:.2} cells; {} steps fall by > 2 cells, the first at step {refused_from}",
+        drops.count()
+    );
+    for kill_at in [first_projected, (first_projected + refused_from) / 2] {
+        let mut first = FrettingSimulation::new(params.clone()).unwrap();
+        let before = projected(&mut first);
+        first.run(|s| s.state().step >= kill_at).unwrap();
+        let saved = first.state().clone();
+        drop(first);
+        let mut second = FrettingSimulation::resume(params.clone(), saved).unwrap();
+        let after = projected(&mut second);
+        second.run(|_| false).unwrap();
+        let (before, after) = (*before.lock().unwrap(), *after.lock().unwrap());
+        println!("killed at step {kill_at} of {steps}: {before} projected attempts before, {after} after");
+        assert!(
+            before >= 1 && after >= 1,
+            "{before} / {after} projected attempts"
+        );
+        assert_eq!(second.state(), whole.state(), "killed at step {kill_at}");
+    }
+}
+
 /// Every attempt of an adaptive run (the attempt observer) and the run.
 fn run_traced(params: FrettingParams) -> (FrettingSimulation, Vec<StepAttempt>) {
     let attempts: Arc<Mutex<Vec<StepAttempt>>> = Arc::default();
@@ -565,13 +632,36 @@ fn holes(sim: &mut FrettingSimulation) -> usize {
 /// The adaptive graded run in its near-grazing phase (k = −0.5, χ = 0.9, N = 1001 to τ = 3)
 /// opens no more holes than explicit Euler (the reference path, at half its default step):
 /// with the opened-hole estimate in the error (docs/fretting-wear.md, "What sets the step").
-/// Measured: explicit Euler 0 holes; adaptive 0 (4 without the estimate, the scheme before).
-/// Only this case is asserted: at N = 2001 the adaptive run still has 4 holes at τ = 3 and 3 at
-/// τ = 5 against explicit Euler's 0 (holes the first-order solution opens too, which the
-/// estimate cannot see; docs/fretting-wear.md, "What sets the step").
+/// Measured: explicit Euler 0 holes; adaptive 0 (4 without the estimate, the scheme before), in
+/// 4569 (1133 rejected) steps with the projection onto the closed set (6166 (1563) rejecting the
+/// holes). At N = 2001 the projection trades holes for steps: rejecting the holes leaves 0 at
+/// τ = 3, the projection 2 (`step_trace`; holes the first-order solution opens too, which the
+/// estimate cannot see; docs/fretting-wear.md, "What sets the step"); that case is the ignored
+/// measurement `adaptive_graded_run_holes_at_2001_nodes`.
 #[test]
 fn adaptive_graded_run_opens_no_more_holes_than_explicit_euler() {
-    let (k, chi, nodes) = (-0.5, 0.9, 1001);
+    graded_holes_against_explicit_euler(1001, 0);
+}
+
+/// The graded run at N = 2001 to τ = 3 (k = −0.5, χ = 0.9): the projection's holes against
+/// explicit Euler's, bounded by the measured trade (`cargo test --release -p halfspace-fretting
+/// --test stepping -- --ignored --nocapture holes_at_2001`; numbers in docs/fretting-wear.md,
+/// "What sets the step"). Measured: 1 hole in 9396 (2176 rejected) steps against explicit
+/// Euler's 0 in 212 594 steps (316 s wall, 25.8 s CPU of the test at load ≈ 5).
+#[test]
+#[ignore = "a measurement: a few minutes"]
+fn adaptive_graded_run_holes_at_2001_nodes() {
+    graded_holes_against_explicit_euler(2001, HOLES_AT_2001);
+}
+
+/// The holes the projection may leave beyond explicit Euler's at N = 2001, τ = 3: 2 measured
+/// with `step_trace`'s snapshot times, 1 with the test's.
+const HOLES_AT_2001: usize = 2;
+
+/// The graded run (k = −0.5, χ = 0.9, `nodes`) to τ = 3: the adaptive run's holes at most
+/// `extra` more than explicit Euler's at half its default step.
+fn graded_holes_against_explicit_euler(nodes: usize, extra: usize) {
+    let (k, chi) = (-0.5, 0.9);
     let length = FrettingParams::default_length(chi, k);
     let base = FrettingParams {
         chi,
@@ -596,7 +686,7 @@ fn adaptive_graded_run_opens_no_more_holes_than_explicit_euler() {
         adaptive.state().rejected_steps,
         euler.state().step
     );
-    assert!(found <= reference, "{found} holes vs {reference}");
+    assert!(found <= reference + extra, "{found} holes vs {reference}");
 }
 
 /// The global error of adaptive runs against a tight-tolerance run (tol 1e-7), k = −0.5 and 0,
@@ -648,14 +738,15 @@ fn global_error_is_a_multiple_of_the_tolerance() {
     }
 }
 
-/// The experimental first-order fallback (`FrettingSimulation::set_first_order_fallback`,
-/// docs/fretting-wear.md, "What sets the step"): in the graded run's phase with holes (k = −0.5,
-/// χ = 0.9, N = 501 to τ = 1) it takes fewer attempts than the default scheme, ends within a few
+/// The graded run's phase with holes (k = −0.5, χ = 0.9, N = 501 to τ = 1) with the scheme that
+/// rejects every attempt whose result opens holes above the tolerance (the projection off) and
+/// with `variant` set on top of it: the variant takes fewer attempts, ends within a few
 /// tolerances of it in f (the global error of either is up to 6.6 tol, docs/fretting-wear.md,
-/// "The quantized step") and opens no more holes. Measured: 622 (98) steps against 700 (92),
-/// max |Δf| 1.12e-4 (1.1 tol), 0 holes both.
-#[test]
-fn first_order_fallback_takes_fewer_steps() {
+/// "The quantized step") and opens no more holes. Returns the variant's steps (rejected), the
+/// baseline's and max |Δf|.
+fn fewer_attempts_than_rejecting_holes(
+    variant: impl Fn(&mut FrettingSimulation),
+) -> ((u64, u64), (u64, u64), f64) {
     let (k, chi, nodes) = (-0.5, 0.9, 501);
     let params = FrettingParams {
         chi,
@@ -666,24 +757,45 @@ fn first_order_fallback_takes_fewer_steps() {
         snapshots: vec![1.0],
         ..Default::default()
     };
-    let mut default = run(params.clone());
-    let mut fallback = FrettingSimulation::new(params).unwrap();
-    fallback.set_first_order_fallback(true);
-    fallback.run(|_| false).unwrap();
+    let mut baseline = FrettingSimulation::new(params.clone()).unwrap();
+    baseline.set_hole_projection(false);
+    baseline.run(|_| false).unwrap();
+    let mut other = FrettingSimulation::new(params).unwrap();
+    other.set_hole_projection(false);
+    variant(&mut other);
+    other.run(|_| false).unwrap();
     let attempts = |s: &FrettingSimulation| s.state().step + s.state().rejected_steps;
-    let difference = max_abs_diff(&default.state().profile, &fallback.state().profile);
-    let (holes_default, holes_fallback) = (holes(&mut default), holes(&mut fallback));
+    let difference = max_abs_diff(&baseline.state().profile, &other.state().profile);
+    let (holes_baseline, holes_other) = (holes(&mut baseline), holes(&mut other));
+    let steps = |s: &FrettingSimulation| (s.state().step, s.state().rejected_steps);
     println!(
-        "fallback: {} steps ({} rejected) vs {} ({}); max |Δf| {difference:.2e}; holes {holes_fallback} vs {holes_default}",
-        fallback.state().step,
-        fallback.state().rejected_steps,
-        default.state().step,
-        default.state().rejected_steps
+        "{:?} steps (rejected) vs {:?}; max |Δf| {difference:.2e}; holes {holes_other} vs {holes_baseline}",
+        steps(&other),
+        steps(&baseline),
     );
-    assert!(attempts(&fallback) < attempts(&default));
-    assert!(holes_fallback <= holes_default);
+    assert!(attempts(&other) < attempts(&baseline));
+    assert!(holes_other <= holes_baseline);
     assert!(
         difference < 5.0 * TimeStepping::DEFAULT_TOLERANCE,
         "{difference}"
     );
+    (steps(&other), steps(&baseline), difference)
+}
+
+/// The experimental first-order fallback (`FrettingSimulation::set_first_order_fallback`,
+/// docs/fretting-wear.md, "What sets the step") against the scheme that rejects the holes
+/// ([`fewer_attempts_than_rejecting_holes`]). Measured: 622 (98) steps against 700 (92),
+/// max |Δf| 1.12e-4 (1.1 tol), 0 holes both.
+#[test]
+fn first_order_fallback_takes_fewer_steps() {
+    fewer_attempts_than_rejecting_holes(|s| s.set_first_order_fallback(true));
+}
+
+/// The projection onto the closed set (`FrettingSimulation::set_hole_projection`, the default;
+/// docs/fretting-wear.md, "What sets the step") against the scheme that rejects the holes
+/// ([`fewer_attempts_than_rejecting_holes`]). Measured: 622 (102) steps against 700 (92),
+/// max |Δf| 2.03e-5 (0.2 tol), 0 holes both.
+#[test]
+fn hole_projection_takes_fewer_steps() {
+    fewer_attempts_than_rejecting_holes(|s| s.set_hole_projection(true));
 }
