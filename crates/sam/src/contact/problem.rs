@@ -72,6 +72,11 @@ pub struct IncrementInfo {
     pub normal: NormalInfo,
     /// Last tangential solve.
     pub tangential: TangentialInfo,
+    /// Normal-solver iterations summed over the alternations.
+    pub normal_iterations_total: usize,
+    /// Tangential block products summed over the alternations (the cost of the tangential
+    /// solves; [`TangentialInfo::iterations`] is the last one's).
+    pub tangential_iterations_total: usize,
     /// Tangential force `Q = A Σ q`.
     pub tangential_force: [f64; 2],
     /// Contact area `A · #(p > 0)`.
@@ -485,6 +490,7 @@ impl<S: OperatorSet> ContactProblem<S> {
         };
         let alternation_tolerance = self.params.alternation_tolerance * slack;
         let (mut normal_info, mut tangential_info);
+        let (mut normal_total, mut tangential_total) = (0, 0);
         loop {
             alternations += 1;
             if self.coupled {
@@ -514,6 +520,7 @@ impl<S: OperatorSet> ContactProblem<S> {
             normal_info =
                 self.normal
                     .solve(h, load, &mut self.state.pressure, &self.params.normal)?;
+            normal_total += normal_info.iterations;
             let Some(tangential) = self.tangential.as_mut() else {
                 // μ = 0: no shear and no tangential fields (docs/theory-sam.md#normal-contact alone).
                 tangential_info = TangentialInfo::frictionless(normal_info.contact_cells);
@@ -563,6 +570,7 @@ impl<S: OperatorSet> ContactProblem<S> {
                 [s0, s1],
                 &tangential_params,
             )?;
+            tangential_total += tangential_info.iterations;
             if !self.coupled {
                 break;
             }
@@ -630,6 +638,8 @@ impl<S: OperatorSet> ContactProblem<S> {
             alternations,
             normal: normal_info,
             tangential: tangential_info,
+            normal_iterations_total: normal_total,
+            tangential_iterations_total: tangential_total,
             tangential_force: [
                 area * self.state.shear[0].iter().sum::<f64>(),
                 area * self.state.shear[1].iter().sum::<f64>(),
