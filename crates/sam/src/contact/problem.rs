@@ -113,6 +113,9 @@ pub struct ContactProblem<S: OperatorSet = FftOperators> {
     tq: [Vec<f64>; 2],
     w: [Vec<f64>; 2],
     u3: Vec<f64>,
+    /// Cells that slipped in the state a tangential solve starts from (`|q| = μp` there): their
+    /// shear is carried onto the new circle `μp` before the solve (the rim warm start).
+    rim: Vec<bool>,
     /// Known eigen-displacements `(u₁, u₂, u₃)^eig` of the half-space (docs/theory-sam.md#eigen-displacements), if any.
     eigen: Option<[Vec<f64>; 3]>,
     /// `Δuⁿ⁺¹` of the last [`ContactProblem::solve`], committed by [`ContactProblem::commit`].
@@ -222,6 +225,11 @@ impl<S: OperatorSet> ContactProblem<S> {
             tq: [t(), t()],
             w: [t(), t()],
             u3: c_only(),
+            rim: if frictional {
+                vec![false; n]
+            } else {
+                Vec::new()
+            },
             eigen: None,
             trial_displacement: [t(), t()],
             trial_shift: [0.0; 2],
@@ -493,6 +501,17 @@ impl<S: OperatorSet> ContactProblem<S> {
         let (mut normal_total, mut tangential_total) = (0, 0);
         loop {
             alternations += 1;
+            if self.tangential.is_some() {
+                // The rim of the state the tangential solve starts from, before the normal solve
+                // moves p (docs/theory-sam.md#warm-starts-of-the-tangential-solve).
+                for k in 0..n {
+                    self.rim[k] = !is_stick(
+                        mu * self.state.pressure[k],
+                        self.state.shear[0][k],
+                        self.state.shear[1][k],
+                    ) && self.state.pressure[k] > 0.0;
+                }
+            }
             if self.coupled {
                 self.p_prev.copy_from_slice(&self.state.pressure);
                 self.q_prev[0].copy_from_slice(&self.state.shear[0]);
@@ -550,6 +569,17 @@ impl<S: OperatorSet> ContactProblem<S> {
                 }
             }
             let [q0, q1] = &mut self.state.shear;
+            // Rim warm start: a cell that slipped starts on its new circle `|q| = μp`
+            // (docs/theory-sam.md#warm-starts-of-the-tangential-solve).
+            for k in 0..n {
+                if self.rim[k] && self.bound[k] > 0.0 {
+                    let m = q0[k].hypot(q1[k]);
+                    if m > 0.0 {
+                        q0[k] *= self.bound[k] / m;
+                        q1[k] *= self.bound[k] / m;
+                    }
+                }
+            }
             let [s0, s1] = &mut self.state.slip;
             let loose = (0.01 * change).clamp(tight.kkt_tolerance, INEXACT_CEILING);
             let tangential_params =
