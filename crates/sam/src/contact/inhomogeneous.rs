@@ -215,9 +215,11 @@ pub struct ContactWork {
     pub normal_iterations: usize,
     /// Tangential block products (of the last alternation of each solve).
     pub tangential_iterations: usize,
-    /// Normal-solver iterations summed over every alternation of each solve.
+    /// Normal-solver iterations summed over every alternation of each solve (of a
+    /// force-controlled increment: of the returned Brent evaluation only).
     pub normal_iterations_total: usize,
-    /// Tangential block products summed over every alternation of each solve.
+    /// Tangential block products summed over every alternation of each solve (of a
+    /// force-controlled increment: of the returned Brent evaluation only).
     pub tangential_iterations_total: usize,
 }
 

@@ -72,10 +72,12 @@ pub struct IncrementInfo {
     pub normal: NormalInfo,
     /// Last tangential solve.
     pub tangential: TangentialInfo,
-    /// Normal-solver iterations summed over the alternations.
+    /// Normal-solver iterations summed over the alternations. Of a force-controlled increment
+    /// (`increment_with_force`): of the returned Brent evaluation only, not the others.
     pub normal_iterations_total: usize,
     /// Tangential block products summed over the alternations (the cost of the tangential
-    /// solves; [`TangentialInfo::iterations`] is the last one's).
+    /// solves; [`TangentialInfo::iterations`] is the last one's). Of a force-controlled
+    /// increment: of the returned Brent evaluation only.
     pub tangential_iterations_total: usize,
     /// Tangential force `Q = A Σ q`.
     pub tangential_force: [f64; 2],
