@@ -412,9 +412,13 @@ fn the_warm_started_tangential_solves_reach_the_cold_starts_state() {
         dq / (MU * pmax)
     );
     // Both stop when an alternation changes p, q by < 1e-7 (as the inexact alternation's test).
+    // Measured: max|Δp|/p_max 3.3e-9, max|Δq|/(μ p_max) 2.7e-8; 8 alternations each, 96 (warm)
+    // against 105 (cold) tangential products.
     assert!(dp < 1e-7 * pmax && dq < 1e-7 * MU * pmax);
     assert!(warm.tangential_iterations_total < cold.tangential_iterations_total);
-    // The converged increment solved again from its own state: nothing left to do.
+    // The converged increment solved again from its own state: nothing left to do (measured: one
+    // product per alternation, every start returned at once). Exact: it needs every slip cell's
+    // S·q ≥ 0 to survive the normal re-solve; a λ ≈ 0 rim cell could flip and cost a round.
     prob.begin();
     let again = prob.solve(load, shift).unwrap();
     assert_eq!(again.tangential_iterations_total, again.alternations);
