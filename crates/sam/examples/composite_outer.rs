@@ -16,6 +16,10 @@
 //! iteration; default variant `3,3e-3`, the library's defaults). The reference is the plain
 //! block Jacobi with the EIM factor 10⁻³. Single thread for CPU
 //! comparisons: `RAYON_NUM_THREADS=1`.
+//!
+//! With `COMPOSITE_OUTER_DUMP=DIR` every variant's state after every increment is appended to
+//! `DIR/variant<i>.bin` (`p`, `q₁`, `q₂` as little-endian f64, `N²` values each) and `p₀` written
+//! to `DIR/p0.txt`: two binaries' paths can then be compared increment by increment.
 
 use halfspace_sam::contact::{NestedParams, REFERENCE_EIM_CHANGE_FACTOR};
 use halfspace_sam::drivers::fretting_loop::{FrettingLoop, LoopCase};
@@ -127,6 +131,17 @@ fn main() {
             FrettingLoop::with_params(case.clone(), params).unwrap(),
         ));
     }
+    // Optional dump of every increment's state (module docs).
+    let dump = std::env::var_os("COMPOSITE_OUTER_DUMP").map(std::path::PathBuf::from);
+    let mut files: Vec<std::io::BufWriter<std::fs::File>> = Vec::new();
+    if let Some(dir) = &dump {
+        std::fs::create_dir_all(dir).unwrap();
+        std::fs::write(dir.join("p0.txt"), format!("{p0:e}\n")).unwrap();
+        for i in 0..variants.len() {
+            let f = std::fs::File::create(dir.join(format!("variant{i}.bin"))).unwrap();
+            files.push(std::io::BufWriter::new(f));
+        }
+    }
     let mut cpu = vec![0.0; variants.len()];
     let mut worst = vec![0.0f64; variants.len()];
     let mut steps = 0;
@@ -144,6 +159,13 @@ fn main() {
             break;
         }
         steps += 1;
+        for ((_, lp), f) in variants.iter().zip(files.iter_mut()) {
+            use std::io::Write;
+            let s = lp.solver().problem().state();
+            for v in s.pressure.iter().chain(&s.shear[0]).chain(&s.shear[1]) {
+                f.write_all(&v.to_le_bytes()).unwrap();
+            }
+        }
         let reference = variants[0].1.solver().problem().state().clone();
         for (i, (_, lp)) in variants.iter().enumerate().skip(1) {
             let s = lp.solver().problem().state();
@@ -155,9 +177,9 @@ fn main() {
     }
     println!("composite loop (stiff fibres, fibre-centred) at {n}², {steps} increments");
     println!(
-        "| variant | outer passes | EIM applications | CPU (s) | contact / EIM / surface fields (s) | alternations / normal / tangential iterations | max |Δp|, |Δq| / p₀ | state bits |"
+        "| variant | outer passes | EIM applications | CPU (s) | contact / EIM / surface fields (s) | alternations / normal / tangential iterations (last alternation) | normal / tangential iterations (all alternations) | max |Δp|, |Δq| / p₀ | state bits |"
     );
-    println!("|---|---:|---:|---:|---:|---:|---:|---|");
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---|");
     for (i, (name, lp)) in variants.iter().enumerate() {
         let outer: usize = lp.rows().iter().map(|r| r.outer_iterations).sum();
         let eim: usize = lp.rows().iter().map(|r| r.eim_iterations).sum();
@@ -175,7 +197,7 @@ fn main() {
         let t = lp.seconds();
         let w = lp.contact_work();
         println!(
-            "| {name} | {outer} | {eim} | {:.1} | {:.1} / {:.1} / {:.1} | {} / {} / {} | {:.2e} | {bits:016x} |",
+            "| {name} | {outer} | {eim} | {:.1} | {:.1} / {:.1} / {:.1} | {} / {} / {} | {} / {} | {:.2e} | {bits:016x} |",
             cpu[i],
             t.contact,
             t.eim + t.traction_strain,
@@ -183,6 +205,8 @@ fn main() {
             w.alternations,
             w.normal_iterations,
             w.tangential_iterations,
+            w.normal_iterations_total,
+            w.tangential_iterations_total,
             worst[i] / p0
         );
     }

@@ -24,17 +24,23 @@ pub const TANGENTIAL_BYTES_PER_CELL: f64 = 32.0 + 128.0 + 96.0 + 112.0 + 1.0 + 1
 pub const COUPLING_BYTES_PER_CELL: f64 = 2.0 * (32.0 + 64.0 + 96.0);
 
 /// Estimated bytes of a contact problem on `grid`: the normal solver, the geometry, `h` and `p`,
-/// and with friction the tangential solver and its 19 fields (shear, slip, history, work), with
-/// coupling the two coupling operators and four more fields.
+/// and with friction the tangential solver, its 19 fields (shear, slip, history, work) and the
+/// rim flags of the warm start (1 byte), with coupling the two coupling operators and four more
+/// fields.
 pub fn problem_bytes(grid: &SurfaceGrid, frictional: bool, coupled: bool) -> f64 {
+    problem_bytes_per_cell(frictional, coupled) * grid.n1 as f64 * grid.n2 as f64
+}
+
+/// Bytes per surface cell of [`problem_bytes`] (the one formula the drivers' estimates share).
+pub fn problem_bytes_per_cell(frictional: bool, coupled: bool) -> f64 {
     let mut per_cell = NORMAL_BYTES_PER_CELL + 3.0 * 8.0;
     if frictional {
-        per_cell += TANGENTIAL_BYTES_PER_CELL + 19.0 * 8.0;
+        per_cell += TANGENTIAL_BYTES_PER_CELL + 19.0 * 8.0 + 1.0;
     }
     if coupled {
         per_cell += COUPLING_BYTES_PER_CELL + 4.0 * 8.0;
     }
-    per_cell * grid.n1 as f64 * grid.n2 as f64
+    per_cell
 }
 
 /// Refuses a problem whose [`problem_bytes`] exceeds the available memory.

@@ -424,6 +424,22 @@ fn histories_on_disjoint_levels_merge_bit_for_bit() {
     assert!(no_levels.position(0).is_err());
 }
 
+/// The loop's estimate holds at least the contact problem it builds
+/// (`memory::problem_bytes` of its square grid, frictional: the tangential solver, its fields and
+/// the warm start's rim flags), one formula for both.
+#[test]
+fn the_estimate_holds_the_contact_problem() {
+    use halfspace_sam::memory::problem_bytes;
+    use halfspace_sam::SurfaceGrid;
+    for grid in [16, 64, 256] {
+        let case = identical(grid);
+        let surface = SurfaceGrid::square(grid, case.extent_over_a * case.hertz_radius()).unwrap();
+        let problem = problem_bytes(&surface, true, false);
+        let estimate = case.estimate().bytes;
+        assert!(estimate >= problem, "{grid}: {estimate} < {problem}");
+    }
+}
+
 /// The estimate counts the nested loop's recycled EIM history (`2 · depth + 7` vectors of the EIM
 /// system, `eim_recycled_depth`): at least the history of the run's own eigenstrains (6 per
 /// inclusion cell, the cycle sources' `eigen_len`), not with the surface operator, and not

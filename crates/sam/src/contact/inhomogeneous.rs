@@ -215,6 +215,12 @@ pub struct ContactWork {
     pub normal_iterations: usize,
     /// Tangential block products (of the last alternation of each solve).
     pub tangential_iterations: usize,
+    /// Normal-solver iterations summed over every alternation of each solve (of a
+    /// force-controlled increment: of the returned Brent evaluation only).
+    pub normal_iterations_total: usize,
+    /// Tangential block products summed over every alternation of each solve (of a
+    /// force-controlled increment: of the returned Brent evaluation only).
+    pub tangential_iterations_total: usize,
 }
 
 /// Wall time of one increment with inhomogeneities, by part (s).
@@ -478,6 +484,8 @@ impl InhomogeneousContact {
             work.alternations += contact.alternations;
             work.normal_iterations += contact.normal.iterations;
             work.tangential_iterations += contact.tangential.iterations;
+            work.normal_iterations_total += contact.normal_iterations_total;
+            work.tangential_iterations_total += contact.tangential_iterations_total;
             let last_eim = match &self.response {
                 Some(response) => {
                     let t = clock();

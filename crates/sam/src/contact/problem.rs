@@ -72,6 +72,13 @@ pub struct IncrementInfo {
     pub normal: NormalInfo,
     /// Last tangential solve.
     pub tangential: TangentialInfo,
+    /// Normal-solver iterations summed over the alternations. Of a force-controlled increment
+    /// (`increment_with_force`): of the returned Brent evaluation only, not the others.
+    pub normal_iterations_total: usize,
+    /// Tangential block products summed over the alternations (the cost of the tangential
+    /// solves; [`TangentialInfo::iterations`] is the last one's). Of a force-controlled
+    /// increment: of the returned Brent evaluation only.
+    pub tangential_iterations_total: usize,
     /// Tangential force `Q = A Σ q`.
     pub tangential_force: [f64; 2],
     /// Contact area `A · #(p > 0)`.
@@ -108,6 +115,9 @@ pub struct ContactProblem<S: OperatorSet = FftOperators> {
     tq: [Vec<f64>; 2],
     w: [Vec<f64>; 2],
     u3: Vec<f64>,
+    /// Cells that slipped in the state a tangential solve starts from (`|q| = μp` there): their
+    /// shear is carried onto the new circle `μp` before the solve (the rim warm start).
+    rim: Vec<bool>,
     /// Known eigen-displacements `(u₁, u₂, u₃)^eig` of the half-space (docs/theory-sam.md#eigen-displacements), if any.
     eigen: Option<[Vec<f64>; 3]>,
     /// `Δuⁿ⁺¹` of the last [`ContactProblem::solve`], committed by [`ContactProblem::commit`].
@@ -217,6 +227,11 @@ impl<S: OperatorSet> ContactProblem<S> {
             tq: [t(), t()],
             w: [t(), t()],
             u3: c_only(),
+            rim: if frictional {
+                vec![false; n]
+            } else {
+                Vec::new()
+            },
             eigen: None,
             trial_displacement: [t(), t()],
             trial_shift: [0.0; 2],
@@ -485,8 +500,20 @@ impl<S: OperatorSet> ContactProblem<S> {
         };
         let alternation_tolerance = self.params.alternation_tolerance * slack;
         let (mut normal_info, mut tangential_info);
+        let (mut normal_total, mut tangential_total) = (0, 0);
         loop {
             alternations += 1;
+            if self.tangential.is_some() {
+                // The rim of the state the tangential solve starts from, before the normal solve
+                // moves p (docs/theory-sam.md#warm-starts-of-the-tangential-solve).
+                for k in 0..n {
+                    self.rim[k] = !is_stick(
+                        mu * self.state.pressure[k],
+                        self.state.shear[0][k],
+                        self.state.shear[1][k],
+                    ) && self.state.pressure[k] > 0.0;
+                }
+            }
             if self.coupled {
                 self.p_prev.copy_from_slice(&self.state.pressure);
                 self.q_prev[0].copy_from_slice(&self.state.shear[0]);
@@ -514,6 +541,7 @@ impl<S: OperatorSet> ContactProblem<S> {
             normal_info =
                 self.normal
                     .solve(h, load, &mut self.state.pressure, &self.params.normal)?;
+            normal_total += normal_info.iterations;
             let Some(tangential) = self.tangential.as_mut() else {
                 // μ = 0: no shear and no tangential fields (docs/theory-sam.md#normal-contact alone).
                 tangential_info = TangentialInfo::frictionless(normal_info.contact_cells);
@@ -543,6 +571,17 @@ impl<S: OperatorSet> ContactProblem<S> {
                 }
             }
             let [q0, q1] = &mut self.state.shear;
+            // Rim warm start: a cell that slipped starts on its new circle `|q| = μp`
+            // (docs/theory-sam.md#warm-starts-of-the-tangential-solve).
+            for k in 0..n {
+                if self.rim[k] && self.bound[k] > 0.0 {
+                    let m = q0[k].hypot(q1[k]);
+                    if m > 0.0 {
+                        q0[k] *= self.bound[k] / m;
+                        q1[k] *= self.bound[k] / m;
+                    }
+                }
+            }
             let [s0, s1] = &mut self.state.slip;
             let loose = (0.01 * change).clamp(tight.kkt_tolerance, INEXACT_CEILING);
             let tangential_params =
@@ -563,6 +602,7 @@ impl<S: OperatorSet> ContactProblem<S> {
                 [s0, s1],
                 &tangential_params,
             )?;
+            tangential_total += tangential_info.iterations;
             if !self.coupled {
                 break;
             }
@@ -630,6 +670,8 @@ impl<S: OperatorSet> ContactProblem<S> {
             alternations,
             normal: normal_info,
             tangential: tangential_info,
+            normal_iterations_total: normal_total,
+            tangential_iterations_total: tangential_total,
             tangential_force: [
                 area * self.state.shear[0].iter().sum::<f64>(),
                 area * self.state.shear[1].iter().sum::<f64>(),

@@ -9,7 +9,7 @@ use halfspace_numerics::op::{GridOperator, OperatorSet};
 
 use super::{
     is_stick, kkt_residual, TangentialInfo, TangentialParams, TangentialSolver, ACTIVE_SET_ROUNDS,
-    INNER_REDUCTION, STIFF_RIM,
+    FINAL_REDUCTION, INNER_REDUCTION, STIFF_RIM,
 };
 use crate::normal::passes::{Chunks, PARALLEL_PASS_CELLS};
 use crate::SamError;
@@ -164,15 +164,43 @@ impl<S: OperatorSet> TangentialSolver<S> {
         // Whether `s` holds the slip `b − Tq` of the current `q` (bit for bit: a product of the
         // same `q` would give the same bits), so that no product is spent to recompute it.
         let mut slip_current = false;
-        for _round in 0..ACTIVE_SET_ROUNDS {
+        // Whether the last round's set update changed no cell.
+        let mut settled = false;
+        for round in 0..ACTIVE_SET_ROUNDS {
             // Inner: PCG for S = 0 on the free part (stick cells, and the rotation of the rim cells
             // with λ ≤ STIFF_RIM·T(0)), the other rim cells fixed.
             if !slip_current {
                 self.slip_of(b, [&*q0, &*q1], [&mut *s0, &mut *s1])?;
                 products += 1;
             }
-            let kkt = kkt_residual(bound, q0, q1, s0, s1).0 / b_scale;
-            let inner_tol = (INNER_REDUCTION * kkt).max(0.1 * params.kkt_tolerance) * b_scale;
+            let (kkt, stick, slipping) = kkt_residual(bound, q0, q1, s0, s1);
+            let kkt = kkt / b_scale;
+            // A warm start that already meets the stopping rule, with no rim cell whose slip
+            // opposes its shear (the set update would release it): done, on one product.
+            if round == 0
+                && kkt < params.kkt_tolerance
+                && !(0..n).any(|k| {
+                    !self.stick[k] && bound[k] > 0.0 && s0[k] * q0[k] + s1[k] * q1[k] < 0.0
+                })
+            {
+                return Ok(Ok(TangentialInfo {
+                    iterations: products,
+                    residual: 0.0,
+                    kkt,
+                    stick_cells: stick,
+                    slip_cells: slipping,
+                }));
+            }
+            // Inexact Newton: while the sets move, a round reduces the free part's slip to
+            // INNER_REDUCTION of the KKT residual; once a round left them unchanged, the inner
+            // solve aims at the stopping rule itself (FINAL_REDUCTION of the KKT tolerance: the
+            // Newton system is then the final one but for the rim's rotation).
+            let reduction = if settled {
+                FINAL_REDUCTION * params.kkt_tolerance
+            } else {
+                INNER_REDUCTION * kkt
+            };
+            let inner_tol = reduction.max(0.1 * params.kkt_tolerance) * b_scale;
             for a in 0..2 {
                 let sa = if a == 0 { &*s0 } else { &*s1 };
                 self.y[a].copy_from_slice(sa);
@@ -319,6 +347,7 @@ impl<S: OperatorSet> TangentialSolver<S> {
                     }
                 }
             }
+            settled = !changed;
             if !changed && kkt_now / b_scale < params.kkt_tolerance {
                 if !slip_current {
                     self.slip_of(b, [&*q0, &*q1], [&mut *s0, &mut *s1])?;

@@ -496,10 +496,8 @@ impl LoopCase {
         // layer count before the geometry is built, count the inhomogeneities' cells as one
         // layer each (an upper bound's shape, not a timing model).
         let weight = 1.0 + 4.0 * self.inhomogeneities.len().min(64) as f64;
-        let frictional = crate::memory::NORMAL_BYTES_PER_CELL
-            + 3.0 * 8.0
-            + crate::memory::TANGENTIAL_BYTES_PER_CELL
-            + 19.0 * 8.0;
+        // The frictional contact problem's footprint (`memory::problem_bytes`, uncoupled).
+        let frictional = crate::memory::problem_bytes_per_cell(true, false);
         // The points A–D: eight surface fields each (and the von Mises layers, when asked).
         let points = 4.0 * cells * 8.0 * 8.0;
         let cell = self.extent() / self.grid as f64;

@@ -606,6 +606,8 @@ impl FrettingLoop {
                 w.alternations += n.contact_work.alternations;
                 w.normal_iterations += n.contact_work.normal_iterations;
                 w.tangential_iterations += n.contact_work.tangential_iterations;
+                w.normal_iterations_total += n.contact_work.normal_iterations_total;
+                w.tangential_iterations_total += n.contact_work.tangential_iterations_total;
             }
             None => self.seconds.contact += start.elapsed().as_secs_f64(),
         }
