@@ -455,7 +455,7 @@ fn wear_checkpoints_are_checked_for_sense_and_kept_when_refused() {
         &resume,
         &original,
         |r| set(r, "contact_radius_history", |v| v[10] = 0.5),
-        &["contact_radius_history", "only grows"],
+        &["contact_radius_history", "never smaller than the unworn"],
     );
     tampered_resume(
         fam,
