@@ -210,7 +210,8 @@ fn adaptive_resume_across_projected_attempts_is_bit_for_bit() {
     let first_fall = drops
         .clone()
         .next()
-        .expect("the default run's touching radius falls by more than two cells") as u64
+        .expect("the default run's touching radius falls by more than two cells")
+        as u64
         + 1;
     let largest = (1..history.len())
         .map(|i| (history[i - 1] - history[i]) / cell)
@@ -219,7 +220,10 @@ fn adaptive_resume_across_projected_attempts_is_bit_for_bit() {
         "touching radius: largest fall {largest:.2} cells; {} steps fall by > 2 cells, the first at step {first_fall}",
         drops.count()
     );
-    assert!(first_fall + 5 < steps, "the fall at step {first_fall} of {steps}");
+    assert!(
+        first_fall + 5 < steps,
+        "the fall at step {first_fall} of {steps}"
+    );
     for kill_at in [first_projected, first_fall + 5] {
         let mut first = FrettingSimulation::new(params.clone()).unwrap();
         let before = projected(&mut first);
