@@ -97,7 +97,8 @@ impl RosenbrockMatrix {
 
     /// Freezes the linearization point: the slip, the clipped pressure, the unclipped stress
     /// `σ` (for `1[σ > 0]`) and `g` (for `1[g < 1]`) on the grid, the contact nodes `0..m` and
-    /// the edge `θ`; `∂σ/∂θ` by a central difference in `θ` (two stress transforms).
+    /// the edge `θ`; `∂σ/∂θ` by a central difference in `θ` (the stress at two edges from one
+    /// convolution).
     pub(crate) fn freeze(
         &mut self,
         slip: &[f64],
@@ -113,11 +114,13 @@ impl RosenbrockMatrix {
         }
         let delta = 1e-6;
         let (lo, hi) = ((theta - delta).max(0.5 * theta), (theta + delta).min(1.0));
-        self.stress_tf
-            .line_load_to_stress(&self.grid, &self.q[..m], hi, &mut self.sigma[..m])?;
-        self.stress_theta[..m].copy_from_slice(&self.sigma[..m]);
-        self.stress_tf
-            .line_load_to_stress(&self.grid, &self.q[..m], lo, &mut self.sigma[..m])?;
+        // One convolution for both edges (the cells' sums do not depend on θ).
+        self.stress_tf.line_load_to_stress_at_two_edges(
+            &self.grid,
+            &self.q[..m],
+            (hi, lo),
+            (&mut self.stress_theta[..m], &mut self.sigma[..m]),
+        )?;
         for (d, s) in self.stress_theta[..m].iter_mut().zip(&self.sigma[..m]) {
             *d = (*d - s) / (hi - lo);
         }

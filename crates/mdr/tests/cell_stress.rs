@@ -194,3 +194,51 @@ fn repeated_edges_and_shorter_plans_give_the_fresh_transform() {
         }
     }
 }
+
+#[test]
+fn two_edges_at_once_are_two_single_transforms_bit_for_bit() {
+    // One convolution for both θ: each σ is the single-edge transform's, as bits, on both
+    // backends, with the single transform's θ cache warm at either θ or at neither.
+    for k in [-0.5, 0.0] {
+        let grid = SquaredGrid::new(401, 1.3).unwrap();
+        for backend in [Backend::Fft, Backend::Mvm] {
+            let mut tf = CellStressTransform::new(401, &material(k), backend).unwrap();
+            tf.plan_shorter_lengths();
+            for (m, thetas) in [
+                (300, (0.4 + 1e-6, 0.4 - 1e-6)),
+                (97, (1.0, 0.9)),
+                (2, (0.3, 0.7)),
+            ] {
+                let q: Vec<f64> = (0..m)
+                    .map(|i| (1.0 - grid.squared(i)).abs().sqrt() + 0.1)
+                    .collect();
+                let (mut a, mut b) = (vec![0.0; m], vec![0.0; m]);
+                tf.line_load_to_stress_at_two_edges(&grid, &q, thetas, (&mut a, &mut b))
+                    .unwrap();
+                let (mut a1, mut b1) = (vec![0.0; m], vec![0.0; m]);
+                tf.line_load_to_stress(&grid, &q, thetas.0, &mut a1)
+                    .unwrap();
+                tf.line_load_to_stress(&grid, &q, thetas.1, &mut b1)
+                    .unwrap();
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&a), bits(&a1));
+                assert_eq!(bits(&b), bits(&b1));
+                assert_ne!(bits(&a), bits(&b));
+                // Again with the cache at θ_b.
+                tf.line_load_to_stress_at_two_edges(&grid, &q, thetas, (&mut a, &mut b))
+                    .unwrap();
+                assert_eq!(bits(&a), bits(&a1));
+                assert_eq!(bits(&b), bits(&b1));
+            }
+            let q = vec![1.0; 10];
+            let (mut a, mut b) = (vec![0.0; 10], vec![0.0; 9]);
+            assert!(tf
+                .line_load_to_stress_at_two_edges(&grid, &q, (0.5, 0.6), (&mut a, &mut b))
+                .is_err());
+            let mut b = vec![0.0; 10];
+            assert!(tf
+                .line_load_to_stress_at_two_edges(&grid, &q, (0.5, 1.5), (&mut a, &mut b))
+                .is_err());
+        }
+    }
+}

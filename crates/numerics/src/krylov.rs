@@ -93,6 +93,11 @@ pub struct Gmres {
     /// Whether a cycle whose residual estimate fell below the tolerance is confirmed by the true
     /// residual `b − A x` (one more product) before returning (default true).
     confirm: bool,
+    /// `(dimension, restart length, k)` of the last completed cycle whose Arnoldi relation
+    /// `A M⁻¹ V_k = V_{k+1} H̄_k` is still held in `v` (basis), `h` (the triangle `R`) and
+    /// `cs`, `sn` (the Givens rotations `H̄_k = Qᵀ [R; 0]`), for
+    /// [`Gmres::solve_in_previous_space`]; `None` when there is none.
+    previous: Option<(usize, usize, usize)>,
 }
 
 impl Gmres {
@@ -112,6 +117,7 @@ impl Gmres {
             z: vec![0.0; n],
             r: vec![0.0; n],
             confirm: true,
+            previous: None,
         }
     }
 
@@ -143,6 +149,46 @@ impl Gmres {
         x: &mut [f64],
         params: &KrylovParams,
     ) -> Result<KrylovInfo, NumericsError> {
+        self.previous = None;
+        self.solve_from(a, precond, b, x, params)
+    }
+
+    /// [`Gmres::solve`] for a system `A x = b` whose `A` and `M` are the last solve's (the
+    /// caller's promise: the same operators, a new `b`; e.g. the two stages of a Rosenbrock step
+    /// share `W`): the warm start's residual `r₀ = b − A x₀` is first minimized over the last
+    /// cycle's space at no product with `A`. With the Arnoldi relation
+    /// `A M⁻¹ V_k = V_{k+1} H̄_k`, `H̄_k = Qᵀ [R; 0]` kept from that cycle,
+    ///
+    /// `y = R⁻¹ (Q V_{k+1}ᵀ r₀)_{0..k}` minimizes `‖r₀ − A M⁻¹ V_k y‖` over the part of `r₀` in
+    /// `span V_{k+1}`, and `x₀ ← x₀ + M⁻¹ V_k y`, `r₀ ← r₀ − V_{k+1} H̄_k y`
+    ///
+    /// (one preconditioner application, `2k + 2` vector operations; a Galerkin-type projection
+    /// onto a recycled Krylov space, Parks et al. 2006, GCRO-DR, here once at the start). GMRES then
+    /// goes on from that `r₀` as [`Gmres::solve`] does; the stopping rule is the same (the
+    /// residual estimate `|g_k|` starts from the projected `r₀`, equal to `b − A x₀` up to rounding).
+    /// Without such a space (none kept, another dimension or restart length) it is [`Gmres::solve`].
+    pub fn solve_in_previous_space(
+        &mut self,
+        a: &mut dyn LinearOperator,
+        precond: &mut dyn LinearOperator,
+        b: &[f64],
+        x: &mut [f64],
+        params: &KrylovParams,
+    ) -> Result<KrylovInfo, NumericsError> {
+        self.solve_from(a, precond, b, x, params)
+    }
+
+    /// The solve of [`Gmres::solve`], starting in the space of `self.previous` if there is one
+    /// of this system's dimension and restart length.
+    fn solve_from(
+        &mut self,
+        a: &mut dyn LinearOperator,
+        precond: &mut dyn LinearOperator,
+        b: &[f64],
+        x: &mut [f64],
+        params: &KrylovParams,
+    ) -> Result<KrylovInfo, NumericsError> {
+        let previous = self.previous.take();
         params.validate()?;
         let n = a.dim();
         if n > self.n || precond.dim() != n {
@@ -164,6 +210,7 @@ impl Gmres {
         }
         let mut iterations = 0;
         let mut residual;
+        let mut previous = previous.filter(|&(dim, restart, k)| dim == n && restart == m && k > 0);
         loop {
             // r = b − A x.
             let r = &mut self.r[..n];
@@ -171,7 +218,10 @@ impl Gmres {
             for (ri, bi) in r.iter_mut().zip(b) {
                 *ri = bi - *ri;
             }
-            let beta = norm(r);
+            if let Some((_, _, k)) = previous.take() {
+                self.project_on_previous_space(precond, n, m, k, x)?;
+            }
+            let beta = norm(&self.r[..n]);
             residual = beta / b_norm;
             if !residual.is_finite() || x.iter().any(|v| !v.is_finite()) {
                 return Err(no_convergence("GMRES", iterations, residual));
@@ -185,12 +235,15 @@ impl Gmres {
             if iterations >= params.max_iterations {
                 return Err(no_convergence("GMRES", iterations, residual));
             }
+            // The cycle overwrites the basis: no space is kept until it completes.
+            self.previous = None;
             for (v, r) in self.v[0][..n].iter_mut().zip(&self.r[..n]) {
                 *v = r / beta;
             }
             self.g.fill(0.0);
             self.g[0] = beta;
             let mut k = 0;
+            let mut last_norm = 0.0;
             while k < m && iterations < params.max_iterations {
                 iterations += 1;
                 // w = A M⁻¹ v_k.
@@ -205,6 +258,7 @@ impl Gmres {
                     }
                 }
                 let hk1 = norm(&self.w[..n]);
+                last_norm = hk1;
                 self.h[k * (m + 1) + k + 1] = hk1;
                 if hk1 > 0.0 {
                     let (head, tail) = self.v.split_at_mut(k + 1);
@@ -260,6 +314,11 @@ impl Gmres {
             for (xi, zi) in x.iter_mut().zip(&self.z[..n]) {
                 *xi += zi;
             }
+            // The last vector v_k exists unless the Arnoldi process broke down (an invariant
+            // space: then no space is kept).
+            if k > 0 && last_norm > 0.0 {
+                self.previous = Some((n, m, k));
+            }
             if !self.confirm && residual < params.tolerance {
                 if x.iter().any(|v| !v.is_finite()) {
                     return Err(no_convergence("GMRES", iterations, residual));
@@ -270,6 +329,60 @@ impl Gmres {
                 });
             }
         }
+    }
+}
+
+impl Gmres {
+    /// The start of [`Gmres::solve_in_previous_space`]: with `r = b − A x` in `self.r`, the
+    /// kept cycle's `k` vectors, `R` and rotations, `c = Q V_{k+1}ᵀ r`, `y = R⁻¹ c_{0..k}`,
+    /// `x += M⁻¹ V_k y` and `r −= V_{k+1} Qᵀ [c_{0..k}; 0]` (`= V_{k+1} H̄_k y`).
+    fn project_on_previous_space(
+        &mut self,
+        precond: &mut dyn LinearOperator,
+        n: usize,
+        m: usize,
+        k: usize,
+        x: &mut [f64],
+    ) -> Result<(), NumericsError> {
+        let c = &mut self.g;
+        for (ci, v) in c.iter_mut().zip(&self.v).take(k + 1) {
+            *ci = dot(&self.r[..n], &v[..n]);
+        }
+        for i in 0..k {
+            let (cs, sn) = (self.cs[i], self.sn[i]);
+            let (a0, a1) = (c[i], c[i + 1]);
+            c[i] = cs * a0 + sn * a1;
+            c[i + 1] = -sn * a0 + cs * a1;
+        }
+        for i in (0..k).rev() {
+            let mut s = c[i];
+            for j in i + 1..k {
+                s -= self.h[j * (m + 1) + i] * self.y[j];
+            }
+            let d = self.h[i * (m + 1) + i];
+            self.y[i] = if d != 0.0 { s / d } else { 0.0 };
+        }
+        // t = Qᵀ [c_{0..k}; 0]: the rotations' transposes in reverse order.
+        c[k] = 0.0;
+        for i in (0..k).rev() {
+            let (cs, sn) = (self.cs[i], self.sn[i]);
+            let (a0, a1) = (c[i], c[i + 1]);
+            c[i] = cs * a0 - sn * a1;
+            c[i + 1] = sn * a0 + cs * a1;
+        }
+        self.w[..n].fill(0.0);
+        for (j, v) in self.v.iter().enumerate().take(k + 1) {
+            let (yj, tj) = (if j < k { self.y[j] } else { 0.0 }, c[j]);
+            for ((w, r), vi) in self.w[..n].iter_mut().zip(&mut self.r[..n]).zip(&v[..n]) {
+                *w += yj * vi;
+                *r -= tj * vi;
+            }
+        }
+        precond.apply(&self.w[..n], &mut self.z[..n])?;
+        for (xi, zi) in x.iter_mut().zip(&self.z[..n]) {
+            *xi += zi;
+        }
+        Ok(())
     }
 }
 
@@ -525,6 +638,111 @@ mod tests {
     /// Without the confirming product: one product fewer, the returned residual is the estimate,
     /// and the true residual of the answer is within the tolerance too (to rounding), with and
     /// without restarts.
+    /// A second right-hand side with the same `A` and `M`: the start in the first solve's last
+    /// cycle's space meets the tolerance by the true residual, on fewer products when the new `b`
+    /// is close to that space; with no space kept (a fresh solver, another dimension) it is the
+    /// plain solve bit for bit.
+    #[test]
+    fn gmres_in_the_previous_space_meets_the_tolerance_on_fewer_products() {
+        let n = 80;
+        let mut a = matrix(n, 5);
+        let diagonal: Vec<f64> = (0..n * n)
+            .map(|l| {
+                if l % (n + 1) == 0 {
+                    1.0 / (1.0 + 0.01 * (l / n) as f64)
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let mut m = DenseMatrix::from_row_major(n, diagonal).unwrap();
+        let b1: Vec<f64> = (0..n).map(|i| (i as f64 * 0.13).sin() + 0.2).collect();
+        // A nearby right-hand side (as the second stage's) and an unrelated one.
+        let near: Vec<f64> = b1
+            .iter()
+            .enumerate()
+            .map(|(i, v)| -1.3 * v + 1e-3 * (i as f64 * 0.7).cos())
+            .collect();
+        let far: Vec<f64> = (0..n).map(|i| ((i * i) as f64 * 0.37).cos()).collect();
+        for confirm in [true, false] {
+            for restart in [8, 80] {
+                let params = KrylovParams {
+                    tolerance: 1e-9,
+                    restart,
+                    ..Default::default()
+                };
+                for (b2, fewer) in [(&near, true), (&far, false)] {
+                    let mut counts = [0usize; 2];
+                    for (recycled, count) in [false, true].into_iter().zip(counts.iter_mut()) {
+                        let mut gmres = Gmres::new(n, restart);
+                        gmres.confirm_residual(confirm);
+                        let mut x1 = vec![0.0; n];
+                        gmres.solve(&mut a, &mut m, &b1, &mut x1, &params).unwrap();
+                        let mut x = vec![0.0; n];
+                        let mut counted = Counted(&mut a, 0);
+                        let info = if recycled {
+                            gmres.solve_in_previous_space(&mut counted, &mut m, b2, &mut x, &params)
+                        } else {
+                            gmres.solve(&mut counted, &mut m, b2, &mut x, &params)
+                        }
+                        .unwrap();
+                        *count = counted.1;
+                        assert!(info.residual < params.tolerance);
+                        let mut r = vec![0.0; n];
+                        a.apply(&x, &mut r).unwrap();
+                        let true_residual = norm(
+                            &r.iter()
+                                .zip(b2.iter())
+                                .map(|(p, q)| p - q)
+                                .collect::<Vec<_>>(),
+                        ) / norm(b2);
+                        assert!(true_residual < 1.5 * params.tolerance, "{true_residual:e}");
+                    }
+                    // (The first solve in one cycle: its whole space is kept.)
+                    if fewer && restart == n {
+                        assert!(counts[1] < counts[0], "{counts:?}, restart {restart}");
+                    }
+                }
+            }
+        }
+        // No space kept: the plain solve's bits (a fresh solver; a space of another dimension).
+        let params = KrylovParams {
+            tolerance: 1e-9,
+            restart: 10,
+            ..Default::default()
+        };
+        let mut plain = vec![0.0; n];
+        Gmres::new(n, 10)
+            .solve(&mut a, &mut m, &far, &mut plain, &params)
+            .unwrap();
+        let mut fresh = vec![0.0; n];
+        Gmres::new(n, 10)
+            .solve_in_previous_space(&mut a, &mut m, &far, &mut fresh, &params)
+            .unwrap();
+        let mut gmres = Gmres::new(n + 5, 10);
+        let mut small = matrix(n + 5, 9);
+        let mut x = vec![0.0; n + 5];
+        gmres
+            .solve(
+                &mut small,
+                &mut Identity(n + 5),
+                &vec![1.0; n + 5],
+                &mut x,
+                &params,
+            )
+            .unwrap();
+        let mut other = vec![0.0; n];
+        gmres
+            .solve_in_previous_space(&mut a, &mut m, &far, &mut other, &params)
+            .unwrap();
+        for v in [&fresh, &other] {
+            assert!(v
+                .iter()
+                .zip(&plain)
+                .all(|(p, q)| p.to_bits() == q.to_bits()));
+        }
+    }
+
     #[test]
     fn gmres_without_the_confirming_product_saves_one() {
         let n = 60;

@@ -101,6 +101,83 @@ impl CellStressTransform {
         theta: f64,
         sigma: &mut [f64],
     ) -> Result<(), MdrError> {
+        self.check(grid, q, theta, sigma)?;
+        self.cell_sums(q)?;
+        let m = q.len();
+        let cells = m - 1;
+        let h = grid.step();
+        let scale = h.powf(self.gamma - 1.0) / (std::f64::consts::PI * self.gamma);
+        let edge_slope = q[m - 1] / theta;
+        if theta.to_bits() != self.edge_theta.to_bits() {
+            self.edge_theta = theta;
+            self.edge_cells = 0;
+        }
+        for n in self.edge_cells..=cells {
+            let power = self.partial_cell_power(n, theta);
+            self.edge_powers[n] = power;
+        }
+        self.edge_cells = self.edge_cells.max(cells + 1);
+        self.stress_from_sums(scale, edge_slope, |n| self.edge_powers[n], sigma);
+        Ok(())
+    }
+
+    /// [`CellStressTransform::line_load_to_stress`] for one `q` at two edges `θ_a`, `θ_b`
+    /// (`σ_a`, `σ_b`): the cells' sums do not depend on `θ`, so they are convolved once, and each
+    /// `σ` is the one `line_load_to_stress` gives at its `θ`, bit for bit (the θ-derivative of the
+    /// implicit wear steps' Jacobian, docs/fretting-wear.md, "Time integration").
+    pub fn line_load_to_stress_at_two_edges(
+        &mut self,
+        grid: &SquaredGrid,
+        q: &[f64],
+        thetas: (f64, f64),
+        sigmas: (&mut [f64], &mut [f64]),
+    ) -> Result<(), MdrError> {
+        self.check(grid, q, thetas.0, sigmas.0)?;
+        self.check(grid, q, thetas.1, sigmas.1)?;
+        self.cell_sums(q)?;
+        let cells = q.len() - 1;
+        let h = grid.step();
+        let scale = h.powf(self.gamma - 1.0) / (std::f64::consts::PI * self.gamma);
+        for (theta, sigma) in [(thetas.0, sigmas.0), (thetas.1, sigmas.1)] {
+            let edge_slope = q[cells] / theta;
+            self.stress_from_sums(
+                scale,
+                edge_slope,
+                |n| self.partial_cell_power(n, theta),
+                sigma,
+            );
+        }
+        Ok(())
+    }
+
+    /// `σ_j = scale · (edge_slope · P(M − 1 − j) − S_j)` (`S_j` the cell sums of
+    /// [`CellStressTransform::cell_sums`], 0 at `j = M − 1`; `P(n) = (n + θ)^γ − n^γ`).
+    fn stress_from_sums(
+        &self,
+        scale: f64,
+        edge_slope: f64,
+        power: impl Fn(usize) -> f64,
+        sigma: &mut [f64],
+    ) {
+        let cells = sigma.len() - 1;
+        for (j, s) in sigma.iter_mut().enumerate() {
+            let cell_sum = if j < cells {
+                self.sums[cells - 1 - j]
+            } else {
+                0.0
+            };
+            *s = scale * (edge_slope * power(cells - j) - cell_sum);
+        }
+    }
+
+    /// The checks of [`CellStressTransform::line_load_to_stress`] for one edge `θ`.
+    fn check(
+        &self,
+        grid: &SquaredGrid,
+        q: &[f64],
+        theta: f64,
+        sigma: &[f64],
+    ) -> Result<(), MdrError> {
         check_fits("cell stress transform grid", grid, self.capacity())?;
         let m = q.len();
         check_len("stress output", m, sigma.len())?;
@@ -122,6 +199,13 @@ impl CellStressTransform {
                 },
             ));
         }
+        Ok(())
+    }
+
+    /// The anti-causal sums `Σ_{i≥j} (q_{i+1} − q_i) w_{i−j}` of the cells `0..M−1` into
+    /// `sums` (reversed: `sums[M − 2 − j]` is cell `j`'s), by one causal convolution.
+    fn cell_sums(&mut self, q: &[f64]) -> Result<(), MdrError> {
+        let m = q.len();
         let cells = m - 1;
         // Anti-causal Σ_{i≥j} Δq_i w_{i−j}: reverse, convolve causally, read back reversed.
         for (l, v) in self.reversed[..cells].iter_mut().enumerate() {
@@ -130,26 +214,6 @@ impl CellStressTransform {
         }
         self.conv
             .apply(&self.reversed[..cells], &mut self.sums[..cells])?;
-        let h = grid.step();
-        let scale = h.powf(self.gamma - 1.0) / (std::f64::consts::PI * self.gamma);
-        let edge_slope = q[m - 1] / theta;
-        if theta.to_bits() != self.edge_theta.to_bits() {
-            self.edge_theta = theta;
-            self.edge_cells = 0;
-        }
-        for n in self.edge_cells..=cells {
-            let power = self.partial_cell_power(n, theta);
-            self.edge_powers[n] = power;
-        }
-        self.edge_cells = self.edge_cells.max(cells + 1);
-        for (j, s) in sigma.iter_mut().enumerate() {
-            let cell_sum = if j < cells {
-                self.sums[cells - 1 - j]
-            } else {
-                0.0
-            };
-            *s = scale * (edge_slope * self.edge_powers[cells - j] - cell_sum);
-        }
         Ok(())
     }
 }
