@@ -503,7 +503,7 @@ impl<S: OperatorSet> ContactProblem<S> {
         let (mut normal_total, mut tangential_total) = (0, 0);
         loop {
             alternations += 1;
-            if self.tangential.is_some() {
+            if self.tangential.is_some() && self.params.tangential.warm_start {
                 // The rim of the state the tangential solve starts from, before the normal solve
                 // moves p (docs/theory-sam.md#warm-starts-of-the-tangential-solve).
                 for k in 0..n {
@@ -572,7 +572,8 @@ impl<S: OperatorSet> ContactProblem<S> {
             }
             let [q0, q1] = &mut self.state.shear;
             // Rim warm start: a cell that slipped starts on its new circle `|q| = μp`
-            // (docs/theory-sam.md#warm-starts-of-the-tangential-solve).
+            // (docs/theory-sam.md#warm-starts-of-the-tangential-solve; no cell is marked
+            // without `TangentialParams::warm_start`).
             for k in 0..n {
                 if self.rim[k] && self.bound[k] > 0.0 {
                     let m = q0[k].hypot(q1[k]);

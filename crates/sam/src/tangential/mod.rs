@@ -84,6 +84,16 @@ pub struct TangentialParams {
     pub max_iterations: usize,
     /// Algorithm.
     pub method: TangentialMethod,
+    /// The warm-start rules (docs/theory-sam.md#warm-starts-of-the-tangential-solve), on by
+    /// default: an active-set start that already meets the stopping rule (no slipping cell whose
+    /// slip opposes its shear) is returned on its one slip product; once a round's set update
+    /// changed no cell, the inner solve aims at [`FINAL_REDUCTION`] of the KKT tolerance; and
+    /// `ContactProblem` carries the cells that slipped onto their new circle `|q| = μp` before
+    /// each solve. `false`: the plain solve — every round's inner solve to [`INNER_REDUCTION`] of
+    /// its residual, no early return, the last shear as the start (projected onto the discs).
+    /// Both stop on the same rule (`kkt_tolerance`), so they reach the same minimiser to it; the
+    /// switch is there to compare them (crates/sam/tests/loops.rs, the load reversals).
+    pub warm_start: bool,
 }
 
 impl Default for TangentialParams {
@@ -93,6 +103,7 @@ impl Default for TangentialParams {
             kkt_tolerance: 1e-8,
             max_iterations: 50_000,
             method: TangentialMethod::ActiveSet,
+            warm_start: true,
         }
     }
 }
