@@ -17,6 +17,7 @@ use halfspace_numerics::layered::{accumulate_streamed, Family, LayerKernel, Laye
 
 use crate::eim::operator::{ImageStrain, InfiniteStrain, LoveStrain, SurfaceFields};
 use crate::eim::InclusionSet;
+use crate::error::check_lengths;
 use crate::kernels::cuboid::strain_kernel;
 use crate::kernels::subsurface::{pressure_stress, shear_stress, unit_traction_stresses};
 use crate::kernels::{compliance, mul6, stiffness};
@@ -363,15 +364,7 @@ impl SubsurfacePlan {
         let layers = self.levels.len();
         let half = grid.half1;
         let n = grid.len();
-        if p.len() != n || q.is_some_and(|q| q[0].len() != n || q[1].len() != n) {
-            return Err(SamError::Numerics(
-                halfspace_numerics::NumericsError::LengthMismatch {
-                    what: "surface traction field",
-                    expected: n,
-                    got: p.len(),
-                },
-            ));
-        }
+        check_tractions(n, p, q)?;
         let fft = &mut self.fft;
         let targets = &self.targets;
         // The strain spectra, zeroed (the products are added into them).
@@ -473,15 +466,7 @@ impl SubsurfacePlan {
         q: Option<[&[f64]; 2]>,
     ) -> Result<[Vec<f64>; 6], SamError> {
         let n = self.grid.len();
-        if p.len() != n || q.is_some_and(|q| q[0].len() != n || q[1].len() != n) {
-            return Err(SamError::Numerics(
-                halfspace_numerics::NumericsError::LengthMismatch {
-                    what: "surface traction field",
-                    expected: n,
-                    got: p.len(),
-                },
-            ));
-        }
+        check_tractions(n, p, q)?;
         let positions = self.positions(levels)?;
         let mut out = std::mem::take(&mut self.spectra);
         if out.len() == positions.len() * 6 {
@@ -564,6 +549,15 @@ impl SubsurfacePlan {
 }
 
 /// The stored spectra of a level, or an error once [`SubsurfacePlan::retain_levels`] dropped them.
+/// The tractions `p` (and `q`) of a grid of `n` cells: one value per cell each.
+fn check_tractions(n: usize, p: &[f64], q: Option<[&[f64]; 2]>) -> Result<(), SamError> {
+    check_lengths(
+        "surface traction field",
+        n,
+        std::iter::once(p).chain(q.into_iter().flatten()),
+    )
+}
+
 fn love_of(love: &Option<LayeredSpectra>) -> Result<&LayeredSpectra, SamError> {
     love.as_ref().ok_or_else(|| {
         SamError::InvalidInput("subsurface plan: a level's spectra were dropped".into())
@@ -609,15 +603,11 @@ impl SubsurfacePlan {
         amplitudes: &[[&[f64]; 3]],
     ) -> Result<Vec<[Vec<f64>; 6]>, SamError> {
         let n = self.grid.len();
-        if let Some(bad) = amplitudes.iter().flatten().find(|a| a.len() != n) {
-            return Err(SamError::Numerics(
-                halfspace_numerics::NumericsError::LengthMismatch {
-                    what: "traction amplitude field",
-                    expected: n,
-                    got: bad.len(),
-                },
-            ));
-        }
+        check_lengths(
+            "traction amplitude field",
+            n,
+            amplitudes.iter().flatten().copied(),
+        )?;
         let positions = self.positions(levels)?;
         let kernel = AbsLoveFunctionals {
             half: self.grid.half1,

@@ -282,25 +282,11 @@ impl<S: OperatorSet> TangentialSolver<S> {
         let n = self.grid.len();
         let [q0, q1] = q;
         let [s_out0, s_out1] = slip;
-        for len in [
-            bound.len(),
-            b[0].len(),
-            b[1].len(),
-            q0.len(),
-            q1.len(),
-            s_out0.len(),
-            s_out1.len(),
-        ] {
-            if len != n {
-                return Err(SamError::Numerics(
-                    halfspace_numerics::NumericsError::LengthMismatch {
-                        what: "tangential solve fields",
-                        expected: n,
-                        got: len,
-                    },
-                ));
-            }
-        }
+        crate::error::check_lengths(
+            "tangential solve fields",
+            n,
+            [bound, b[0], b[1], &*q0, &*q1, &*s_out0, &*s_out1],
+        )?;
         let b_scale = b[0]
             .iter()
             .chain(b[1])
