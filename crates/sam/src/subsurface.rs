@@ -548,7 +548,6 @@ impl SubsurfacePlan {
     }
 }
 
-/// The stored spectra of a level, or an error once [`SubsurfacePlan::retain_levels`] dropped them.
 /// The tractions `p` (and `q`) of a grid of `n` cells: one value per cell each.
 fn check_tractions(n: usize, p: &[f64], q: Option<[&[f64]; 2]>) -> Result<(), SamError> {
     check_lengths(
@@ -558,6 +557,7 @@ fn check_tractions(n: usize, p: &[f64], q: Option<[&[f64]; 2]>) -> Result<(), Sa
     )
 }
 
+/// The stored spectra of a level, or an error once [`SubsurfacePlan::retain_levels`] dropped them.
 fn love_of(love: &Option<LayeredSpectra>) -> Result<&LayeredSpectra, SamError> {
     love.as_ref().ok_or_else(|| {
         SamError::InvalidInput("subsurface plan: a level's spectra were dropped".into())
@@ -874,5 +874,31 @@ mod tests {
         let vm_p =
             (0.5 * ((p[0] - p[1]).powi(2) + (p[1] - p[2]).powi(2) + (p[2] - p[0]).powi(2))).sqrt();
         assert!((von_mises(&s) - vm_p).abs() < 1e-12);
+    }
+
+    /// A traction field of the wrong length is refused by the stresses of the whole box and of
+    /// some levels, naming the bad field's own length (a short `q₁` after a good `p`), and so is an
+    /// amplitude map of the bounds.
+    #[test]
+    fn tractions_of_another_length_are_refused_with_their_length() {
+        let grid = SurfaceGrid::square(8, 1e-4).unwrap();
+        let mut plan = SubsurfacePlan::new(&grid, 210e9, 0.3, 3e-5).unwrap();
+        let (ok, short) = (vec![1.0; grid.len()], vec![1.0; 5]);
+        let want = SamError::Numerics(halfspace_numerics::NumericsError::LengthMismatch {
+            what: "surface traction field",
+            expected: 64,
+            got: 5,
+        });
+        let q = Some([&short[..], &ok[..]]);
+        assert_eq!(plan.stress(&ok, q, None).unwrap_err(), want);
+        assert_eq!(plan.stress_of_levels(&[0], &ok, q).unwrap_err(), want);
+        let e = plan
+            .deviation_bounds_of_levels(&[0], &[[&ok[..], &ok[..], &short[..]]])
+            .unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("traction amplitude field: expected length 64, got 5"),
+            "{e}"
+        );
     }
 }

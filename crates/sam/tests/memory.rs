@@ -77,7 +77,8 @@ const W: f64 = 0.08;
 /// counted. The uncoupled estimate, which the fretting loop used for every pair, is below what the
 /// coupled build allocates. Then a coupled fretting loop whose estimate exceeds the memory
 /// available (`HALFSPACE_MEMORY_LIMIT`) is refused before anything is built, while the uncoupled
-/// loop of identical bodies on the same grid fits under that limit.
+/// loop of identical bodies on the same grid fits under that limit; and a coupled contact problem
+/// built directly over such a limit is refused before its operators are built.
 #[test]
 fn the_estimate_covers_the_coupled_problem_and_refuses_it_up_front() {
     let a = halfspace_mdr::analytic::sphere_radius_for_force(W, R, 210e9 / 0.91);
@@ -152,5 +153,29 @@ fn the_estimate_covers_the_coupled_problem_and_refuses_it_up_front() {
         "{held} B allocated before the refusal"
     );
     assert!(identical.estimate().check("the fretting loop").is_ok());
+
+    // The contact problem itself, built directly: a limit between its coupled and uncoupled
+    // estimates at 256² refuses the coupled one before its FFT cores and coupling operators are
+    // built.
+    let n = 256;
+    let grid = SurfaceGrid::square(n, 4.0 * a).unwrap();
+    let (with, without) = (
+        problem_bytes(&grid, true, true),
+        problem_bytes(&grid, true, false),
+    );
+    std::env::set_var(
+        "HALFSPACE_MEMORY_LIMIT",
+        format!("{}", 0.5 * (with + without)),
+    );
+    let pair = Compliance::pair(Body::Rigid, Body::elastic(210e9, 0.3).unwrap()).unwrap();
+    let geometry = vec![0.0; grid.len()];
+    let params = ContactParams {
+        friction: 0.3,
+        ..Default::default()
+    };
+    let (held, refused) = peak_of(|| ContactProblem::new(grid, pair, geometry, params).err());
+    let err = refused.expect("the coupled problem is refused").to_string();
+    assert!(err.contains("needs about"), "{err}");
+    assert!(held < 16 * n * n, "{held} B allocated before the refusal");
     std::env::remove_var("HALFSPACE_MEMORY_LIMIT");
 }

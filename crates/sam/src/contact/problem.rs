@@ -162,7 +162,13 @@ impl<S: OperatorSet> ContactProblem<S> {
                 },
             ));
         }
-        let coupled = compliance.coupling != 0.0 && params.friction > 0.0;
+        let coupled = compliance.is_coupled(params.friction);
+        // Refused before anything is built (docs/architecture.md, "Memory is checked before
+        // allocating"). Without friction the tangential fields are empty (q = 0, nothing to
+        // store): a frictionless problem holds the geometry, h and p only
+        // (docs/theory-sam.md#normal-contact), 24 B per cell.
+        let frictional = params.friction > 0.0;
+        crate::memory::check_problem(&grid, frictional, coupled)?;
         let (d1, d2) = (2.0 * grid.half1, 2.0 * grid.half2);
         let kappa = compliance.coupling;
         let shape = |alpha: usize, sign: f64| {
@@ -184,10 +190,6 @@ impl<S: OperatorSet> ContactProblem<S> {
         } else {
             (None, None)
         };
-        // Without friction the tangential fields are empty (q = 0, nothing to store): a
-        // frictionless problem holds the geometry, h and p only (docs/theory-sam.md#normal-contact), 24 B per cell.
-        let frictional = params.friction > 0.0;
-        crate::memory::check_problem(&grid, frictional, coupled)?;
         let z = || vec![0.0; n];
         let t = || if frictional { vec![0.0; n] } else { Vec::new() };
         let c_only = || if coupled { vec![0.0; n] } else { Vec::new() };

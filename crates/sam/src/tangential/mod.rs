@@ -53,7 +53,8 @@ pub const INNER_REDUCTION: f64 = 0.1;
 /// warm start that already meets the stopping rule. On cold Cattaneo–Mindlin 128² solves
 /// (Q/μP = 0.3 / 0.6 / 0.9 / 0.99) 87 / 105 / 113 / 120 → 89 / 96 / 105 / 126 products.
 ///
-/// The rule holds in every solve, cold or warm. For a round residual between the tolerance and
+/// The rule holds in every solve, cold or warm, with [`TangentialParams::warm_start`] (without it:
+/// [`INNER_REDUCTION`] of the round's residual in every round). For a round residual between the tolerance and
 /// 5× it, `0.5·tol` is looser than `INNER_REDUCTION·kkt`; the stopping rule (the whole problem's
 /// KKT residual) is unchanged, so a loose inner solve costs at most another round. The tighter
 /// `min(INNER_REDUCTION·kkt, 0.5·tol)` was measured and costs more on the same cold cases:
@@ -92,7 +93,10 @@ pub struct TangentialParams {
     /// each solve. `false`: the plain solve — every round's inner solve to [`INNER_REDUCTION`] of
     /// its residual, no early return, the last shear as the start (projected onto the discs).
     /// Both stop on the same rule (`kkt_tolerance`), so they reach the same minimiser to it; the
-    /// switch is there to compare them (crates/sam/tests/loops.rs, the load reversals).
+    /// switch is there to compare them (crates/sam/tests/loops.rs, the load reversals). Only the
+    /// active-set method and `ContactProblem` read it: [`TangentialMethod::Fista`] has no such
+    /// rules. A library switch: the fretting loop and the wear run take the default, so no
+    /// configuration key selects it and their checkpoints need not record it.
     pub warm_start: bool,
 }
 

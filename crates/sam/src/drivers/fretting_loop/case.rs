@@ -246,14 +246,13 @@ impl LoopCase {
         }
     }
 
-    /// Whether the loop's contact problem is coupled (docs/theory-sam.md#normal-tangential-alternation):
-    /// friction `μ > 0` and a pair whose coupling `κ = (1−2ν₂)/(4πG₂) − (1−2ν₁)/(4πG₁)` does not vanish (dissimilar
-    /// bodies; always for a rigid indenter with `ν < ½`). Its problem then holds the two coupling
-    /// operators and four more fields ([`crate::memory::problem_bytes`]).
+    /// Whether the loop's contact problem is coupled ([`crate::Compliance::is_coupled`] of the
+    /// pair: friction `μ > 0` and a coupling `κ = (1−2ν₂)/(4πG₂) − (1−2ν₁)/(4πG₁)` that does not
+    /// vanish — dissimilar bodies; always for a rigid indenter with `ν < ½`). Its problem then
+    /// holds the two coupling operators and four more fields ([`crate::memory::problem_bytes`]).
     pub fn is_coupled(&self) -> bool {
-        self.friction > 0.0
-            && crate::Compliance::pair(self.indenter, self.flat())
-                .map_or(true, |c| c.coupling != 0.0)
+        crate::Compliance::pair(self.indenter, self.flat())
+            .map_or(true, |c| c.is_coupled(self.friction))
     }
 
     /// The grid's side length `extent_over_a · a` (m).
