@@ -106,9 +106,9 @@ fn fretting_error(e: halfspace::fretting::FrettingError) -> CliError {
     CliError::Spec(e.to_string())
 }
 
-/// A refused resume, with the flag it concerns.
+/// A refused resume, with the flag it concerns and the one that starts over.
 fn resume_error(e: ResumeError) -> CliError {
-    CliError::Spec(format!("--resume: {e}"))
+    CliError::Spec(format!("--resume: {e} (--force starts over)"))
 }
 
 pub fn run(args: FrettingArgs) -> Result<(), CliError> {

@@ -13,6 +13,7 @@ use crate::fretting::{
     FrettingError, FrettingParams, FrettingSimulation, FrettingState, Snapshot, TimeStepping,
     ADAPTIVE_SCHEME,
 };
+use crate::run_files::MANIFEST;
 use crate::spec::{parse_wear_medium, SpecError, WearMedium};
 
 /// The keys of a normalized MDR fretting-wear run, as the flags of `halfspace fretting-wear`
@@ -125,13 +126,12 @@ fn parameter_error(e: FrettingError, names: Names) -> SpecError {
 /// The command whose run directories hold fretting-wear runs (their manifest's `command`).
 pub const WEAR_COMMAND: &str = "fretting-wear";
 
-/// A run directory's manifest (`halfspace::run_dir`: the command and its parameters).
-pub const MANIFEST: &str = "run.json";
-
 /// The checkpoint a fretting-wear run directory holds ([`checkpoint_record`]).
 pub const CHECKPOINT: &str = "checkpoint.npz";
 
-/// Why a fretting-wear run cannot continue from a run directory or checkpoint.
+/// Why a fretting-wear run cannot continue from a run directory or checkpoint. The messages name
+/// no front end's flag: the command line adds its own (`--force` starts over), Python's
+/// `fretting_wear(resume=)` gives them as they are.
 #[derive(Debug, thiserror::Error)]
 pub enum ResumeError {
     /// The run was made by another adaptive scheme (`found`; `None`: not recorded, the scheme
@@ -139,8 +139,8 @@ pub enum ResumeError {
     /// selects another scheme, so only starting over helps.
     #[error(
         "{what} was made by another build's adaptive scheme (adaptive_scheme = {}); this build \
-         runs {ADAPTIVE_SCHEME} and cannot resume it bit for bit: --force starts over (in \
-         Python: without resume)",
+         runs {ADAPTIVE_SCHEME} and cannot resume it bit for bit: only starting the run over \
+         helps",
         found.as_deref().unwrap_or("not recorded: the scheme before the hole projection")
     )]
     OtherScheme {
@@ -308,7 +308,7 @@ pub fn state_from_checkpoint(
         if rec.get_attr(name) != Some(&value) {
             return Err(bad(format!(
                 "the checkpoint was made with {name} = {:?}, this run has {:?}; resume with the same \
-                 parameters or start over with --force",
+                 parameters or start the run over",
                 rec.get_attr(name),
                 value
             )));
