@@ -21,8 +21,9 @@ use serde_json::{json, Value};
 
 use crate::data::{read_text_bounded, write_atomic, DataError};
 
-/// The manifest's file name.
-pub const MANIFEST: &str = "run.json";
+/// The manifest's file name (the application layer's `run_files`, which front ends that only
+/// read a run directory share: `halfspace_cases::fretting_wear::check_run_scheme`).
+pub use crate::cases::run_files::MANIFEST;
 /// The lock's file name.
 pub const LOCK: &str = "run.lock";
 

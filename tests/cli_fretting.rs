@@ -178,7 +178,11 @@ fn adaptive_checkpoints_record_the_scheme() {
         write_record(&checkpoint, &rec).unwrap();
         bad(&resume, "adaptive_scheme");
         bad(&resume, "another build's adaptive scheme");
-        bad(&resume, "cannot resume it bit for bit: --force starts over");
+        bad(
+            &resume,
+            "cannot resume it bit for bit: only starting the run over helps",
+        );
+        bad(&resume, "(--force starts over)");
     }
     write_record(&checkpoint, &original).unwrap();
     // The manifest of a run of another scheme (or of none recorded) is refused the same way,

@@ -12,6 +12,7 @@ fretting loop with inhomogeneities (``FrettingLoop``); the equations are cited i
 from __future__ import annotations
 
 import numbers
+import os
 from dataclasses import dataclass, fields
 from collections.abc import Iterator, Sequence
 from typing import Any
@@ -93,6 +94,12 @@ def _opt_count(v: Any, name: str, minimum: int = 0) -> int | None:
 def _text(v: Any, name: str) -> str:
     if not isinstance(v, str):
         raise TypeError(f"{name} must be a string, got {v!r} ({type(v).__name__})")
+    return v
+
+
+def _path(v: Any, name: str) -> str | os.PathLike[str]:
+    if not isinstance(v, (str, os.PathLike)):
+        raise TypeError(f"{name} must be a path, got {v!r} ({type(v).__name__})")
     return v
 
 
@@ -679,6 +686,7 @@ def fretting_wear(
     method: str = "fft",
     material: Graded | Homogeneous | str | None = None,
     length: float | None = None,
+    resume: str | os.PathLike[str] | None = None,
 ) -> WearResult:
     """Fretting wear of a parabolic indenter in partial slip by the MDR (Willert et al. 2021,
     Section 4; spec ``mdr.md`` §5), dimensionless: amplitude ratio ``chi = u_A/u_max``, ``n`` nodes,
@@ -690,7 +698,11 @@ def fretting_wear(
     ``limiting_profile``; ``contact_radius_history`` is a/a₀ per step (the extent of the touching
     region; ``loaded_radius_history``: where p > 1e-3 max p), at ``tau_history``; ``steps`` counts
     the time steps; ``wear_volume`` and
-    ``limit_wear_volume`` are V/(π a₀² d). As ``halfspace fretting-wear``."""
+    ``limit_wear_volume`` are V/(π a₀² d). As ``halfspace fretting-wear``. ``resume``: a run
+    directory of ``halfspace fretting-wear`` (killed, or stopped) made with the same parameters —
+    the run continues from its checkpoint to the uninterrupted run's result bit for bit, with the
+    command line's ``--resume`` checks (a run of another adaptive scheme is refused); the
+    directory is only read."""
     # The keys of `halfspace fretting-wear --config`, read and checked by the library (one case):
     # a typed medium goes as its spec; only k and ν enter the run (E0, z0, E set the scales a0,
     # F0, N0 and are not used; Estar, which gives no ν, is refused).
@@ -701,7 +713,8 @@ def fretting_wear(
         "dtau": _opt_real(dtau, "dtau"), "tau_end": _real(tau_end, "tau_end"),
         "method": _text(method, "method"),
         "material": None if material is None else _spec(material, "material"),
-        "length": _opt_real(length, "length")}))
+        "length": _opt_real(length, "length")},
+        None if resume is None else _path(resume, "resume")))
 
 
 def fretting_wear3d(config: dict[str, Any], grid: int | None = None) -> Wear3dResult:

@@ -1,5 +1,6 @@
 # The Rust extension (python/src/lib.rs), as built; checked against the module by
 # `python -m mypy.stubtest halfspace` in .ci/run.
+import os
 from typing import Any, final
 
 import numpy as np
@@ -26,7 +27,9 @@ MAP_FIELDS: list[str]
 FATIGUE_FIELDS: list[str]
 
 def axisym(config: dict[str, Any]) -> dict[str, Any]: ...
-def fretting_wear(config: dict[str, Any]) -> dict[str, Any]: ...
+def fretting_wear(
+    config: dict[str, Any], resume: str | os.PathLike[str] | None = None
+) -> dict[str, Any]: ...
 # `config` of fretting_wear3d and _FrettingLoop: the `--config` keys of `fretting-wear3d` /
 # `fretting-loop` (docs/sam.md, docs/wear3d.md), one spelling each, e.g. `eim_change_factor`
 # (η in (0, 1], default 3e-3) and `eim_recycled_depth` (0 to 50, default 5; both for the nested

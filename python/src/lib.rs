@@ -8,6 +8,7 @@
 //! are `halfspace.HalfspaceError` (a `ValueError`) carrying the library's message, or `TypeError`
 //! for a configuration value of the wrong type.
 
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::RecvTimeoutError;
 use std::time::Duration;
@@ -27,7 +28,7 @@ use halfspace::config::{
 use halfspace::contact3d::Contact3dConfig;
 use halfspace::fretting::FrettingSimulation;
 use halfspace::fretting_map::{crack_risk, run_map_with, MapError};
-use halfspace::fretting_wear::{WearConfig, WearRunCase};
+use halfspace::fretting_wear::{resume_state, WearConfig, WearRunCase};
 use halfspace::loop_fatigue::{evaluate_loop_fatigue, LoopFatigue, FATIGUE_FIELDS};
 use halfspace::records::{
     contact_record, contact_summary, loop_summary, wear3d_estimate_summary, wear3d_summary,
@@ -154,17 +155,33 @@ fn axisym<'py>(py: Python<'py>, config: &Bound<'py, PyAny>) -> PyResult<Bound<'p
 /// `halfspace fretting-wear`: `config` a dict of its keys
 /// (`halfspace_cases::fretting_wear::WearConfig`). Returns a dict: the CLI's JSON keys and `r`,
 /// `profile` (final worn profile), `limiting_profile`, `tau_history`, `contact_radius_history`
-/// (a/a₀, the touching region, per step), `loaded_radius_history`.
+/// (a/a₀, the touching region, per step), `loaded_radius_history`. `resume`: a run directory of
+/// `halfspace fretting-wear` made with the same parameters — the run continues from its checkpoint
+/// (`halfspace_cases::fretting_wear::resume_state`, the command line's `--resume` checks, the
+/// adaptive scheme's refusal among them) to the uninterrupted run's result bit for bit; the
+/// directory is only read.
 #[pyfunction]
-fn fretting_wear<'py>(py: Python<'py>, config: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+#[pyo3(signature = (config, resume=None))]
+fn fretting_wear<'py>(
+    py: Python<'py>,
+    config: &Bound<'py, PyAny>,
+    resume: Option<PathBuf>,
+) -> PyResult<Bound<'py, PyDict>> {
     let WearRunCase { params, medium } =
         from_table::<WearConfig>(config_table(config, "fretting-wear")?, "config")
             .map_err(config_error)?
             .case(Names::Keys)
             .map_err(err)?;
+    let start = match &resume {
+        Some(dir) => Some(resume_state(dir, &params).map_err(err)?),
+        None => None,
+    };
     // Ctrl-C: the run stops after the wear step it is in (KeyboardInterrupt).
     let sim = interruptible(py, |cancel| {
-        let mut sim = FrettingSimulation::new(params)?;
+        let mut sim = match start {
+            Some(state) => FrettingSimulation::resume(params, state)?,
+            None => FrettingSimulation::new(params)?,
+        };
         sim.run(|_| cancel.load(Ordering::Relaxed))?;
         Ok::<_, halfspace::fretting::FrettingError>(sim)
     })?

@@ -73,6 +73,61 @@ def test_fretting_wear_equals_the_cli(tmp_path):
         hs.fretting_wear(chi=1.5)
 
 
+def test_fretting_wear_resumes_a_cli_run_and_refuses_another_schemes(tmp_path):
+    """``resume=``: a CLI run stopped after 30 adaptive steps continues in Python to the
+    uninterrupted run's result bit for bit; a checkpoint of other parameters, and a run directory
+    (run.json) or a checkpoint of another adaptive scheme, are refused with the library's message
+    (halfspace_cases::fretting_wear::ResumeError), as the CLI's --resume refuses them."""
+    out = tmp_path / "wear"
+    args = ("--chi", "0.5", "--n", "401", "--tau-end", "0.5")
+    subprocess.run([binary(), "fretting-wear", *args, "--out", str(out), "--stop-after", "30"],
+                   check=True, capture_output=True)
+    whole = hs.fretting_wear(chi=0.5, n=401, tau_end=0.5)
+    resumed = hs.fretting_wear(chi=0.5, n=401, tau_end=0.5, resume=out)
+    assert resumed.steps == whole.steps
+    assert np.array_equal(resumed.profile, whole.profile)
+    assert np.array_equal(resumed.tau_history, whole.tau_history)
+    # Other parameters than the checkpoint's.
+    with pytest.raises(hs.HalfspaceError, match="the checkpoint was made with chi"):
+        hs.fretting_wear(chi=0.4, n=401, tau_end=0.5, resume=out)
+    manifest = out / "run.json"
+    intact = manifest.read_text()
+    for found in (None, "ros2"):
+        m = json.loads(intact)
+        if found is None:
+            del m["parameters"]["adaptive_scheme"]
+        else:
+            m["parameters"]["adaptive_scheme"] = found
+        manifest.write_text(json.dumps(m))
+        with pytest.raises(hs.HalfspaceError) as e:
+            hs.fretting_wear(chi=0.5, n=401, tau_end=0.5, resume=str(out))
+        text = str(e.value)
+        assert f"the run in {out} was made by another build's adaptive scheme" in text, text
+        assert "cannot resume it bit for bit: only starting the run over helps" in text, text
+        assert (found or "not recorded") in text, text
+    manifest.write_text(intact)
+    # The checkpoint of another scheme (the manifest agreeing): its `metadata` member holds the
+    # attributes as JSON bytes.
+    checkpoint = out / "checkpoint.npz"
+    with np.load(checkpoint) as z:
+        arrays = {name: z[name] for name in z.files}
+    original = dict(arrays)
+    meta = json.loads(bytes(arrays["metadata"]).decode())
+    meta["adaptive_scheme"] = "ros2"
+    arrays["metadata"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
+    np.savez(checkpoint, **arrays)
+    with pytest.raises(hs.HalfspaceError,
+                       match="the checkpoint .* was made by another build's adaptive scheme "
+                             r"\(adaptive_scheme = ros2\)"):
+        hs.fretting_wear(chi=0.5, n=401, tau_end=0.5, resume=out)
+    np.savez(checkpoint, **original)
+    assert hs.fretting_wear(chi=0.5, n=401, tau_end=0.5, resume=out).steps == whole.steps
+    with pytest.raises(hs.HalfspaceError, match="no checkpoint.npz"):
+        hs.fretting_wear(chi=0.5, n=401, tau_end=0.5, resume=tmp_path / "empty")
+    with pytest.raises(TypeError, match="resume"):
+        hs.fretting_wear(resume=5)  # type: ignore[arg-type]
+
+
 def test_contact3d_with_an_inhomogeneity_equals_the_cli_bit_for_bit(tmp_path):
     """The stiff sphere of docs/theory-sam.md#inhomogeneity-references below a Hertz contact, coarse, with the subsurface field."""
     out = tmp_path / "c.h5"

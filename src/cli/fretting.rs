@@ -1,16 +1,17 @@
 //! `halfspace fretting-wear`: fretting wear on the MDR (docs/theory-mdr.md#fretting-wear), the project's main job.
 
 use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
 use halfspace::config::Names;
-use halfspace::data::{read_record, write_record, AttrValue, Record};
-use halfspace::fretting::{
-    FrettingParams, FrettingSimulation, FrettingState, Snapshot, TimeStepping, ADAPTIVE_SCHEME,
+use halfspace::data::{write_record, AttrValue, Record};
+use halfspace::fretting::{FrettingParams, FrettingSimulation};
+use halfspace::fretting_wear::{
+    check_run_scheme, checkpoint_record, params_attrs, resume_state, ResumeError, WearConfig,
+    WearRunCase, CHECKPOINT, WEAR_COMMAND,
 };
-use halfspace::fretting_wear::{WearConfig, WearRunCase};
 use halfspace::records::wear_summary;
 use halfspace::spec::WearMedium;
 use serde_json::json;
@@ -24,8 +25,8 @@ use super::CliError;
 
 /// What a fretting-wear run writes into its directory (`halfspace::run_dir`).
 const WEAR_RUN: RunKind = RunKind {
-    command: "fretting-wear",
-    files: &["checkpoint.npz", "results.h5", "results.npz"],
+    command: WEAR_COMMAND,
+    files: &[CHECKPOINT, "results.h5", "results.npz"],
     figure_extensions: &["svg", "png"],
 };
 
@@ -105,193 +106,9 @@ fn fretting_error(e: halfspace::fretting::FrettingError) -> CliError {
     CliError::Spec(e.to_string())
 }
 
-fn params_attrs(p: &FrettingParams) -> Vec<(&'static str, AttrValue)> {
-    let mut attrs = vec![
-        ("chi", AttrValue::Float(p.chi)),
-        ("k", AttrValue::Float(p.k)),
-        ("n", AttrValue::Int(p.nodes as i64)),
-        ("stepping", AttrValue::Text(p.stepping.name().into())),
-        (
-            match p.stepping {
-                TimeStepping::Adaptive { .. } => "tol",
-                _ => "dtau",
-            },
-            AttrValue::Float(match p.stepping {
-                TimeStepping::Adaptive { tolerance } => tolerance,
-                TimeStepping::Fixed { dtau } | TimeStepping::ExplicitEuler { dtau } => dtau,
-            }),
-        ),
-        ("tau_end", AttrValue::Float(p.tau_end)),
-        ("length", AttrValue::Float(p.length)),
-        ("method", AttrValue::Text(p.backend.name().into())),
-        ("snapshots", AttrValue::Text(format!("{:?}", p.snapshots))),
-    ];
-    // The adaptive scheme's name: a checkpoint of another scheme (or of the one before the name
-    // was recorded) is refused, since its steps would not be repeated bit for bit.
-    if let TimeStepping::Adaptive { .. } = p.stepping {
-        attrs.push(("adaptive_scheme", AttrValue::Text(ADAPTIVE_SCHEME.into())));
-    }
-    attrs
-}
-
-/// Why a run directory or checkpoint whose adaptive scheme (`found`, `None` when not recorded)
-/// is not this build's cannot be resumed: no flag selects another scheme, so only `--force`
-/// (starting over) helps.
-fn scheme_refusal(found: Option<&str>) -> String {
-    format!(
-        "made by another build's adaptive scheme (adaptive_scheme = {}); this build runs \
-         {ADAPTIVE_SCHEME} and cannot resume it bit for bit: --force starts over",
-        found.unwrap_or("not recorded: the scheme before the hole projection")
-    )
-}
-
-/// `--resume` of a directory whose manifest (`run.json`) records an adaptive run of another
-/// scheme than this build's: refused with [`scheme_refusal`] (before the run directory's own
-/// check, whose message would ask for parameters no flag sets). Anything else (no manifest,
-/// another command or other parameters) is left to `RunDir::claim`.
-fn check_manifest_scheme(out: &Path, params: &FrettingParams) -> Result<(), CliError> {
-    if !matches!(params.stepping, TimeStepping::Adaptive { .. }) {
-        return Ok(());
-    }
-    let path = out.join(halfspace::run_dir::MANIFEST);
-    let Some(manifest) = std::fs::read(&path)
-        .ok()
-        .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok())
-    else {
-        return Ok(());
-    };
-    let parameters = &manifest["parameters"];
-    if manifest["command"] != json!(WEAR_RUN.command) || parameters["stepping"] != json!("adaptive")
-    {
-        return Ok(());
-    }
-    let found = parameters["adaptive_scheme"].as_str();
-    if found == Some(ADAPTIVE_SCHEME) {
-        return Ok(());
-    }
-    Err(CliError::Spec(format!(
-        "--resume: the run in {} was {}",
-        out.display(),
-        scheme_refusal(found)
-    )))
-}
-
-fn checkpoint_record(sim: &FrettingSimulation) -> Record {
-    let state = sim.state();
-    let mut rec = Record::default()
-        .array("profile", state.profile.clone())
-        .array(
-            "contact_radius_history",
-            state.contact_radius_history.clone(),
-        )
-        .array("loaded_radius_history", state.loaded_radius_history.clone())
-        .array("tau_history", state.tau_history.clone())
-        .attr("step", AttrValue::Int(state.step as i64))
-        .attr("tau", AttrValue::Float(state.tau))
-        .attr("next_step", AttrValue::Float(state.next_step))
-        .attr("previous_error", AttrValue::Float(state.previous_error))
-        .attr(
-            "rejected_steps",
-            AttrValue::Int(state.rejected_steps as i64),
-        )
-        .attr(
-            "snapshot_count",
-            AttrValue::Int(state.snapshots.len() as i64),
-        );
-    for (k, s) in state.snapshots.iter().enumerate() {
-        rec = rec
-            .array(&format!("snapshot{k}_profile"), s.profile.clone())
-            .array(&format!("snapshot{k}_pressure"), s.pressure.clone())
-            .array(&format!("snapshot{k}_slip"), s.slip.clone())
-            .attr(&format!("snapshot{k}_step"), AttrValue::Int(s.step as i64))
-            .attr(&format!("snapshot{k}_tau"), AttrValue::Float(s.tau))
-            .attr(
-                &format!("snapshot{k}_contact_radius"),
-                AttrValue::Float(s.contact_radius),
-            )
-            .attr(
-                &format!("snapshot{k}_loaded_radius"),
-                AttrValue::Float(s.loaded_radius),
-            );
-    }
-    for (name, value) in params_attrs(sim.params()) {
-        rec = rec.attr(name, value);
-    }
-    rec
-}
-
-fn state_from_checkpoint(path: &Path, params: &FrettingParams) -> Result<FrettingState, CliError> {
-    let rec = read_record(path)?;
-    let bad = |what: String| CliError::Spec(format!("--resume {}: {what}", path.display()));
-    for (name, value) in params_attrs(params) {
-        if name == "adaptive_scheme" && rec.get_attr(name) != Some(&value) {
-            let found = match rec.get_attr(name) {
-                Some(AttrValue::Text(s)) => Some(s.clone()),
-                Some(other) => Some(format!("{other:?}")),
-                None => None,
-            };
-            return Err(bad(format!(
-                "the checkpoint was {}",
-                scheme_refusal(found.as_deref())
-            )));
-        }
-        if rec.get_attr(name) != Some(&value) {
-            return Err(bad(format!(
-                "the checkpoint was made with {name} = {:?}, this run has {:?}; resume with the same \
-                 parameters or start over with --force",
-                rec.get_attr(name),
-                value
-            )));
-        }
-    }
-    // Step counts: an integer ≥ 0 (a negative one would wrap as u64).
-    let int = |name: &str| match rec.get_attr(name) {
-        Some(AttrValue::Int(v)) if *v >= 0 => Ok(*v as u64),
-        other => Err(bad(format!(
-            "attribute {name} is {other:?}, not a count ≥ 0"
-        ))),
-    };
-    let array = |name: &str| {
-        rec.get(name)
-            .map(|v| v.to_vec())
-            .ok_or_else(|| bad(format!("array {name} is missing")))
-    };
-    let float = |name: &str| {
-        rec.float_attr(name)
-            .ok_or_else(|| bad(format!("attribute {name} is {:?}", rec.get_attr(name))))
-    };
-    let mut snapshots = Vec::new();
-    for k in 0..int("snapshot_count")? {
-        snapshots.push(Snapshot {
-            step: int(&format!("snapshot{k}_step"))?,
-            tau: float(&format!("snapshot{k}_tau"))?,
-            loaded_radius: float(&format!("snapshot{k}_loaded_radius"))?,
-            profile: array(&format!("snapshot{k}_profile"))?,
-            pressure: array(&format!("snapshot{k}_pressure"))?,
-            slip: array(&format!("snapshot{k}_slip"))?,
-            contact_radius: {
-                let name = format!("snapshot{k}_contact_radius");
-                rec.float_attr(&name).ok_or_else(|| {
-                    bad(format!(
-                        "snapshot {k} contact radius is {:?}",
-                        rec.get_attr(&name)
-                    ))
-                })?
-            },
-        });
-    }
-    Ok(FrettingState {
-        step: int("step")?,
-        tau: float("tau")?,
-        profile: array("profile")?,
-        tau_history: array("tau_history")?,
-        contact_radius_history: array("contact_radius_history")?,
-        loaded_radius_history: array("loaded_radius_history")?,
-        next_step: float("next_step")?,
-        previous_error: float("previous_error")?,
-        rejected_steps: int("rejected_steps")?,
-        snapshots,
-    })
+/// A refused resume, with the flag it concerns and the one that starts over.
+fn resume_error(e: ResumeError) -> CliError {
+    CliError::Spec(format!("--resume: {e} (--force starts over)"))
 }
 
 pub fn run(args: FrettingArgs) -> Result<(), CliError> {
@@ -304,21 +121,17 @@ pub fn run(args: FrettingArgs) -> Result<(), CliError> {
     }
     manifest.insert("medium".into(), json!(format!("{medium:?}")));
     if start_mode == Start::Resume {
-        check_manifest_scheme(&args.out, &params)?;
+        // Before the run directory's own check, whose message would ask for parameters no flag
+        // sets.
+        check_run_scheme(&args.out, &params).map_err(resume_error)?;
     }
     let run_dir = RunDir::claim(&args.out, WEAR_RUN, manifest.into(), start_mode)?;
     let dir = run_dir.path();
-    let checkpoint = dir.join("checkpoint.npz");
+    let checkpoint = dir.join(CHECKPOINT);
     let results = dir.join("results.h5");
     let start = Instant::now();
     let mut sim = if args.resume {
-        if !checkpoint.exists() {
-            return Err(CliError::Spec(format!(
-                "--resume: {} has no checkpoint.npz",
-                dir.display()
-            )));
-        }
-        let state = state_from_checkpoint(&checkpoint, &params)?;
+        let state = resume_state(dir, &params).map_err(resume_error)?;
         FrettingSimulation::resume(params.clone(), state).map_err(|e| {
             CliError::Spec(format!(
                 "--resume {}: {e}; the checkpoint is left as it is (--force starts over)",

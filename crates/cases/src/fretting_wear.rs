@@ -3,10 +3,17 @@
 //! through the one parser ([`crate::spec::parse_wear_medium`]), validated once in
 //! [`WearConfig::case`] ([`FrettingParams::validate`]).
 
+use std::path::{Path, PathBuf};
+
 use serde::Deserialize;
 
 use crate::config::Names;
-use crate::fretting::{FrettingError, FrettingParams, TimeStepping};
+use crate::data::{read_record, read_text_bounded, AttrValue, DataError, Record};
+use crate::fretting::{
+    FrettingError, FrettingParams, FrettingSimulation, FrettingState, Snapshot, TimeStepping,
+    ADAPTIVE_SCHEME,
+};
+use crate::run_files::MANIFEST;
 use crate::spec::{parse_wear_medium, SpecError, WearMedium};
 
 /// The keys of a normalized MDR fretting-wear run, as the flags of `halfspace fretting-wear`
@@ -114,6 +121,247 @@ fn parameter_error(e: FrettingError, names: Names) -> SpecError {
         }
         e => SpecError(e.to_string()),
     }
+}
+
+/// The command whose run directories hold fretting-wear runs (their manifest's `command`).
+pub const WEAR_COMMAND: &str = "fretting-wear";
+
+/// The checkpoint a fretting-wear run directory holds ([`checkpoint_record`]).
+pub const CHECKPOINT: &str = "checkpoint.npz";
+
+/// Why a fretting-wear run cannot continue from a run directory or checkpoint. The messages name
+/// no front end's flag: the command line adds its own (`--force` starts over), Python's
+/// `fretting_wear(resume=)` gives them as they are.
+#[derive(Debug, thiserror::Error)]
+pub enum ResumeError {
+    /// The run was made by another adaptive scheme (`found`; `None`: not recorded, the scheme
+    /// before the name was recorded): its steps would not be repeated bit for bit, and nothing
+    /// selects another scheme, so only starting over helps.
+    #[error(
+        "{what} was made by another build's adaptive scheme (adaptive_scheme = {}); this build \
+         runs {ADAPTIVE_SCHEME} and cannot resume it bit for bit: only starting the run over \
+         helps",
+        found.as_deref().unwrap_or("not recorded: the scheme before the hole projection")
+    )]
+    OtherScheme {
+        /// The run directory or checkpoint, in words.
+        what: String,
+        /// The scheme it records.
+        found: Option<String>,
+    },
+    /// A checkpoint missing, of other parameters, or with a bad field.
+    #[error("{}: {reason}", path.display())]
+    Checkpoint {
+        /// The checkpoint (or the directory without one).
+        path: PathBuf,
+        /// What is wrong and what to do.
+        reason: String,
+    },
+    /// The checkpoint could not be read.
+    #[error(transparent)]
+    Data(#[from] DataError),
+}
+
+/// The run's parameters as a run directory's manifest, its checkpoints and its results record
+/// them (the adaptive scheme's name, [`ADAPTIVE_SCHEME`], with adaptive steps: a checkpoint of
+/// another scheme is refused, since its steps would not be repeated bit for bit).
+pub fn params_attrs(p: &FrettingParams) -> Vec<(&'static str, AttrValue)> {
+    let mut attrs = vec![
+        ("chi", AttrValue::Float(p.chi)),
+        ("k", AttrValue::Float(p.k)),
+        ("n", AttrValue::Int(p.nodes as i64)),
+        ("stepping", AttrValue::Text(p.stepping.name().into())),
+        (
+            match p.stepping {
+                TimeStepping::Adaptive { .. } => "tol",
+                _ => "dtau",
+            },
+            AttrValue::Float(match p.stepping {
+                TimeStepping::Adaptive { tolerance } => tolerance,
+                TimeStepping::Fixed { dtau } | TimeStepping::ExplicitEuler { dtau } => dtau,
+            }),
+        ),
+        ("tau_end", AttrValue::Float(p.tau_end)),
+        ("length", AttrValue::Float(p.length)),
+        ("method", AttrValue::Text(p.backend.name().into())),
+        ("snapshots", AttrValue::Text(format!("{:?}", p.snapshots))),
+    ];
+    if let TimeStepping::Adaptive { .. } = p.stepping {
+        attrs.push(("adaptive_scheme", AttrValue::Text(ADAPTIVE_SCHEME.into())));
+    }
+    attrs
+}
+
+/// An adaptive run's directory `dir` whose manifest ([`MANIFEST`]) records a fretting-wear run of
+/// another adaptive scheme than this build's: refused ([`ResumeError::OtherScheme`]). Anything
+/// else — no manifest, another command, fixed steps, other parameters — is left to the caller's
+/// checks (the run directory's, [`state_from_checkpoint`]'s).
+pub fn check_run_scheme(dir: &Path, params: &FrettingParams) -> Result<(), ResumeError> {
+    if !matches!(params.stepping, TimeStepping::Adaptive { .. }) {
+        return Ok(());
+    }
+    let Some(manifest) = read_text_bounded(&dir.join(MANIFEST), 1 << 20)
+        .ok()
+        .and_then(|text| serde_json::from_str::<serde_json::Value>(&text).ok())
+    else {
+        return Ok(());
+    };
+    let parameters = &manifest["parameters"];
+    if manifest["command"] != WEAR_COMMAND || parameters["stepping"] != "adaptive" {
+        return Ok(());
+    }
+    let found = parameters["adaptive_scheme"].as_str();
+    if found == Some(ADAPTIVE_SCHEME) {
+        return Ok(());
+    }
+    Err(ResumeError::OtherScheme {
+        what: format!("the run in {}", dir.display()),
+        found: found.map(String::from),
+    })
+}
+
+/// The state to continue the run of `params` from, in the run directory `dir`:
+/// [`check_run_scheme`], then its checkpoint ([`CHECKPOINT`], [`state_from_checkpoint`]). The
+/// command line's `fretting-wear --resume` and Python's `fretting_wear(..., resume=dir)`.
+pub fn resume_state(dir: &Path, params: &FrettingParams) -> Result<FrettingState, ResumeError> {
+    check_run_scheme(dir, params)?;
+    let checkpoint = dir.join(CHECKPOINT);
+    if !checkpoint.exists() {
+        return Err(ResumeError::Checkpoint {
+            path: dir.to_path_buf(),
+            reason: format!("no {CHECKPOINT} to resume from"),
+        });
+    }
+    state_from_checkpoint(&checkpoint, params)
+}
+
+/// The checkpoint of a run (its state and [`params_attrs`]): [`state_from_checkpoint`] reads it
+/// back bit for bit.
+pub fn checkpoint_record(sim: &FrettingSimulation) -> Record {
+    let state = sim.state();
+    let mut rec = Record::default()
+        .array("profile", state.profile.clone())
+        .array(
+            "contact_radius_history",
+            state.contact_radius_history.clone(),
+        )
+        .array("loaded_radius_history", state.loaded_radius_history.clone())
+        .array("tau_history", state.tau_history.clone())
+        .attr("step", AttrValue::Int(state.step as i64))
+        .attr("tau", AttrValue::Float(state.tau))
+        .attr("next_step", AttrValue::Float(state.next_step))
+        .attr("previous_error", AttrValue::Float(state.previous_error))
+        .attr(
+            "rejected_steps",
+            AttrValue::Int(state.rejected_steps as i64),
+        )
+        .attr(
+            "snapshot_count",
+            AttrValue::Int(state.snapshots.len() as i64),
+        );
+    for (k, s) in state.snapshots.iter().enumerate() {
+        rec = rec
+            .array(&format!("snapshot{k}_profile"), s.profile.clone())
+            .array(&format!("snapshot{k}_pressure"), s.pressure.clone())
+            .array(&format!("snapshot{k}_slip"), s.slip.clone())
+            .attr(&format!("snapshot{k}_step"), AttrValue::Int(s.step as i64))
+            .attr(&format!("snapshot{k}_tau"), AttrValue::Float(s.tau))
+            .attr(
+                &format!("snapshot{k}_contact_radius"),
+                AttrValue::Float(s.contact_radius),
+            )
+            .attr(
+                &format!("snapshot{k}_loaded_radius"),
+                AttrValue::Float(s.loaded_radius),
+            );
+    }
+    for (name, value) in params_attrs(sim.params()) {
+        rec = rec.attr(name, value);
+    }
+    rec
+}
+
+/// The state of the checkpoint at `path` ([`checkpoint_record`]) for a run of `params`: refused
+/// when it was made by another adaptive scheme ([`ResumeError::OtherScheme`]) or with other
+/// parameters, or when a field is missing or not a count where one is needed. The state's own
+/// content is checked by `FrettingSimulation::resume`.
+pub fn state_from_checkpoint(
+    path: &Path,
+    params: &FrettingParams,
+) -> Result<FrettingState, ResumeError> {
+    let rec = read_record(path)?;
+    let bad = |reason: String| ResumeError::Checkpoint {
+        path: path.to_path_buf(),
+        reason,
+    };
+    for (name, value) in params_attrs(params) {
+        if name == "adaptive_scheme" && rec.get_attr(name) != Some(&value) {
+            return Err(ResumeError::OtherScheme {
+                what: format!("the checkpoint {}", path.display()),
+                found: match rec.get_attr(name) {
+                    Some(AttrValue::Text(s)) => Some(s.clone()),
+                    Some(other) => Some(format!("{other:?}")),
+                    None => None,
+                },
+            });
+        }
+        if rec.get_attr(name) != Some(&value) {
+            return Err(bad(format!(
+                "the checkpoint was made with {name} = {:?}, this run has {:?}; resume with the same \
+                 parameters or start the run over",
+                rec.get_attr(name),
+                value
+            )));
+        }
+    }
+    // Step counts: an integer ≥ 0 (a negative one would wrap as u64).
+    let int = |name: &str| match rec.get_attr(name) {
+        Some(AttrValue::Int(v)) if *v >= 0 => Ok(*v as u64),
+        other => Err(bad(format!(
+            "attribute {name} is {other:?}, not a count ≥ 0"
+        ))),
+    };
+    let array = |name: &str| {
+        rec.get(name)
+            .map(|v| v.to_vec())
+            .ok_or_else(|| bad(format!("array {name} is missing")))
+    };
+    let float = |name: &str| {
+        rec.float_attr(name)
+            .ok_or_else(|| bad(format!("attribute {name} is {:?}", rec.get_attr(name))))
+    };
+    let mut snapshots = Vec::new();
+    for k in 0..int("snapshot_count")? {
+        snapshots.push(Snapshot {
+            step: int(&format!("snapshot{k}_step"))?,
+            tau: float(&format!("snapshot{k}_tau"))?,
+            loaded_radius: float(&format!("snapshot{k}_loaded_radius"))?,
+            profile: array(&format!("snapshot{k}_profile"))?,
+            pressure: array(&format!("snapshot{k}_pressure"))?,
+            slip: array(&format!("snapshot{k}_slip"))?,
+            contact_radius: {
+                let name = format!("snapshot{k}_contact_radius");
+                rec.float_attr(&name).ok_or_else(|| {
+                    bad(format!(
+                        "snapshot {k} contact radius is {:?}",
+                        rec.get_attr(&name)
+                    ))
+                })?
+            },
+        });
+    }
+    Ok(FrettingState {
+        step: int("step")?,
+        tau: float("tau")?,
+        profile: array("profile")?,
+        tau_history: array("tau_history")?,
+        contact_radius_history: array("contact_radius_history")?,
+        loaded_radius_history: array("loaded_radius_history")?,
+        next_step: float("next_step")?,
+        previous_error: float("previous_error")?,
+        rejected_steps: int("rejected_steps")?,
+        snapshots,
+    })
 }
 
 #[cfg(test)]

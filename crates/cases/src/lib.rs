@@ -32,6 +32,7 @@ pub mod fretting_map;
 pub mod fretting_wear;
 pub mod loop_fatigue;
 pub mod records;
+pub mod run_files;
 pub mod spec;
 pub mod studies;
 pub mod wear3d_mdr;

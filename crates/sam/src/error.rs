@@ -79,6 +79,23 @@ pub enum SamError {
     Numerics(#[from] NumericsError),
 }
 
+/// Every field of `fields` holds `expected` values; the first that does not is refused
+/// ([`NumericsError::LengthMismatch`] naming `what`, its length got).
+pub(crate) fn check_lengths<'a>(
+    what: &'static str,
+    expected: usize,
+    fields: impl IntoIterator<Item = &'a [f64]>,
+) -> Result<(), SamError> {
+    match fields.into_iter().find(|f| f.len() != expected) {
+        Some(bad) => Err(SamError::Numerics(NumericsError::LengthMismatch {
+            what,
+            expected,
+            got: bad.len(),
+        })),
+        None => Ok(()),
+    }
+}
+
 pub(crate) fn positive(name: &'static str, v: f64) -> Result<f64, SamError> {
     if v.is_finite() && v > 0.0 {
         Ok(v)
@@ -88,5 +105,26 @@ pub(crate) fn positive(name: &'static str, v: f64) -> Result<f64, SamError> {
             value: v,
             allowed: "finite and > 0",
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The first field of another length is refused, with its own length.
+    #[test]
+    fn check_lengths_names_the_first_bad_field() {
+        let (a, b, c) = (vec![0.0; 4], vec![0.0; 3], vec![0.0; 2]);
+        assert!(check_lengths("f", 4, [&a[..], &a[..]]).is_ok());
+        let e = check_lengths("f", 4, [&a[..], &b[..], &c[..]]).unwrap_err();
+        assert_eq!(
+            e,
+            SamError::Numerics(NumericsError::LengthMismatch {
+                what: "f",
+                expected: 4,
+                got: 3
+            })
+        );
     }
 }

@@ -17,6 +17,7 @@ use halfspace_numerics::layered::{accumulate_streamed, Family, LayerKernel, Laye
 
 use crate::eim::operator::{ImageStrain, InfiniteStrain, LoveStrain, SurfaceFields};
 use crate::eim::InclusionSet;
+use crate::error::check_lengths;
 use crate::kernels::cuboid::strain_kernel;
 use crate::kernels::subsurface::{pressure_stress, shear_stress, unit_traction_stresses};
 use crate::kernels::{compliance, mul6, stiffness};
@@ -363,15 +364,7 @@ impl SubsurfacePlan {
         let layers = self.levels.len();
         let half = grid.half1;
         let n = grid.len();
-        if p.len() != n || q.is_some_and(|q| q[0].len() != n || q[1].len() != n) {
-            return Err(SamError::Numerics(
-                halfspace_numerics::NumericsError::LengthMismatch {
-                    what: "surface traction field",
-                    expected: n,
-                    got: p.len(),
-                },
-            ));
-        }
+        check_tractions(n, p, q)?;
         let fft = &mut self.fft;
         let targets = &self.targets;
         // The strain spectra, zeroed (the products are added into them).
@@ -473,15 +466,7 @@ impl SubsurfacePlan {
         q: Option<[&[f64]; 2]>,
     ) -> Result<[Vec<f64>; 6], SamError> {
         let n = self.grid.len();
-        if p.len() != n || q.is_some_and(|q| q[0].len() != n || q[1].len() != n) {
-            return Err(SamError::Numerics(
-                halfspace_numerics::NumericsError::LengthMismatch {
-                    what: "surface traction field",
-                    expected: n,
-                    got: p.len(),
-                },
-            ));
-        }
+        check_tractions(n, p, q)?;
         let positions = self.positions(levels)?;
         let mut out = std::mem::take(&mut self.spectra);
         if out.len() == positions.len() * 6 {
@@ -563,6 +548,15 @@ impl SubsurfacePlan {
     }
 }
 
+/// The tractions `p` (and `q`) of a grid of `n` cells: one value per cell each.
+fn check_tractions(n: usize, p: &[f64], q: Option<[&[f64]; 2]>) -> Result<(), SamError> {
+    check_lengths(
+        "surface traction field",
+        n,
+        std::iter::once(p).chain(q.into_iter().flatten()),
+    )
+}
+
 /// The stored spectra of a level, or an error once [`SubsurfacePlan::retain_levels`] dropped them.
 fn love_of(love: &Option<LayeredSpectra>) -> Result<&LayeredSpectra, SamError> {
     love.as_ref().ok_or_else(|| {
@@ -609,15 +603,11 @@ impl SubsurfacePlan {
         amplitudes: &[[&[f64]; 3]],
     ) -> Result<Vec<[Vec<f64>; 6]>, SamError> {
         let n = self.grid.len();
-        if let Some(bad) = amplitudes.iter().flatten().find(|a| a.len() != n) {
-            return Err(SamError::Numerics(
-                halfspace_numerics::NumericsError::LengthMismatch {
-                    what: "traction amplitude field",
-                    expected: n,
-                    got: bad.len(),
-                },
-            ));
-        }
+        check_lengths(
+            "traction amplitude field",
+            n,
+            amplitudes.iter().flatten().copied(),
+        )?;
         let positions = self.positions(levels)?;
         let kernel = AbsLoveFunctionals {
             half: self.grid.half1,
@@ -884,5 +874,31 @@ mod tests {
         let vm_p =
             (0.5 * ((p[0] - p[1]).powi(2) + (p[1] - p[2]).powi(2) + (p[2] - p[0]).powi(2))).sqrt();
         assert!((von_mises(&s) - vm_p).abs() < 1e-12);
+    }
+
+    /// A traction field of the wrong length is refused by the stresses of the whole box and of
+    /// some levels, naming the bad field's own length (a short `q₁` after a good `p`), and so is an
+    /// amplitude map of the bounds.
+    #[test]
+    fn tractions_of_another_length_are_refused_with_their_length() {
+        let grid = SurfaceGrid::square(8, 1e-4).unwrap();
+        let mut plan = SubsurfacePlan::new(&grid, 210e9, 0.3, 3e-5).unwrap();
+        let (ok, short) = (vec![1.0; grid.len()], vec![1.0; 5]);
+        let want = SamError::Numerics(halfspace_numerics::NumericsError::LengthMismatch {
+            what: "surface traction field",
+            expected: 64,
+            got: 5,
+        });
+        let q = Some([&short[..], &ok[..]]);
+        assert_eq!(plan.stress(&ok, q, None).unwrap_err(), want);
+        assert_eq!(plan.stress_of_levels(&[0], &ok, q).unwrap_err(), want);
+        let e = plan
+            .deviation_bounds_of_levels(&[0], &[[&ok[..], &ok[..], &short[..]]])
+            .unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("traction amplitude field: expected length 64, got 5"),
+            "{e}"
+        );
     }
 }

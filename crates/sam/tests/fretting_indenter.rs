@@ -434,7 +434,7 @@ fn the_estimate_holds_the_contact_problem() {
     for grid in [16, 64, 256] {
         let case = identical(grid);
         let surface = SurfaceGrid::square(grid, case.extent_over_a * case.hertz_radius()).unwrap();
-        let problem = problem_bytes(&surface, true, false);
+        let problem = problem_bytes(&surface, true, case.is_coupled());
         let estimate = case.estimate().bytes;
         assert!(estimate >= problem, "{grid}: {estimate} < {problem}");
     }

@@ -162,7 +162,13 @@ impl<S: OperatorSet> ContactProblem<S> {
                 },
             ));
         }
-        let coupled = compliance.coupling != 0.0 && params.friction > 0.0;
+        let coupled = compliance.is_coupled(params.friction);
+        // Refused before anything is built (docs/architecture.md, "Memory is checked before
+        // allocating"). Without friction the tangential fields are empty (q = 0, nothing to
+        // store): a frictionless problem holds the geometry, h and p only
+        // (docs/theory-sam.md#normal-contact), 24 B per cell.
+        let frictional = params.friction > 0.0;
+        crate::memory::check_problem(&grid, frictional, coupled)?;
         let (d1, d2) = (2.0 * grid.half1, 2.0 * grid.half2);
         let kappa = compliance.coupling;
         let shape = |alpha: usize, sign: f64| {
@@ -184,10 +190,6 @@ impl<S: OperatorSet> ContactProblem<S> {
         } else {
             (None, None)
         };
-        // Without friction the tangential fields are empty (q = 0, nothing to store): a
-        // frictionless problem holds the geometry, h and p only (docs/theory-sam.md#normal-contact), 24 B per cell.
-        let frictional = params.friction > 0.0;
-        crate::memory::check_problem(&grid, frictional, coupled)?;
         let z = || vec![0.0; n];
         let t = || if frictional { vec![0.0; n] } else { Vec::new() };
         let c_only = || if coupled { vec![0.0; n] } else { Vec::new() };
@@ -503,7 +505,7 @@ impl<S: OperatorSet> ContactProblem<S> {
         let (mut normal_total, mut tangential_total) = (0, 0);
         loop {
             alternations += 1;
-            if self.tangential.is_some() {
+            if self.tangential.is_some() && self.params.tangential.warm_start {
                 // The rim of the state the tangential solve starts from, before the normal solve
                 // moves p (docs/theory-sam.md#warm-starts-of-the-tangential-solve).
                 for k in 0..n {
@@ -572,7 +574,8 @@ impl<S: OperatorSet> ContactProblem<S> {
             }
             let [q0, q1] = &mut self.state.shear;
             // Rim warm start: a cell that slipped starts on its new circle `|q| = μp`
-            // (docs/theory-sam.md#warm-starts-of-the-tangential-solve).
+            // (docs/theory-sam.md#warm-starts-of-the-tangential-solve; no cell is marked
+            // without `TangentialParams::warm_start`).
             for k in 0..n {
                 if self.rim[k] && self.bound[k] > 0.0 {
                     let m = q0[k].hypot(q1[k]);

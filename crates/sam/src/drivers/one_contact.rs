@@ -122,7 +122,7 @@ pub fn solve_contact(case: &ContactCase) -> Result<ContactOutcome, SamError> {
     let grid = SurfaceGrid::square(case.grid, extent)?;
     let compliance = Compliance::pair(case.indenter_body, case.half_space)?;
     let frictional = case.friction > 0.0;
-    crate::memory::check_problem(&grid, frictional, frictional && compliance.coupling != 0.0)?;
+    crate::memory::check_problem(&grid, frictional, compliance.is_coupled(case.friction))?;
     let geometry = case.indenter.gap(&grid)?;
     let params = ContactParams {
         friction: case.friction,

@@ -150,6 +150,13 @@ impl Compliance {
         })
     }
 
+    /// Whether a contact of this pair with friction `μ = friction` is coupled
+    /// (docs/theory-sam.md#normal-tangential-alternation): `κ ≠ 0` and `μ > 0`. Its problem then
+    /// alternates and holds the two coupling operators ([`crate::memory::problem_bytes`]).
+    pub fn is_coupled(&self, friction: f64) -> bool {
+        self.coupling != 0.0 && friction > 0.0
+    }
+
     /// The same pair with the coupling switched off (`κ = 0`), as Cattaneo–Mindlin assumes.
     pub fn uncoupled(mut self) -> Self {
         self.coupling = 0.0;

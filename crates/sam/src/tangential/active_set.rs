@@ -178,6 +178,7 @@ impl<S: OperatorSet> TangentialSolver<S> {
             // A warm start that already meets the stopping rule, with no rim cell whose slip
             // opposes its shear (the set update would release it): done, on one product.
             if round == 0
+                && params.warm_start
                 && kkt < params.kkt_tolerance
                 && !(0..n).any(|k| {
                     !self.stick[k] && bound[k] > 0.0 && s0[k] * q0[k] + s1[k] * q1[k] < 0.0
@@ -195,7 +196,7 @@ impl<S: OperatorSet> TangentialSolver<S> {
             // INNER_REDUCTION of the KKT residual; once a round left them unchanged, the inner
             // solve aims at the stopping rule itself (FINAL_REDUCTION of the KKT tolerance: the
             // Newton system is then the final one but for the rim's rotation).
-            let reduction = if settled {
+            let reduction = if settled && params.warm_start {
                 FINAL_REDUCTION * params.kkt_tolerance
             } else {
                 INNER_REDUCTION * kkt

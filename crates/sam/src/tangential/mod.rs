@@ -53,7 +53,8 @@ pub const INNER_REDUCTION: f64 = 0.1;
 /// warm start that already meets the stopping rule. On cold Cattaneo–Mindlin 128² solves
 /// (Q/μP = 0.3 / 0.6 / 0.9 / 0.99) 87 / 105 / 113 / 120 → 89 / 96 / 105 / 126 products.
 ///
-/// The rule holds in every solve, cold or warm. For a round residual between the tolerance and
+/// The rule holds in every solve, cold or warm, with [`TangentialParams::warm_start`] (without it:
+/// [`INNER_REDUCTION`] of the round's residual in every round). For a round residual between the tolerance and
 /// 5× it, `0.5·tol` is looser than `INNER_REDUCTION·kkt`; the stopping rule (the whole problem's
 /// KKT residual) is unchanged, so a loose inner solve costs at most another round. The tighter
 /// `min(INNER_REDUCTION·kkt, 0.5·tol)` was measured and costs more on the same cold cases:
@@ -84,6 +85,19 @@ pub struct TangentialParams {
     pub max_iterations: usize,
     /// Algorithm.
     pub method: TangentialMethod,
+    /// The warm-start rules (docs/theory-sam.md#warm-starts-of-the-tangential-solve), on by
+    /// default: an active-set start that already meets the stopping rule (no slipping cell whose
+    /// slip opposes its shear) is returned on its one slip product; once a round's set update
+    /// changed no cell, the inner solve aims at [`FINAL_REDUCTION`] of the KKT tolerance; and
+    /// `ContactProblem` carries the cells that slipped onto their new circle `|q| = μp` before
+    /// each solve. `false`: the plain solve — every round's inner solve to [`INNER_REDUCTION`] of
+    /// its residual, no early return, the last shear as the start (projected onto the discs).
+    /// Both stop on the same rule (`kkt_tolerance`), so they reach the same minimiser to it; the
+    /// switch is there to compare them (crates/sam/tests/loops.rs, the load reversals). Only the
+    /// active-set method and `ContactProblem` read it: [`TangentialMethod::Fista`] has no such
+    /// rules. A library switch: the fretting loop and the wear run take the default, so no
+    /// configuration key selects it and their checkpoints need not record it.
+    pub warm_start: bool,
 }
 
 impl Default for TangentialParams {
@@ -93,6 +107,7 @@ impl Default for TangentialParams {
             kkt_tolerance: 1e-8,
             max_iterations: 50_000,
             method: TangentialMethod::ActiveSet,
+            warm_start: true,
         }
     }
 }
@@ -271,25 +286,11 @@ impl<S: OperatorSet> TangentialSolver<S> {
         let n = self.grid.len();
         let [q0, q1] = q;
         let [s_out0, s_out1] = slip;
-        for len in [
-            bound.len(),
-            b[0].len(),
-            b[1].len(),
-            q0.len(),
-            q1.len(),
-            s_out0.len(),
-            s_out1.len(),
-        ] {
-            if len != n {
-                return Err(SamError::Numerics(
-                    halfspace_numerics::NumericsError::LengthMismatch {
-                        what: "tangential solve fields",
-                        expected: n,
-                        got: len,
-                    },
-                ));
-            }
-        }
+        crate::error::check_lengths(
+            "tangential solve fields",
+            n,
+            [bound, b[0], b[1], &*q0, &*q1, &*s_out0, &*s_out1],
+        )?;
         let b_scale = b[0]
             .iter()
             .chain(b[1])

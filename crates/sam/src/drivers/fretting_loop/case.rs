@@ -246,6 +246,15 @@ impl LoopCase {
         }
     }
 
+    /// Whether the loop's contact problem is coupled ([`crate::Compliance::is_coupled`] of the
+    /// pair: friction `μ > 0` and a coupling `κ = (1−2ν₂)/(4πG₂) − (1−2ν₁)/(4πG₁)` that does not
+    /// vanish — dissimilar bodies; always for a rigid indenter with `ν < ½`). Its problem then
+    /// holds the two coupling operators and four more fields ([`crate::memory::problem_bytes`]).
+    pub fn is_coupled(&self) -> bool {
+        crate::Compliance::pair(self.indenter, self.flat())
+            .map_or(true, |c| c.is_coupled(self.friction))
+    }
+
     /// The grid's side length `extent_over_a · a` (m).
     pub fn extent(&self) -> f64 {
         self.extent_over_a * self.hertz_radius()
@@ -496,8 +505,9 @@ impl LoopCase {
         // layer count before the geometry is built, count the inhomogeneities' cells as one
         // layer each (an upper bound's shape, not a timing model).
         let weight = 1.0 + 4.0 * self.inhomogeneities.len().min(64) as f64;
-        // The frictional contact problem's footprint (`memory::problem_bytes`, uncoupled).
-        let frictional = crate::memory::problem_bytes_per_cell(true, false);
+        // The frictional contact problem's footprint (`memory::problem_bytes`), with the two
+        // coupling operators and fields when the pair is coupled.
+        let frictional = crate::memory::problem_bytes_per_cell(true, self.is_coupled());
         // The points A–D: eight surface fields each (and the von Mises layers, when asked).
         let points = 4.0 * cells * 8.0 * 8.0;
         let cell = self.extent() / self.grid as f64;

@@ -109,7 +109,7 @@ impl FrettingLoop {
         case.estimate().check("the fretting loop")?;
         let a = case.hertz_radius();
         let grid = SurfaceGrid::square(case.grid, case.extent_over_a * a)?;
-        crate::memory::check_problem(&grid, true, false)?;
+        crate::memory::check_problem(&grid, true, case.is_coupled())?;
         let geometry = (0..grid.len())
             .map(|k| {
                 let (x, y) = grid.centre(k / grid.n2, k % grid.n2);

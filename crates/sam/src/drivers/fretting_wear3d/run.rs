@@ -192,7 +192,7 @@ impl FrettingWear3d {
         case.validate()?;
         let lc = &case.fretting;
         let grid = SurfaceGrid::square(lc.grid, case.extent())?;
-        crate::memory::check_problem(&grid, true, false)?;
+        crate::memory::check_problem(&grid, true, lc.is_coupled())?;
         let unworn: Vec<f64> = (0..grid.len())
             .map(|k| {
                 let (x, y) = grid.centre(k / grid.n2, k % grid.n2);
