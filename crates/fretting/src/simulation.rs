@@ -138,6 +138,9 @@ pub struct StepAttempt {
     /// `λ` of the projection onto the closed set ([`FrettingSimulation::set_hole_projection`]):
     /// the result is `f₁ + λ(f₂ − f₁)`; 1 when not projected.
     pub projection: f64,
+    /// The nodes the contact condition closed in the result ([`FrettingSimulation::set_hole_closing`]):
+    /// 0 when none were.
+    pub closed_holes: usize,
 }
 
 /// The observer of [`FrettingSimulation::set_attempt_observer`].
@@ -231,6 +234,10 @@ pub struct FrettingSimulation {
     /// is projected back onto the closed set along the pair's segment
     /// ([`FrettingSimulation::set_hole_projection`]).
     hole_projection: bool,
+    /// Whether the contact condition `g ≤ d` is imposed on the result's slip annulus
+    /// ([`FrettingSimulation::set_hole_closing`]) and its work space.
+    hole_closing: bool,
+    closing: HoleClosing,
     start: Vec<f64>,
     /// `g`, `σ`, `p`, the slip and the rate of the step's start and its contact, put back after a
     /// rejected attempt instead of evaluated again (the same bits).
@@ -404,6 +411,8 @@ impl FrettingSimulation {
             freeze_contact: true,
             first_order_fallback: false,
             hole_projection: true,
+            hole_closing: false,
+            closing: HoleClosing::new(n),
             observer: None,
             attempt: StepAttempt {
                 tau: 0.0,
@@ -422,6 +431,7 @@ impl FrettingSimulation {
                 error_terms: [0.0; 3],
                 first_order: false,
                 projection: 1.0,
+                closed_holes: 0,
             },
             grid,
             params,
@@ -498,6 +508,19 @@ impl FrettingSimulation {
     /// part of the checkpointed state (the CLI records the scheme, [`ADAPTIVE_SCHEME`]).
     pub fn set_hole_projection(&mut self, on: bool) {
         self.hole_projection = on;
+    }
+
+    /// Whether the contact condition `g ≤ d` is imposed on the adaptive results' slip annulus
+    /// (on by default; docs/fretting-wear.md, "The contact condition on the result"): the holes
+    /// a result opens inside its contact by more than [`HOLE_CLOSING_THRESHOLD`] · tol are closed
+    /// by taking back wear on them (a primal–dual active-set solve on those nodes,
+    /// `FrettingSimulation::close_holes`), the correction's size joins the error estimate.
+    /// When the active set does not settle the attempt goes on as without it (the projection
+    /// onto the closed set, [`FrettingSimulation::set_hole_projection`]). Only with the hole
+    /// estimate and the frozen contact stages on. Set before the first step; not part of the
+    /// checkpointed state (the CLI records the scheme, [`ADAPTIVE_SCHEME`]).
+    pub fn set_hole_closing(&mut self, on: bool) {
+        self.hole_closing = on;
     }
 
     /// Calls `observer` after every attempt of an error-controlled step ([`StepAttempt`]: the step,
@@ -721,6 +744,7 @@ impl FrettingSimulation {
         self.attempt.first_order = false;
         self.attempt.projection = 1.0;
         self.attempt.opened_holes = 0;
+        self.attempt.closed_holes = 0;
         self.matrix.beta = ROS2_GAMMA * dtau;
         if self.precondition {
             self.precond.factor(self.matrix.beta);
@@ -816,13 +840,13 @@ impl FrettingSimulation {
             }
             // `g` is the result's (before the entered nodes' correction, which acts beyond the
             // start's contact).
-            let holes = self.opened_hole_error();
-            self.attempt.opened_holes = holes.2;
-            self.attempt.error_terms[2] = holes.0;
             let tolerance = match self.params.stepping {
                 TimeStepping::Adaptive { tolerance } => tolerance,
                 _ => f64::INFINITY,
             };
+            let holes = self.opened_hole_error();
+            self.attempt.opened_holes = holes.2;
+            self.attempt.error_terms[2] = holes.0;
             let fallback = self.first_order_fallback;
             if self.hole_estimate && (fallback || self.hole_projection) && holes.0 > tolerance {
                 // The result opens holes its first-order solution keeps closed, by more than the
@@ -868,6 +892,29 @@ impl FrettingSimulation {
             }
         }
         self.wear_entered_nodes(dtau);
+        if let TimeStepping::Adaptive { tolerance } = self.params.stepping {
+            if frozen.is_some() && self.hole_estimate && self.hole_closing {
+                // The gap of the final profile: the result's (or the projection's interpolated
+                // one) unless the entered nodes' wear changed the profile after it.
+                if !self.entered_nodes.is_empty() {
+                    derivative_uniform(&self.state.profile, self.grid.step(), &mut self.slope)
+                        .map_err(MdrError::from)?;
+                    self.profile_tf.slope_to_equivalent(
+                        &self.grid,
+                        &mut self.slope,
+                        &mut self.g,
+                    )?;
+                }
+                if let Closing::Closed { size, node, count } = self.close_holes(tolerance)? {
+                    self.attempt.closed_holes = count;
+                    self.attempt.error_terms[2] = self.attempt.error_terms[2].max(size);
+                    if size > error {
+                        error = size;
+                        self.attempt.worst_node = node;
+                    }
+                }
+            }
+        }
         Ok(error)
     }
 
@@ -930,6 +977,144 @@ impl FrettingSimulation {
     /// (docs/fretting-wear.md, "What sets the step"). Reads `g` of the result.
     fn opened_hole_error(&self) -> (f64, usize, usize) {
         opened_holes(self.first_annulus_node, &self.g, &self.trial_gap)
+    }
+
+    /// The contact condition on the step's result (docs/fretting-wear.md, "The contact condition
+    /// on the result"): the exact flow keeps `g ≤ d` on the slip annulus inside the contact (a
+    /// node whose gap opens stops wearing), the linearly implicit stages, whose active set is
+    /// frozen at the step's start, do not. On the start's contact nodes `first ≤ i < m` inside
+    /// the result's last node with `g < d`, the holes `g_i > d + ϑ` (`ϑ` =
+    /// [`HOLE_CLOSING_THRESHOLD`] · tol) form the active set `A`; the correction `δ` (supported
+    /// on `A`, `δ ≤ 0`: wear taken back, never added) solves `(G δ)_A = g* − g_A` with
+    /// `g* = d − HOLE_CLOSING_MARGIN · ϑ` and `G = P D` the (linear) map `f ↦ g` (Eq. 7 / 23 of
+    /// the central-difference slope; its columns `G e_j` by one profile transform each), by a
+    /// primal–dual active-set iteration: nodes with `δ_j > 0` leave `A` (their hole stays and is
+    /// charged by the hole estimate), holes the correction opens elsewhere join it, at most
+    /// [`HOLE_CLOSING_SWEEPS`] sweeps and [`HOLE_CLOSING_NODES`] nodes (else
+    /// [`Closing::Failed`]: the attempt goes on as without the condition). On success the profile
+    /// becomes `f₂ + δ` and `g` its gap; `max |δ|` (in `f̃`'s units) is returned as the
+    /// correction's size, charged to the error estimate (the step is accurate only when the
+    /// condition moves the result by less than the tolerance).
+    fn close_holes(&mut self, tolerance: f64) -> Result<Closing, FrettingError> {
+        let n = self.grid.len();
+        let first = self.first_annulus_node;
+        let threshold = HOLE_CLOSING_THRESHOLD * tolerance;
+        let target = 1.0 - HOLE_CLOSING_MARGIN * threshold;
+        let c = &mut self.closing;
+        c.nodes.clear();
+        c.slots.clear();
+        c.excluded.clear();
+        let last = self.g.iter().rposition(|&x| x < 1.0).unwrap_or(0);
+        for i in first..last {
+            if self.g[i] > 1.0 + threshold {
+                if c.nodes.len() == HOLE_CLOSING_NODES {
+                    return Ok(Closing::Failed);
+                }
+                c.nodes.push(i);
+            }
+        }
+        if c.nodes.is_empty() {
+            return Ok(Closing::Nothing);
+        }
+        let h = self.grid.step();
+        let mut computed = 0;
+        for _ in 0..HOLE_CLOSING_SWEEPS {
+            // The columns G e_j of the nodes that joined: from the cache (G is fixed: the same
+            // bits as computed again), else by one transform into the least recently used slot
+            // no active node holds.
+            for a in computed..c.nodes.len() {
+                let j = c.nodes[a];
+                c.clock += 1;
+                let slot = match c.cached.iter().position(|&x| x == j) {
+                    Some(slot) => slot,
+                    None => {
+                        let slot = (0..COLUMN_CACHE)
+                            .filter(|s| !c.slots.contains(s))
+                            .min_by_key(|&s| c.stamp[s])
+                            .expect("more cache slots than active nodes");
+                        c.unit.fill(0.0);
+                        c.unit[j] = 1.0;
+                        derivative_uniform(&c.unit, h, &mut c.slope).map_err(MdrError::from)?;
+                        let column = &mut c.columns[slot * n..(slot + 1) * n];
+                        self.profile_tf
+                            .slope_to_equivalent(&self.grid, &mut c.slope, column)?;
+                        c.cached[slot] = j;
+                        slot
+                    }
+                };
+                c.stamp[slot] = c.clock;
+                c.slots.push(slot);
+            }
+            let k = c.nodes.len();
+            for (a, &i) in c.nodes.iter().enumerate() {
+                for (b, &slot) in c.slots.iter().enumerate() {
+                    c.matrix[a * k + b] = c.columns[slot * n + i];
+                }
+                c.delta[a] = target - self.g[i];
+            }
+            if !solve_dense(&mut c.matrix[..k * k], &mut c.delta[..k]) {
+                return Ok(Closing::Failed);
+            }
+            // Nodes whose closing would add wear leave the set.
+            let mut left = false;
+            let mut slot = 0;
+            while slot < c.nodes.len() {
+                if c.delta[slot] > 0.0 {
+                    if c.excluded.len() == HOLE_CLOSING_NODES {
+                        return Ok(Closing::Failed);
+                    }
+                    c.excluded.push(c.nodes[slot]);
+                    let end = c.nodes.len() - 1;
+                    c.nodes.swap(slot, end);
+                    c.delta.swap(slot, end);
+                    c.slots.swap(slot, end);
+                    c.nodes.pop();
+                    c.slots.pop();
+                    left = true;
+                } else {
+                    slot += 1;
+                }
+            }
+            computed = c.nodes.len();
+            if left {
+                continue;
+            }
+            // The corrected gap g + G δ and the holes it opens.
+            c.gap.copy_from_slice(&self.g);
+            for (&slot, &d) in c.slots.iter().zip(&c.delta[..computed]) {
+                for (g, col) in c.gap.iter_mut().zip(&c.columns[slot * n..(slot + 1) * n]) {
+                    *g += d * col;
+                }
+            }
+            let last = c.gap.iter().rposition(|&x| x < 1.0).unwrap_or(0);
+            let before = c.nodes.len();
+            for i in first..last {
+                if c.gap[i] > 1.0 + threshold && !c.nodes.contains(&i) && !c.excluded.contains(&i) {
+                    if c.nodes.len() == HOLE_CLOSING_NODES {
+                        return Ok(Closing::Failed);
+                    }
+                    c.nodes.push(i);
+                }
+            }
+            if c.nodes.len() == before {
+                let mut worst = (0.0f64, 0);
+                for (&i, &d) in c.nodes.iter().zip(&c.delta) {
+                    self.state.profile[i] += d;
+                    // A hole the step's start has already is not this step's error.
+                    if self.start_rate.g[i] <= 1.0 + threshold && d.abs() > worst.0 {
+                        worst = (d.abs(), i);
+                    }
+                }
+                self.g.copy_from_slice(&c.gap);
+                self.current = None;
+                return Ok(Closing::Closed {
+                    size: worst.0,
+                    node: worst.1,
+                    count: c.nodes.len(),
+                });
+            }
+        }
+        Ok(Closing::Failed)
     }
 
     /// The correction at the end of a step whose second stage kept the contact nodes of its start
@@ -1426,6 +1611,107 @@ fn quantized_step(dtau: f64) -> f64 {
     ((dtau.log2() * STEP_LEVELS).round() / STEP_LEVELS).exp2()
 }
 
+/// The gap excess `ϑ/tol` above which a hole of a result is closed
+/// ([`FrettingSimulation::set_hole_closing`]). Part of the scheme ([`ADAPTIVE_SCHEME`]).
+const HOLE_CLOSING_THRESHOLD: f64 = 1.0;
+/// The closed nodes end at `g = d − HOLE_CLOSING_MARGIN · ϑ`. Part of the scheme.
+const HOLE_CLOSING_MARGIN: f64 = 1e-3;
+/// The largest active set of [`FrettingSimulation::set_hole_closing`] (and of the nodes that left it).
+const HOLE_CLOSING_NODES: usize = 32;
+/// The columns `G e_j` [`FrettingSimulation::set_hole_closing`] keeps (at least twice
+/// [`HOLE_CLOSING_NODES`]).
+const COLUMN_CACHE: usize = 2 * HOLE_CLOSING_NODES;
+/// The active-set sweeps of [`FrettingSimulation::set_hole_closing`].
+const HOLE_CLOSING_SWEEPS: usize = 8;
+
+/// The work space of [`FrettingSimulation::set_hole_closing`], allocated once.
+struct HoleClosing {
+    /// `COLUMN_CACHE` columns `G e_j` of `N`, the node of each (`usize::MAX`: none) and when it
+    /// was last used.
+    columns: Vec<f64>,
+    cached: Vec<usize>,
+    stamp: Vec<u64>,
+    clock: u64,
+    /// The active nodes and their columns' slots.
+    nodes: Vec<usize>,
+    slots: Vec<usize>,
+    excluded: Vec<usize>,
+    matrix: Vec<f64>,
+    delta: Vec<f64>,
+    unit: Vec<f64>,
+    slope: Vec<f64>,
+    gap: Vec<f64>,
+}
+
+impl HoleClosing {
+    fn new(n: usize) -> Self {
+        Self {
+            columns: vec![0.0; COLUMN_CACHE * n],
+            cached: vec![usize::MAX; COLUMN_CACHE],
+            stamp: vec![0; COLUMN_CACHE],
+            clock: 0,
+            nodes: Vec::with_capacity(HOLE_CLOSING_NODES),
+            slots: Vec::with_capacity(HOLE_CLOSING_NODES),
+            excluded: Vec::with_capacity(HOLE_CLOSING_NODES),
+            matrix: vec![0.0; HOLE_CLOSING_NODES * HOLE_CLOSING_NODES],
+            delta: vec![0.0; HOLE_CLOSING_NODES],
+            unit: vec![0.0; n],
+            slope: vec![0.0; n],
+            gap: vec![0.0; n],
+        }
+    }
+}
+
+/// What [`FrettingSimulation::close_holes`] did.
+#[derive(Debug, Clone, Copy)]
+enum Closing {
+    /// No hole above the threshold.
+    Nothing,
+    /// Closed `count` nodes; `max |δ|` and its node.
+    Closed {
+        size: f64,
+        node: usize,
+        count: usize,
+    },
+    /// The active set did not settle (or grew beyond its bound, or its matrix was singular).
+    Failed,
+}
+
+/// Solves the dense `k × k` system `A x = b` (row-major, `k² = a.len()`) in place by Gaussian
+/// elimination with partial pivoting: `x` in `b`. False when a pivot vanishes.
+fn solve_dense(a: &mut [f64], b: &mut [f64]) -> bool {
+    let k = b.len();
+    for col in 0..k {
+        let pivot = (col..k)
+            .max_by(|&x, &y| a[x * k + col].abs().total_cmp(&a[y * k + col].abs()))
+            .unwrap_or(col);
+        if a[pivot * k + col] == 0.0 || !a[pivot * k + col].is_finite() {
+            return false;
+        }
+        if pivot != col {
+            for j in 0..k {
+                a.swap(pivot * k + j, col * k + j);
+            }
+            b.swap(pivot, col);
+        }
+        for row in col + 1..k {
+            let factor = a[row * k + col] / a[col * k + col];
+            for j in col..k {
+                a[row * k + j] -= factor * a[col * k + j];
+            }
+            b[row] -= factor * b[col];
+        }
+    }
+    for row in (0..k).rev() {
+        let mut sum = b[row];
+        for j in row + 1..k {
+            sum -= a[row * k + j] * b[j];
+        }
+        b[row] = sum / a[row * k + row];
+    }
+    true
+}
+
 /// Which ROS2 stage a solve is for.
 #[derive(Debug, Clone, Copy)]
 enum Stage {
@@ -1878,6 +2164,90 @@ mod tests {
         }
         // No hole: no projection.
         assert_eq!(hole_projection(1, &g1, &g1), 1.0);
+    }
+
+    /// The contact condition on a result ([`FrettingSimulation::set_hole_closing`]): wear put
+    /// on two annulus nodes inside the contact opens them (and the correction may open others);
+    /// the active-set solve closes every hole above the threshold by taking wear back on the
+    /// active nodes only (`δ ≤ 0`), to `g* = d − margin · ϑ`; the corrected gap it returns
+    /// (`g + G δ` from the columns `G e_j`) is the gap recomputed from the corrected profile.
+    #[test]
+    fn hole_closing_closes_the_holes_by_taking_wear_back() {
+        let (k, chi, tolerance) = (-0.5, 0.9, 1e-4);
+        let params = FrettingParams {
+            nodes: 501,
+            k,
+            chi,
+            length: FrettingParams::default_length(chi, k),
+            tau_end: 0.5,
+            snapshots: vec![],
+            ..FrettingParams::default()
+        };
+        let mut sim = FrettingSimulation::new(params).unwrap();
+        sim.run(|_| false).unwrap();
+        let m = sim.contact().unwrap().edge;
+        let start_g = sim.equivalent_profile().unwrap().to_vec();
+        let first = sim.first_annulus_node;
+        assert!(m > first + 12, "annulus {first}..{m}");
+        // Wear on nodes m − 6 and m − 9 (raising f_i raises g_{i−1} and g_i, lowers g_{i+1}).
+        let mut worn = sim.state.profile.clone();
+        for i in [m - 6, m - 9] {
+            worn[i] += 5e-4;
+        }
+        sim.state.profile.copy_from_slice(&worn);
+        sim.current = None;
+        let g = sim.equivalent_profile().unwrap().to_vec();
+        let threshold = HOLE_CLOSING_THRESHOLD * tolerance;
+        let holes = (first..m).filter(|&i| g[i] > 1.0 + threshold).count();
+        assert!(holes >= 2, "{holes} holes");
+        // The step's start has no holes: the correction is charged.
+        sim.start_rate.g.copy_from_slice(&start_g);
+        let closing = sim.close_holes(tolerance).unwrap();
+        let Closing::Closed { size, count, .. } = closing else {
+            panic!("{closing:?}");
+        };
+        assert!(count >= 2, "{count}");
+        let corrected = sim.state.profile.clone();
+        let predicted = sim.g.clone();
+        let nodes = sim.closing.nodes.clone();
+        let mut largest = 0.0f64;
+        for (i, (c, w)) in corrected.iter().zip(&worn).enumerate() {
+            if nodes.contains(&i) {
+                assert!(c <= w, "node {i} gained wear");
+                largest = largest.max(w - c);
+            } else {
+                assert_eq!(c, w, "node {i} outside the active set moved");
+            }
+        }
+        assert!(
+            (size - largest).abs() <= 1e-15 * largest.max(1.0),
+            "{size} vs {largest}"
+        );
+        sim.current = None;
+        let g = sim.equivalent_profile().unwrap().to_vec();
+        let scale = g.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let d = max_abs(&g, &predicted);
+        assert!(d < 1e-12 * scale, "g + Gδ vs g(f + δ): {d:e}");
+        let last = g.iter().rposition(|&x| x < 1.0).unwrap();
+        for (i, gi) in g.iter().enumerate().take(last).skip(first) {
+            assert!(gi <= &(1.0 + threshold), "node {i}: g − 1 = {:e}", gi - 1.0);
+        }
+        let target = 1.0 - HOLE_CLOSING_MARGIN * threshold;
+        for &i in &nodes {
+            assert!(
+                (g[i] - target).abs() < 1e-12,
+                "node {i}: {:e}",
+                g[i] - target
+            );
+        }
+        // The dense solve on a small system with a row swap.
+        let mut a = [0.0, 2.0, 1.0, 1.0, 1.0, 0.0, 3.0, 0.0, 1.0];
+        let mut b = [3.0, 2.0, 4.0];
+        assert!(solve_dense(&mut a, &mut b));
+        for (x, e) in b.iter().zip([1.0, 1.0, 1.0]) {
+            assert!((x - e).abs() < 1e-15, "{b:?}");
+        }
+        assert!(!solve_dense(&mut [1.0, 2.0, 2.0, 4.0], &mut [1.0, 2.0]));
     }
 
     fn max_abs(a: &[f64], b: &[f64]) -> f64 {
