@@ -413,7 +413,8 @@ impl FrettingSimulation {
             first_order_fallback: false,
             hole_projection: true,
             hole_closing: false,
-            closing: HoleClosing::new(n),
+            // Allocated by `set_hole_closing(true)` (COLUMN_CACHE columns of N).
+            closing: HoleClosing::new(0),
             observer: None,
             attempt: StepAttempt {
                 tau: 0.0,
@@ -528,6 +529,10 @@ impl FrettingSimulation {
     /// one bit for bit when it is set the same way again.
     pub fn set_hole_closing(&mut self, on: bool) {
         self.hole_closing = on;
+        let n = self.grid.len();
+        if on && self.closing.unit.len() != n {
+            self.closing = HoleClosing::new(n);
+        }
     }
 
     /// Calls `observer` after every attempt of an error-controlled step ([`StepAttempt`]: the step,
@@ -2211,6 +2216,7 @@ mod tests {
         assert!(holes >= 2, "{holes} holes");
         // The step's start has no holes: the correction is charged.
         sim.start_rate.g.copy_from_slice(&start_g);
+        sim.set_hole_closing(true);
         let closing = sim.close_holes(tolerance).unwrap();
         let Closing::Closed { size, count, .. } = closing else {
             panic!("{closing:?}");
