@@ -94,11 +94,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let cell = sim.grid().step() / (2.0 * r_star);
     let a = *state.contact_radius_history.last().unwrap_or(&0.0);
     println!(
-        "steps {} ({} rejected), GMRES {}, a/a0 {a:.6} ({:+.2} cells from r*), V/V∞ − 1 {:+.3e}, holes {holes}, {seconds:.2} s",
+        "steps {} ({} rejected), GMRES {}, a/a0 {a:.6} ({:+.2} cells from r*), V {:.5e}, V/V∞ − 1 {:+.3e}, holes {holes}, {seconds:.2} s",
         state.step,
         state.rejected_steps,
         sim.krylov_iterations(),
         (a - r_star) / cell,
+        sim.wear_volume(),
         sim.wear_volume() / sim.limit_wear_volume() - 1.0
     );
     Ok(())
