@@ -40,21 +40,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // `HOLE_PROJECTION=off`: an attempt whose result opens holes above the tolerance is
     // rejected instead of projected onto the closed set (the scheme before).
     sim.set_hole_projection(std::env::var("HOLE_PROJECTION").map_or(true, |v| v != "off"));
+    // `HOLE_CLOSING=on`: the contact condition on the results (experimental, off by default).
+    sim.set_hole_closing(std::env::var("HOLE_CLOSING").is_ok_and(|v| v == "on"));
     let sink = Arc::clone(&attempts);
     sim.set_attempt_observer(Box::new(move |a| sink.lock().expect("lock").push(*a)));
     let start = std::time::Instant::now();
-    sim.run(|_| false)?;
+    // The attempts are written also when the run fails.
+    let run = sim.run(|_| false);
     let seconds = start.elapsed().as_secs_f64();
     let attempts = attempts.lock().expect("lock");
     let mut out = std::io::BufWriter::new(std::fs::File::create(&csv)?);
     writeln!(
         out,
-        "tau,dtau,ratio,accepted,worst,edge_start,edge_trial,edge_end,gmres1,gmres2,opened_holes,err_ros2,err_outside,err_hole,first_order,projection"
+        "tau,dtau,ratio,accepted,worst,edge_start,edge_trial,edge_end,gmres1,gmres2,opened_holes,err_ros2,err_outside,err_hole,first_order,projection,closed"
     )?;
     for a in attempts.iter() {
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             a.tau,
             a.dtau,
             a.error_ratio,
@@ -70,9 +73,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             a.error_terms[1],
             a.error_terms[2],
             u8::from(a.first_order),
-            a.projection
+            a.projection,
+            a.closed_holes
         )?;
     }
+    run?;
     // Holes at the end: annulus nodes inside the last contact node with g ≥ d.
     let stick = halfspace_fretting::limit::stick_radius(chi);
     let first = sim
@@ -89,11 +94,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let cell = sim.grid().step() / (2.0 * r_star);
     let a = *state.contact_radius_history.last().unwrap_or(&0.0);
     println!(
-        "steps {} ({} rejected), GMRES {}, a/a0 {a:.6} ({:+.2} cells from r*), V/V∞ − 1 {:+.3e}, holes {holes}, {seconds:.2} s",
+        "steps {} ({} rejected), GMRES {}, a/a0 {a:.6} ({:+.2} cells from r*), V {:.5e}, V/V∞ − 1 {:+.3e}, holes {holes}, {seconds:.2} s",
         state.step,
         state.rejected_steps,
         sim.krylov_iterations(),
         (a - r_star) / cell,
+        sim.wear_volume(),
         sim.wear_volume() / sim.limit_wear_volume() - 1.0
     );
     Ok(())

@@ -702,10 +702,19 @@ fn graded_holes_against_explicit_euler(nodes: usize, extra: usize) {
 /// χ = 0.5, N = 401 at τ = 1 and 3, in units of the tolerance: bounded now that the error
 /// estimate includes the wear of the nodes outside the start's contact (docs/fretting-wear.md,
 /// "The contact set within a step"). A measurement (`cargo test --release -p halfspace-fretting
-/// --test stepping -- --ignored --nocapture global_error`), numbers in the docs.
+/// --test stepping -- --ignored --nocapture global_error`), numbers in the docs. With
+/// `HOLE_CLOSING=on` every run (the reference too) has the experimental contact condition on
+/// (`FrettingSimulation::set_hole_closing`).
 #[test]
 #[ignore = "a measurement: about a minute"]
 fn global_error_is_a_multiple_of_the_tolerance() {
+    let closing = std::env::var("HOLE_CLOSING").is_ok_and(|v| v == "on");
+    let run = |params: FrettingParams| {
+        let mut sim = FrettingSimulation::new(params).unwrap();
+        sim.set_hole_closing(closing);
+        sim.run(|_| false).unwrap();
+        sim
+    };
     for k in [0.0, -0.5] {
         let params = |tolerance: f64| FrettingParams {
             nodes: 401,
@@ -747,15 +756,14 @@ fn global_error_is_a_multiple_of_the_tolerance() {
     }
 }
 
-/// The graded run's phase with holes (k = −0.5, χ = 0.9, N = 501 to τ = 1) with the scheme that
-/// rejects every attempt whose result opens holes above the tolerance (the projection off) and
-/// with `variant` set on top of it: the variant takes fewer attempts, ends within a few
-/// tolerances of it in f (the global error of either is up to 6.6 tol, docs/fretting-wear.md,
-/// "The quantized step") and opens no more holes. Returns the variant's steps (rejected), the
-/// baseline's and max |Δf|.
-fn fewer_attempts_than_rejecting_holes(
+/// The graded run's phase with holes (k = −0.5, χ = 0.9, N = 501 to τ = 1) with `baseline` set
+/// and with `variant` set on top of it: the two runs, after checking that they end within a few
+/// tolerances of each other in f (the global error of either is up to 6.6 tol,
+/// docs/fretting-wear.md, "The quantized step"); prints their steps (rejected), max |Δf| and holes.
+fn graded_phase_pair(
+    baseline: impl Fn(&mut FrettingSimulation),
     variant: impl Fn(&mut FrettingSimulation),
-) -> ((u64, u64), (u64, u64), f64) {
+) -> (FrettingSimulation, FrettingSimulation) {
     let (k, chi, nodes) = (-0.5, 0.9, 501);
     let params = FrettingParams {
         chi,
@@ -766,29 +774,36 @@ fn fewer_attempts_than_rejecting_holes(
         snapshots: vec![1.0],
         ..Default::default()
     };
-    let mut baseline = FrettingSimulation::new(params.clone()).unwrap();
-    baseline.set_hole_projection(false);
-    baseline.run(|_| false).unwrap();
+    let mut base = FrettingSimulation::new(params.clone()).unwrap();
+    baseline(&mut base);
+    base.run(|_| false).unwrap();
     let mut other = FrettingSimulation::new(params).unwrap();
-    other.set_hole_projection(false);
+    baseline(&mut other);
     variant(&mut other);
     other.run(|_| false).unwrap();
-    let attempts = |s: &FrettingSimulation| s.state().step + s.state().rejected_steps;
-    let difference = max_abs_diff(&baseline.state().profile, &other.state().profile);
-    let (holes_baseline, holes_other) = (holes(&mut baseline), holes(&mut other));
+    let difference = max_abs_diff(&base.state().profile, &other.state().profile);
+    let (holes_base, holes_other) = (holes(&mut base), holes(&mut other));
     let steps = |s: &FrettingSimulation| (s.state().step, s.state().rejected_steps);
     println!(
-        "{:?} steps (rejected) vs {:?}; max |Δf| {difference:.2e}; holes {holes_other} vs {holes_baseline}",
+        "{:?} steps (rejected) vs {:?}; max |Δf| {difference:.2e}; holes {holes_other} vs {holes_base}",
         steps(&other),
-        steps(&baseline),
+        steps(&base),
     );
-    assert!(attempts(&other) < attempts(&baseline));
-    assert!(holes_other <= holes_baseline);
     assert!(
         difference < 5.0 * TimeStepping::DEFAULT_TOLERANCE,
         "{difference}"
     );
-    (steps(&other), steps(&baseline), difference)
+    (base, other)
+}
+
+/// [`graded_phase_pair`] against the scheme that rejects every attempt whose result opens holes
+/// above the tolerance (the projection off): the variant takes fewer attempts and opens no more
+/// holes.
+fn fewer_attempts_than_rejecting_holes(variant: impl Fn(&mut FrettingSimulation)) {
+    let (mut base, mut other) = graded_phase_pair(|s| s.set_hole_projection(false), variant);
+    let attempts = |s: &FrettingSimulation| s.state().step + s.state().rejected_steps;
+    assert!(attempts(&other) < attempts(&base));
+    assert!(holes(&mut other) <= holes(&mut base));
 }
 
 /// The experimental first-order fallback (`FrettingSimulation::set_first_order_fallback`,
@@ -807,4 +822,44 @@ fn first_order_fallback_takes_fewer_steps() {
 #[test]
 fn hole_projection_takes_fewer_steps() {
     fewer_attempts_than_rejecting_holes(|s| s.set_hole_projection(true));
+}
+
+/// The contact condition on the results (`FrettingSimulation::set_hole_closing`, experimental,
+/// off by default; docs/fretting-wear.md, "The contact condition on the result") against the
+/// default scheme on the graded run's phase with holes ([`graded_phase_pair`]: within 5 tol in
+/// f), with accepted attempts that closed holes; and a run with it killed half-way and resumed
+/// with it set again ends bit for bit where the uninterrupted one does (the closing is a function
+/// of the profile: its column cache holds the same bits as computed again). Measured: 601 (95)
+/// steps against 622 (102), max |Δf| 1.74e-4, holes 1 against 0 — no fewer attempts here, and
+/// no assertion that there are (docs/fretting-wear.md).
+#[test]
+fn hole_closing_stays_accurate_and_resumes_bit_for_bit() {
+    let closed: Arc<Mutex<usize>> = Arc::default();
+    let sink = Arc::clone(&closed);
+    let (_, other) = graded_phase_pair(
+        |_| {},
+        move |s| {
+            s.set_hole_closing(true);
+            let sink = Arc::clone(&sink);
+            s.set_attempt_observer(Box::new(move |a| {
+                if a.accepted && a.closed_holes > 0 {
+                    *sink.lock().unwrap() += 1;
+                }
+            }));
+        },
+    );
+    let closed = *closed.lock().unwrap();
+    println!("{closed} accepted attempts closed holes");
+    assert!(closed > 0);
+    let params = other.params().clone();
+    let kill_at = other.state().step / 2;
+    let mut first = FrettingSimulation::new(params.clone()).unwrap();
+    first.set_hole_closing(true);
+    first.run(|s| s.state().step >= kill_at).unwrap();
+    let saved = first.state().clone();
+    drop(first);
+    let mut second = FrettingSimulation::resume(params, saved).unwrap();
+    second.set_hole_closing(true);
+    second.run(|_| false).unwrap();
+    assert_eq!(second.state(), other.state(), "killed at step {kill_at}");
 }
