@@ -206,11 +206,13 @@ impl SplitFft {
         join_if_on_pool(|| even.inverse(inverse), || odd.inverse(inverse));
         let m = y.len();
         debug_assert!(m <= 2 * half);
-        for (j, pair) in y.chunks_mut(2).enumerate() {
-            pair[0] = even.time[j];
-            if let Some(o) = pair.get_mut(1) {
-                *o = odd.time[j];
-            }
+        let mut pairs = y.chunks_exact_mut(2);
+        for ((pair, e), o) in (&mut pairs).zip(&even.time).zip(&odd.time) {
+            pair[0] = *e;
+            pair[1] = *o;
+        }
+        if let [last] = pairs.into_remainder() {
+            *last = even.time[m / 2];
         }
     }
 }
@@ -218,10 +220,16 @@ impl SplitFft {
 impl SplitLane {
     /// The spectrum of the samples `x_{2j + parity}` (zero beyond `x`).
     fn forward(&mut self, plan: &Arc<dyn RealToComplex<f64>>, x: &[f64], parity: usize) {
-        let mut filled = 0;
-        for (t, v) in self.time.iter_mut().zip(x.iter().skip(parity).step_by(2)) {
-            *t = *v;
-            filled += 1;
+        // x_{2j + parity}, j < ⌈(m − parity)/2⌉.
+        let filled = (x.len() + 1 - parity) / 2;
+        let mut pairs = x.chunks_exact(2);
+        for (t, pair) in self.time.iter_mut().zip(&mut pairs) {
+            *t = pair[parity];
+        }
+        if let [last] = pairs.remainder() {
+            if parity == 0 {
+                self.time[x.len() / 2] = *last;
+            }
         }
         self.time[filled..].fill(0.0);
         plan.process_with_scratch(&mut self.time, &mut self.freq, &mut self.scratch)
@@ -289,6 +297,26 @@ impl ToeplitzConvolution {
             }
         };
         Ok(Self { kernel, engine })
+    }
+
+    /// The operator of [`ToeplitzConvolution::new`] with the FFT backend zero-padded to the given
+    /// length `2n − 1 ≤ p ≤ 4(2n − 1)` (`n = kernel.len()`) instead of [`plan_length`]`(2n − 1)`:
+    /// the same sum to rounding (split from [`SPLIT_FROM`] when `p` is a multiple of 4; at
+    /// `p = plan_length(2n − 1)` the operator of `new`, bit for bit). For measuring the cost of a
+    /// length (the bench `conv_lengths`). A length outside that range is an error.
+    pub fn with_padded_length(kernel: Vec<f64>, p: usize) -> Result<Self, NumericsError> {
+        let mut op = Self::new(kernel, Backend::Mvm)?;
+        // n ≥ 1 (new refuses an empty kernel); 4(2n − 1) does not overflow (n values are held).
+        let shortest = 2 * op.kernel.len() - 1;
+        if p < shortest || p > 4 * shortest {
+            return Err(NumericsError::InvalidParameter {
+                name: "padded FFT length",
+                value: p as f64,
+                allowed: "from 2n − 1 to 4(2n − 1), n the kernel length",
+            });
+        }
+        op.engine = Engine::Fft(vec![FftPlan::new(&op.kernel, p)]);
+        Ok(op)
     }
 
     /// Largest input length accepted.
@@ -671,5 +699,39 @@ mod tests {
         assert!(op.apply(&[1.0; 2], &mut y).is_err());
         assert!(ToeplitzConvolution::new(vec![], Backend::Mvm).is_err());
         assert!(ToeplitzConvolution::new(vec![1.0, f64::NAN], Backend::Fft).is_err());
+        assert!(ToeplitzConvolution::with_padded_length(vec![1.0; 4], 6).is_err());
+        assert!(ToeplitzConvolution::with_padded_length(vec![1.0; 4], 29).is_err());
+        assert!(ToeplitzConvolution::with_padded_length(vec![1.0; 4], usize::MAX).is_err());
+        assert!(ToeplitzConvolution::with_padded_length(vec![1.0; 4], 28).is_ok());
+        let mut padded = ToeplitzConvolution::with_padded_length(vec![1.0; 4], 7).unwrap();
+        assert_eq!(padded.padded_length(), Some(7));
+        let mut y = vec![0.0; 4];
+        padded.apply(&[1.0, 2.0, 3.0, 4.0], &mut y).unwrap();
+        for (a, b) in y.iter().zip([1.0, 3.0, 6.0, 10.0]) {
+            assert!((a - b).abs() < 1e-13, "{a} vs {b}");
+        }
+        // A split length (8192 = plan_length(2 · 4096 − 1)): new's operator bit for bit, and
+        // the naive sum to rounding at another split length.
+        let (b, x) = (lcg(31, 4096), lcg(32, 4096));
+        let want = naive(&b, &x);
+        let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1.0);
+        let mut plain = ToeplitzConvolution::new(b.clone(), Backend::Fft).unwrap();
+        assert_eq!(plain.padded_length(), Some(8192));
+        let mut y_plain = vec![0.0; 4096];
+        plain.apply(&x, &mut y_plain).unwrap();
+        for p in [8192, 8640] {
+            let mut op = ToeplitzConvolution::with_padded_length(b.clone(), p).unwrap();
+            let mut y = vec![0.0; 4096];
+            op.apply(&x, &mut y).unwrap();
+            for (a, w) in y.iter().zip(&want) {
+                assert!((a - w).abs() <= 1e-13 * scale * 64.0, "P = {p}: {a} vs {w}");
+            }
+            if p == 8192 {
+                assert!(y
+                    .iter()
+                    .zip(&y_plain)
+                    .all(|(a, c)| a.to_bits() == c.to_bits()));
+            }
+        }
     }
 }

@@ -150,7 +150,7 @@ impl Gmres {
         params: &KrylovParams,
     ) -> Result<KrylovInfo, NumericsError> {
         self.previous = None;
-        self.solve_from(a, precond, b, x, params)
+        self.solve_in_previous_space(a, precond, b, x, params)
     }
 
     /// [`Gmres::solve`] for a system `A x = b` whose `A` and `M` are the last solve's (the
@@ -168,19 +168,6 @@ impl Gmres {
     /// residual estimate `|g_k|` starts from the projected `r₀`, equal to `b − A x₀` up to rounding).
     /// Without such a space (none kept, another dimension or restart length) it is [`Gmres::solve`].
     pub fn solve_in_previous_space(
-        &mut self,
-        a: &mut dyn LinearOperator,
-        precond: &mut dyn LinearOperator,
-        b: &[f64],
-        x: &mut [f64],
-        params: &KrylovParams,
-    ) -> Result<KrylovInfo, NumericsError> {
-        self.solve_from(a, precond, b, x, params)
-    }
-
-    /// The solve of [`Gmres::solve`], starting in the space of `self.previous` if there is one
-    /// of this system's dimension and restart length.
-    fn solve_from(
         &mut self,
         a: &mut dyn LinearOperator,
         precond: &mut dyn LinearOperator,
@@ -269,12 +256,7 @@ impl Gmres {
                 }
                 // Previous rotations on the new column, then a new one to zero h_{k+1,k}.
                 let col = &mut self.h[k * (m + 1)..(k + 1) * (m + 1)];
-                for i in 0..k {
-                    let (c, s) = (self.cs[i], self.sn[i]);
-                    let (a0, a1) = (col[i], col[i + 1]);
-                    col[i] = c * a0 + s * a1;
-                    col[i + 1] = -s * a0 + c * a1;
-                }
+                rotate(&self.cs[..k], &self.sn[..k], col);
                 let (a0, a1) = (col[k], col[k + 1]);
                 let den = a0.hypot(a1);
                 let (c, s) = if den == 0.0 {
@@ -294,15 +276,8 @@ impl Gmres {
                     break;
                 }
             }
-            // y = H⁻¹ g (upper triangular k × k), x += M⁻¹ V y.
-            for i in (0..k).rev() {
-                let mut s = self.g[i];
-                for j in i + 1..k {
-                    s -= self.h[j * (m + 1) + i] * self.y[j];
-                }
-                let d = self.h[i * (m + 1) + i];
-                self.y[i] = if d != 0.0 { s / d } else { 0.0 };
-            }
+            // y = R⁻¹ g (upper triangular k × k), x += M⁻¹ V y.
+            self.back_substitute(k, m);
             self.w[..n].fill(0.0);
             for j in 0..k {
                 let yj = self.y[j];
@@ -310,10 +285,7 @@ impl Gmres {
                     *w += yj * v;
                 }
             }
-            precond.apply(&self.w[..n], &mut self.z[..n])?;
-            for (xi, zi) in x.iter_mut().zip(&self.z[..n]) {
-                *xi += zi;
-            }
+            self.add_preconditioned(precond, n, x)?;
             // The last vector v_k exists unless the Arnoldi process broke down (an invariant
             // space: then no space is kept).
             if k > 0 && last_norm > 0.0 {
@@ -344,25 +316,13 @@ impl Gmres {
         k: usize,
         x: &mut [f64],
     ) -> Result<(), NumericsError> {
-        let c = &mut self.g;
-        for (ci, v) in c.iter_mut().zip(&self.v).take(k + 1) {
+        for (ci, v) in self.g.iter_mut().zip(&self.v).take(k + 1) {
             *ci = dot(&self.r[..n], &v[..n]);
         }
-        for i in 0..k {
-            let (cs, sn) = (self.cs[i], self.sn[i]);
-            let (a0, a1) = (c[i], c[i + 1]);
-            c[i] = cs * a0 + sn * a1;
-            c[i + 1] = -sn * a0 + cs * a1;
-        }
-        for i in (0..k).rev() {
-            let mut s = c[i];
-            for j in i + 1..k {
-                s -= self.h[j * (m + 1) + i] * self.y[j];
-            }
-            let d = self.h[i * (m + 1) + i];
-            self.y[i] = if d != 0.0 { s / d } else { 0.0 };
-        }
+        rotate(&self.cs[..k], &self.sn[..k], &mut self.g);
+        self.back_substitute(k, m);
         // t = Qᵀ [c_{0..k}; 0]: the rotations' transposes in reverse order.
+        let c = &mut self.g;
         c[k] = 0.0;
         for i in (0..k).rev() {
             let (cs, sn) = (self.cs[i], self.sn[i]);
@@ -378,11 +338,45 @@ impl Gmres {
                 *r -= tj * vi;
             }
         }
+        self.add_preconditioned(precond, n, x)
+    }
+
+    /// `y = R⁻¹ g_{0..k}` (`R` the upper triangle `k × k` of the rotated Hessenberg matrix,
+    /// columns of length `m + 1`), by back substitution; a zero pivot (a breakdown) gives `y_i = 0`.
+    fn back_substitute(&mut self, k: usize, m: usize) {
+        for i in (0..k).rev() {
+            let mut s = self.g[i];
+            for j in i + 1..k {
+                s -= self.h[j * (m + 1) + i] * self.y[j];
+            }
+            let d = self.h[i * (m + 1) + i];
+            self.y[i] = if d != 0.0 { s / d } else { 0.0 };
+        }
+    }
+
+    /// `x += M⁻¹ w` (`w` the first `n` entries of the work vector `w`).
+    fn add_preconditioned(
+        &mut self,
+        precond: &mut dyn LinearOperator,
+        n: usize,
+        x: &mut [f64],
+    ) -> Result<(), NumericsError> {
         precond.apply(&self.w[..n], &mut self.z[..n])?;
         for (xi, zi) in x.iter_mut().zip(&self.z[..n]) {
             *xi += zi;
         }
         Ok(())
+    }
+}
+
+/// The Givens rotations `(cs_i, sn_i)`, `i = 0..k`, applied in order to `v`:
+/// `(v_i, v_{i+1}) ← (c v_i + s v_{i+1}, −s v_i + c v_{i+1})` (`Q v` of the Hessenberg
+/// least-squares problem).
+fn rotate(cs: &[f64], sn: &[f64], v: &mut [f64]) {
+    for (i, (&c, &s)) in cs.iter().zip(sn).enumerate() {
+        let (a0, a1) = (v[i], v[i + 1]);
+        v[i] = c * a0 + s * a1;
+        v[i + 1] = -s * a0 + c * a1;
     }
 }
 
