@@ -2191,8 +2191,8 @@ mod tests {
     /// profile: `g(f₁ + λ(f₂ − f₁)) = g₁ + λ(g₂ − g₁)`, checked to rounding on the profile of a
     /// graded run in its phase with holes (k = −0.5, χ = 0.9, N = 501, τ = 0.5) and that profile
     /// plus a bump; and `λ` keeps every hole closed and ignores the nodes that are not holes.
-    #[test]
-    fn hole_projection_keeps_the_opened_nodes_closed() {
+    /// A graded run (k = −0.5, χ = 0.9, N = 501) stepped to τ = 0.5, in its phase with holes.
+    fn graded_phase_with_holes() -> FrettingSimulation {
         let (k, chi) = (-0.5, 0.9);
         let params = FrettingParams {
             nodes: 501,
@@ -2205,6 +2205,12 @@ mod tests {
         };
         let mut sim = FrettingSimulation::new(params).unwrap();
         sim.run(|_| false).unwrap();
+        sim
+    }
+
+    #[test]
+    fn hole_projection_keeps_the_opened_nodes_closed() {
+        let mut sim = graded_phase_with_holes();
         let f1 = sim.state.profile.clone();
         let g1 = sim.equivalent_profile().unwrap().to_vec();
         // A second profile: f₁ plus a wear-like bump over the annulus.
@@ -2259,18 +2265,7 @@ mod tests {
         usize,
         usize,
     ) {
-        let (k, chi) = (-0.5, 0.9);
-        let params = FrettingParams {
-            nodes: 501,
-            k,
-            chi,
-            length: FrettingParams::default_length(chi, k),
-            tau_end: 0.5,
-            snapshots: vec![],
-            ..FrettingParams::default()
-        };
-        let mut sim = FrettingSimulation::new(params).unwrap();
-        sim.run(|_| false).unwrap();
+        let mut sim = graded_phase_with_holes();
         sim.set_hole_closing(true);
         let m = sim.contact().unwrap().edge;
         let start_g = sim.equivalent_profile().unwrap().to_vec();
