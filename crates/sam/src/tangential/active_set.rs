@@ -184,13 +184,7 @@ impl<S: OperatorSet> TangentialSolver<S> {
                     !self.stick[k] && bound[k] > 0.0 && s0[k] * q0[k] + s1[k] * q1[k] < 0.0
                 })
             {
-                return Ok(Ok(TangentialInfo {
-                    iterations: products,
-                    residual: 0.0,
-                    kkt,
-                    stick_cells: stick,
-                    slip_cells: slipping,
-                }));
+                return Ok(Ok(kkt_met(products, kkt, stick, slipping)));
             }
             // Inexact Newton: while the sets move, a round reduces the free part's slip to
             // INNER_REDUCTION of the KKT residual; once a round left them unchanged, the inner
@@ -358,16 +352,22 @@ impl<S: OperatorSet> TangentialSolver<S> {
                 let (kkt, stick, slipping) = kkt_residual(bound, q0, q1, s0, s1);
                 let kkt = kkt / b_scale;
                 if kkt < params.kkt_tolerance {
-                    return Ok(Ok(TangentialInfo {
-                        iterations: products,
-                        residual: 0.0,
-                        kkt,
-                        stick_cells: stick,
-                        slip_cells: slipping,
-                    }));
+                    return Ok(Ok(kkt_met(products, kkt, stick, slipping)));
                 }
             }
         }
         Ok(Err(products))
+    }
+}
+
+/// The active set's result when the KKT residual `kkt` (relative) meets its tolerance after
+/// `products` block products: `stick` and `slipping` cells as [`kkt_residual`] counted them.
+fn kkt_met(products: usize, kkt: f64, stick: usize, slipping: usize) -> TangentialInfo {
+    TangentialInfo {
+        iterations: products,
+        residual: 0.0,
+        kkt,
+        stick_cells: stick,
+        slip_cells: slipping,
     }
 }
