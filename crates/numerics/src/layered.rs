@@ -163,13 +163,15 @@ struct DepthSpectra {
     symmetry: Option<Symmetry>,
     /// `w^{(L−1)k}`: the phase of the reversed stack's spectrum (sum family).
     phase: Vec<C64>,
-    /// `data[((g · parts + part) · stored_k + k) · blocks + o · n_in + i]`: the kernel's depth
+    /// `data[((g · stored_k + k) · n_out + o) · parts · n_in + part · n_in + i]`: the kernel's depth
     /// spectrum / P at the stored in-plane frequency `g`.
     data: Vec<C64>,
     fwd: std::sync::Arc<dyn rustfft::Fft<f64>>,
     inv: std::sync::Arc<dyn rustfft::Fft<f64>>,
     /// Work arrays kept between applications.
     pool: std::sync::Mutex<Vec<DepthBuffers>>,
+    /// The CPU's SIMD level, detected once.
+    arch: pulp::Arch,
 }
 
 /// Work arrays borrowed from a pool, returned when dropped.
@@ -275,13 +277,14 @@ impl DepthSpectra {
                 |(t, scratch), (g, chunk)| {
                     let f = (g / stored_rows) * p1 + g % stored_rows;
                     for (part, per_slot) in slots.iter().enumerate() {
-                        for b in 0..blocks {
+                        let pairs = (0..n_out).flat_map(|o| (0..n_in).map(move |i| (o, i)));
+                        for (b, (o, i)) in pairs.enumerate() {
                             for (m, v) in t.iter_mut().enumerate() {
                                 *v = per_slot[m][b].map_or(C64::new(0.0, 0.0), |s| s[f]);
                             }
                             fwd_ref.process_with_scratch(t, scratch);
-                            for k in 0..stored_k {
-                                chunk[(part * stored_k + k) * blocks + b] = t[k] / p as f64;
+                            for (k, v) in t.iter().enumerate().take(stored_k) {
+                                chunk[((k * n_out + o) * parts + part) * n_in + i] = v / p as f64;
                             }
                         }
                     }
@@ -300,6 +303,7 @@ impl DepthSpectra {
             fwd,
             inv,
             pool: std::sync::Mutex::new(Vec::new()),
+            arch: pulp::Arch::new(),
         }
     }
 
@@ -311,6 +315,34 @@ impl DepthSpectra {
     #[allow(clippy::too_many_arguments)]
     fn apply_column(
         &self,
+        n_out: usize,
+        n_in: usize,
+        col: usize,
+        inputs_hat: &[Vec<C64>],
+        skip: &[bool],
+        outs: &mut [&mut [C64]],
+        buffers: &mut DepthBuffers,
+    ) {
+        // The widest SIMD level of this CPU (pulp's runtime dispatch: AVX2 on x86-64-v3): the
+        // same operations in the same order (no fused multiply-adds), so the same bits as the
+        // baseline build, on wider lanes.
+        self.arch.dispatch(ColumnTask {
+            depth: self,
+            n_out,
+            n_in,
+            col,
+            inputs_hat,
+            skip,
+            outs,
+            buffers,
+        });
+    }
+
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn apply_column_generic<S: pulp::Simd>(
+        &self,
+        simd: S,
         n_out: usize,
         n_in: usize,
         col: usize,
@@ -350,6 +382,7 @@ impl DepthSpectra {
                 self.load(n_in, row, column_in, skip, second, scratch);
             }
             self.product(
+                simd,
                 n_out,
                 n_in,
                 stored,
@@ -381,6 +414,7 @@ impl DepthSpectra {
 
     /// The depth spectra of the inputs at row `row` of the column (`column[v · 2N₁ + row]`):
     /// `x[i · P + k]`, and those of the reversed stack `X'(k) = w^{(L−1)k} X(−k)` (sum family).
+    #[inline(always)]
     fn load(
         &self,
         n_in: usize,
@@ -421,8 +455,10 @@ impl DepthSpectra {
     /// `y(k) = Σ K(k) x(k)`, `y(P−k) = t_o conj Σ K(k) conj(t_i x(P−k))`, and the same on the
     /// mirrored row with `s_i` on the inputs and `s_o` on the outputs.
     #[allow(clippy::too_many_arguments)]
-    fn product(
+    #[inline(always)]
+    fn product<S: pulp::Simd>(
         &self,
+        simd: S,
         n_out: usize,
         n_in: usize,
         stored: &[C64],
@@ -434,7 +470,6 @@ impl DepthSpectra {
     ) {
         let p = self.p;
         let sk = self.stored_k;
-        let blocks = n_out * n_in;
         let parts = self.part_is_sum.len();
         let zero = C64::new(0.0, 0.0);
         // Lanes: re 0..4, im 4..8 of [x₁(k), conj(t x₁(P−k)), s x₂(k), conj(s t x₂(P−k))].
@@ -470,7 +505,7 @@ impl DepthSpectra {
                             zero
                         },
                     ];
-                    let lane = &mut lanes[(part * sk + kk) * n_in + i];
+                    let lane = &mut lanes[(kk * parts + part) * n_in + i];
                     for (j, c) in v.iter().enumerate() {
                         lane[j] = c.re;
                         lane[4 + j] = c.im;
@@ -481,18 +516,14 @@ impl DepthSpectra {
         for kk in 0..sk {
             let k2 = p - kk;
             let paired = self.symmetry.is_some() && kk > 0 && k2 != kk;
+            // Per output, the (part, input) row of kernel values against the same row of lanes,
+            // both contiguous (the stored order is the order of these reads).
+            let lane = &lanes[kk * parts * n_in..][..parts * n_in];
             for (o, a) in acc.iter_mut().enumerate().take(n_out) {
-                *a = [0.0; 8];
-                for part in 0..parts {
-                    let kernel = &stored[(part * sk + kk) * blocks + o * n_in..][..n_in];
-                    let lane = &lanes[(part * sk + kk) * n_in..][..n_in];
-                    for (kv, z) in kernel.iter().zip(lane) {
-                        for j in 0..4 {
-                            a[j] += kv.re * z[j] - kv.im * z[4 + j];
-                            a[4 + j] += kv.re * z[4 + j] + kv.im * z[j];
-                        }
-                    }
-                }
+                let kernel = &stored[(kk * n_out + o) * parts * n_in..][..parts * n_in];
+                let (re, im) = lane_products(simd, kernel, lane);
+                a[..4].copy_from_slice(&re);
+                a[4..].copy_from_slice(&im);
                 let (s_o, t_o) = self
                     .symmetry
                     .as_ref()
@@ -509,6 +540,70 @@ impl DepthSpectra {
                 }
             }
         }
+    }
+}
+
+/// `(re, im)` of the four lanes' sums `Σ_j K_j z_j` over one row of kernel values and lanes
+/// (lanes: re 0..4, im 4..8): in each lane `re += K.re z.re − K.im z.im`, `im += K.re z.im + K.im
+/// z.re`, in this order (no fused multiply-adds: the same bits on every SIMD level), on `S`'s
+/// vectors where they hold whole lanes.
+#[inline(always)]
+fn lane_products<S: pulp::Simd>(
+    simd: S,
+    kernel: &[C64],
+    lanes: &[[f64; 8]],
+) -> ([f64; 4], [f64; 4]) {
+    let (mut re, mut im) = ([0.0f64; 4], [0.0f64; 4]);
+    {
+        let (re_v, re_t) = S::as_mut_simd_f64s(&mut re);
+        let (im_v, im_t) = S::as_mut_simd_f64s(&mut im);
+        for (kv, z) in kernel.iter().zip(lanes) {
+            let (zr, zi) = z.split_at(4);
+            let (zr_v, zr_t) = S::as_simd_f64s(zr);
+            let (zi_v, zi_t) = S::as_simd_f64s(zi);
+            let (kr, ki) = (simd.splat_f64s(kv.re), simd.splat_f64s(kv.im));
+            for (((r, i), a), b) in re_v.iter_mut().zip(im_v.iter_mut()).zip(zr_v).zip(zi_v) {
+                let t = simd.sub_f64s(simd.mul_f64s(kr, *a), simd.mul_f64s(ki, *b));
+                *r = simd.add_f64s(*r, t);
+                let t = simd.add_f64s(simd.mul_f64s(kr, *b), simd.mul_f64s(ki, *a));
+                *i = simd.add_f64s(*i, t);
+            }
+            for (((r, i), a), b) in re_t.iter_mut().zip(im_t.iter_mut()).zip(zr_t).zip(zi_t) {
+                *r += kv.re * a - kv.im * b;
+                *i += kv.re * b + kv.im * a;
+            }
+        }
+    }
+    (re, im)
+}
+
+/// One column of [`DepthSpectra::apply_column`], compiled for each SIMD level pulp dispatches to.
+struct ColumnTask<'a, 'b> {
+    depth: &'a DepthSpectra,
+    n_out: usize,
+    n_in: usize,
+    col: usize,
+    inputs_hat: &'a [Vec<C64>],
+    skip: &'a [bool],
+    outs: &'a mut [&'b mut [C64]],
+    buffers: &'a mut DepthBuffers,
+}
+
+impl pulp::WithSimd for ColumnTask<'_, '_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, simd: S) {
+        self.depth.apply_column_generic(
+            simd,
+            self.n_out,
+            self.n_in,
+            self.col,
+            self.inputs_hat,
+            self.skip,
+            self.outs,
+            self.buffers,
+        );
     }
 }
 
