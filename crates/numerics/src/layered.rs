@@ -807,6 +807,20 @@ impl LayeredSpectra {
         skip: &[bool],
         out_hat: &mut [Vec<C64>],
     ) -> Result<(), NumericsError> {
+        self.accumulate_leading(inputs_hat, skip, self.n_out, out_hat)
+    }
+
+    /// [`LayeredSpectra::accumulate`] of the first `outputs` outputs of each target only
+    /// (`out_hat[a · outputs + o]`, `o < outputs`): each output's sum is the same, bit for bit, as
+    /// in the whole accumulation. Per-key operators only (an operator with the depth FFT accepts
+    /// `outputs = n_out`, the whole accumulation).
+    pub fn accumulate_leading(
+        &self,
+        inputs_hat: &[Vec<C64>],
+        skip: &[bool],
+        outputs: usize,
+        out_hat: &mut [Vec<C64>],
+    ) -> Result<(), NumericsError> {
         let (nt, ns) = (self.targets.len(), self.sources.len());
         if inputs_hat.len() != ns * self.n_in || skip.len() != ns * self.n_in {
             return Err(NumericsError::LengthMismatch {
@@ -815,10 +829,17 @@ impl LayeredSpectra {
                 got: inputs_hat.len().min(skip.len()),
             });
         }
-        if out_hat.len() != nt * self.n_out {
+        if outputs == 0 || outputs > self.n_out || (self.depth.is_some() && outputs != self.n_out) {
+            return Err(NumericsError::InvalidParameter {
+                name: "leading outputs of a layered operator",
+                value: outputs as f64,
+                allowed: "1..=n_out (n_out with the depth FFT)",
+            });
+        }
+        if out_hat.len() != nt * outputs {
             return Err(NumericsError::LengthMismatch {
                 what: "layered operator output spectra",
-                expected: nt * self.n_out,
+                expected: nt * outputs,
                 got: out_hat.len(),
             });
         }
@@ -879,7 +900,7 @@ impl LayeredSpectra {
         if len <= SMALL_SPECTRUM {
             // Small plans (an inhomogeneity's window) stay in cache: parallel over outputs.
             out_hat.par_iter_mut().enumerate().for_each(|(ao, acc)| {
-                self.accumulate_one(ao, 0, inputs_hat, skip, acc);
+                self.accumulate_one((ao / outputs, ao % outputs), 0, inputs_hat, skip, acc);
             });
             return Ok(());
         }
@@ -898,7 +919,7 @@ impl LayeredSpectra {
             .for_each(|(c, mut outs)| {
                 let start = c * FREQUENCY_CHUNK;
                 for (ao, acc) in outs.iter_mut().enumerate() {
-                    self.accumulate_one(ao, start, inputs_hat, skip, acc);
+                    self.accumulate_one((ao / outputs, ao % outputs), start, inputs_hat, skip, acc);
                 }
             });
         Ok(())
@@ -907,16 +928,15 @@ impl LayeredSpectra {
 
 impl LayeredSpectra {
     /// `acc += Σ_b Σ_i Σ_F K̂^F_{oi} · x̂_{b,i}` over the frequencies `start .. start + acc.len()` of
-    /// output `ao = a · n_out + o`.
+    /// output `o` of target `a`.
     fn accumulate_one(
         &self,
-        ao: usize,
+        (a, o): (usize, usize),
         start: usize,
         inputs_hat: &[Vec<C64>],
         skip: &[bool],
         acc: &mut [C64],
     ) {
-        let (a, o) = (ao / self.n_out, ao % self.n_out);
         let end = start + acc.len();
         for (family, map) in &self.families {
             for (b, &zb) in self.sources.iter().enumerate() {
@@ -1390,6 +1410,19 @@ mod tests {
         }
         assert!(err < 1e-13 * scale, "{err:e} of {scale:e}");
         assert!(spectra.bytes() > 0);
+        // The leading outputs alone are the whole accumulation's, bit for bit.
+        let mut whole: Vec<Vec<C64>> = (0..targets.len() * 2).map(|_| fft.new_spectrum()).collect();
+        spectra.accumulate(&hats, &skip, &mut whole).unwrap();
+        let mut leading: Vec<Vec<C64>> = (0..targets.len()).map(|_| fft.new_spectrum()).collect();
+        spectra
+            .accumulate_leading(&hats, &skip, 1, &mut leading)
+            .unwrap();
+        for (a, out) in leading.iter().enumerate() {
+            assert_eq!(out, &whole[a * 2]);
+        }
+        assert!(spectra
+            .accumulate_leading(&hats, &skip, 3, &mut leading)
+            .is_err());
         // The streamed products equal the stored ones.
         let mut streamed: Vec<Vec<C64>> =
             (0..targets.len() * 2).map(|_| fft.new_spectrum()).collect();
