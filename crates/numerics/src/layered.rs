@@ -191,12 +191,12 @@ impl Drop for Pooled<'_> {
 impl DepthSpectra {
     /// Whether `targets` = `sources` = `z₀, z₀ + 2, …` and the families are at most one
     /// difference and one sum family.
-    fn eligible(targets: &[i64], sources: &[i64], families: &[(Family, SpectraByKey)]) -> bool {
+    fn eligible(targets: &[i64], sources: &[i64], families: &[Family]) -> bool {
         let diffs = families
             .iter()
-            .filter(|f| f.0 == Family::Difference)
+            .filter(|f| **f == Family::Difference)
             .count();
-        let sums = families.iter().filter(|f| f.0 == Family::Sum).count();
+        let sums = families.iter().filter(|f| **f == Family::Sum).count();
         !targets.is_empty()
             && targets == sources
             && targets.windows(2).all(|w| w[1] - w[0] == 2)
@@ -208,14 +208,18 @@ impl DepthSpectra {
     /// all families), a block's 2D spectrum is (anti)symmetric under ξ₁ → −ξ₁ and purely real
     /// (same parity in m and n) or purely imaginary: only the rows ξ₁ ≥ 0 and the depth
     /// frequencies k ≤ P/2 are stored (a quarter of the memory and of the memory traffic).
+    /// `spectra(part)` gives the 2D kernel spectra of family `part`, by key: they are requested one
+    /// family at a time and dropped once that family's depth spectra are stored (the build holds
+    /// one family's 2D spectra, not all).
     fn build(
-        families: &[(Family, SpectraByKey)],
+        families: &[Family],
+        spectra: &mut dyn FnMut(usize) -> Result<SpectraByKey, NumericsError>,
         z0: i64,
         layers: usize,
         (n1, n2): (usize, usize),
         (n_out, n_in): (usize, usize),
         parity: Option<&[(bool, bool)]>,
-    ) -> Self {
+    ) -> Result<Self, NumericsError> {
         let blocks = n_out * n_in;
         let p = 2 * layers;
         let mut planner = rustfft::FftPlanner::<f64>::new();
@@ -231,31 +235,7 @@ impl DepthSpectra {
         } else {
             (p1, p)
         };
-        // Per part, per depth slot m ∈ 0..P, per block: the key spectrum (if any) that goes there.
-        let slots: Vec<Vec<Vec<Option<&[C64]>>>> = families
-            .iter()
-            .map(|(family, map)| {
-                let mut per_slot = vec![vec![None; blocks]; p];
-                let entries: Vec<(i64, i64)> = match family {
-                    // d = a − b ∈ [−(L−1), L−1], key 2d, slot d mod P.
-                    Family::Difference => (-(l - 1)..l).map(|d| (2 * d, d)).collect(),
-                    // s = a + b ∈ [0, 2L−2], key 2z₀ + 2s, slot (s − (L−1)) mod P.
-                    Family::Sum => (0..2 * l - 1)
-                        .map(|s| (2 * z0 + 2 * s, s - (l - 1)))
-                        .collect(),
-                };
-                for (key, m) in entries {
-                    if let Some(bl) = map.get(&key) {
-                        let slot = m.rem_euclid(p as i64) as usize;
-                        for (b, v) in bl.iter().enumerate() {
-                            per_slot[slot][b] = v.as_deref();
-                        }
-                    }
-                }
-                per_slot
-            })
-            .collect();
-        let part_is_sum: Vec<bool> = families.iter().map(|f| f.0 == Family::Sum).collect();
+        let part_is_sum: Vec<bool> = families.iter().map(|f| *f == Family::Sum).collect();
         let phase: Vec<C64> = (0..p)
             .map(|k| {
                 let a = -2.0 * std::f64::consts::PI * (k * (layers - 1)) as f64 / p as f64;
@@ -265,18 +245,38 @@ impl DepthSpectra {
         let mut data = vec![C64::new(0.0, 0.0); cols * stored_rows * parts * stored_k * blocks];
         let scratch_len = fwd.get_inplace_scratch_len();
         let fwd_ref = &fwd;
-        data.par_chunks_mut(parts * stored_k * blocks)
-            .enumerate()
-            .for_each_init(
-                || {
-                    (
-                        vec![C64::new(0.0, 0.0); p],
-                        vec![C64::new(0.0, 0.0); scratch_len],
-                    )
-                },
-                |(t, scratch), (g, chunk)| {
-                    let f = (g / stored_rows) * p1 + g % stored_rows;
-                    for (part, per_slot) in slots.iter().enumerate() {
+        for (part, family) in families.iter().enumerate() {
+            let map = spectra(part)?;
+            // Per depth slot m ∈ 0..P, per block: the key spectrum (if any) that goes there.
+            let mut per_slot: Vec<Vec<Option<&[C64]>>> = vec![vec![None; blocks]; p];
+            let entries: Vec<(i64, i64)> = match family {
+                // d = a − b ∈ [−(L−1), L−1], key 2d, slot d mod P.
+                Family::Difference => (-(l - 1)..l).map(|d| (2 * d, d)).collect(),
+                // s = a + b ∈ [0, 2L−2], key 2z₀ + 2s, slot (s − (L−1)) mod P.
+                Family::Sum => (0..2 * l - 1)
+                    .map(|s| (2 * z0 + 2 * s, s - (l - 1)))
+                    .collect(),
+            };
+            for (key, m) in entries {
+                if let Some(bl) = map.get(&key) {
+                    let slot = m.rem_euclid(p as i64) as usize;
+                    for (b, v) in bl.iter().enumerate() {
+                        per_slot[slot][b] = v.as_deref();
+                    }
+                }
+            }
+            let per_slot = &per_slot;
+            data.par_chunks_mut(parts * stored_k * blocks)
+                .enumerate()
+                .for_each_init(
+                    || {
+                        (
+                            vec![C64::new(0.0, 0.0); p],
+                            vec![C64::new(0.0, 0.0); scratch_len],
+                        )
+                    },
+                    |(t, scratch), (g, chunk)| {
+                        let f = (g / stored_rows) * p1 + g % stored_rows;
                         let pairs = (0..n_out).flat_map(|o| (0..n_in).map(move |i| (o, i)));
                         for (b, (o, i)) in pairs.enumerate() {
                             for (m, v) in t.iter_mut().enumerate() {
@@ -287,10 +287,10 @@ impl DepthSpectra {
                                 chunk[((k * n_out + o) * parts + part) * n_in + i] = v / p as f64;
                             }
                         }
-                    }
-                },
-            );
-        Self {
+                    },
+                );
+        }
+        Ok(Self {
             layers,
             p,
             part_is_sum,
@@ -304,7 +304,7 @@ impl DepthSpectra {
             inv,
             pool: std::sync::Mutex::new(Vec::new()),
             arch: pulp::Arch::new(),
-        }
+        })
     }
 
     /// `outs[a · n_out + o][row] += Σ_b Σ_i K_{oi}(a, b) x̂[b · n_in + i][col · 2N₁ + row]` for every
@@ -711,8 +711,7 @@ impl LayeredSpectra {
             });
         };
         let (n_out, n_in) = first.blocks();
-        let mut stored = Vec::new();
-        for &(family, kernel) in families {
+        for &(_, kernel) in families {
             if kernel.blocks() != (n_out, n_in) {
                 return Err(NumericsError::LengthMismatch {
                     what: "layered kernel blocks",
@@ -720,6 +719,10 @@ impl LayeredSpectra {
                     got: kernel.blocks().0 * kernel.blocks().1,
                 });
             }
+        }
+        // The 2D spectra of one family, by key.
+        let mut family_spectra = |part: usize| -> Result<SpectraByKey, NumericsError> {
+            let (family, kernel) = families[part];
             let mut keys: Vec<i64> = targets
                 .iter()
                 .flat_map(|&a| sources.iter().map(move |&b| family.key(a, b)))
@@ -730,8 +733,8 @@ impl LayeredSpectra {
             for key in keys {
                 map.insert(key, key_spectra(fft, kernel, key)?);
             }
-            stored.push((family, map));
-        }
+            Ok(map)
+        };
         // One parity for every family (then the depth spectra are stored by quarter).
         let parities: Vec<Option<Vec<(bool, bool)>>> =
             families.iter().map(|(_, k)| k.parity()).collect();
@@ -741,18 +744,22 @@ impl LayeredSpectra {
             }
             _ => None,
         };
-        let depth = if allow_depth && DepthSpectra::eligible(targets, sources, &stored) {
-            let d = DepthSpectra::build(
-                &stored,
+        let kinds: Vec<Family> = families.iter().map(|f| f.0).collect();
+        let mut stored = Vec::new();
+        let depth = if allow_depth && DepthSpectra::eligible(targets, sources, &kinds) {
+            Some(Box::new(DepthSpectra::build(
+                &kinds,
+                &mut family_spectra,
                 targets[0],
                 targets.len(),
                 (n1, n2),
                 (n_out, n_in),
                 parity.as_deref(),
-            );
-            stored.clear();
-            Some(Box::new(d))
+            )?))
         } else {
+            for (part, &family) in kinds.iter().enumerate() {
+                stored.push((family, family_spectra(part)?));
+            }
             None
         };
         Ok(Self {
@@ -1380,6 +1387,84 @@ mod tests {
         }
     }
 
+    /// The leading outputs alone are the whole accumulation's, bit for bit, on the frequency-chunked
+    /// path of large plans (more than `SMALL_SPECTRUM` values) as on the small one; no leading
+    /// outputs, more than the operator has, or fewer than all with the depth FFT are refused.
+    #[test]
+    fn leading_outputs_equal_the_whole_accumulation_bit_for_bit() {
+        let (k1, k2) = (Smooth(1.0), Smooth(-0.4));
+        let families: [(Family, &dyn LayerKernel); 2] =
+            [(Family::Difference, &k1), (Family::Sum, &k2)];
+        for (n1, n2) in [(5, 4), (72, 64)] {
+            let mut fft = Fft2d::new(n1, n2).unwrap();
+            assert_eq!(fft.spectrum_len() > SMALL_SPECTRUM, n1 == 72);
+            let (targets, sources) = ([0i64], [3i64, 5]);
+            let spectra = LayeredSpectra::new(&mut fft, &targets, &sources, &families).unwrap();
+            let mut rng = crate::testkit::Lcg::new(5);
+            let hats: Vec<Vec<C64>> = (0..sources.len() * 3)
+                .map(|_| {
+                    let x: Vec<f64> = (0..n1 * n2).map(|_| rng.unit() - 0.5).collect();
+                    let mut h = fft.new_spectrum();
+                    fft.forward(&x, &mut h).unwrap();
+                    h
+                })
+                .collect();
+            let skip = vec![false; hats.len()];
+            let mut whole: Vec<Vec<C64>> = (0..2).map(|_| fft.new_spectrum()).collect();
+            spectra.accumulate(&hats, &skip, &mut whole).unwrap();
+            let mut leading = vec![fft.new_spectrum()];
+            spectra
+                .accumulate_leading(&hats, &skip, 1, &mut leading)
+                .unwrap();
+            assert_eq!(leading[0], whole[0]);
+            for bad in [0, 3] {
+                assert!(spectra
+                    .accumulate_leading(&hats, &skip, bad, &mut leading)
+                    .is_err());
+            }
+        }
+        // A depth-FFT operator: only all outputs.
+        let layers = [5i64, 7, 9];
+        let mut fft = Fft2d::new(6, 5).unwrap();
+        let spectra = LayeredSpectra::new(&mut fft, &layers, &layers, &families).unwrap();
+        assert!(spectra.depth.is_some());
+        let hats: Vec<Vec<C64>> = (0..9).map(|_| fft.new_spectrum()).collect();
+        let mut out: Vec<Vec<C64>> = (0..3).map(|_| fft.new_spectrum()).collect();
+        assert!(spectra
+            .accumulate_leading(&hats, &[false; 9], 1, &mut out)
+            .is_err());
+    }
+
+    /// The depth products give the same bits on the scalar level as on the CPU's SIMD level
+    /// (pulp's dispatch: the same operations in the same order on wider lanes).
+    #[test]
+    fn depth_products_are_the_same_bits_on_every_simd_level() {
+        let (n1, n2) = (6, 5);
+        let layers = [5i64, 7, 9, 11];
+        let families: [(Family, &dyn LayerKernel); 2] =
+            [(Family::Difference, &Factored), (Family::Sum, &Factored)];
+        let mut fft = Fft2d::new(n1, n2).unwrap();
+        let fast = LayeredSpectra::new(&mut fft, &layers, &layers, &families).unwrap();
+        let mut scalar = LayeredSpectra::new(&mut fft, &layers, &layers, &families).unwrap();
+        scalar.depth.as_mut().expect("a contiguous stack").arch = pulp::Arch::Scalar;
+        let mut rng = crate::testkit::Lcg::new(7);
+        let hats: Vec<Vec<C64>> = (0..layers.len() * 3)
+            .map(|_| {
+                let x: Vec<f64> = (0..n1 * n2).map(|_| rng.unit() - 0.5).collect();
+                let mut h = fft.new_spectrum();
+                fft.forward(&x, &mut h).unwrap();
+                h
+            })
+            .collect();
+        let skip = vec![false; hats.len()];
+        let mut a: Vec<Vec<C64>> = (0..layers.len() * 2).map(|_| fft.new_spectrum()).collect();
+        let mut b = a.clone();
+        fast.accumulate(&hats, &skip, &mut a).unwrap();
+        scalar.accumulate(&hats, &skip, &mut b).unwrap();
+        assert!(a.iter().flatten().any(|v| v.norm() > 0.0));
+        assert_eq!(a, b);
+    }
+
     #[test]
     fn layered_dcfft_equals_the_direct_sum() {
         let (n1, n2) = (5, 4);
@@ -1410,19 +1495,6 @@ mod tests {
         }
         assert!(err < 1e-13 * scale, "{err:e} of {scale:e}");
         assert!(spectra.bytes() > 0);
-        // The leading outputs alone are the whole accumulation's, bit for bit.
-        let mut whole: Vec<Vec<C64>> = (0..targets.len() * 2).map(|_| fft.new_spectrum()).collect();
-        spectra.accumulate(&hats, &skip, &mut whole).unwrap();
-        let mut leading: Vec<Vec<C64>> = (0..targets.len()).map(|_| fft.new_spectrum()).collect();
-        spectra
-            .accumulate_leading(&hats, &skip, 1, &mut leading)
-            .unwrap();
-        for (a, out) in leading.iter().enumerate() {
-            assert_eq!(out, &whole[a * 2]);
-        }
-        assert!(spectra
-            .accumulate_leading(&hats, &skip, 3, &mut leading)
-            .is_err());
         // The streamed products equal the stored ones.
         let mut streamed: Vec<Vec<C64>> =
             (0..targets.len() * 2).map(|_| fft.new_spectrum()).collect();

@@ -199,21 +199,34 @@ fn the_strain_only_disturbance_is_the_full_disturbances_strain_bit_for_bit() {
         let eigen: Vec<Vec<f64>> = (0..sources.len() * 6)
             .map(|k| lcg(k as u64 + 5, window.len()))
             .collect();
-        let mut f = EimFields::new(
-            grid,
-            E,
-            NU,
-            &sources,
-            &targets,
-            window,
-            Space::HalfSpace,
-            backend,
-        )
-        .unwrap();
+        let fields = || {
+            EimFields::new(
+                grid,
+                E,
+                NU,
+                &sources,
+                &targets,
+                window,
+                Space::HalfSpace,
+                backend,
+            )
+            .unwrap()
+        };
+        // The full disturbance on one instance, the strain-only one on a fresh instance (so a
+        // p_c left over from a full call cannot stand in for one not computed), after another
+        // eigenstrain's strain-only disturbance there.
+        let mut whole = fields();
         let mut full = vec![vec![0.0; window.len()]; targets.len() * 6];
-        f.disturbance(&eigen, &mut full).unwrap();
-        let pc = f.correction_pressure().to_vec();
+        whole.disturbance(&eigen, &mut full).unwrap();
+        let pc = whole.correction_pressure().to_vec();
+        let mut f = fields();
         let mut strain = vec![vec![0.0; window.len()]; targets.len() * 6];
+        let other: Vec<Vec<f64>> = eigen
+            .iter()
+            .map(|e| e.iter().map(|v| 0.5 - v).collect())
+            .collect();
+        f.disturbance_strain(&other, &mut strain).unwrap();
+        assert_ne!(pc, f.correction_pressure());
         f.disturbance_strain(&eigen, &mut strain).unwrap();
         assert!(pc.iter().any(|v| *v != 0.0));
         assert_eq!(full, strain, "{backend:?}, window {window:?}");

@@ -217,6 +217,16 @@ impl Layered {
                     0 => spectra.blocks().0,
                     nt => y.len() / nt,
                 };
+                // The dense twin reads `y[a · n_out + o]`: fewer outputs only with one target.
+                if outputs != spectra.blocks().0 && spectra.targets().len() != 1 {
+                    return Err(SamError::Numerics(
+                        halfspace_numerics::NumericsError::LengthMismatch {
+                            what: "layered operator outputs (fewer than all only with one target)",
+                            expected: spectra.targets().len() * spectra.blocks().0,
+                            got: y.len(),
+                        },
+                    ));
+                }
                 let y_hat = &mut y_hat[..y.len()];
                 y_hat.iter_mut().for_each(|s| s.fill(zero));
                 spectra.accumulate_leading(x_hat, skip, outputs, y_hat)?;
@@ -415,6 +425,10 @@ impl EimFields {
         let targets: Vec<i64> = target_layers.iter().map(key).collect();
         let (ns, nt) = (sources.len(), targets.len());
         let families = if space == Space::HalfSpace { 2 } else { 1 };
+        // An upper bound of the build's peak: the 2D spectra of every family's keys (when targets
+        // = sources, the EIM's case, the depth-FFT build holds one family's at a time, then the
+        // quarter-stored depth spectra, ≈ 0.5 of one family's: 128² composite, 8 layers: 0.47 GB
+        // peak of the system against 1.3 GB here).
         let need = estimated_bytes(
             window.n1,
             window.n2,
@@ -494,10 +508,19 @@ impl EimFields {
         };
         let n = grid.len();
         let half_space = usize::from(space == Space::HalfSpace);
+        // The window's eigenstrains scattered on the whole grid and their spectra: only off the
+        // shared path (a whole-grid window on the FFT backend shares the volume's input spectra,
+        // `disturbance_shared`).
+        let windowed = usize::from(!(window.is_full(&grid) && backend == Backend::Fft));
         Ok(Self {
             eig_hat: [fft.new_spectrum(), fft.new_spectrum()],
             volume_work: Work::new(&wfft, backend, ns * 6, nt * 6),
-            surface_work: Work::new(&fft, backend, ns * 6 * half_space, 3 * half_space),
+            surface_work: Work::new(
+                &fft,
+                backend,
+                ns * 6 * half_space * windowed,
+                3 * half_space,
+            ),
             love_work: Work::new(&fft, backend, 3, nt * 6),
             grid,
             window,
@@ -512,7 +535,7 @@ impl EimFields {
             boussinesq,
             surface_fields: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
             displacements_current: true,
-            scattered: vec![vec![0.0; n]; ns * 6 * half_space],
+            scattered: vec![vec![0.0; n]; ns * 6 * half_space * windowed],
             love_full: vec![vec![0.0; n]; nt * 6],
             zero: vec![0.0; n],
         })
