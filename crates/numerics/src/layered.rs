@@ -163,13 +163,15 @@ struct DepthSpectra {
     symmetry: Option<Symmetry>,
     /// `w^{(L−1)k}`: the phase of the reversed stack's spectrum (sum family).
     phase: Vec<C64>,
-    /// `data[((g · parts + part) · stored_k + k) · blocks + o · n_in + i]`: the kernel's depth
+    /// `data[((g · stored_k + k) · n_out + o) · parts · n_in + part · n_in + i]`: the kernel's depth
     /// spectrum / P at the stored in-plane frequency `g`.
     data: Vec<C64>,
     fwd: std::sync::Arc<dyn rustfft::Fft<f64>>,
     inv: std::sync::Arc<dyn rustfft::Fft<f64>>,
     /// Work arrays kept between applications.
     pool: std::sync::Mutex<Vec<DepthBuffers>>,
+    /// The CPU's SIMD level, detected once.
+    arch: pulp::Arch,
 }
 
 /// Work arrays borrowed from a pool, returned when dropped.
@@ -189,12 +191,12 @@ impl Drop for Pooled<'_> {
 impl DepthSpectra {
     /// Whether `targets` = `sources` = `z₀, z₀ + 2, …` and the families are at most one
     /// difference and one sum family.
-    fn eligible(targets: &[i64], sources: &[i64], families: &[(Family, SpectraByKey)]) -> bool {
+    fn eligible(targets: &[i64], sources: &[i64], families: &[Family]) -> bool {
         let diffs = families
             .iter()
-            .filter(|f| f.0 == Family::Difference)
+            .filter(|f| **f == Family::Difference)
             .count();
-        let sums = families.iter().filter(|f| f.0 == Family::Sum).count();
+        let sums = families.iter().filter(|f| **f == Family::Sum).count();
         !targets.is_empty()
             && targets == sources
             && targets.windows(2).all(|w| w[1] - w[0] == 2)
@@ -206,14 +208,18 @@ impl DepthSpectra {
     /// all families), a block's 2D spectrum is (anti)symmetric under ξ₁ → −ξ₁ and purely real
     /// (same parity in m and n) or purely imaginary: only the rows ξ₁ ≥ 0 and the depth
     /// frequencies k ≤ P/2 are stored (a quarter of the memory and of the memory traffic).
+    /// `spectra(part)` gives the 2D kernel spectra of family `part`, by key: they are requested one
+    /// family at a time and dropped once that family's depth spectra are stored (the build holds
+    /// one family's 2D spectra, not all).
     fn build(
-        families: &[(Family, SpectraByKey)],
+        families: &[Family],
+        spectra: &mut dyn FnMut(usize) -> Result<SpectraByKey, NumericsError>,
         z0: i64,
         layers: usize,
         (n1, n2): (usize, usize),
         (n_out, n_in): (usize, usize),
         parity: Option<&[(bool, bool)]>,
-    ) -> Self {
+    ) -> Result<Self, NumericsError> {
         let blocks = n_out * n_in;
         let p = 2 * layers;
         let mut planner = rustfft::FftPlanner::<f64>::new();
@@ -229,31 +235,7 @@ impl DepthSpectra {
         } else {
             (p1, p)
         };
-        // Per part, per depth slot m ∈ 0..P, per block: the key spectrum (if any) that goes there.
-        let slots: Vec<Vec<Vec<Option<&[C64]>>>> = families
-            .iter()
-            .map(|(family, map)| {
-                let mut per_slot = vec![vec![None; blocks]; p];
-                let entries: Vec<(i64, i64)> = match family {
-                    // d = a − b ∈ [−(L−1), L−1], key 2d, slot d mod P.
-                    Family::Difference => (-(l - 1)..l).map(|d| (2 * d, d)).collect(),
-                    // s = a + b ∈ [0, 2L−2], key 2z₀ + 2s, slot (s − (L−1)) mod P.
-                    Family::Sum => (0..2 * l - 1)
-                        .map(|s| (2 * z0 + 2 * s, s - (l - 1)))
-                        .collect(),
-                };
-                for (key, m) in entries {
-                    if let Some(bl) = map.get(&key) {
-                        let slot = m.rem_euclid(p as i64) as usize;
-                        for (b, v) in bl.iter().enumerate() {
-                            per_slot[slot][b] = v.as_deref();
-                        }
-                    }
-                }
-                per_slot
-            })
-            .collect();
-        let part_is_sum: Vec<bool> = families.iter().map(|f| f.0 == Family::Sum).collect();
+        let part_is_sum: Vec<bool> = families.iter().map(|f| *f == Family::Sum).collect();
         let phase: Vec<C64> = (0..p)
             .map(|k| {
                 let a = -2.0 * std::f64::consts::PI * (k * (layers - 1)) as f64 / p as f64;
@@ -263,31 +245,52 @@ impl DepthSpectra {
         let mut data = vec![C64::new(0.0, 0.0); cols * stored_rows * parts * stored_k * blocks];
         let scratch_len = fwd.get_inplace_scratch_len();
         let fwd_ref = &fwd;
-        data.par_chunks_mut(parts * stored_k * blocks)
-            .enumerate()
-            .for_each_init(
-                || {
-                    (
-                        vec![C64::new(0.0, 0.0); p],
-                        vec![C64::new(0.0, 0.0); scratch_len],
-                    )
-                },
-                |(t, scratch), (g, chunk)| {
-                    let f = (g / stored_rows) * p1 + g % stored_rows;
-                    for (part, per_slot) in slots.iter().enumerate() {
-                        for b in 0..blocks {
+        for (part, family) in families.iter().enumerate() {
+            let map = spectra(part)?;
+            // Per depth slot m ∈ 0..P, per block: the key spectrum (if any) that goes there.
+            let mut per_slot: Vec<Vec<Option<&[C64]>>> = vec![vec![None; blocks]; p];
+            let entries: Vec<(i64, i64)> = match family {
+                // d = a − b ∈ [−(L−1), L−1], key 2d, slot d mod P.
+                Family::Difference => (-(l - 1)..l).map(|d| (2 * d, d)).collect(),
+                // s = a + b ∈ [0, 2L−2], key 2z₀ + 2s, slot (s − (L−1)) mod P.
+                Family::Sum => (0..2 * l - 1)
+                    .map(|s| (2 * z0 + 2 * s, s - (l - 1)))
+                    .collect(),
+            };
+            for (key, m) in entries {
+                if let Some(bl) = map.get(&key) {
+                    let slot = m.rem_euclid(p as i64) as usize;
+                    for (b, v) in bl.iter().enumerate() {
+                        per_slot[slot][b] = v.as_deref();
+                    }
+                }
+            }
+            let per_slot = &per_slot;
+            data.par_chunks_mut(parts * stored_k * blocks)
+                .enumerate()
+                .for_each_init(
+                    || {
+                        (
+                            vec![C64::new(0.0, 0.0); p],
+                            vec![C64::new(0.0, 0.0); scratch_len],
+                        )
+                    },
+                    |(t, scratch), (g, chunk)| {
+                        let f = (g / stored_rows) * p1 + g % stored_rows;
+                        let pairs = (0..n_out).flat_map(|o| (0..n_in).map(move |i| (o, i)));
+                        for (b, (o, i)) in pairs.enumerate() {
                             for (m, v) in t.iter_mut().enumerate() {
                                 *v = per_slot[m][b].map_or(C64::new(0.0, 0.0), |s| s[f]);
                             }
                             fwd_ref.process_with_scratch(t, scratch);
-                            for k in 0..stored_k {
-                                chunk[(part * stored_k + k) * blocks + b] = t[k] / p as f64;
+                            for (k, v) in t.iter().enumerate().take(stored_k) {
+                                chunk[((k * n_out + o) * parts + part) * n_in + i] = v / p as f64;
                             }
                         }
-                    }
-                },
-            );
-        Self {
+                    },
+                );
+        }
+        Ok(Self {
             layers,
             p,
             part_is_sum,
@@ -300,7 +303,8 @@ impl DepthSpectra {
             fwd,
             inv,
             pool: std::sync::Mutex::new(Vec::new()),
-        }
+            arch: pulp::Arch::new(),
+        })
     }
 
     /// `outs[a · n_out + o][row] += Σ_b Σ_i K_{oi}(a, b) x̂[b · n_in + i][col · 2N₁ + row]` for every
@@ -311,6 +315,34 @@ impl DepthSpectra {
     #[allow(clippy::too_many_arguments)]
     fn apply_column(
         &self,
+        n_out: usize,
+        n_in: usize,
+        col: usize,
+        inputs_hat: &[Vec<C64>],
+        skip: &[bool],
+        outs: &mut [&mut [C64]],
+        buffers: &mut DepthBuffers,
+    ) {
+        // The widest SIMD level of this CPU (pulp's runtime dispatch: AVX2 on x86-64-v3): the
+        // same operations in the same order (no fused multiply-adds), so the same bits as the
+        // baseline build, on wider lanes.
+        self.arch.dispatch(ColumnTask {
+            depth: self,
+            n_out,
+            n_in,
+            col,
+            inputs_hat,
+            skip,
+            outs,
+            buffers,
+        });
+    }
+
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn apply_column_generic<S: pulp::Simd>(
+        &self,
+        simd: S,
         n_out: usize,
         n_in: usize,
         col: usize,
@@ -350,6 +382,7 @@ impl DepthSpectra {
                 self.load(n_in, row, column_in, skip, second, scratch);
             }
             self.product(
+                simd,
                 n_out,
                 n_in,
                 stored,
@@ -381,6 +414,7 @@ impl DepthSpectra {
 
     /// The depth spectra of the inputs at row `row` of the column (`column[v · 2N₁ + row]`):
     /// `x[i · P + k]`, and those of the reversed stack `X'(k) = w^{(L−1)k} X(−k)` (sum family).
+    #[inline(always)]
     fn load(
         &self,
         n_in: usize,
@@ -421,8 +455,10 @@ impl DepthSpectra {
     /// `y(k) = Σ K(k) x(k)`, `y(P−k) = t_o conj Σ K(k) conj(t_i x(P−k))`, and the same on the
     /// mirrored row with `s_i` on the inputs and `s_o` on the outputs.
     #[allow(clippy::too_many_arguments)]
-    fn product(
+    #[inline(always)]
+    fn product<S: pulp::Simd>(
         &self,
+        simd: S,
         n_out: usize,
         n_in: usize,
         stored: &[C64],
@@ -434,7 +470,6 @@ impl DepthSpectra {
     ) {
         let p = self.p;
         let sk = self.stored_k;
-        let blocks = n_out * n_in;
         let parts = self.part_is_sum.len();
         let zero = C64::new(0.0, 0.0);
         // Lanes: re 0..4, im 4..8 of [x₁(k), conj(t x₁(P−k)), s x₂(k), conj(s t x₂(P−k))].
@@ -470,7 +505,7 @@ impl DepthSpectra {
                             zero
                         },
                     ];
-                    let lane = &mut lanes[(part * sk + kk) * n_in + i];
+                    let lane = &mut lanes[(kk * parts + part) * n_in + i];
                     for (j, c) in v.iter().enumerate() {
                         lane[j] = c.re;
                         lane[4 + j] = c.im;
@@ -481,18 +516,14 @@ impl DepthSpectra {
         for kk in 0..sk {
             let k2 = p - kk;
             let paired = self.symmetry.is_some() && kk > 0 && k2 != kk;
+            // Per output, the (part, input) row of kernel values against the same row of lanes,
+            // both contiguous (the stored order is the order of these reads).
+            let lane = &lanes[kk * parts * n_in..][..parts * n_in];
             for (o, a) in acc.iter_mut().enumerate().take(n_out) {
-                *a = [0.0; 8];
-                for part in 0..parts {
-                    let kernel = &stored[(part * sk + kk) * blocks + o * n_in..][..n_in];
-                    let lane = &lanes[(part * sk + kk) * n_in..][..n_in];
-                    for (kv, z) in kernel.iter().zip(lane) {
-                        for j in 0..4 {
-                            a[j] += kv.re * z[j] - kv.im * z[4 + j];
-                            a[4 + j] += kv.re * z[4 + j] + kv.im * z[j];
-                        }
-                    }
-                }
+                let kernel = &stored[(kk * n_out + o) * parts * n_in..][..parts * n_in];
+                let (re, im) = lane_products(simd, kernel, lane);
+                a[..4].copy_from_slice(&re);
+                a[4..].copy_from_slice(&im);
                 let (s_o, t_o) = self
                     .symmetry
                     .as_ref()
@@ -509,6 +540,70 @@ impl DepthSpectra {
                 }
             }
         }
+    }
+}
+
+/// `(re, im)` of the four lanes' sums `Σ_j K_j z_j` over one row of kernel values and lanes
+/// (lanes: re 0..4, im 4..8): in each lane `re += K.re z.re − K.im z.im`, `im += K.re z.im + K.im
+/// z.re`, in this order (no fused multiply-adds: the same bits on every SIMD level), on `S`'s
+/// vectors where they hold whole lanes.
+#[inline(always)]
+fn lane_products<S: pulp::Simd>(
+    simd: S,
+    kernel: &[C64],
+    lanes: &[[f64; 8]],
+) -> ([f64; 4], [f64; 4]) {
+    let (mut re, mut im) = ([0.0f64; 4], [0.0f64; 4]);
+    {
+        let (re_v, re_t) = S::as_mut_simd_f64s(&mut re);
+        let (im_v, im_t) = S::as_mut_simd_f64s(&mut im);
+        for (kv, z) in kernel.iter().zip(lanes) {
+            let (zr, zi) = z.split_at(4);
+            let (zr_v, zr_t) = S::as_simd_f64s(zr);
+            let (zi_v, zi_t) = S::as_simd_f64s(zi);
+            let (kr, ki) = (simd.splat_f64s(kv.re), simd.splat_f64s(kv.im));
+            for (((r, i), a), b) in re_v.iter_mut().zip(im_v.iter_mut()).zip(zr_v).zip(zi_v) {
+                let t = simd.sub_f64s(simd.mul_f64s(kr, *a), simd.mul_f64s(ki, *b));
+                *r = simd.add_f64s(*r, t);
+                let t = simd.add_f64s(simd.mul_f64s(kr, *b), simd.mul_f64s(ki, *a));
+                *i = simd.add_f64s(*i, t);
+            }
+            for (((r, i), a), b) in re_t.iter_mut().zip(im_t.iter_mut()).zip(zr_t).zip(zi_t) {
+                *r += kv.re * a - kv.im * b;
+                *i += kv.re * b + kv.im * a;
+            }
+        }
+    }
+    (re, im)
+}
+
+/// One column of [`DepthSpectra::apply_column`], compiled for each SIMD level pulp dispatches to.
+struct ColumnTask<'a, 'b> {
+    depth: &'a DepthSpectra,
+    n_out: usize,
+    n_in: usize,
+    col: usize,
+    inputs_hat: &'a [Vec<C64>],
+    skip: &'a [bool],
+    outs: &'a mut [&'b mut [C64]],
+    buffers: &'a mut DepthBuffers,
+}
+
+impl pulp::WithSimd for ColumnTask<'_, '_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, simd: S) {
+        self.depth.apply_column_generic(
+            simd,
+            self.n_out,
+            self.n_in,
+            self.col,
+            self.inputs_hat,
+            self.skip,
+            self.outs,
+            self.buffers,
+        );
     }
 }
 
@@ -616,8 +711,7 @@ impl LayeredSpectra {
             });
         };
         let (n_out, n_in) = first.blocks();
-        let mut stored = Vec::new();
-        for &(family, kernel) in families {
+        for &(_, kernel) in families {
             if kernel.blocks() != (n_out, n_in) {
                 return Err(NumericsError::LengthMismatch {
                     what: "layered kernel blocks",
@@ -625,6 +719,10 @@ impl LayeredSpectra {
                     got: kernel.blocks().0 * kernel.blocks().1,
                 });
             }
+        }
+        // The 2D spectra of one family, by key.
+        let mut family_spectra = |part: usize| -> Result<SpectraByKey, NumericsError> {
+            let (family, kernel) = families[part];
             let mut keys: Vec<i64> = targets
                 .iter()
                 .flat_map(|&a| sources.iter().map(move |&b| family.key(a, b)))
@@ -635,8 +733,8 @@ impl LayeredSpectra {
             for key in keys {
                 map.insert(key, key_spectra(fft, kernel, key)?);
             }
-            stored.push((family, map));
-        }
+            Ok(map)
+        };
         // One parity for every family (then the depth spectra are stored by quarter).
         let parities: Vec<Option<Vec<(bool, bool)>>> =
             families.iter().map(|(_, k)| k.parity()).collect();
@@ -646,18 +744,22 @@ impl LayeredSpectra {
             }
             _ => None,
         };
-        let depth = if allow_depth && DepthSpectra::eligible(targets, sources, &stored) {
-            let d = DepthSpectra::build(
-                &stored,
+        let kinds: Vec<Family> = families.iter().map(|f| f.0).collect();
+        let mut stored = Vec::new();
+        let depth = if allow_depth && DepthSpectra::eligible(targets, sources, &kinds) {
+            Some(Box::new(DepthSpectra::build(
+                &kinds,
+                &mut family_spectra,
                 targets[0],
                 targets.len(),
                 (n1, n2),
                 (n_out, n_in),
                 parity.as_deref(),
-            );
-            stored.clear();
-            Some(Box::new(d))
+            )?))
         } else {
+            for (part, &family) in kinds.iter().enumerate() {
+                stored.push((family, family_spectra(part)?));
+            }
             None
         };
         Ok(Self {
@@ -712,6 +814,20 @@ impl LayeredSpectra {
         skip: &[bool],
         out_hat: &mut [Vec<C64>],
     ) -> Result<(), NumericsError> {
+        self.accumulate_leading(inputs_hat, skip, self.n_out, out_hat)
+    }
+
+    /// [`LayeredSpectra::accumulate`] of the first `outputs` outputs of each target only
+    /// (`out_hat[a · outputs + o]`, `o < outputs`): each output's sum is the same, bit for bit, as
+    /// in the whole accumulation. Per-key operators only (an operator with the depth FFT accepts
+    /// `outputs = n_out`, the whole accumulation).
+    pub fn accumulate_leading(
+        &self,
+        inputs_hat: &[Vec<C64>],
+        skip: &[bool],
+        outputs: usize,
+        out_hat: &mut [Vec<C64>],
+    ) -> Result<(), NumericsError> {
         let (nt, ns) = (self.targets.len(), self.sources.len());
         if inputs_hat.len() != ns * self.n_in || skip.len() != ns * self.n_in {
             return Err(NumericsError::LengthMismatch {
@@ -720,10 +836,17 @@ impl LayeredSpectra {
                 got: inputs_hat.len().min(skip.len()),
             });
         }
-        if out_hat.len() != nt * self.n_out {
+        if outputs == 0 || outputs > self.n_out || (self.depth.is_some() && outputs != self.n_out) {
+            return Err(NumericsError::InvalidParameter {
+                name: "leading outputs of a layered operator",
+                value: outputs as f64,
+                allowed: "1..=n_out (n_out with the depth FFT)",
+            });
+        }
+        if out_hat.len() != nt * outputs {
             return Err(NumericsError::LengthMismatch {
                 what: "layered operator output spectra",
-                expected: nt * self.n_out,
+                expected: nt * outputs,
                 got: out_hat.len(),
             });
         }
@@ -784,7 +907,7 @@ impl LayeredSpectra {
         if len <= SMALL_SPECTRUM {
             // Small plans (an inhomogeneity's window) stay in cache: parallel over outputs.
             out_hat.par_iter_mut().enumerate().for_each(|(ao, acc)| {
-                self.accumulate_one(ao, 0, inputs_hat, skip, acc);
+                self.accumulate_one((ao / outputs, ao % outputs), 0, inputs_hat, skip, acc);
             });
             return Ok(());
         }
@@ -803,7 +926,7 @@ impl LayeredSpectra {
             .for_each(|(c, mut outs)| {
                 let start = c * FREQUENCY_CHUNK;
                 for (ao, acc) in outs.iter_mut().enumerate() {
-                    self.accumulate_one(ao, start, inputs_hat, skip, acc);
+                    self.accumulate_one((ao / outputs, ao % outputs), start, inputs_hat, skip, acc);
                 }
             });
         Ok(())
@@ -812,16 +935,15 @@ impl LayeredSpectra {
 
 impl LayeredSpectra {
     /// `acc += Σ_b Σ_i Σ_F K̂^F_{oi} · x̂_{b,i}` over the frequencies `start .. start + acc.len()` of
-    /// output `ao = a · n_out + o`.
+    /// output `o` of target `a`.
     fn accumulate_one(
         &self,
-        ao: usize,
+        (a, o): (usize, usize),
         start: usize,
         inputs_hat: &[Vec<C64>],
         skip: &[bool],
         acc: &mut [C64],
     ) {
-        let (a, o) = (ao / self.n_out, ao % self.n_out);
         let end = start + acc.len();
         for (family, map) in &self.families {
             for (b, &zb) in self.sources.iter().enumerate() {
@@ -1263,6 +1385,84 @@ mod tests {
             let (err, scale) = max_error(&fast, &slow);
             assert!(err < 1e-12 * scale, "{err:e} of {scale:e}");
         }
+    }
+
+    /// The leading outputs alone are the whole accumulation's, bit for bit, on the frequency-chunked
+    /// path of large plans (more than `SMALL_SPECTRUM` values) as on the small one; no leading
+    /// outputs, more than the operator has, or fewer than all with the depth FFT are refused.
+    #[test]
+    fn leading_outputs_equal_the_whole_accumulation_bit_for_bit() {
+        let (k1, k2) = (Smooth(1.0), Smooth(-0.4));
+        let families: [(Family, &dyn LayerKernel); 2] =
+            [(Family::Difference, &k1), (Family::Sum, &k2)];
+        for (n1, n2) in [(5, 4), (72, 64)] {
+            let mut fft = Fft2d::new(n1, n2).unwrap();
+            assert_eq!(fft.spectrum_len() > SMALL_SPECTRUM, n1 == 72);
+            let (targets, sources) = ([0i64], [3i64, 5]);
+            let spectra = LayeredSpectra::new(&mut fft, &targets, &sources, &families).unwrap();
+            let mut rng = crate::testkit::Lcg::new(5);
+            let hats: Vec<Vec<C64>> = (0..sources.len() * 3)
+                .map(|_| {
+                    let x: Vec<f64> = (0..n1 * n2).map(|_| rng.unit() - 0.5).collect();
+                    let mut h = fft.new_spectrum();
+                    fft.forward(&x, &mut h).unwrap();
+                    h
+                })
+                .collect();
+            let skip = vec![false; hats.len()];
+            let mut whole: Vec<Vec<C64>> = (0..2).map(|_| fft.new_spectrum()).collect();
+            spectra.accumulate(&hats, &skip, &mut whole).unwrap();
+            let mut leading = vec![fft.new_spectrum()];
+            spectra
+                .accumulate_leading(&hats, &skip, 1, &mut leading)
+                .unwrap();
+            assert_eq!(leading[0], whole[0]);
+            for bad in [0, 3] {
+                assert!(spectra
+                    .accumulate_leading(&hats, &skip, bad, &mut leading)
+                    .is_err());
+            }
+        }
+        // A depth-FFT operator: only all outputs.
+        let layers = [5i64, 7, 9];
+        let mut fft = Fft2d::new(6, 5).unwrap();
+        let spectra = LayeredSpectra::new(&mut fft, &layers, &layers, &families).unwrap();
+        assert!(spectra.depth.is_some());
+        let hats: Vec<Vec<C64>> = (0..9).map(|_| fft.new_spectrum()).collect();
+        let mut out: Vec<Vec<C64>> = (0..3).map(|_| fft.new_spectrum()).collect();
+        assert!(spectra
+            .accumulate_leading(&hats, &[false; 9], 1, &mut out)
+            .is_err());
+    }
+
+    /// The depth products give the same bits on the scalar level as on the CPU's SIMD level
+    /// (pulp's dispatch: the same operations in the same order on wider lanes).
+    #[test]
+    fn depth_products_are_the_same_bits_on_every_simd_level() {
+        let (n1, n2) = (6, 5);
+        let layers = [5i64, 7, 9, 11];
+        let families: [(Family, &dyn LayerKernel); 2] =
+            [(Family::Difference, &Factored), (Family::Sum, &Factored)];
+        let mut fft = Fft2d::new(n1, n2).unwrap();
+        let fast = LayeredSpectra::new(&mut fft, &layers, &layers, &families).unwrap();
+        let mut scalar = LayeredSpectra::new(&mut fft, &layers, &layers, &families).unwrap();
+        scalar.depth.as_mut().expect("a contiguous stack").arch = pulp::Arch::Scalar;
+        let mut rng = crate::testkit::Lcg::new(7);
+        let hats: Vec<Vec<C64>> = (0..layers.len() * 3)
+            .map(|_| {
+                let x: Vec<f64> = (0..n1 * n2).map(|_| rng.unit() - 0.5).collect();
+                let mut h = fft.new_spectrum();
+                fft.forward(&x, &mut h).unwrap();
+                h
+            })
+            .collect();
+        let skip = vec![false; hats.len()];
+        let mut a: Vec<Vec<C64>> = (0..layers.len() * 2).map(|_| fft.new_spectrum()).collect();
+        let mut b = a.clone();
+        fast.accumulate(&hats, &skip, &mut a).unwrap();
+        scalar.accumulate(&hats, &skip, &mut b).unwrap();
+        assert!(a.iter().flatten().any(|v| v.norm() > 0.0));
+        assert_eq!(a, b);
     }
 
     #[test]

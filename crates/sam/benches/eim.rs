@@ -1,12 +1,19 @@
 //! The equivalent inclusion method: one application of the layered EIM field operator (8 layers,
 //! the whole grid as the window) and the whole frictionless contact with the stiff sphere of
-//! docs/theory-sam.md#inhomogeneity-references (E_I = 2E, r = 0.3a at depth 0.5a) on 64² and 128² grids over 4a.
+//! docs/theory-sam.md#inhomogeneity-references (E_I = 2E, r = 0.3a at depth 0.5a) on 64² and 128² grids over 4a;
+//! one application of the EIM system `A ε* = C^m ε* − ΔC 𝒟ε*` of [LN11]'s composite (stiff fibres,
+//! fibre-centred, the composite fretting loop's operator, docs/performance.md issue 21) at 64² and
+//! 128².
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use halfspace_numerics::linop::LinearOperator;
 use halfspace_sam::contact::{ContactParams, ContactProblem};
 use halfspace_sam::contact::{InhomogeneousContact, NestedParams};
-use halfspace_sam::eim::{Backend, EimFields, Inhomogeneity, Shape, Space, Window};
+use halfspace_sam::drivers::fretting_loop::LoopCase;
+use halfspace_sam::eim::{
+    Backend, EimFields, EimSystem, FibreLayout, InclusionSet, Inhomogeneity, Shape, Space, Window,
+};
 use halfspace_sam::normal::NormalLoad;
 use halfspace_sam::{Body, Compliance, SurfaceGrid};
 
@@ -32,6 +39,34 @@ fn operator(c: &mut Criterion) {
         let mut strain = vec![vec![0.0; n * n]; 48];
         group.bench_with_input(BenchmarkId::new("apply", n), &n, |b, _| {
             b.iter(|| f.disturbance(&eigen, &mut strain).unwrap())
+        });
+    }
+    group.finish();
+}
+
+/// The composite loop's EIM system at `n²` (as `InhomogeneousContact` builds it).
+fn composite_system(n: usize) -> EimSystem {
+    let mut case = LoopCase::default()
+        .composite(FibreLayout::FibreCentred, 2.0)
+        .unwrap();
+    case.grid = n;
+    let grid = SurfaceGrid::square(n, case.extent()).unwrap();
+    let set = InclusionSet::new(&grid, &case.inhomogeneities).unwrap();
+    let fields = EimFields::for_inclusions(grid, case.e, case.nu, &set).unwrap();
+    EimSystem::new(fields, set, case.e, case.nu).unwrap()
+}
+
+fn composite(c: &mut Criterion) {
+    let mut group = c.benchmark_group("eim_composite_apply");
+    for n in [64usize, 128] {
+        let mut system = composite_system(n);
+        let dim = system.dim();
+        let x: Vec<f64> = (0..dim)
+            .map(|i| 1e-4 * (((i * 7919) % 1013) as f64 / 1013.0 - 0.5))
+            .collect();
+        let mut y = vec![0.0; dim];
+        group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+            b.iter(|| system.apply(&x, &mut y).unwrap())
         });
     }
     group.finish();
@@ -81,6 +116,6 @@ criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(10).warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(3)).without_plots();
-    targets = operator, stiff_sphere
+    targets = composite, operator, stiff_sphere
 }
 criterion_main!(benches);

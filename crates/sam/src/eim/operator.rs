@@ -188,7 +188,8 @@ impl Layered {
     /// `y = K x` for fields of the plan's shape (FFT: `x` transformed into `x_hat`, products in
     /// `y_hat`; dense: direct sums). The inputs are zero outside the rows `rows.0` and only the
     /// rows `rows.1` of the outputs are wanted (FFT: the other row transforms are skipped; the other
-    /// output rows are left stale).
+    /// output rows are left stale). `y` may hold only the first outputs of an operator with one
+    /// target (the surface fields: `p_c` alone); those are the same, bit for bit.
     #[allow(clippy::too_many_arguments)]
     fn apply(
         &self,
@@ -212,8 +213,23 @@ impl Layered {
                     }
                 }
                 let zero = C64::new(0.0, 0.0);
+                let outputs = match spectra.targets().len() {
+                    0 => spectra.blocks().0,
+                    nt => y.len() / nt,
+                };
+                // The dense twin reads `y[a · n_out + o]`: fewer outputs only with one target.
+                if outputs != spectra.blocks().0 && spectra.targets().len() != 1 {
+                    return Err(SamError::Numerics(
+                        halfspace_numerics::NumericsError::LengthMismatch {
+                            what: "layered operator outputs (fewer than all only with one target)",
+                            expected: spectra.targets().len() * spectra.blocks().0,
+                            got: y.len(),
+                        },
+                    ));
+                }
+                let y_hat = &mut y_hat[..y.len()];
                 y_hat.iter_mut().for_each(|s| s.fill(zero));
-                spectra.accumulate(x_hat, skip, y_hat)?;
+                spectra.accumulate_leading(x_hat, skip, outputs, y_hat)?;
                 for (hat, yo) in y_hat.iter_mut().zip(y.iter_mut()) {
                     fft.inverse_rows(hat, rows_out.clone(), yo)?;
                 }
@@ -299,7 +315,8 @@ impl Work {
 
     /// `fields` = the surface operator `spectra` applied to the input spectra of `inputs`
     /// ([`Work::transform_inputs`]): accumulated in this work's output spectra, one inverse
-    /// transform per field (docs/theory-sam.md#eigen-displacements).
+    /// transform per field (docs/theory-sam.md#eigen-displacements). `fields` may be the first of
+    /// the three (`p_c` alone).
     fn surface_fields(
         &mut self,
         fft: &mut Fft2d,
@@ -308,9 +325,10 @@ impl Work {
         fields: &mut [Vec<f64>],
     ) -> Result<(), SamError> {
         let zero = C64::new(0.0, 0.0);
-        self.y_hat.iter_mut().for_each(|s| s.fill(zero));
-        spectra.accumulate(&inputs.x_hat, &inputs.skip, &mut self.y_hat)?;
-        for (hat, field) in self.y_hat.iter_mut().zip(fields.iter_mut()) {
+        let y_hat = &mut self.y_hat[..fields.len()];
+        y_hat.iter_mut().for_each(|s| s.fill(zero));
+        spectra.accumulate_leading(&inputs.x_hat, &inputs.skip, fields.len(), y_hat)?;
+        for (hat, field) in y_hat.iter_mut().zip(fields.iter_mut()) {
             fft.inverse(hat, field)?;
         }
         Ok(())
@@ -339,6 +357,9 @@ pub struct EimFields {
     love_work: Work,
     /// `p_c`, `2u₁⁽¹⁾`, `2u₂⁽¹⁾` of the last disturbance (whole grid).
     surface_fields: [Vec<f64>; 3],
+    /// Whether `2u_α⁽¹⁾` are those of the last disturbance (not after
+    /// [`EimFields::disturbance_strain`], which computes `p_c` alone).
+    displacements_current: bool,
     /// Window eigenstrains scattered on the whole grid.
     scattered: Vec<Vec<f64>>,
     /// Love strains on the whole grid at the target layers.
@@ -404,6 +425,10 @@ impl EimFields {
         let targets: Vec<i64> = target_layers.iter().map(key).collect();
         let (ns, nt) = (sources.len(), targets.len());
         let families = if space == Space::HalfSpace { 2 } else { 1 };
+        // An upper bound of the build's peak: the 2D spectra of every family's keys (when targets
+        // = sources, the EIM's case, the depth-FFT build holds one family's at a time, then the
+        // quarter-stored depth spectra, ≈ 0.5 of one family's: 128² composite, 8 layers: 0.47 GB
+        // peak of the system against 1.3 GB here).
         let need = estimated_bytes(
             window.n1,
             window.n2,
@@ -483,10 +508,19 @@ impl EimFields {
         };
         let n = grid.len();
         let half_space = usize::from(space == Space::HalfSpace);
+        // The window's eigenstrains scattered on the whole grid and their spectra: only off the
+        // shared path (a whole-grid window on the FFT backend shares the volume's input spectra,
+        // `disturbance_shared`).
+        let windowed = usize::from(!(window.is_full(&grid) && backend == Backend::Fft));
         Ok(Self {
             eig_hat: [fft.new_spectrum(), fft.new_spectrum()],
             volume_work: Work::new(&wfft, backend, ns * 6, nt * 6),
-            surface_work: Work::new(&fft, backend, ns * 6 * half_space, 3 * half_space),
+            surface_work: Work::new(
+                &fft,
+                backend,
+                ns * 6 * half_space * windowed,
+                3 * half_space,
+            ),
             love_work: Work::new(&fft, backend, 3, nt * 6),
             grid,
             window,
@@ -500,7 +534,8 @@ impl EimFields {
             love,
             boussinesq,
             surface_fields: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
-            scattered: vec![vec![0.0; n]; ns * 6 * half_space],
+            displacements_current: true,
+            scattered: vec![vec![0.0; n]; ns * 6 * half_space * windowed],
             love_full: vec![vec![0.0; n]; nt * 6],
             zero: vec![0.0; n],
         })
@@ -537,6 +572,30 @@ impl EimFields {
         eigen: &[Vec<f64>],
         strain: &mut [Vec<f64>],
     ) -> Result<(), SamError> {
+        self.disturbance_with(eigen, strain, 3)
+    }
+
+    /// [`EimFields::disturbance`] without the surface displacements `2u_α⁽¹⁾`: the strain at the
+    /// target layers and `p_c` (field (3) reads `p_c` alone), bit for bit those of the full
+    /// disturbance, with a third of its surface products and two inverse transforms fewer — what
+    /// the EIM iteration applies ([`super::EimSystem`]). Until the next [`EimFields::disturbance`]
+    /// or [`EimFields::surface_disturbance`], [`EimFields::eigen_displacements`] is refused.
+    pub fn disturbance_strain(
+        &mut self,
+        eigen: &[Vec<f64>],
+        strain: &mut [Vec<f64>],
+    ) -> Result<(), SamError> {
+        self.disturbance_with(eigen, strain, 1)
+    }
+
+    /// The disturbance with the first `surface` of the surface fields (`p_c`, `2u₁⁽¹⁾`,
+    /// `2u₂⁽¹⁾`): 3 or 1.
+    fn disturbance_with(
+        &mut self,
+        eigen: &[Vec<f64>],
+        strain: &mut [Vec<f64>],
+        surface: usize,
+    ) -> Result<(), SamError> {
         let (ns, nt) = (self.sources.len(), self.targets.len());
         let wl = self.window.len();
         if eigen.len() != ns * 6
@@ -561,7 +620,7 @@ impl EimFields {
         }
         if self.window.is_full(&self.grid) && self.surface.is_some() {
             if let (Layered::Fast(_), Layered::Fast(_)) = (&self.volume, &self.love) {
-                return self.disturbance_shared(eigen, strain);
+                return self.disturbance_shared(eigen, strain, surface);
             }
         }
         // Fields (1) + (2) on the window.
@@ -582,7 +641,7 @@ impl EimFields {
         if self.surface.is_none() {
             return Ok(());
         }
-        self.surface_fields_from_window(eigen)?;
+        self.surface_fields_from_window(eigen, surface)?;
         // Field (3): Love strains of p_c, cropped to the window and added.
         let x: [&[f64]; 3] = [&self.surface_fields[0], &self.zero, &self.zero];
         love_into_window(
@@ -627,6 +686,7 @@ impl EimFields {
                 unreachable!("matched above")
             };
             self.volume_work.transform_inputs(&mut self.fft, eigen)?;
+            self.displacements_current = true;
             return self.surface_work.surface_fields(
                 &mut self.fft,
                 surface,
@@ -634,24 +694,28 @@ impl EimFields {
                 &mut self.surface_fields,
             );
         }
-        self.surface_fields_from_window(eigen)
+        self.surface_fields_from_window(eigen, 3)
     }
 
     /// `p_c` and `2u_α⁽¹⁾` on the whole surface from the window's eigenstrains (scattered to the
     /// grid, the surface operator applied over the window's rows;
     /// docs/theory-sam.md#eigen-displacements): the one computation behind
-    /// [`EimFields::disturbance`] and [`EimFields::surface_disturbance`] off the shared path.
-    /// Nothing in infinite space.
-    fn surface_fields_from_window(&mut self, eigen: &[Vec<f64>]) -> Result<(), SamError> {
+    /// [`EimFields::disturbance`] and [`EimFields::surface_disturbance`] off the shared path, the
+    /// first `count` fields (3, or 1: `p_c` alone). Nothing in infinite space.
+    fn surface_fields_from_window(
+        &mut self,
+        eigen: &[Vec<f64>],
+        count: usize,
+    ) -> Result<(), SamError> {
         let Some(surface) = &self.surface else {
             return Ok(());
         };
+        self.displacements_current = count == 3;
         for (local, full) in eigen.iter().zip(self.scattered.iter_mut()) {
             self.window.scatter(&self.grid, local, full);
         }
         let x: Vec<&[f64]> = self.scattered.iter().map(|v| v.as_slice()).collect();
-        let mut y: Vec<&mut [f64]> = self
-            .surface_fields
+        let mut y: Vec<&mut [f64]> = self.surface_fields[..count]
             .iter_mut()
             .map(|v| v.as_mut_slice())
             .collect();
@@ -671,10 +735,12 @@ impl EimFields {
     /// [`EimFields::disturbance`] when the window is the whole grid (FFT backend, half-space): the
     /// eigenstrain spectra serve the volume and the surface operators, and field (3) is added to the
     /// volume's output spectra before the one inverse transform per output (2 × 6 N_s fewer FFTs).
+    /// The first `surface` surface fields (3, or 1: `p_c` alone).
     fn disturbance_shared(
         &mut self,
         eigen: &[Vec<f64>],
         strain: &mut [Vec<f64>],
+        surface_count: usize,
     ) -> Result<(), SamError> {
         let (Layered::Fast(volume), Some(Layered::Fast(surface)), Layered::Fast(love)) =
             (&self.volume, &self.surface, &self.love)
@@ -686,11 +752,12 @@ impl EimFields {
         let vw = &mut self.volume_work;
         vw.y_hat.iter_mut().for_each(|s| s.fill(zero));
         volume.accumulate(&vw.x_hat, &vw.skip, &mut vw.y_hat)?;
+        self.displacements_current = surface_count == 3;
         self.surface_work.surface_fields(
             &mut self.fft,
             surface,
             &self.volume_work,
-            &mut self.surface_fields,
+            &mut self.surface_fields[..surface_count],
         )?;
         let lw = &mut self.love_work;
         self.fft
@@ -721,6 +788,13 @@ impl EimFields {
                 allowed: "a half-space operator",
             });
         };
+        if !self.displacements_current {
+            return Err(SamError::InvalidInput(
+                "eigen-displacements after a strain-only disturbance: call disturbance or \
+                 surface_disturbance first"
+                    .into(),
+            ));
+        }
         let n = self.grid.len();
         let [p_hat, work] = &mut self.eig_hat;
         self.fft.forward(&self.surface_fields[0], p_hat)?;
