@@ -23,7 +23,7 @@ crate::sam::fretting_loop_keys! {
     /// The fretting-loop configuration as read from TOML (`fretting-loop --config`) or from a
     /// Python dict: the keys of [`LoopCase`] in SI units (the shared ones declared once, by
     /// `fretting_loop_keys!`), `[[inhomogeneity]]` tables, the composite preset's `layout` and
-    /// `fibre_e_ratio`, and `subsurface_over_a` (defaults: [LN11]'s homogeneous case).
+    /// `fibre_e_ratio`, and `subsurface_over_a` (defaults: \[LN11\]'s homogeneous case).
     #[derive(Debug, Clone, Deserialize)]
     #[serde(deny_unknown_fields, default)]
     pub struct LoopConfig {
@@ -46,7 +46,7 @@ crate::sam::fretting_loop_keys! {
             /// Composite preset only: `"fibre-centred"` (a fibre axis at x = 0, the default) or
             /// `"gap-centred"`; refused without the preset (it would be ignored).
             layout: Option<String> = None,
-            /// Composite preset only: E_I / E_m of the fibres (2 in [LN11], the default; 0.5 for
+            /// Composite preset only: E_I / E_m of the fibres (2 in \[LN11\], the default; 0.5 for
             /// soft fibres); refused without the preset.
             fibre_e_ratio: Option<f64> = None,
             /// Depth of the von Mises fields at the points A–D over a (0: none).
@@ -80,7 +80,7 @@ crate::sam::fretting_loop_keys! {
 #[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
 #[serde(rename_all = "kebab-case")]
 pub enum InhomogeneousBody {
-    /// The nested contact ↔ EIM loop of [LN11] Fig. 2 in every increment (the reference path).
+    /// The nested contact ↔ EIM loop of \[LN11\] Fig. 2 in every increment (the reference path).
     #[default]
     Nested,
     /// The surface-response operator, built once per body (one EIM solve per column).

@@ -211,7 +211,7 @@ fn pass(
 /// [`crate::evaluate_field`]) is overwritten by `σ̄` where the volume lies inside the nodes;
 /// returns whether each point holds its average (`false`: its volume leaves the box, the value
 /// is not an average). Errors (before the history is touched): `side` below a cell
-/// ([`check_side`]) or beyond the box's smallest extent, no point whose volume is inside, nodes
+/// (`check_side`) or beyond the box's smallest extent, no point whose volume is inside, nodes
 /// not finite and increasing, sizes overflowing `usize`, a shape that does not fit the nodes.
 pub fn average_over_volume(
     stress: &mut [f64],

@@ -267,7 +267,7 @@ fn shear_on_patch_bound(
 ///   most its distance to any centre, `max_t |τ(n, Δσ(t))|`, and along a great circle
 ///   `n = n₀ cos φ + e sin φ` (`e ⊥ n₀`, `φ ≤ θ`) with `S = Δσ(t)`, `ρ = (λ₁ − λ₃)(S)/2`:
 ///   - first order, `A₁ = |τ(n₀, S)| + θ (λ₁ − λ₃)`: `|dτ/dφ| ≤ ‖S − (n·S n) I‖₂ ≤ λ₁ − λ₃`;
-///   - second order ([`shear_on_patch_bound`]), `A₂ = √(|τ₀|² + 2θ|Mᵀτ₀| + θ² ‖M‖₂²) +
+///   - second order (`shear_on_patch_bound`), `A₂ = √(|τ₀|² + 2θ|Mᵀτ₀| + θ² ‖M‖₂²) +
 ///     ½ θ² √41 ρ` with `τ₀ = τ(n₀, S)` and `M = [L e₁, L e₂]`, `L e = dτ/dφ(0) = S e −
 ///     2(e·τ₀) n₀ − σ_n(n₀) e`, on a tangent basis `e₁, e₂` at `n₀` (Taylor's theorem:
 ///     `|d²τ/dφ²| ≤ √41 ρ` everywhere);

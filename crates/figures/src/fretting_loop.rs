@@ -1,5 +1,5 @@
 //! The figures of `fretting-loop` (docs/fretting-loop.md, docs/composite.md#animation,
-//! docs/fatigue.md#figures): [LN11]'s Figs. 6–9 from a completed loop (and its homogeneous
+//! docs/fatigue.md#figures): \[LN11\]'s Figs. 6–9 from a completed loop (and its homogeneous
 //! reference), the von Mises sections at A–D, the animation `loop_pq.gif` and the fatigue
 //! figures.
 
@@ -17,7 +17,7 @@ use crate::FigureError;
 /// One labelled curve.
 type Labelled = (String, Vec<(f64, f64)>);
 
-/// The figures of [LN11] from a completed loop (and its homogeneous reference): the loops (Fig. 8),
+/// The figures of \[LN11\] from a completed loop (and its homogeneous reference): the loops (Fig. 8),
 /// p and q along x and y at A–D (Fig. 6), the slips at B (Fig. 7), the map of q_x at B (Fig. 9),
 /// the map of the transverse slip s₂ at B, and the von Mises sections at A–D.
 pub fn loop_figures(

@@ -6,7 +6,7 @@
 //! * [`material`]: the elastic half-space (`E*`, later power-law graded with `c_N`).
 //! * [`profile`]: indenter profiles `f(r)` with `f(0) = 0`.
 //! * [`transform`]: the three MDR transforms, each built once for a grid size and a
-//!   [`Backend`](halfspace_numerics::Backend) and applied many times:
+//!   [`halfspace_numerics::Backend`] and applied many times:
 //!   profile `f → g` (Eq. 7), displacement `U → u` (Eqs. 12, 13), line load `q → σ` (Eq. 17).
 //! * [`contact`]: macroscopic relations and the contact solve by depth or by force (docs/theory-mdr.md#profile-transform).
 //! * [`analytic`]: closed forms used by tests, docs and benches.

@@ -1,7 +1,7 @@
 //! Closed-form solutions that serve the tests, the docs and the benchmarks of the 3D method (one
 //! library, not re-derived in each test): Hertz's subsurface stresses on the axis, Eshelby's sphere
 //! and Mindlin–Cheng's nucleus of strain. (Hertz's surface fields, Cattaneo–Mindlin and
-//! Mindlin–Deresiewicz live with the contact solvers in [`crate::analytic::mindlin_deresiewicz`].)
+//! Mindlin–Deresiewicz live with the contact solvers in [`mindlin`].)
 
 pub mod mindlin;
 

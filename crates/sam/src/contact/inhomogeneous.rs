@@ -1,4 +1,4 @@
-//! Contact with inhomogeneities below the surface: the outer loop of [LN11] Fig. 2 (docs/theory-sam.md#nested-loops).
+//! Contact with inhomogeneities below the surface: the outer loop of \[LN11\] Fig. 2 (docs/theory-sam.md#nested-loops).
 //! Per increment, until the surface eigen-displacements stop changing:
 //!
 //! 1. contact solve with `h = h₀ + u₃^eig` and `Δu ∋ u_α^eig` ([`ContactProblem::solve`]);
@@ -49,7 +49,7 @@ pub struct NestedParams {
     /// reference path it was checked against.
     pub eim_change_factor: f64,
     /// How the body's surface response enters each increment: the nested contact ↔ EIM loop of
-    /// [LN11] Fig. 2 (the reference), or the surface-response operator built once
+    /// \[LN11\] Fig. 2 (the reference), or the surface-response operator built once
     /// (docs/theory-sam.md#surface-response-operator).
     pub body: BodyResponse,
 }
@@ -57,7 +57,7 @@ pub struct NestedParams {
 /// How [`InhomogeneousContact`] obtains the surface eigen-displacements of the tractions.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum BodyResponse {
-    /// An EIM solve in every outer pass ([LN11] Fig. 2; docs/theory-sam.md#nested-loops): the
+    /// An EIM solve in every outer pass (\[LN11\] Fig. 2; docs/theory-sam.md#nested-loops): the
     /// reference path.
     Nested,
     /// The dense surface-response operator [`SurfaceResponse`] over the cells whose centres lie
@@ -90,7 +90,7 @@ pub const LOOSE_CONTACT_CEILING: f64 = 1e-3;
 
 /// The default EIM change factor `η` ([`NestedParams::eim_change_factor`]): each outer pass's EIM
 /// solved to 3·10⁻³ of the last outer change, with the recycled iterations of
-/// [`DEFAULT_EIM_RECYCLED_DEPTH`] (which make the tighter solves cheap). On [LN11]'s composite
+/// [`DEFAULT_EIM_RECYCLED_DEPTH`] (which make the tighter solves cheap). On \[LN11\]'s composite
 /// loop it stays within 1.4e-7 p₀ of the reference path ([`REFERENCE_EIM_CHANGE_FACTOR`], plain
 /// block Jacobi) at every increment of the whole loop at 64², with 45 % fewer EIM applications;
 /// 10⁻² (the default before, plain: 6.9e-7 p₀) with recycling left it (1.07e-6 p₀)

@@ -241,7 +241,7 @@ impl<S: OperatorSet> ContactProblem<S> {
     }
 
     /// Sets the known surface eigen-displacements `u^eig = (u₁, u₂, u₃)` of the half-space (
-    /// docs/theory-sam.md#eigen-displacements, [LN11] Eqs. 14–15): `u₃^eig` enters the initial separation `h = h₀ + u₃^eig`, `u_α^eig`
+    /// docs/theory-sam.md#eigen-displacements, \[LN11\] Eqs. 14–15): `u₃^eig` enters the initial separation `h = h₀ + u₃^eig`, `u_α^eig`
     /// the relative tangential displacement (and so the slip and the friction history). They apply
     /// to the next [`ContactProblem::solve`]; `None` removes them.
     pub fn set_eigen_displacements(&mut self, u: Option<[&[f64]; 3]>) -> Result<(), SamError> {

@@ -22,7 +22,7 @@ pub struct FrettingMap {
     quarter: usize,
 }
 
-/// One point of a map: the loop's [`super::LoopMetrics`] that classify it.
+/// One point of a map: the loop's [`LoopMetrics`](super::fretting_loop::LoopMetrics) that classify it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MapPoint {
     /// Normal load W (N).

@@ -1,5 +1,5 @@
 //! A cuboid with a uniform eigenstrain `ε*` in an infinite isotropic space (docs/theory-sam.md#cuboid-in-infinite-space;
-//! Chiu 1977; Mura 1987 §11; [LN11] App. A, Eqs. 9 and 16).
+//! Chiu 1977; Mura 1987 §11; \[LN11\] App. A, Eqs. 9 and 16).
 //!
 //! With the box centred at 0 with half-sizes `a`, the Newtonian and biharmonic potentials
 //! `φ(x) = ∫ dV′/|x − x′|`, `ψ(x) = ∫ |x − x′| dV′` are corner sums `φ = ⟦𝓔⟧₃`, `ψ = ⟦𝓗⟧₃` over the
@@ -221,7 +221,7 @@ const fn slot_const(n: [usize; 3], order: usize) -> usize {
 }
 
 /// Second derivatives of `φ` and fourth of `ψ` at `x` for the box of half-sizes `a` (corner sums of
-/// the primitives), indexed by [`slot`].
+/// the primitives), indexed by `slot`.
 pub struct StrainPotentials {
     phi2: [f64; 6],
     psi4: [f64; 15],
@@ -369,12 +369,12 @@ impl DisplacementPotentials {
     }
 }
 
-/// `D` as a Voigt 6 × 6 matrix at `x` for the box of half-sizes `a` (docs/theory-sam.md#cuboid-in-infinite-space, [LN11] Eq. 9).
+/// `D` as a Voigt 6 × 6 matrix at `x` for the box of half-sizes `a` (docs/theory-sam.md#cuboid-in-infinite-space, \[LN11\] Eq. 9).
 pub fn strain_kernel(x: [f64; 3], a: [f64; 3], nu: f64) -> [[f64; 6]; 6] {
     StrainPotentials::new(x, a).voigt(nu)
 }
 
-/// `Dˢ` as a 3 × 6 matrix at `x` for the box of half-sizes `a` (docs/theory-sam.md#cuboid-in-infinite-space, [LN11] Eq. 16).
+/// `Dˢ` as a 3 × 6 matrix at `x` for the box of half-sizes `a` (docs/theory-sam.md#cuboid-in-infinite-space, \[LN11\] Eq. 16).
 pub fn displacement_kernel(x: [f64; 3], a: [f64; 3], nu: f64) -> [[f64; 6]; 3] {
     DisplacementPotentials::new(x, a).voigt(nu)
 }

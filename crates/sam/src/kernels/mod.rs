@@ -1,7 +1,7 @@
 //! Closed-form kernels of the semi-analytical method (docs/theory-sam.md#cuboid-in-infinite-space to #love-rectangle-stresses):
 //!
 //! * [`cuboid`]: a cuboid with uniform eigenstrain in an infinite space (Chiu 1977; Mura 1987 §11;
-//!   [LN11] App. A, Eqs. 9 and 16) — the strain kernel `D`, the displacement kernel `Dˢ`, and the
+//!   \[LN11\] App. A, Eqs. 9 and 16) — the strain kernel `D`, the displacement kernel `Dˢ`, and the
 //!   Eshelby tensor of a sphere for comparison.
 //! * [`subsurface`]: Love's (1929) stresses below a uniformly loaded surface rectangle, for a pressure
 //!   and for both shears (Liu & Wang 2002).

@@ -9,13 +9,13 @@ use crate::kernels::surface::Body;
 use crate::normal::NormalLoad;
 use crate::SamError;
 
-/// The labels of the points of [LN11] Figs. 5–7: A end of the normal loading, B `δx = +A`, C
+/// The labels of the points of \[LN11\] Figs. 5–7: A end of the normal loading, B `δx = +A`, C
 /// `δx = 0` on the way back, D `δx = −A`.
 pub const POINT_LABELS: [&str; 4] = ["A", "B", "C", "D"];
 
 /// Declares a struct holding the nine keys a fretting loop's case ([`LoopCase`]) and its
 /// configurations (`halfspace_cases::config::LoopConfig`, read from TOML and Python dicts) share,
-/// each declared once, here, with its type, documentation and default ([LN11]'s homogeneous
+/// each declared once, here, with its type, documentation and default (\[LN11\]'s homogeneous
 /// case): `radius, e, nu, friction`, then the struct's `load` fields, then `normal_steps,
 /// amplitude, shift_step, grid, extent_over_a`, then its `rest` fields — in this order, which is
 /// the order of `{:?}` (checkpoint fingerprints) and of serde's list of expected keys. Each own
@@ -59,7 +59,7 @@ macro_rules! fretting_loop_keys {
         }
 
         impl ::std::default::Default for $name {
-            /// [LN11]'s homogeneous case.
+            /// \[LN11\]'s homogeneous case.
             fn default() -> Self {
                 Self {
                     radius: 105e-6,
@@ -125,7 +125,7 @@ fretting_loop_keys! {
     /// normal force ramped to `force` (or the approach to [`LoopCase::approach`]) in
     /// `normal_steps` equal steps, then the shift cycled with amplitude `amplitude` in steps
     /// `shift_step`, on `grid²` cells over `extent_over_a · a` (`a` the Hertz radius of the pair).
-    /// Defaults: [LN11]'s homogeneous case (rigid sphere, R = 105 μm, E = 210 GPa, ν = 0.3,
+    /// Defaults: \[LN11\]'s homogeneous case (rigid sphere, R = 105 μm, E = 210 GPa, ν = 0.3,
     /// μ = 0.3, W = 80 mN in 80 steps, A = 0.04 μm in 0.002 μm steps, 64² over 4.16a); the keys
     /// shared with the configurations are declared by [`fretting_loop_keys!`].
     ///
@@ -143,7 +143,7 @@ fretting_loop_keys! {
             /// `force`). The approach is ramped like the force, `δ_i = δ i / n`; the force `W(δ)`
             /// is computed.
             approach: Option<f64> = None,
-            /// The indenter (the sphere): [`Body::Rigid`] ([LN11]) or [`Body::Elastic`]
+            /// The indenter (the sphere): [`Body::Rigid`] (\[LN11\]) or [`Body::Elastic`]
             /// `{ e, nu }`.
             indenter: Body = Body::Rigid,
         }
@@ -157,7 +157,7 @@ fretting_loop_keys! {
             fatigue_depth: Option<f64> = None,
             /// How the inhomogeneous body's surface response enters the increments
             /// (docs/theory-sam.md#surface-response-operator): `None` — the nested contact ↔ EIM
-            /// loop of [LN11] Fig. 2 in every increment (the reference path); `Some(r)` — the
+            /// loop of \[LN11\] Fig. 2 in every increment (the reference path); `Some(r)` — the
             /// surface-response operator, built once over the cells within `r · a` of the axis
             /// (`a` the Hertz radius), applied instead of the EIM solves. Ignored without
             /// inhomogeneities.
@@ -260,7 +260,7 @@ impl LoopCase {
         self.extent_over_a * self.hertz_radius()
     }
 
-    /// [LN11]'s composite (§4): this case with the paper's fibres of `layout` (radius 0.13a,
+    /// \[LN11\]'s composite (§4): this case with the paper's fibres of `layout` (radius 0.13a,
     /// spacing 3r, axes at depth 1.5r, `E_I = e_ratio · E`, `ν_I = ν`) across the whole domain, and
     /// the grid of the paper's resolution (4 cells per fibre radius: 128² over 4.16a).
     pub fn composite(mut self, layout: FibreLayout, e_ratio: f64) -> Result<Self, SamError> {
@@ -382,7 +382,7 @@ impl LoopCase {
         }
     }
 
-    /// The same loop without inhomogeneities (the reference of [LN11] Figs. 5–10).
+    /// The same loop without inhomogeneities (the reference of \[LN11\] Figs. 5–10).
     pub fn homogeneous(&self) -> Self {
         Self {
             inhomogeneities: Vec::new(),
@@ -624,7 +624,7 @@ pub struct LoadPath {
 }
 
 impl LoadPath {
-    /// The [LN11] path (struct doc).
+    /// The \[LN11\] path (struct doc).
     pub fn fretting(force: f64, normal_steps: usize, amplitude: f64, shift_step: f64) -> Self {
         Self {
             force,
@@ -732,7 +732,7 @@ pub struct LoopEstimate {
 pub const ROW_BYTES: f64 = 3.0 * 11.0 * 8.0;
 
 /// Cell-increments per second of one core, the work estimate's scale: the 64² homogeneous loop of
-/// [LN11] (180 increments, 7.4e5 cell-increments, no subsurface fields) took 23.2 s on one thread
+/// \[LN11\] (180 increments, 7.4e5 cell-increments, no subsurface fields) took 23.2 s on one thread
 /// and 21.3 s on two of the reference machine (`RAYON_NUM_THREADS=1 halfspace fretting-loop`),
 /// 3.2e4 per second; rounded up, so that the estimate errs towards accepting.
 pub const CELL_INCREMENTS_PER_SECOND: f64 = 4.0e4;

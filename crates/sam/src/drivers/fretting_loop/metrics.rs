@@ -8,7 +8,7 @@ use super::row::LoopRow;
 ///
 /// * partial slip: a stick zone at every increment of the cycle;
 /// * mixed: the stick zone vanishes, but the sliding (the shift travelled without a stick cell)
-///   is at most [`GROSS_SLIP_TRAVEL`] of the cycle's travel `4A` — the loop just reaches `μW`;
+///   is at most `GROSS_SLIP_TRAVEL` of the cycle's travel `4A` — the loop just reaches `μW`;
 /// * gross slip: a sliding plateau longer than that.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FrettingRegime {
@@ -23,7 +23,7 @@ pub enum FrettingRegime {
 /// The fraction of the cycle's travel `4A` above which sliding makes the regime gross slip.
 pub const GROSS_SLIP_TRAVEL: f64 = 0.05;
 
-/// The numbers of a completed loop ([LN11] §4).
+/// The numbers of a completed loop (\[LN11\] §4).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LoopMetrics {
     /// Dissipated energy per cycle `E_d = |∮ Q₁ dδx|` (trapezoid over the closed cycle) (J).
