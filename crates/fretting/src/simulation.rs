@@ -726,9 +726,9 @@ impl FrettingSimulation {
             self.precond.factor(self.matrix.beta);
         }
         // W k₁ = F(f), warm-started from F (a function of the profile alone: resumable). A start
-        // from M⁻¹F (the band preconditioner's solve) saves GMRES iterations on graded runs but,
-        // with the hole projection, opens a hole in the graded N = 1001 test run
-        // (docs/performance.md, "Cost per attempt of the MDR wear run"): not used.
+        // from M⁻¹F (the band preconditioner's solve) saves 15 % of the GMRES iterations on the
+        // graded run but costs 19 % at N = 8001, χ = 0.5 (docs/performance.md, "Arithmetic
+        // levers of the MDR wear run, each alone"): not used.
         self.k1.copy_from_slice(&self.rate);
         self.attempt.krylov_iterations.0 = self.solve(Stage::First)?;
         // W k₂ = F(f + Δτ k₁) − 2 k₁.

@@ -551,10 +551,14 @@ fn fixed_steps_converge_to_the_reference() {
 }
 
 /// The global error of an adaptive run, in tolerances, that the tests of the graded run's
-/// grazing phases assert: `global_error_is_a_multiple_of_the_tolerance` bounds it by the same
-/// 10 (measured 0.15–6.6 tol at N = 401, tol 1e-3 … 1e-6; docs/fretting-wear.md, "The quantized
-/// step"). The local error of each step is below the tolerance; the global error is the sum of
-/// the local errors carried by a contracting flow, a bounded multiple of it.
+/// grazing phases assert: an empirical constant, the bound of
+/// `global_error_is_a_multiple_of_the_tolerance` (measured 0.15–6.6 tol at N = 401, χ = 0.5,
+/// τ ≤ 3, tol 1e-3 … 1e-6; docs/fretting-wear.md, "The quantized step"). On the graded runs
+/// here, 18 step sequences (four starts under main's arithmetic and three rounding variants,
+/// six more under main's) measured 0.4–6.4 tol away from the grazing edge at tol 1e-4. It is
+/// not a bound that holds as the tolerance shrinks: near the grazing edge the error falls only
+/// like tol^0.4 (docs/fretting-wear.md, "The grazing-phase stepping tests over perturbed step
+/// sequences").
 const GLOBAL_ERROR: f64 = 10.0;
 
 /// Starts perturbed by a relative [`PERTURBATION`] besides the unperturbed one: an adaptive run
@@ -564,6 +568,10 @@ const GLOBAL_ERROR: f64 = 10.0;
 /// every such sequence (or on their sum where a single run's count scatters) what the error
 /// control bounds, not one rounding's outcome.
 const PERTURBED_STARTS: u64 = 3;
+/// The perturbed starts of [`adaptive_graded_run_reaches_its_limit`], whose median radius
+/// tolerates three outlying sequences of seven: one sequence in ten measured ended 1.9 cells
+/// off, and at that rate four or more of seven fail with a probability of 0.3 %.
+const PERTURBED_STARTS_AT_THE_LIMIT: u64 = 6;
 /// The relative perturbation of the perturbed starts.
 const PERTURBATION: f64 = 1e-13;
 
@@ -616,26 +624,30 @@ fn graded(nodes: usize, tau_end: f64, tolerance: f64) -> FrettingParams {
 }
 
 /// The adaptive graded run to its limit (k = −0.5, χ = 0.9, N = 501, τ = 30; the issue's graded
-/// run at a quarter of its nodes), from the unperturbed start and [`PERTURBED_STARTS`] perturbed
-/// ones, against a tight-tolerance run (tol 1e-5). What the error control bounds, on every step
-/// sequence:
-/// - the profile within [`GLOBAL_ERROR`] tol of the reference on `c + 0.05 < r < r* − 10` cells
-///   (away from the stick edge, where `f∞ − f₀ ~ (r − c)^{(1−k)/2}` is resolved by one node, and
-///   from the grazing end, where the touching radius and the last nodes' wear follow the step
-///   sequence: one of ten sequences measured ended 1.9 cells off, with 63 tol 4 cells inside r*);
-/// - the wear volume within what that profile error can change it, `GLOBAL_ERROR · tol · r*²`
-///   over `V∞` (`Ṽ = ∫ (f̃ − f̃₀) dξ`, the wear inside `ξ < r*²`);
-/// - the final touching radius: the median over the runs within half a cell of the reference's
-///   (the grazing-phase radius is not bounded by the tolerance run by run; the median of the
-///   runs is what one outlying sequence does not move), and the reference within 2.5 cells of
-///   r* (the N = 501 grid's +2.0 cells; V/V∞ − 1 = +3.24 % in every run).
+/// run at a quarter of its nodes), from the unperturbed start and
+/// [`PERTURBED_STARTS_AT_THE_LIMIT`] perturbed ones, against a tight-tolerance run (tol 1e-5):
+/// - on every start, the profile within [`GLOBAL_ERROR`] tol of the reference on
+///   `c + 0.05 < r < r* − 10` cells (away from the stick edge, where
+///   `f∞ − f₀ ~ (r − c)^{(1−k)/2}` is resolved by one node, and from the grazing end, where the
+///   touching radius and the last nodes' wear follow the step sequence: one of ten sequences
+///   measured ended 1.9 cells off, with 63 tol four cells inside r*), and the wear volume
+///   within 1e-3 of `V∞` (every measured run: at most 7.3e-4);
+/// - the median over the starts of `|ΔV|/V∞` below the tolerance: it converges with it (medians
+///   ≈ 1.2e-5 at tol 1e-4 and ≈ 1.1e-6 at tol 2.5e-5 against a tol-1e-6 run), and without the
+///   opened-hole estimate every start measured 6.4–7.3e-4, so this is what catches the
+///   estimate's loss (holes stop wearing, docs/fretting-wear.md, "What sets the step");
+/// - the median over the starts of the final touching radius within half a cell of the
+///   reference's (the grazing-phase radius is not bounded by the tolerance run by run), and the
+///   reference within 2.5 cells of r* (the N = 501 grid's +2.0 cells; V/V∞ − 1 = +3.24 % in
+///   every run).
 ///
 /// Measured (docs/fretting-wear.md, "The grazing-phase stepping tests over perturbed step
 /// sequences"), away from the grazing edge: 0.9–3.7 tol on the unperturbed and five perturbed
 /// starts, up to 4.0 / 6.4 / 5.1 tol under three changes of rounding; against a tol-1e-6
-/// reference, tol 1e-4 1.2–1.9 tol and tol 2.5e-5 1.8–5.0 tol (the error falls 2.3× for 4× the
-/// tolerance) and the radius 0.02–0.09 cells and 0.00–0.01 cells from it. Broken schemes: the
-/// error estimate × 0.1 fails (29.7 tol), without the opened-hole estimate narrowly (10.1 tol).
+/// reference, tol 1e-4 1.2–1.9 tol and tol 2.5e-5 1.8–5.0 tol (means 1.42e-4 → 0.79e-4: 1.8×
+/// for 4× the tolerance) and the radius 0.02–0.09 cells and 0.00–0.01 cells from it. Broken
+/// schemes: the error estimate × 0.1 fails the profile bound (29.7 tol), the scheme without the
+/// opened-hole estimate the volume's median.
 #[test]
 fn adaptive_graded_run_reaches_its_limit() {
     let tolerance = TimeStepping::DEFAULT_TOLERANCE;
@@ -645,9 +657,8 @@ fn adaptive_graded_run_reaches_its_limit() {
     let c = halfspace_fretting::limit::stick_radius(0.9);
     let final_radius = |s: &FrettingSimulation| *s.state().contact_radius_history.last().unwrap();
     let last_ref = final_radius(&reference);
-    let volume_bound = GLOBAL_ERROR * tolerance * r_star * r_star / reference.limit_wear_volume();
-    let mut offsets = Vec::new();
-    for seed in 0..=PERTURBED_STARTS {
+    let (mut offsets, mut volumes) = (Vec::new(), Vec::new());
+    for seed in 0..=PERTURBED_STARTS_AT_THE_LIMIT {
         let sim = run_from(&graded(501, 30.0, tolerance), seed, |_| {});
         let grid = sim.grid();
         let away = (0..grid.len())
@@ -658,7 +669,7 @@ fn adaptive_graded_run_reaches_its_limit() {
         let volume = (sim.wear_volume() - reference.wear_volume()) / sim.limit_wear_volume();
         let offset = (final_radius(&sim) - last_ref) / cell;
         println!(
-            "start {seed}: {} steps ({} rejected); max |Δf| {:.2} tol away from c and r*, {:.2} tol everywhere; ΔV/V∞ {volume:+.1e} (bound {volume_bound:.1e}); a/a0 {offset:+.2} cells from tol 1e-5's ({:+.2} from r*)",
+            "start {seed}: {} steps ({} rejected); max |Δf| {:.2} tol away from c and r*, {:.2} tol everywhere; ΔV/V∞ {volume:+.1e}; a/a0 {offset:+.2} cells from tol 1e-5's ({:+.2} from r*)",
             sim.state().step,
             sim.state().rejected_steps,
             away / tolerance,
@@ -669,19 +680,25 @@ fn adaptive_graded_run_reaches_its_limit() {
             away < GLOBAL_ERROR * tolerance,
             "start {seed}: max |Δf| = {away:e}"
         );
-        assert!(
-            volume.abs() < volume_bound,
-            "start {seed}: ΔV/V∞ = {volume:e}"
-        );
+        assert!(volume.abs() < 1e-3, "start {seed}: ΔV/V∞ = {volume:e}");
         offsets.push(offset.abs());
+        volumes.push(volume.abs());
     }
-    offsets.sort_by(f64::total_cmp);
-    let median = 0.5 * (offsets[offsets.len() / 2] + offsets[(offsets.len() - 1) / 2]);
-    assert!(median < 0.5, "the median radius is {median} cells off");
+    let (offset, volume) = (median(&mut offsets), median(&mut volumes));
+    println!("medians: |Δa| {offset:.2} cells, |ΔV|/V∞ {volume:.1e}");
+    assert!(offset < 0.5, "the median radius is {offset} cells off");
+    assert!(volume < tolerance, "the median |ΔV|/V∞ is {volume:e}");
     assert!(
         (last_ref - r_star).abs() < 2.5 * cell,
         "a/a0 {last_ref} vs r* {r_star}"
     );
+}
+
+/// The median of `values` (sorted in place).
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    0.5 * (values[n / 2] + values[(n - 1) / 2])
 }
 
 /// Holes: annulus nodes (`r̃ > c̃`) inside the last contact node with `g̃ ≥ 1` (no line load,
@@ -702,18 +719,21 @@ fn holes(sim: &mut FrettingSimulation) -> usize {
 
 /// The adaptive graded run in its near-grazing phase (k = −0.5, χ = 0.9, N = 1001 to τ = 3),
 /// from the unperturbed start and [`PERTURBED_STARTS`] perturbed ones: on every step sequence
-/// the profile within [`GLOBAL_ERROR`] tol of explicit Euler's (the reference path, at half its
-/// default step), plus explicit Euler's own error, measured as the distance between its runs at
-/// the default step and half of it (first order: the finer run's error; 1.9e-4 at the contact
-/// edge). Its holes are printed, not asserted: a single run's hole count is not bounded by the
-/// error control. Over nine step sequences (perturbed starts and three arithmetic variants)
+/// the profile within [`GLOBAL_ERROR`] tol of explicit Euler's (the reference path) at a quarter
+/// of its default step, plus that run's distance from the run at half the step (an upper
+/// estimate of its own error at any order ≥ 1: measured 0.74 tol; the max-norm differences of
+/// the runs at `Δτ`, `Δτ/2`, `Δτ/4` fall 8× per halving, `explicit_euler_near_grazing_converges`,
+/// so a first-order Richardson value would carry the coarse run's error). Its holes are
+/// printed, not asserted: a single run's hole count is not bounded by the error control. Over
+/// 18 step sequences (perturbed starts under main's arithmetic and three rounding variants)
 /// N = 1001 ended with 0–4 holes at the contact edge (explicit Euler 0), their `g − d` up to
 /// 167 tol — the map `f ↦ g` (order `(1 − k)/2` in the radius) turns a grid-scale difference of
 /// a few tol in f into a deep hole in g — and without the opened-hole estimate with 0–5: sums
 /// over four starts of 4 / 9 / 6 / 3 against 13 / 7 / 7 / 5, so not even the estimate's effect
-/// on the count is asserted (its effect on the long run's error is,
-/// [`adaptive_graded_run_reaches_its_limit`]). Measured: docs/fretting-wear.md, "What the
-/// stepping tests assert".
+/// on the count is asserted (its effect on the long run's wear volume is,
+/// [`adaptive_graded_run_reaches_its_limit`]). Runs explicit Euler twice (75 163 and 150 326
+/// steps, ≈ 25 s) besides the four adaptive runs. Measured: docs/fretting-wear.md, "The grazing-phase
+/// stepping tests over perturbed step sequences".
 #[test]
 fn adaptive_graded_run_near_grazing_stays_near_explicit_euler() {
     graded_near_grazing_against_explicit_euler(1001);
@@ -728,8 +748,36 @@ fn adaptive_graded_run_near_grazing_at_2001_nodes() {
     graded_near_grazing_against_explicit_euler(2001);
 }
 
-/// The graded run (k = −0.5, χ = 0.9, `nodes`) to τ = 3 against explicit Euler at half its
-/// default step: see [`adaptive_graded_run_near_grazing_stays_near_explicit_euler`].
+/// Explicit Euler at the graded run's near-grazing phase (k = −0.5, χ = 0.9, N = 1001 to τ = 3)
+/// at its default step `Δτ`, `Δτ/2` and `Δτ/4`: the observed order `log₂(|f_Δτ − f_Δτ/2| /
+/// |f_Δτ/2 − f_Δτ/4|)` in the max norm, asserted ≥ 0.8 (a measurement for the reference of
+/// [`adaptive_graded_run_near_grazing_stays_near_explicit_euler`]: `cargo test --release -p
+/// halfspace-fretting --test stepping -- --ignored --nocapture euler_near_grazing`). Measured
+/// 5.91e-4 and 7.42e-5: 2.99, not the scheme's first order — the coarse run's largest difference
+/// is a local defect at the contact edge, not the smooth first-order error.
+#[test]
+#[ignore = "a measurement: explicit Euler to 150 000 steps"]
+fn explicit_euler_near_grazing_converges() {
+    let params = graded(1001, 3.0, TimeStepping::DEFAULT_TOLERANCE);
+    let step = FrettingParams::default_step(1001, params.length, params.k);
+    let profile = |dtau: f64| {
+        run(FrettingParams {
+            stepping: TimeStepping::ExplicitEuler { dtau },
+            ..params.clone()
+        })
+        .state()
+        .profile
+        .clone()
+    };
+    let (f1, f2, f4) = (profile(step), profile(0.5 * step), profile(0.25 * step));
+    let (d1, d2) = (max_abs_diff(&f1, &f2), max_abs_diff(&f2, &f4));
+    let order = (d1 / d2).log2();
+    println!("|f(Δτ) − f(Δτ/2)| {d1:.2e}, |f(Δτ/2) − f(Δτ/4)| {d2:.2e}: observed order {order:.2}");
+    assert!(order > 0.8, "observed order {order}");
+}
+
+/// The graded run (k = −0.5, χ = 0.9, `nodes`) to τ = 3 against explicit Euler at a quarter of
+/// its default step: see [`adaptive_graded_run_near_grazing_stays_near_explicit_euler`].
 fn graded_near_grazing_against_explicit_euler(nodes: usize) {
     let tolerance = TimeStepping::DEFAULT_TOLERANCE;
     let params = graded(nodes, 3.0, tolerance);
@@ -740,28 +788,28 @@ fn graded_near_grazing_against_explicit_euler(nodes: usize) {
         })
     };
     let step = FrettingParams::default_step(nodes, params.length, params.k);
-    let mut euler = euler_at(0.5 * step);
-    let euler_error = max_abs_diff(&euler.state().profile, &euler_at(step).state().profile);
-    let reference = holes(&mut euler);
+    let mut euler = euler_at(0.25 * step);
+    let reference = euler.state().profile.clone();
+    let euler_error = max_abs_diff(&euler_at(0.5 * step).state().profile, &reference);
+    let euler_holes = holes(&mut euler);
     let bound = GLOBAL_ERROR * tolerance + euler_error;
     println!(
-        "explicit Euler: {} steps, {reference} holes, its error {:.2} tol; the bound {:.2} tol",
+        "explicit Euler at Δτ/4: {} steps, {euler_holes} holes, {:.2} tol from the run at Δτ/2; the bound {:.2} tol",
         euler.state().step,
         euler_error / tolerance,
         bound / tolerance
     );
     for seed in 0..=PERTURBED_STARTS {
         let mut sim = run_from(&params, seed, |_| {});
-        let error = max_abs_diff(&sim.state().profile, &euler.state().profile);
+        let error = max_abs_diff(&sim.state().profile, &reference);
         let found = holes(&mut sim);
         println!(
-            "start {seed}: {} steps ({} rejected), max |f − f_Euler| {:.2} tol, holes {}",
+            "start {seed}: {} steps ({} rejected), max |f − f_ref| {:.2} tol, holes {found}",
             sim.state().step,
             sim.state().rejected_steps,
             error / tolerance,
-            found
         );
-        assert!(error < bound, "start {seed}: max |f − f_Euler| = {error:e}");
+        assert!(error < bound, "start {seed}: max |f − f_ref| = {error:e}");
     }
 }
 
@@ -802,8 +850,11 @@ fn global_error_is_a_multiple_of_the_tolerance() {
                 sim.state().step,
                 errors.join(", ")
             );
-            // Measured 0.32–6.55 tol (docs/fretting-wear.md): the global error is a bounded
-            // multiple of the tolerance at every tolerance, not growing as it shrinks.
+            // Measured 0.32–6.55 tol (docs/fretting-wear.md): on this set-up (N = 401, χ = 0.5,
+            // τ ≤ 3) a bounded multiple of the tolerance at every tolerance measured; near the
+            // graded run's grazing edge it grows slowly as the tolerance shrinks
+            // (docs/fretting-wear.md, "The grazing-phase stepping tests over perturbed step
+            // sequences").
             for (tau, e) in ratios {
                 assert!(
                     e < GLOBAL_ERROR,
