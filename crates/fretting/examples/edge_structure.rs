@@ -9,8 +9,7 @@
 //!   `ros2:DTAU` for fixed ROS2 steps; `--no-hole-estimate` runs the adaptive steps without the
 //!   opened-hole estimate (the scheme before it), `--first-order-fallback` takes the first-order
 //!   solution where the result opens holes (experimental), `--no-hole-projection` rejects an
-//!   attempt whose result opens holes instead of projecting it onto the closed set,
-//!   `--hole-closing` imposes the contact condition on the results (experimental);
+//!   attempt whose result opens holes instead of projecting it onto the closed set;
 //! * `rate N K CHI DTAU TAU0 TAU1 NODES`: explicit Euler from 0 to `TAU1`, printing from `TAU0` on
 //!   every step's `τ`, last contact node and wear rate `(f̃ⁿ⁺¹ − f̃ⁿ)/Δτ` at the comma-separated
 //!   `NODES`.
@@ -58,8 +57,7 @@ fn profile(args: &[String]) -> Result<(), Failure> {
         None
         | Some("--no-hole-estimate")
         | Some("--first-order-fallback")
-        | Some("--no-hole-projection")
-        | Some("--hole-closing") => None,
+        | Some("--no-hole-projection") => None,
         Some(s) => Some(match s.strip_prefix("ros2:") {
             Some(dtau) => TimeStepping::Fixed {
                 dtau: dtau.parse()?,
@@ -71,7 +69,6 @@ fn profile(args: &[String]) -> Result<(), Failure> {
     sim.set_hole_estimate(!args.iter().any(|a| a == "--no-hole-estimate"));
     sim.set_first_order_fallback(args.iter().any(|a| a == "--first-order-fallback"));
     sim.set_hole_projection(!args.iter().any(|a| a == "--no-hole-projection"));
-    sim.set_hole_closing(args.iter().any(|a| a == "--hole-closing"));
     let start = std::time::Instant::now();
     sim.run(|_| false)?;
     let seconds = start.elapsed().as_secs_f64();

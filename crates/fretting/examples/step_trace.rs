@@ -40,8 +40,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // `HOLE_PROJECTION=off`: an attempt whose result opens holes above the tolerance is
     // rejected instead of projected onto the closed set (the scheme before).
     sim.set_hole_projection(std::env::var("HOLE_PROJECTION").map_or(true, |v| v != "off"));
-    // `HOLE_CLOSING=on`: the contact condition on the results (experimental, off by default).
-    sim.set_hole_closing(std::env::var("HOLE_CLOSING").is_ok_and(|v| v == "on"));
     let sink = Arc::clone(&attempts);
     sim.set_attempt_observer(Box::new(move |a| sink.lock().expect("lock").push(*a)));
     let start = std::time::Instant::now();
@@ -52,12 +50,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut out = std::io::BufWriter::new(std::fs::File::create(&csv)?);
     writeln!(
         out,
-        "tau,dtau,ratio,accepted,worst,edge_start,edge_trial,edge_end,gmres1,gmres2,opened_holes,err_ros2,err_outside,err_hole,first_order,projection,closed"
+        "tau,dtau,ratio,accepted,worst,edge_start,edge_trial,edge_end,gmres1,gmres2,opened_holes,err_ros2,err_outside,err_hole,first_order,projection"
     )?;
     for a in attempts.iter() {
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             a.tau,
             a.dtau,
             a.error_ratio,
@@ -73,8 +71,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             a.error_terms[1],
             a.error_terms[2],
             u8::from(a.first_order),
-            a.projection,
-            a.closed_holes
+            a.projection
         )?;
     }
     run?;

@@ -129,9 +129,7 @@ pub struct StepAttempt {
     /// and the opened holes' ([`FrettingSimulation::opened_hole_error`], also when it is not part
     /// of the estimate; when the attempt fell back to its first-order solution, the holes that
     /// solution opens and the second-order result keeps closed: the term that entered the
-    /// estimate, [`FrettingSimulation::set_first_order_fallback`]; with the contact condition,
-    /// [`FrettingSimulation::set_hole_closing`], the larger of that and the correction's size);
-    /// the error is the largest of those the estimate includes.
+    /// estimate, [`FrettingSimulation::set_first_order_fallback`]); the error is the largest of those the estimate includes.
     pub error_terms: [f64; 3],
     /// Whether the attempt's result is its first-order solution (only with the first-order
     /// fallback and the frozen contact stages: without the frozen contact no attempt falls back).
@@ -139,9 +137,6 @@ pub struct StepAttempt {
     /// `λ` of the projection onto the closed set ([`FrettingSimulation::set_hole_projection`]):
     /// the result is `f₁ + λ(f₂ − f₁)`; 1 when not projected.
     pub projection: f64,
-    /// The nodes the contact condition closed in the result ([`FrettingSimulation::set_hole_closing`]):
-    /// 0 when none were.
-    pub closed_holes: usize,
 }
 
 /// The observer of [`FrettingSimulation::set_attempt_observer`].
@@ -177,10 +172,8 @@ struct StartRate {
 /// checkpoints without the attribute were made by the scheme before the projection (the same
 /// path was first recorded as `ros2-hole-projection`, never on main). The name must change
 /// whenever the path does: `HOLE_MARGIN`, the default
-/// switches (`hole_estimate`, `freeze_contact`, `first_order_fallback`, `hole_projection`,
-/// `hole_closing` in `FrettingSimulation::with_state`), the contact condition's constants when
-/// it is on by default (`HOLE_CLOSING_THRESHOLD`, `HOLE_CLOSING_MARGIN`, `HOLE_CLOSING_NODES`,
-/// `HOLE_CLOSING_SWEEPS`) or how an attempt's error is formed. A library run with a non-default
+/// switches (`hole_estimate`, `freeze_contact`, `first_order_fallback`, `hole_projection` in
+/// `FrettingSimulation::with_state`) or how an attempt's error is formed. A library run with a non-default
 /// switch records nothing of it: it must be set again to resume on the same path.
 pub const ADAPTIVE_SCHEME: &str = "ros2-hole-projection-eta1e-3";
 
@@ -238,10 +231,6 @@ pub struct FrettingSimulation {
     /// is projected back onto the closed set along the pair's segment
     /// ([`FrettingSimulation::set_hole_projection`]).
     hole_projection: bool,
-    /// Whether the contact condition `g ≤ d` is imposed on the result's slip annulus
-    /// ([`FrettingSimulation::set_hole_closing`]) and its work space.
-    hole_closing: bool,
-    closing: HoleClosing,
     start: Vec<f64>,
     /// `g`, `σ`, `p`, the slip and the rate of the step's start and its contact, put back after a
     /// rejected attempt instead of evaluated again (the same bits).
@@ -415,9 +404,6 @@ impl FrettingSimulation {
             freeze_contact: true,
             first_order_fallback: false,
             hole_projection: true,
-            hole_closing: false,
-            // Allocated by `set_hole_closing(true)` (COLUMN_CACHE columns of N).
-            closing: HoleClosing::new(0),
             observer: None,
             attempt: StepAttempt {
                 tau: 0.0,
@@ -436,7 +422,6 @@ impl FrettingSimulation {
                 error_terms: [0.0; 3],
                 first_order: false,
                 projection: 1.0,
-                closed_holes: 0,
             },
             grid,
             params,
@@ -513,31 +498,6 @@ impl FrettingSimulation {
     /// part of the checkpointed state (the CLI records the scheme, [`ADAPTIVE_SCHEME`]).
     pub fn set_hole_projection(&mut self, on: bool) {
         self.hole_projection = on;
-    }
-
-    /// Experimental, off by default: whether the contact condition `g ≤ d` is imposed on the
-    /// adaptive results' slip annulus (docs/fretting-wear.md, "The contact condition on the
-    /// result"). After the hole estimate and the projection onto the closed set
-    /// ([`FrettingSimulation::set_hole_projection`]) and the entered nodes' wear, the holes the
-    /// attempt's profile has inside its contact by more than [`HOLE_CLOSING_THRESHOLD`] · tol
-    /// are closed by taking back wear on them, at most the wear the step put there (a
-    /// box-constrained primal–dual active-set solve on those nodes,
-    /// `FrettingSimulation::close_holes`); the correction's size and the holes above the
-    /// threshold it leaves join the error estimate; when the active set does not settle the
-    /// attempt stays as it was. Measured (docs/fretting-wear.md): it does not save steps
-    /// (graded N = 1001 to τ = 3 4435 (1058) → 11 039 (1599), the default run 670 (90) → 646
-    /// (115), `--n 8001` 1854 (337) → 1823 (394)); without the bound (wear taken back beyond the
-    /// step's own) the graded run took 27 % fewer steps, but half of its accepted closings
-    /// removed wear that earlier steps had put there. Only with the hole estimate and the
-    /// frozen contact stages on. Set before the first step; not part of the checkpointed state
-    /// (as [`FrettingSimulation::set_hole_estimate`]): a resumed run repeats the uninterrupted
-    /// one bit for bit when it is set the same way again.
-    pub fn set_hole_closing(&mut self, on: bool) {
-        self.hole_closing = on;
-        let n = self.grid.len();
-        if on && self.closing.unit.len() != n {
-            self.closing = HoleClosing::new(n);
-        }
     }
 
     /// Calls `observer` after every attempt of an error-controlled step ([`StepAttempt`]: the step,
@@ -761,15 +721,14 @@ impl FrettingSimulation {
         self.attempt.first_order = false;
         self.attempt.projection = 1.0;
         self.attempt.opened_holes = 0;
-        self.attempt.closed_holes = 0;
         self.matrix.beta = ROS2_GAMMA * dtau;
         if self.precondition {
             self.precond.factor(self.matrix.beta);
         }
         // W k₁ = F(f), warm-started from F (a function of the profile alone: resumable). A start
-        // from M⁻¹F (the band preconditioner's solve) saves GMRES iterations on graded runs but,
-        // with the hole projection, opens a hole in the graded N = 1001 test run
-        // (docs/performance.md, "Cost per attempt of the MDR wear run"): not used.
+        // from M⁻¹F (the band preconditioner's solve) saves 15 % of the GMRES iterations on the
+        // graded run but costs 19 % at N = 8001, χ = 0.5 (docs/performance.md, "Arithmetic
+        // levers of the MDR wear run, each alone"): not used.
         self.k1.copy_from_slice(&self.rate);
         self.attempt.krylov_iterations.0 = self.solve(Stage::First)?;
         // W k₂ = F(f + Δτ k₁) − 2 k₁.
@@ -909,29 +868,6 @@ impl FrettingSimulation {
             }
         }
         self.wear_entered_nodes(dtau);
-        if let TimeStepping::Adaptive { tolerance } = self.params.stepping {
-            if frozen.is_some() && self.hole_estimate && self.hole_closing {
-                // The gap of the final profile: the result's (or the projection's interpolated
-                // one) unless the entered nodes' wear changed the profile after it.
-                if !self.entered_nodes.is_empty() {
-                    derivative_uniform(&self.state.profile, self.grid.step(), &mut self.slope)
-                        .map_err(MdrError::from)?;
-                    self.profile_tf.slope_to_equivalent(
-                        &self.grid,
-                        &mut self.slope,
-                        &mut self.g,
-                    )?;
-                }
-                if let Closing::Closed { size, node, count } = self.close_holes(tolerance)? {
-                    self.attempt.closed_holes = count;
-                    self.attempt.error_terms[2] = self.attempt.error_terms[2].max(size);
-                    if size > error {
-                        error = size;
-                        self.attempt.worst_node = node;
-                    }
-                }
-            }
-        }
         Ok(error)
     }
 
@@ -994,192 +930,6 @@ impl FrettingSimulation {
     /// (docs/fretting-wear.md, "What sets the step"). Reads `g` of the result.
     fn opened_hole_error(&self) -> (f64, usize, usize) {
         opened_holes(self.first_annulus_node, &self.g, &self.trial_gap)
-    }
-
-    /// The contact condition on the step's result (docs/fretting-wear.md, "The contact condition
-    /// on the result"): the exact flow keeps `g ≤ d` on the slip annulus inside the contact (a
-    /// node whose gap opens stops wearing), the linearly implicit stages, whose active set is
-    /// frozen at the step's start, do not. On the slip annulus (`first ≤ i`) inside the last node
-    /// with `g < d` of the attempt's final profile (after the projection and the entered nodes'
-    /// wear; `g` holds its gap), the holes `g_i > d + ϑ` (`ϑ` =
-    /// [`HOLE_CLOSING_THRESHOLD`] · tol) form the active set `A`; the correction `δ`, supported
-    /// on `A` with `f_start − f ≤ δ ≤ 0` (wear taken back, never added, and never more than the
-    /// step put there: wear is monotone), solves `(G δ)_A = g* − g_A` on the free nodes with
-    /// `g* = d − HOLE_CLOSING_MARGIN · ϑ` and `G = P D` the (linear) map `f ↦ g` (Eq. 7 / 23 of
-    /// the central-difference slope; its columns `G e_j` by one profile transform each), the
-    /// nodes at their bound held there, by a primal–dual active-set iteration: nodes with
-    /// `δ_j > 0` or that the step did not wear leave `A` (their hole stays), nodes below their
-    /// bound go to it (and stay), holes the correction opens elsewhere join `A`; at most
-    /// [`HOLE_CLOSING_SWEEPS`] sweeps and [`HOLE_CLOSING_NODES`] nodes (else
-    /// [`Closing::Failed`]: the attempt stays as it was). On success the profile becomes
-    /// `f + δ` and `g` its gap (`g + G δ`); returned as the size charged to the error estimate:
-    /// the larger of `max |δ_j|` (in `f̃`'s units) and, over the holes above `ϑ` it leaves, how
-    /// far this step opened them, `g_i − max(g_start,i, d)` (in `g`'s units, as
-    /// [`FrettingSimulation::opened_hole_error`]); both vanish with the step.
-    fn close_holes(&mut self, tolerance: f64) -> Result<Closing, FrettingError> {
-        let n = self.grid.len();
-        let first = self.first_annulus_node;
-        let threshold = HOLE_CLOSING_THRESHOLD * tolerance;
-        let target = 1.0 - HOLE_CLOSING_MARGIN * threshold;
-        let c = &mut self.closing;
-        c.nodes.clear();
-        c.slots.clear();
-        c.lower.clear();
-        c.at_bound.clear();
-        c.excluded.clear();
-        let last = self.g.iter().rposition(|&x| x < 1.0).unwrap_or(0);
-        for i in first..last {
-            if self.g[i] > 1.0 + threshold {
-                if c.nodes.len() == HOLE_CLOSING_NODES {
-                    return Ok(Closing::Failed);
-                }
-                c.nodes.push(i);
-            }
-        }
-        if c.nodes.is_empty() {
-            return Ok(Closing::Nothing);
-        }
-        let h = self.grid.step();
-        let mut computed = 0;
-        for _ in 0..HOLE_CLOSING_SWEEPS {
-            // The columns G e_j of the nodes that joined: from the cache (G is fixed: the same
-            // bits as computed again), else by one transform into the least recently used slot
-            // no active node holds; and the lower bound of each: the wear this step put there.
-            for a in computed..c.nodes.len() {
-                let j = c.nodes[a];
-                c.clock += 1;
-                let slot = match c.cached.iter().position(|&x| x == j) {
-                    Some(slot) => slot,
-                    None => {
-                        let slot = (0..COLUMN_CACHE)
-                            .filter(|s| !c.slots.contains(s))
-                            .min_by_key(|&s| c.stamp[s])
-                            .expect("more cache slots than active nodes");
-                        c.unit.fill(0.0);
-                        c.unit[j] = 1.0;
-                        derivative_uniform(&c.unit, h, &mut c.slope).map_err(MdrError::from)?;
-                        let column = &mut c.columns[slot * n..(slot + 1) * n];
-                        self.profile_tf
-                            .slope_to_equivalent(&self.grid, &mut c.slope, column)?;
-                        c.cached[slot] = j;
-                        slot
-                    }
-                };
-                c.stamp[slot] = c.clock;
-                c.slots.push(slot);
-                c.lower.push(self.start[j] - self.state.profile[j]);
-                c.at_bound.push(false);
-            }
-            computed = c.nodes.len();
-            // The free nodes' system, the bound nodes' known δ moved to the right-hand side.
-            c.free.clear();
-            c.free
-                .extend((0..computed).filter(|&a| !c.at_bound[a] && c.lower[a] < 0.0));
-            let k = c.free.len();
-            for (r, &a) in c.free.iter().enumerate() {
-                let i = c.nodes[a];
-                let mut rhs = target - self.g[i];
-                for b in 0..computed {
-                    if c.at_bound[b] {
-                        rhs -= c.columns[c.slots[b] * n + i] * c.lower[b];
-                    }
-                }
-                for (col, &b) in c.free.iter().enumerate() {
-                    c.matrix[r * k + col] = c.columns[c.slots[b] * n + i];
-                }
-                c.rhs[r] = rhs;
-            }
-            if !solve_dense(&mut c.matrix[..k * k], &mut c.rhs[..k]) {
-                return Ok(Closing::Failed);
-            }
-            c.delta[..computed].fill(0.0);
-            for a in 0..computed {
-                if c.at_bound[a] {
-                    c.delta[a] = c.lower[a];
-                }
-            }
-            for (r, &a) in c.free.iter().enumerate() {
-                c.delta[a] = c.rhs[r];
-            }
-            // Nodes whose closing would add wear, or that this step did not wear, leave the
-            // set; nodes that would lose more than this step's wear stay at that bound.
-            let mut changed = false;
-            let mut a = 0;
-            while a < c.nodes.len() {
-                if !c.at_bound[a] && (c.delta[a] > 0.0 || c.lower[a] >= 0.0) {
-                    if c.excluded.len() == HOLE_CLOSING_NODES {
-                        return Ok(Closing::Failed);
-                    }
-                    c.excluded.push(c.nodes[a]);
-                    let end = c.nodes.len() - 1;
-                    c.nodes.swap(a, end);
-                    c.delta.swap(a, end);
-                    c.slots.swap(a, end);
-                    c.lower.swap(a, end);
-                    c.at_bound.swap(a, end);
-                    c.nodes.pop();
-                    c.slots.pop();
-                    c.lower.pop();
-                    c.at_bound.pop();
-                    changed = true;
-                } else {
-                    if !c.at_bound[a] && c.delta[a] < c.lower[a] {
-                        c.at_bound[a] = true;
-                        changed = true;
-                    }
-                    a += 1;
-                }
-            }
-            computed = c.nodes.len();
-            if changed {
-                continue;
-            }
-            // The corrected gap g + G δ and the holes it opens.
-            c.gap.copy_from_slice(&self.g);
-            for (&slot, &d) in c.slots.iter().zip(&c.delta[..computed]) {
-                for (g, col) in c.gap.iter_mut().zip(&c.columns[slot * n..(slot + 1) * n]) {
-                    *g += d * col;
-                }
-            }
-            let last = c.gap.iter().rposition(|&x| x < 1.0).unwrap_or(0);
-            let before = c.nodes.len();
-            for i in first..last {
-                if c.gap[i] > 1.0 + threshold && !c.nodes.contains(&i) && !c.excluded.contains(&i) {
-                    if c.nodes.len() == HOLE_CLOSING_NODES {
-                        return Ok(Closing::Failed);
-                    }
-                    c.nodes.push(i);
-                }
-            }
-            if c.nodes.len() == before {
-                // The correction's size, and the holes above ϑ it leaves (the excluded nodes,
-                // the nodes at their bound) by how far this step opened them, in `g`'s units as
-                // the hole estimate charges holes.
-                let mut worst = (0.0f64, 0);
-                for (&i, &d) in c.nodes.iter().zip(&c.delta) {
-                    self.state.profile[i] += d;
-                    if d.abs() > worst.0 {
-                        worst = (d.abs(), i);
-                    }
-                }
-                for i in first..last {
-                    // What the step opened of it: `g − max(g_start, d)` (a hole the step's
-                    // start has already was charged to the step that made it).
-                    let opened = c.gap[i] - self.start_rate.g[i].max(1.0);
-                    if c.gap[i] > 1.0 + threshold && opened > worst.0 {
-                        worst = (opened, i);
-                    }
-                }
-                self.g.copy_from_slice(&c.gap);
-                self.current = None;
-                return Ok(Closing::Closed {
-                    size: worst.0,
-                    node: worst.1,
-                    count: c.nodes.len(),
-                });
-            }
-        }
-        Ok(Closing::Failed)
     }
 
     /// The correction at the end of a step whose second stage kept the contact nodes of its start
@@ -1676,121 +1426,6 @@ fn quantized_step(dtau: f64) -> f64 {
     ((dtau.log2() * STEP_LEVELS).round() / STEP_LEVELS).exp2()
 }
 
-/// The gap excess `ϑ/tol` above which a hole of a result is closed
-/// ([`FrettingSimulation::set_hole_closing`]). Part of the option's path (and of
-/// [`ADAPTIVE_SCHEME`] if the option becomes the default).
-const HOLE_CLOSING_THRESHOLD: f64 = 1.0;
-/// The closed nodes end at `g = d − HOLE_CLOSING_MARGIN · ϑ`. Part of the option's path.
-const HOLE_CLOSING_MARGIN: f64 = 1e-3;
-/// The largest active set of [`FrettingSimulation::set_hole_closing`] (and of the nodes that left it).
-const HOLE_CLOSING_NODES: usize = 32;
-/// The columns `G e_j` [`FrettingSimulation::set_hole_closing`] keeps (at least twice
-/// [`HOLE_CLOSING_NODES`]).
-const COLUMN_CACHE: usize = 2 * HOLE_CLOSING_NODES;
-/// The active-set sweeps of [`FrettingSimulation::set_hole_closing`].
-const HOLE_CLOSING_SWEEPS: usize = 8;
-
-/// The work space of [`FrettingSimulation::set_hole_closing`], allocated once.
-struct HoleClosing {
-    /// `COLUMN_CACHE` columns `G e_j` of `N`, the node of each (`usize::MAX`: none) and when it
-    /// was last used.
-    columns: Vec<f64>,
-    cached: Vec<usize>,
-    stamp: Vec<u64>,
-    clock: u64,
-    /// The active nodes, their columns' slots, their lower bounds (the wear the step put
-    /// there, negated) and whether they sit at it; the free ones among them.
-    nodes: Vec<usize>,
-    slots: Vec<usize>,
-    lower: Vec<f64>,
-    at_bound: Vec<bool>,
-    free: Vec<usize>,
-    rhs: Vec<f64>,
-    excluded: Vec<usize>,
-    matrix: Vec<f64>,
-    delta: Vec<f64>,
-    unit: Vec<f64>,
-    slope: Vec<f64>,
-    gap: Vec<f64>,
-}
-
-impl HoleClosing {
-    fn new(n: usize) -> Self {
-        Self {
-            columns: vec![0.0; COLUMN_CACHE * n],
-            cached: vec![usize::MAX; COLUMN_CACHE],
-            stamp: vec![0; COLUMN_CACHE],
-            clock: 0,
-            nodes: Vec::with_capacity(HOLE_CLOSING_NODES),
-            slots: Vec::with_capacity(HOLE_CLOSING_NODES),
-            lower: Vec::with_capacity(HOLE_CLOSING_NODES),
-            at_bound: Vec::with_capacity(HOLE_CLOSING_NODES),
-            free: Vec::with_capacity(HOLE_CLOSING_NODES),
-            rhs: vec![0.0; HOLE_CLOSING_NODES],
-            excluded: Vec::with_capacity(HOLE_CLOSING_NODES),
-            matrix: vec![0.0; HOLE_CLOSING_NODES * HOLE_CLOSING_NODES],
-            delta: vec![0.0; HOLE_CLOSING_NODES],
-            unit: vec![0.0; n],
-            slope: vec![0.0; n],
-            gap: vec![0.0; n],
-        }
-    }
-}
-
-/// What [`FrettingSimulation::close_holes`] did.
-#[derive(Debug, Clone, Copy)]
-enum Closing {
-    /// No hole above the threshold.
-    Nothing,
-    /// Closed `count` nodes; `max |δ|` and its node.
-    Closed {
-        size: f64,
-        node: usize,
-        count: usize,
-    },
-    /// The active set did not settle (or grew beyond its bound, or its matrix was singular).
-    Failed,
-}
-
-/// Solves the dense `k × k` system `A x = b` (row-major, `k² = a.len()`) in place by Gaussian
-/// elimination with partial pivoting: `x` in `b`. False when a pivot falls below `1e-12` of the
-/// largest entry (or is not finite).
-fn solve_dense(a: &mut [f64], b: &mut [f64]) -> bool {
-    let k = b.len();
-    // Pivots below this (relative to the largest entry) count as vanishing.
-    let small = 1e-12 * a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    for col in 0..k {
-        let pivot = (col..k)
-            .max_by(|&x, &y| a[x * k + col].abs().total_cmp(&a[y * k + col].abs()))
-            .unwrap_or(col);
-        let p = a[pivot * k + col];
-        if !p.is_finite() || p.abs() <= small {
-            return false;
-        }
-        if pivot != col {
-            for j in 0..k {
-                a.swap(pivot * k + j, col * k + j);
-            }
-            b.swap(pivot, col);
-        }
-        for row in col + 1..k {
-            let factor = a[row * k + col] / a[col * k + col];
-            for j in col..k {
-                a[row * k + j] -= factor * a[col * k + j];
-            }
-            b[row] -= factor * b[col];
-        }
-    }
-    for row in (0..k).rev() {
-        let mut sum = b[row];
-        for j in row + 1..k {
-            sum -= a[row * k + j] * b[j];
-        }
-        b[row] = sum / a[row * k + row];
-    }
-    true
-}
-
 /// Which ROS2 stage a solve is for.
 #[derive(Debug, Clone, Copy)]
 enum Stage {
@@ -2249,156 +1884,6 @@ mod tests {
         }
         // No hole: no projection.
         assert_eq!(hole_projection(1, &g1, &g1), 1.0);
-    }
-
-    /// A graded run (k = −0.5, χ = 0.9, N = 501) to τ = 0.5 as a step's start, then wear put on
-    /// `nodes` (`(j, amount)`, `j` counted back from the first node outside the contact, `m`) as the step's
-    /// result: the simulation (its start profile and gap set to the unworn ones), the worn
-    /// profile, its gap, the start's gap, `m` and the first annulus node.
-    fn worn_result(
-        nodes: &[(usize, f64)],
-    ) -> (
-        FrettingSimulation,
-        Vec<f64>,
-        Vec<f64>,
-        Vec<f64>,
-        usize,
-        usize,
-    ) {
-        let mut sim = graded_phase_with_holes();
-        sim.set_hole_closing(true);
-        let m = sim.contact().unwrap().edge;
-        let start_g = sim.equivalent_profile().unwrap().to_vec();
-        let first = sim.first_annulus_node;
-        assert!(m > first + 80, "annulus {first}..{m}");
-        sim.start.copy_from_slice(&sim.state.profile.clone());
-        sim.start_rate.g.copy_from_slice(&start_g);
-        let mut worn = sim.state.profile.clone();
-        for &(back, amount) in nodes {
-            worn[m - back] += amount;
-        }
-        sim.state.profile.copy_from_slice(&worn);
-        sim.current = None;
-        let g = sim.equivalent_profile().unwrap().to_vec();
-        (sim, worn, g, start_g, m, first)
-    }
-
-    /// What a successful closing guarantees: wear taken back on the active nodes only and never
-    /// more than the step put there (`f_start ≤ f + δ ≤ f`); `g + G δ` (from the columns) is the
-    /// gap recomputed from the corrected profile; the free active nodes end at `g*`; every hole
-    /// above `ϑ` left is charged by what the step opened of it (`size ≥ g − max(g_start, d)`).
-    fn check_closed(sim: &mut FrettingSimulation, worn: &[f64], start_g: &[f64], size: f64) {
-        let threshold = HOLE_CLOSING_THRESHOLD * 1e-4;
-        let corrected = sim.state.profile.clone();
-        let predicted = sim.g.clone();
-        let c = &sim.closing;
-        let (nodes, at_bound) = (c.nodes.clone(), c.at_bound.clone());
-        let mut largest = 0.0f64;
-        for (i, ((f, w), s)) in corrected.iter().zip(worn).zip(&sim.start).enumerate() {
-            if nodes.contains(&i) {
-                assert!(f <= w, "node {i} gained wear");
-                assert!(f >= s, "node {i} lost more than the step's wear");
-                largest = largest.max(w - f);
-            } else {
-                assert_eq!(f, w, "node {i} outside the active set moved");
-            }
-        }
-        assert!(size >= largest * (1.0 - 1e-12), "{size} vs {largest}");
-        sim.current = None;
-        let g = sim.equivalent_profile().unwrap().to_vec();
-        let scale = g.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        let d = max_abs(&g, &predicted);
-        assert!(d < 1e-12 * scale, "g + Gδ vs g(f + δ): {d:e}");
-        let target = 1.0 - HOLE_CLOSING_MARGIN * threshold;
-        for (&i, &bound) in nodes.iter().zip(&at_bound) {
-            if !bound {
-                assert!(
-                    (g[i] - target).abs() < 1e-12,
-                    "node {i}: {:e}",
-                    g[i] - target
-                );
-            }
-        }
-        let first = sim.first_annulus_node;
-        let last = g.iter().rposition(|&x| x < 1.0).unwrap();
-        for i in first..last {
-            if g[i] > 1.0 + threshold {
-                let opened = g[i] - start_g[i].max(1.0);
-                assert!(
-                    size >= opened * (1.0 - 1e-9),
-                    "node {i}: hole {opened:e} left, charged {size:e}"
-                );
-            }
-        }
-    }
-
-    /// The contact condition on a result ([`FrettingSimulation::set_hole_closing`]): wear put
-    /// on two separated annulus nodes inside the contact opens holes; the bounded active-set
-    /// solve closes them by taking back (part of) that wear ([`check_closed`]).
-    #[test]
-    fn hole_closing_closes_the_holes_by_taking_wear_back() {
-        let (mut sim, worn, g, start_g, m, first) = worn_result(&[(6, 5e-4), (9, 5e-4)]);
-        let threshold = HOLE_CLOSING_THRESHOLD * 1e-4;
-        let holes = (first..m).filter(|&i| g[i] > 1.0 + threshold).count();
-        assert!(holes >= 2, "{holes} holes");
-        let closing = sim.close_holes(1e-4).unwrap();
-        let Closing::Closed { size, count, .. } = closing else {
-            panic!("{closing:?}");
-        };
-        println!(
-            "separated: {holes} holes, {count} closed, {} left the set",
-            sim.closing.excluded.len()
-        );
-        assert!(count >= 2, "{count}");
-        check_closed(&mut sim, &worn, &start_g, size);
-        // The dense solve on a small system with a row swap, and a singular one.
-        let mut a = [0.0, 2.0, 1.0, 1.0, 1.0, 0.0, 3.0, 0.0, 1.0];
-        let mut b = [3.0, 2.0, 4.0];
-        assert!(solve_dense(&mut a, &mut b));
-        for (x, e) in b.iter().zip([1.0, 1.0, 1.0]) {
-            assert!((x - e).abs() < 1e-15, "{b:?}");
-        }
-        assert!(!solve_dense(&mut [1.0, 2.0, 2.0, 4.0], &mut [1.0, 2.0]));
-        assert!(!solve_dense(
-            &mut [1.0, 2.0, 2.0, 4.0 + 1e-14],
-            &mut [1.0, 2.0]
-        ));
-    }
-
-    /// An adjacent comb (wear on five neighbouring nodes, as the graded run's comb just inside
-    /// the edge): closing a node raises its outer neighbour's gap, so nodes leave the active set
-    /// (their δ would add wear, or the step did not wear them) and others join; the outcome keeps
-    /// [`check_closed`]'s guarantees, the holes left charged.
-    #[test]
-    fn hole_closing_of_an_adjacent_comb_charges_what_it_leaves() {
-        let (mut sim, worn, _, start_g, _, _) =
-            worn_result(&[(4, 5e-4), (5, 5e-4), (6, 5e-4), (7, 5e-4), (8, 5e-4)]);
-        let closing = sim.close_holes(1e-4).unwrap();
-        let Closing::Closed { size, count, .. } = closing else {
-            panic!("{closing:?}");
-        };
-        let left = sim.closing.excluded.len();
-        let bound = sim.closing.at_bound.iter().filter(|&&b| b).count();
-        println!("adjacent: {count} closed ({bound} at their bound), {left} left the set, charged {size:e}");
-        assert!(left + bound > 0, "neither an exclusion nor a bound");
-        check_closed(&mut sim, &worn, &start_g, size);
-    }
-
-    /// More holes than [`HOLE_CLOSING_NODES`]: the closing fails and leaves the attempt as it
-    /// was, bit for bit.
-    #[test]
-    fn hole_closing_fails_untouched_beyond_its_bound() {
-        // Wear growing outwards over 60 nodes (the slope, and with it g, rises over all of them).
-        let ramp: Vec<(usize, f64)> = (4..64).map(|j| (j, 2e-4 * (64 - j) as f64)).collect();
-        let (mut sim, worn, g, _, _, first) = worn_result(&ramp);
-        let threshold = HOLE_CLOSING_THRESHOLD * 1e-4;
-        let last = g.iter().rposition(|&x| x < 1.0).unwrap();
-        let holes = (first..last).filter(|&i| g[i] > 1.0 + threshold).count();
-        assert!(holes > HOLE_CLOSING_NODES, "{holes} holes");
-        let closing = sim.close_holes(1e-4).unwrap();
-        assert!(matches!(closing, Closing::Failed), "{closing:?}");
-        assert_eq!(sim.state.profile, worn);
-        assert_eq!(sim.g, g);
     }
 
     fn max_abs(a: &[f64], b: &[f64]) -> f64 {

@@ -8,7 +8,9 @@ mod common;
 use common::max_abs_diff;
 use std::sync::{Arc, Mutex};
 
-use halfspace_fretting::{FrettingParams, FrettingSimulation, StepAttempt, TimeStepping};
+use halfspace_fretting::{
+    FrettingParams, FrettingSimulation, FrettingState, StepAttempt, TimeStepping,
+};
 use halfspace_numerics::Backend;
 
 fn run(params: FrettingParams) -> FrettingSimulation {
@@ -548,78 +550,165 @@ fn fixed_steps_converge_to_the_reference() {
     assert!(errors[2] < 2e-5, "{errors:?}");
 }
 
-/// The adaptive graded run to its limit (k = −0.5, χ = 0.9, N = 501, τ = 30; the issue's graded
-/// run at a quarter of its nodes) against a tight-tolerance run (tol 1e-5): the final touching
-/// radius `contact_radius_over_a0` in cells `h/(2r*)`, the worn volume and the profile; and both
-/// against the graded limit `r*` (docs/fretting-wear.md, "Graded media"). Measured (CLI, same
-/// parameters with its own snapshot times): tol 1e-4 +2.23 cells from r*, tol 1e-5 +2.03, tol 1e-6 +2.03, fixed
-/// `--dtau 1e-3` +2.04: the time integration converges to 0.2 cell of its limit, and the +2.0
-/// cells beyond r* are the grid's at N = 501 (V/V∞ − 1 = +3.24 % at every one of them; the
-/// explicit runs at N = 1001 of `graded.rs` reach −0.6 … +0.9 cell); those CLI numbers predate the
-/// opened-hole estimate, with which this test measures +2.03 cells at tol 1e-4 and +2.04 at 1e-5.
-/// The N = 2001 run is in the docs' table.
-#[test]
-fn adaptive_graded_run_reaches_its_limit() {
-    let (k, chi, nodes) = (-0.5, 0.9, 501);
-    let params = |tolerance: f64| FrettingParams {
+/// The global error of an adaptive run, in tolerances, that the tests of the graded run's
+/// grazing phases assert: an empirical constant, the bound of
+/// `global_error_is_a_multiple_of_the_tolerance` (measured 0.15–6.6 tol at N = 401, χ = 0.5,
+/// τ ≤ 3, tol 1e-3 … 1e-6; docs/fretting-wear.md, "The quantized step"). On the graded runs
+/// here, over 28 step sequences (seven starts under main's arithmetic and three rounding
+/// variants) the long run measured 0.4–7.5 tol away from the grazing edge at tol 1e-4, one
+/// 12.5 tol, so the tests assert it on medians over the starts. It is
+/// not a bound that holds as the tolerance shrinks: near the grazing edge the error falls only
+/// like tol^0.4 (docs/fretting-wear.md, "The grazing-phase stepping tests over perturbed step
+/// sequences").
+const GLOBAL_ERROR: f64 = 10.0;
+
+/// Starts perturbed by a relative [`PERTURBATION`] besides the unperturbed one: an adaptive run
+/// amplifies a difference of rounding by ≈ 1.3 per attempt (docs/fretting-wear.md, "Adaptive runs
+/// that differ by rounding or by the stage solves"), so a start perturbed at 1e-13 is another
+/// step sequence, as another rounding of the arithmetic is. The grazing-phase tests assert on
+/// every such sequence (or on their sum where a single run's count scatters) what the error
+/// control bounds, not one rounding's outcome.
+const PERTURBED_STARTS: u64 = 3;
+/// The perturbed starts of [`adaptive_graded_run_reaches_its_limit`], whose median radius
+/// tolerates three outlying sequences of seven: one sequence in ten measured ended 1.9 cells
+/// off, and at that rate four or more of seven fail with a probability of 0.3 %.
+const PERTURBED_STARTS_AT_THE_LIMIT: u64 = 6;
+/// The relative perturbation of the perturbed starts.
+const PERTURBATION: f64 = 1e-13;
+
+/// The initial state of `params`, its profile multiplied node by node by `1 + ε u_i` with `u_i`
+/// uniform in `[−1, 1)` from the seed (xorshift) and `ε` = [`PERTURBATION`]; seed 0: unperturbed.
+fn perturbed_start(params: &FrettingParams, seed: u64) -> FrettingState {
+    let mut state = FrettingSimulation::new(params.clone())
+        .unwrap()
+        .state()
+        .clone();
+    if seed > 0 {
+        let mut x = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+        for f in &mut state.profile {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let u = (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
+            *f *= 1.0 + PERTURBATION * u;
+        }
+    }
+    state
+}
+
+/// A run of `params` from [`perturbed_start`]`(seed)` with `set` applied before the first step.
+fn run_from(
+    params: &FrettingParams,
+    seed: u64,
+    set: impl Fn(&mut FrettingSimulation),
+) -> FrettingSimulation {
+    let mut sim =
+        FrettingSimulation::resume(params.clone(), perturbed_start(params, seed)).unwrap();
+    set(&mut sim);
+    sim.run(|_| false).unwrap();
+    sim
+}
+
+/// The graded set-up (k = −0.5, χ = 0.9) at `nodes` to `tau_end`, adaptive at `tolerance`.
+fn graded(nodes: usize, tau_end: f64, tolerance: f64) -> FrettingParams {
+    let (k, chi) = (-0.5, 0.9);
+    FrettingParams {
         chi,
         k,
         nodes,
         length: FrettingParams::default_length(chi, k),
-        tau_end: 30.0,
-        snapshots: vec![30.0],
+        tau_end,
+        snapshots: vec![tau_end],
         stepping: TimeStepping::Adaptive { tolerance },
         ..Default::default()
-    };
-    let (sim, reference) = (
-        run(params(TimeStepping::DEFAULT_TOLERANCE)),
-        run(params(1e-5)),
-    );
-    let r_star = sim.limit_contact_radius();
-    let cell = sim.grid().step() / (2.0 * r_star);
-    let final_radius = |s: &FrettingSimulation| *s.state().contact_radius_history.last().unwrap();
-    let (last, last_ref) = (final_radius(&sim), final_radius(&reference));
-    let volume = (sim.wear_volume() - reference.wear_volume()) / sim.limit_wear_volume();
-    let profile = max_abs_diff(&sim.state().profile, &reference.state().profile);
-    // Away from the stick edge c (where f∞ − f₀ ~ (r − c)^{(1−k)/2} is resolved by one node).
-    let c = halfspace_fretting::limit::stick_radius(chi);
-    let grid = sim.grid();
-    let (worst, at) = (0..grid.len())
-        .map(|i| {
-            let d = (sim.state().profile[i] - reference.state().profile[i]).abs();
-            (d, grid.coordinate(i))
-        })
-        .fold((0.0f64, 0.0), |m, x| if x.0 > m.0 { x } else { m });
-    let away = (0..grid.len())
-        .filter(|&i| grid.coordinate(i) > c + 0.05 && grid.coordinate(i) < r_star - 3.0 * cell)
-        .map(|i| (sim.state().profile[i] - reference.state().profile[i]).abs())
-        .fold(0.0f64, f64::max);
-    println!("max |Δf| {worst:.2e} at r = {at:.4} (c = {c:.4}, r* = {r_star:.4}); on c + 0.05 < r < r* − 3 cells: {away:.2e}");
-    println!(
-        "k {k} χ {chi} N {nodes}: {} steps ({} rejected) vs {} at tol 1e-5; final a/a0 − r* {:+.2} cells (tol 1e-5: {:+.2}); ΔV/V∞ {volume:+.1e}, max |Δf| {profile:.1e}",
-        sim.state().step,
-        sim.state().rejected_steps,
-        reference.state().step,
-        (last - r_star) / cell,
-        (last_ref - r_star) / cell
-    );
-    assert!(
-        (last - last_ref).abs() < 0.5 * cell,
-        "a/a0 {last} vs {last_ref}"
-    );
-    for a in [last, last_ref] {
-        assert!((a - r_star).abs() < 2.5 * cell, "a/a0 {a} vs r* {r_star}");
     }
-    assert!(volume.abs() < 1e-3, "ΔV/V∞ = {volume:e}");
-    // Measured 0.69 tol (8594 steps, 2565 rejected; tol 1e-5 15 130 steps), at r = 1.266 inside
-    // the annulus (c = 0.316, r* = 1.550), the same on c + 0.05 < r < r* − 3 cells. Before the
-    // error estimate counted the holes a step opens (docs/fretting-wear.md, "What sets the
-    // step"), 10.1 tol at r = 1.283 after 4 700 steps: the holes, nodes that stop wearing, were
-    // the long run's global error.
-    assert!(
-        profile < 3.0 * TimeStepping::DEFAULT_TOLERANCE,
-        "max |Δf| = {profile:e}"
+}
+
+/// The adaptive graded run to its limit (k = −0.5, χ = 0.9, N = 501, τ = 30; the issue's graded
+/// run at a quarter of its nodes), from the unperturbed start and
+/// [`PERTURBED_STARTS_AT_THE_LIMIT`] perturbed ones, against a tight-tolerance run (tol 1e-5):
+/// - the median over the starts of the profile's largest distance from the reference on
+///   `c + 0.05 < r < r* − 10` cells below [`GLOBAL_ERROR`] tol (away from the stick edge, where
+///   `f∞ − f₀ ~ (r − c)^{(1−k)/2}` is resolved by one node, and from the grazing end, where the
+///   touching radius and the last nodes' wear follow the step sequence: one of ten sequences
+///   measured ended 1.9 cells off, with 63 tol four cells inside r*): a median, because one
+///   run's error has a tail — 0.4–7.5 tol over 28 sequences, one at 12.5 tol; and on every
+///   start the wear volume within 1e-3 of `V∞` (every measured run: at most 7.3e-4);
+/// - the median over the starts of `|ΔV|/V∞` below the tolerance: it converges with it (medians
+///   ≈ 1.2e-5 at tol 1e-4 and ≈ 1.1e-6 at tol 2.5e-5 against a tol-1e-6 run), and without the
+///   opened-hole estimate every start measured 6.4–7.3e-4, so this is what catches the
+///   estimate's loss (holes stop wearing, docs/fretting-wear.md, "What sets the step");
+/// - the median over the starts of the final touching radius within half a cell of the
+///   reference's (the grazing-phase radius is not bounded by the tolerance run by run), and the
+///   reference within 2.5 cells of r* (the N = 501 grid's +2.0 cells; V/V∞ − 1 = +3.24 % in
+///   every run).
+///
+/// Measured (docs/fretting-wear.md, "The grazing-phase stepping tests over perturbed step
+/// sequences"), away from the grazing edge: 0.9–3.7 tol on the unperturbed and five perturbed
+/// starts, up to 4.0 / 6.4 / 5.1 tol under three changes of rounding; against a tol-1e-6
+/// reference, tol 1e-4 1.2–1.9 tol and tol 2.5e-5 1.8–5.0 tol (means 1.42e-4 → 0.79e-4: 1.8×
+/// for 4× the tolerance) and the radius 0.02–0.09 cells and 0.00–0.01 cells from it. Broken
+/// schemes: the error estimate × 0.1 fails the profile bound (29.7 tol), the scheme without the
+/// opened-hole estimate the volume's median.
+#[test]
+fn adaptive_graded_run_reaches_its_limit() {
+    let tolerance = TimeStepping::DEFAULT_TOLERANCE;
+    let reference = run(graded(501, 30.0, 1e-5));
+    let r_star = reference.limit_contact_radius();
+    let cell = reference.grid().step() / (2.0 * r_star);
+    let c = halfspace_fretting::limit::stick_radius(0.9);
+    let final_radius = |s: &FrettingSimulation| *s.state().contact_radius_history.last().unwrap();
+    let last_ref = final_radius(&reference);
+    let (mut offsets, mut volumes, mut profiles) = (Vec::new(), Vec::new(), Vec::new());
+    for seed in 0..=PERTURBED_STARTS_AT_THE_LIMIT {
+        let sim = run_from(&graded(501, 30.0, tolerance), seed, |_| {});
+        let grid = sim.grid();
+        let away = (0..grid.len())
+            .filter(|&i| grid.coordinate(i) > c + 0.05 && grid.coordinate(i) < r_star - 10.0 * cell)
+            .map(|i| (sim.state().profile[i] - reference.state().profile[i]).abs())
+            .fold(0.0f64, f64::max);
+        let everywhere = max_abs_diff(&sim.state().profile, &reference.state().profile);
+        let volume = (sim.wear_volume() - reference.wear_volume()) / sim.limit_wear_volume();
+        let offset = (final_radius(&sim) - last_ref) / cell;
+        println!(
+            "start {seed}: {} steps ({} rejected); max |Δf| {:.2} tol away from c and r*, {:.2} tol everywhere; ΔV/V∞ {volume:+.1e}; a/a0 {offset:+.2} cells from tol 1e-5's ({:+.2} from r*)",
+            sim.state().step,
+            sim.state().rejected_steps,
+            away / tolerance,
+            everywhere / tolerance,
+            (last_ref - r_star) / cell
+        );
+        assert!(volume.abs() < 1e-3, "start {seed}: ΔV/V∞ = {volume:e}");
+        offsets.push(offset.abs());
+        volumes.push(volume.abs());
+        profiles.push(away);
+    }
+    let (offset, volume, away) = (
+        median(&mut offsets),
+        median(&mut volumes),
+        median(&mut profiles),
     );
+    println!(
+        "medians: |Δa| {offset:.2} cells, |ΔV|/V∞ {volume:.1e}, max |Δf| away {:.2} tol",
+        away / tolerance
+    );
+    assert!(
+        away < GLOBAL_ERROR * tolerance,
+        "the median max |Δf| is {away:e}"
+    );
+    assert!(offset < 0.5, "the median radius is {offset} cells off");
+    assert!(volume < tolerance, "the median |ΔV|/V∞ is {volume:e}");
+    assert!(
+        (last_ref - r_star).abs() < 2.5 * cell,
+        "a/a0 {last_ref} vs r* {r_star}"
+    );
+}
+
+/// The median of `values` (sorted in place).
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    0.5 * (values[n / 2] + values[(n - 1) / 2])
 }
 
 /// Holes: annulus nodes (`r̃ > c̃`) inside the last contact node with `g̃ ≥ 1` (no line load,
@@ -638,83 +727,116 @@ fn holes(sim: &mut FrettingSimulation) -> usize {
     (first..last).filter(|&i| g[i] >= 1.0).count()
 }
 
-/// The adaptive graded run in its near-grazing phase (k = −0.5, χ = 0.9, N = 1001 to τ = 3)
-/// opens no more holes than explicit Euler (the reference path, at half its default step):
-/// with the opened-hole estimate in the error (docs/fretting-wear.md, "What sets the step").
-/// Measured: explicit Euler 0 holes; adaptive 0 (4 without the estimate, the scheme before), in
-/// 4569 (1133 rejected) steps with the projection onto the closed set (6166 (1563) rejecting the
-/// holes). At N = 2001 the projection trades holes for steps: rejecting the holes leaves 0 at
-/// τ = 3, the projection 2 (`step_trace`; holes the first-order solution opens too, which the
-/// estimate cannot see; docs/fretting-wear.md, "What sets the step"); that case is the ignored
-/// measurement `adaptive_graded_run_holes_at_2001_nodes`.
+/// The adaptive graded run in its near-grazing phase (k = −0.5, χ = 0.9, N = 1001 to τ = 3),
+/// from the unperturbed start and [`PERTURBED_STARTS`] perturbed ones: the median over the
+/// starts of the profile's largest distance from explicit Euler's (the reference path, at a
+/// quarter of its default step) below [`GLOBAL_ERROR`] tol plus that run's distance from the
+/// run at half the step (an upper estimate of its own error at any order ≥ 1: measured 0.74
+/// tol; a median, as one run's distance has a tail: 1.3–9.5 tol over 16 sequences; the
+/// max-norm differences of
+/// the runs at `Δτ`, `Δτ/2`, `Δτ/4` fall 8× per halving, `explicit_euler_near_grazing_converges`,
+/// so a first-order Richardson value would carry the coarse run's error). Its holes are
+/// printed, not asserted: a single run's hole count is not bounded by the error control. Over
+/// 18 step sequences (perturbed starts under main's arithmetic and three rounding variants)
+/// N = 1001 ended with 0–4 holes at the contact edge (explicit Euler 0), their `g − d` up to
+/// 167 tol — the map `f ↦ g` (order `(1 − k)/2` in the radius) turns a grid-scale difference of
+/// a few tol in f into a deep hole in g — and without the opened-hole estimate with 0–5: sums
+/// over four starts of 4 / 9 / 6 / 3 against 13 / 7 / 7 / 5, so not even the estimate's effect
+/// on the count is asserted (its effect on the long run's wear volume is,
+/// [`adaptive_graded_run_reaches_its_limit`]). Runs explicit Euler twice (75 163 and 150 326
+/// steps, ≈ 25 s) besides the four adaptive runs. Measured: docs/fretting-wear.md, "The grazing-phase
+/// stepping tests over perturbed step sequences".
 #[test]
-fn adaptive_graded_run_opens_no_more_holes_than_explicit_euler() {
-    graded_holes_against_explicit_euler(1001, 0);
+fn adaptive_graded_run_near_grazing_stays_near_explicit_euler() {
+    graded_near_grazing_against_explicit_euler(1001);
 }
 
-/// The graded run at N = 2001 to τ = 3 (k = −0.5, χ = 0.9): the projection's holes against
-/// explicit Euler's, bounded by the measured trade (`cargo test --release -p halfspace-fretting
-/// --test stepping -- --ignored --nocapture holes_at_2001`; numbers in docs/fretting-wear.md,
-/// "What sets the step"). Measured: 1 hole in 9396 (2176 rejected) steps against explicit
-/// Euler's 0 in 212 594 steps (316 s wall, 25.8 s CPU of the test at load ≈ 5).
+/// [`adaptive_graded_run_near_grazing_stays_near_explicit_euler`] at N = 2001 (a measurement:
+/// `cargo test --release -p halfspace-fretting --test stepping -- --ignored --nocapture
+/// at_2001`; explicit Euler takes 212 594 steps at half its default step).
 #[test]
 #[ignore = "a measurement: a few minutes"]
-fn adaptive_graded_run_holes_at_2001_nodes() {
-    graded_holes_against_explicit_euler(2001, HOLES_AT_2001);
+fn adaptive_graded_run_near_grazing_at_2001_nodes() {
+    graded_near_grazing_against_explicit_euler(2001);
 }
 
-/// The holes the projection may leave beyond explicit Euler's at N = 2001, τ = 3: 2 measured
-/// with `step_trace`'s snapshot times, 1 with the test's.
-const HOLES_AT_2001: usize = 2;
-
-/// The graded run (k = −0.5, χ = 0.9, `nodes`) to τ = 3: the adaptive run's holes at most
-/// `extra` more than explicit Euler's at half its default step.
-fn graded_holes_against_explicit_euler(nodes: usize, extra: usize) {
-    let (k, chi) = (-0.5, 0.9);
-    let length = FrettingParams::default_length(chi, k);
-    let base = FrettingParams {
-        chi,
-        k,
-        nodes,
-        length,
-        tau_end: 3.0,
-        snapshots: vec![3.0],
-        ..Default::default()
+/// Explicit Euler at the graded run's near-grazing phase (k = −0.5, χ = 0.9, N = 1001 to τ = 3)
+/// at its default step `Δτ`, `Δτ/2` and `Δτ/4`: the observed order `log₂(|f_Δτ − f_Δτ/2| /
+/// |f_Δτ/2 − f_Δτ/4|)` in the max norm, asserted ≥ 0.8 (a measurement for the reference of
+/// [`adaptive_graded_run_near_grazing_stays_near_explicit_euler`]: `cargo test --release -p
+/// halfspace-fretting --test stepping -- --ignored --nocapture euler_near_grazing`). Measured
+/// 5.91e-4 and 7.42e-5: 2.99, not the scheme's first order — the coarse run's largest difference
+/// is a local defect at the contact edge, not the smooth first-order error.
+#[test]
+#[ignore = "a measurement: explicit Euler to 150 000 steps"]
+fn explicit_euler_near_grazing_converges() {
+    let params = graded(1001, 3.0, TimeStepping::DEFAULT_TOLERANCE);
+    let step = FrettingParams::default_step(1001, params.length, params.k);
+    let profile = |dtau: f64| {
+        run(FrettingParams {
+            stepping: TimeStepping::ExplicitEuler { dtau },
+            ..params.clone()
+        })
+        .state()
+        .profile
+        .clone()
     };
-    let mut euler = run(FrettingParams {
-        stepping: TimeStepping::ExplicitEuler {
-            dtau: 0.5 * FrettingParams::default_step(nodes, length, k),
-        },
-        ..base.clone()
-    });
-    let mut adaptive = run(base);
-    let (reference, found) = (holes(&mut euler), holes(&mut adaptive));
+    let (f1, f2, f4) = (profile(step), profile(0.5 * step), profile(0.25 * step));
+    let (d1, d2) = (max_abs_diff(&f1, &f2), max_abs_diff(&f2, &f4));
+    let order = (d1 / d2).log2();
+    println!("|f(Δτ) − f(Δτ/2)| {d1:.2e}, |f(Δτ/2) − f(Δτ/4)| {d2:.2e}: observed order {order:.2}");
+    assert!(order > 0.8, "observed order {order}");
+}
+
+/// The graded run (k = −0.5, χ = 0.9, `nodes`) to τ = 3 against explicit Euler at a quarter of
+/// its default step: see [`adaptive_graded_run_near_grazing_stays_near_explicit_euler`].
+fn graded_near_grazing_against_explicit_euler(nodes: usize) {
+    let tolerance = TimeStepping::DEFAULT_TOLERANCE;
+    let params = graded(nodes, 3.0, tolerance);
+    let euler_at = |dtau: f64| {
+        run(FrettingParams {
+            stepping: TimeStepping::ExplicitEuler { dtau },
+            ..params.clone()
+        })
+    };
+    let step = FrettingParams::default_step(nodes, params.length, params.k);
+    let mut euler = euler_at(0.25 * step);
+    let reference = euler.state().profile.clone();
+    let euler_error = max_abs_diff(&euler_at(0.5 * step).state().profile, &reference);
+    let euler_holes = holes(&mut euler);
+    let bound = GLOBAL_ERROR * tolerance + euler_error;
     println!(
-        "τ = 3: holes adaptive {found} ({} steps, {} rejected), explicit Euler {reference} ({} steps)",
-        adaptive.state().step,
-        adaptive.state().rejected_steps,
-        euler.state().step
+        "explicit Euler at Δτ/4: {} steps, {euler_holes} holes, {:.2} tol from the run at Δτ/2; the bound {:.2} tol",
+        euler.state().step,
+        euler_error / tolerance,
+        bound / tolerance
     );
-    assert!(found <= reference + extra, "{found} holes vs {reference}");
+    let mut errors = Vec::new();
+    for seed in 0..=PERTURBED_STARTS {
+        let mut sim = run_from(&params, seed, |_| {});
+        let error = max_abs_diff(&sim.state().profile, &reference);
+        let found = holes(&mut sim);
+        println!(
+            "start {seed}: {} steps ({} rejected), max |f − f_ref| {:.2} tol, holes {found}",
+            sim.state().step,
+            sim.state().rejected_steps,
+            error / tolerance,
+        );
+        errors.push(error);
+    }
+    let error = median(&mut errors);
+    println!("median max |f − f_ref| {:.2} tol", error / tolerance);
+    assert!(error < bound, "the median max |f − f_ref| is {error:e}");
 }
 
 /// The global error of adaptive runs against a tight-tolerance run (tol 1e-7), k = −0.5 and 0,
 /// χ = 0.5, N = 401 at τ = 1 and 3, in units of the tolerance: bounded now that the error
 /// estimate includes the wear of the nodes outside the start's contact (docs/fretting-wear.md,
 /// "The contact set within a step"). A measurement (`cargo test --release -p halfspace-fretting
-/// --test stepping -- --ignored --nocapture global_error`), numbers in the docs. With
-/// `HOLE_CLOSING=on` every run (the reference too) has the experimental contact condition on
-/// (`FrettingSimulation::set_hole_closing`).
+/// --test stepping -- --ignored --nocapture global_error`), numbers in the docs.
 #[test]
 #[ignore = "a measurement: about a minute"]
 fn global_error_is_a_multiple_of_the_tolerance() {
-    let closing = std::env::var("HOLE_CLOSING").is_ok_and(|v| v == "on");
-    let run = |params: FrettingParams| {
-        let mut sim = FrettingSimulation::new(params).unwrap();
-        sim.set_hole_closing(closing);
-        sim.run(|_| false).unwrap();
-        sim
-    };
     for k in [0.0, -0.5] {
         let params = |tolerance: f64| FrettingParams {
             nodes: 401,
@@ -744,11 +866,14 @@ fn global_error_is_a_multiple_of_the_tolerance() {
                 sim.state().step,
                 errors.join(", ")
             );
-            // Measured 0.32–6.55 tol (docs/fretting-wear.md): the global error is a bounded
-            // multiple of the tolerance at every tolerance, not growing as it shrinks.
+            // Measured 0.32–6.55 tol (docs/fretting-wear.md): on this set-up (N = 401, χ = 0.5,
+            // τ ≤ 3) a bounded multiple of the tolerance at every tolerance measured; near the
+            // graded run's grazing edge it grows slowly as the tolerance shrinks
+            // (docs/fretting-wear.md, "The grazing-phase stepping tests over perturbed step
+            // sequences").
             for (tau, e) in ratios {
                 assert!(
-                    e < 10.0,
+                    e < GLOBAL_ERROR,
                     "k = {k}, tol {tolerance:e}, τ = {tau}: {e:.2} tol"
                 );
             }
@@ -757,59 +882,58 @@ fn global_error_is_a_multiple_of_the_tolerance() {
 }
 
 /// The graded run's phase with holes (k = −0.5, χ = 0.9, N = 501 to τ = 1) with `baseline` set
-/// and with `variant` set on top of it: the two runs, after checking that they end within a few
-/// tolerances of each other in f (the global error of either is up to 6.6 tol,
-/// docs/fretting-wear.md, "The quantized step"); prints their steps (rejected), max |Δf| and holes.
-fn graded_phase_pair(
+/// and with `variant` set on top of it, from the unperturbed start and [`PERTURBED_STARTS`]
+/// perturbed ones (the same start for both): each pair within 5 tol of each other in f (an
+/// empirical bound: measured at most 2.1 tol over 16 pairs under main's arithmetic and three
+/// rounding changes, 13–16 tol with the error estimate × 0.1); returns the attempts (steps + rejected) summed
+/// over the starts, the baseline's and the variant's. A single pair's attempts scatter by ±3 %
+/// with the step sequence (measured 762–792 rejecting the holes, 707–755 with the first-order
+/// fallback, 692–734 projected), about the size of the difference; the sums over the starts are
+/// what the comparison rests on.
+fn graded_phase_attempts(
     baseline: impl Fn(&mut FrettingSimulation),
     variant: impl Fn(&mut FrettingSimulation),
-) -> (FrettingSimulation, FrettingSimulation) {
-    let (k, chi, nodes) = (-0.5, 0.9, 501);
-    let params = FrettingParams {
-        chi,
-        k,
-        nodes,
-        length: FrettingParams::default_length(chi, k),
-        tau_end: 1.0,
-        snapshots: vec![1.0],
-        ..Default::default()
-    };
-    let mut base = FrettingSimulation::new(params.clone()).unwrap();
-    baseline(&mut base);
-    base.run(|_| false).unwrap();
-    let mut other = FrettingSimulation::new(params).unwrap();
-    baseline(&mut other);
-    variant(&mut other);
-    other.run(|_| false).unwrap();
-    let difference = max_abs_diff(&base.state().profile, &other.state().profile);
-    let (holes_base, holes_other) = (holes(&mut base), holes(&mut other));
-    let steps = |s: &FrettingSimulation| (s.state().step, s.state().rejected_steps);
-    println!(
-        "{:?} steps (rejected) vs {:?}; max |Δf| {difference:.2e}; holes {holes_other} vs {holes_base}",
-        steps(&other),
-        steps(&base),
-    );
-    assert!(
-        difference < 5.0 * TimeStepping::DEFAULT_TOLERANCE,
-        "{difference}"
-    );
-    (base, other)
+) -> (u64, u64) {
+    let params = graded(501, 1.0, TimeStepping::DEFAULT_TOLERANCE);
+    let attempts = |s: &FrettingSimulation| s.state().step + s.state().rejected_steps;
+    let (mut sum_base, mut sum_other) = (0, 0);
+    for seed in 0..=PERTURBED_STARTS {
+        let mut base = run_from(&params, seed, &baseline);
+        let mut other = run_from(&params, seed, |s| {
+            baseline(s);
+            variant(s);
+        });
+        let difference = max_abs_diff(&base.state().profile, &other.state().profile);
+        let (holes_base, holes_other) = (holes(&mut base), holes(&mut other));
+        let steps = |s: &FrettingSimulation| (s.state().step, s.state().rejected_steps);
+        println!(
+            "start {seed}: {:?} steps (rejected) vs {:?}; max |Δf| {difference:.2e}; holes {holes_other} vs {holes_base}",
+            steps(&other),
+            steps(&base),
+        );
+        assert!(
+            difference < 5.0 * TimeStepping::DEFAULT_TOLERANCE,
+            "start {seed}: {difference}"
+        );
+        sum_base += attempts(&base);
+        sum_other += attempts(&other);
+    }
+    println!("attempts over the starts: {sum_other} vs {sum_base}");
+    (sum_base, sum_other)
 }
 
-/// [`graded_phase_pair`] against the scheme that rejects every attempt whose result opens holes
-/// above the tolerance (the projection off): the variant takes fewer attempts and opens no more
-/// holes.
+/// [`graded_phase_attempts`] against the scheme that rejects every attempt whose result opens
+/// holes above the tolerance (the projection off): the variant takes fewer attempts over the
+/// starts.
 fn fewer_attempts_than_rejecting_holes(variant: impl Fn(&mut FrettingSimulation)) {
-    let (mut base, mut other) = graded_phase_pair(|s| s.set_hole_projection(false), variant);
-    let attempts = |s: &FrettingSimulation| s.state().step + s.state().rejected_steps;
-    assert!(attempts(&other) < attempts(&base));
-    assert!(holes(&mut other) <= holes(&mut base));
+    let (base, other) = graded_phase_attempts(|s| s.set_hole_projection(false), variant);
+    assert!(other < base, "{other} attempts vs {base}");
 }
 
 /// The experimental first-order fallback (`FrettingSimulation::set_first_order_fallback`,
 /// docs/fretting-wear.md, "What sets the step") against the scheme that rejects the holes
-/// ([`fewer_attempts_than_rejecting_holes`]). Measured: 622 (98) steps against 700 (92),
-/// max |Δf| 1.12e-4 (1.1 tol), 0 holes both.
+/// ([`fewer_attempts_than_rejecting_holes`]). Measured over six starts: 725 attempts on average
+/// against 779.
 #[test]
 fn first_order_fallback_takes_fewer_steps() {
     fewer_attempts_than_rejecting_holes(|s| s.set_first_order_fallback(true));
@@ -817,49 +941,9 @@ fn first_order_fallback_takes_fewer_steps() {
 
 /// The projection onto the closed set (`FrettingSimulation::set_hole_projection`, the default;
 /// docs/fretting-wear.md, "What sets the step") against the scheme that rejects the holes
-/// ([`fewer_attempts_than_rejecting_holes`]). Measured: 622 (102) steps against 700 (92),
-/// max |Δf| 2.03e-5 (0.2 tol), 0 holes both.
+/// ([`fewer_attempts_than_rejecting_holes`]). Measured over six starts: 718 attempts on average
+/// against 779.
 #[test]
 fn hole_projection_takes_fewer_steps() {
     fewer_attempts_than_rejecting_holes(|s| s.set_hole_projection(true));
-}
-
-/// The contact condition on the results (`FrettingSimulation::set_hole_closing`, experimental,
-/// off by default; docs/fretting-wear.md, "The contact condition on the result") against the
-/// default scheme on the graded run's phase with holes ([`graded_phase_pair`]: within 5 tol in
-/// f), with accepted attempts that closed holes; and a run with it killed half-way and resumed
-/// with it set again ends bit for bit where the uninterrupted one does (the closing is a function
-/// of the profile: its column cache holds the same bits as computed again). Measured: 601 (95)
-/// steps against 622 (102), max |Δf| 1.74e-4, holes 1 against 0 — no fewer attempts here, and
-/// no assertion that there are (docs/fretting-wear.md).
-#[test]
-fn hole_closing_stays_accurate_and_resumes_bit_for_bit() {
-    let closed: Arc<Mutex<usize>> = Arc::default();
-    let sink = Arc::clone(&closed);
-    let (_, other) = graded_phase_pair(
-        |_| {},
-        move |s| {
-            s.set_hole_closing(true);
-            let sink = Arc::clone(&sink);
-            s.set_attempt_observer(Box::new(move |a| {
-                if a.accepted && a.closed_holes > 0 {
-                    *sink.lock().unwrap() += 1;
-                }
-            }));
-        },
-    );
-    let closed = *closed.lock().unwrap();
-    println!("{closed} accepted attempts closed holes");
-    assert!(closed > 0);
-    let params = other.params().clone();
-    let kill_at = other.state().step / 2;
-    let mut first = FrettingSimulation::new(params.clone()).unwrap();
-    first.set_hole_closing(true);
-    first.run(|s| s.state().step >= kill_at).unwrap();
-    let saved = first.state().clone();
-    drop(first);
-    let mut second = FrettingSimulation::resume(params, saved).unwrap();
-    second.set_hole_closing(true);
-    second.run(|_| false).unwrap();
-    assert_eq!(second.state(), other.state(), "killed at step {kill_at}");
 }
