@@ -120,13 +120,13 @@ pub struct StepAttempt {
     pub trial_gap_margin: f64,
     /// Holes the result opens that the embedded first-order solution `f + Δτ k₁` does not have:
     /// annulus nodes inside the result's last contact node with `g ≥ d` where the trial has
-    /// `g < d` ([`FrettingSimulation::opened_hole_error`]; 0 when not estimated).
+    /// `g < d` (`FrettingSimulation::opened_hole_error`; 0 when not estimated).
     pub opened_holes: usize,
     /// The three parts of the error estimate (in `f̃`'s units, before the division by the
     /// tolerance): the ROS2 pair's
-    /// `max_i Δτ |k₁ + k₂|_i / 2`, the outside wear's ([`FrettingSimulation::outside_wear_error`];
+    /// `max_i Δτ |k₁ + k₂|_i / 2`, the outside wear's (`FrettingSimulation::outside_wear_error`;
     /// of the unprojected result `f₂` when the attempt is projected)
-    /// and the opened holes' ([`FrettingSimulation::opened_hole_error`], also when it is not part
+    /// and the opened holes' (`FrettingSimulation::opened_hole_error`, also when it is not part
     /// of the estimate; when the attempt fell back to its first-order solution, the holes that
     /// solution opens and the second-order result keeps closed: the term that entered the
     /// estimate, [`FrettingSimulation::set_first_order_fallback`]); the error is the largest of those the estimate includes.
@@ -217,11 +217,11 @@ pub struct FrettingSimulation {
     rhs: Vec<f64>,
     trial: Vec<f64>,
     /// `g` of the second stage's trial `f + Δτ k₁` (the embedded first-order solution), for
-    /// [`FrettingSimulation::opened_hole_error`].
+    /// `FrettingSimulation::opened_hole_error`.
     trial_gap: Vec<f64>,
     /// The first node of the slip annulus (`r̃ > c̃`).
     first_annulus_node: usize,
-    /// Whether the adaptive error estimate includes [`FrettingSimulation::opened_hole_error`]
+    /// Whether the adaptive error estimate includes `FrettingSimulation::opened_hole_error`
     /// (default on; off: the estimate of before, for comparisons).
     hole_estimate: bool,
     /// Whether an attempt whose result opens holes that its first-order solution keeps closed
@@ -482,11 +482,11 @@ impl FrettingSimulation {
     /// default; off: such holes reject the attempt, the scheme before). The result is
     /// `f₁ + λ(f₂ − f₁)` with the largest `λ ∈ [0, 1]` that keeps every such node closed (`g` is
     /// linear in `f`, so `g_λ = g₁ + λ(g₂ − g₁)`: `λ = (1 − η) min_i (d − g₁ᵢ)/(g₂ᵢ − g₁ᵢ)`,
-    /// `η` = [`HOLE_MARGIN`]). The exact flow keeps `g ≤ d` on the slip annulus (the rate `p Δu`
+    /// `η` = `HOLE_MARGIN`). The exact flow keeps `g ≤ d` on the slip annulus (the rate `p Δu`
     /// vanishes as the gap closes), so the projection restores a property of the solution; its
     /// size `(1 − λ) Δτ |k₁ + k₂|/2` is bounded by the pair's estimate, which stays in the error,
     /// and the holes `g_λ` opens where `f₂` keeps the node closed join it as `g_i − d`. The
-    /// outside-wear term ([`FrettingSimulation::outside_wear_error`]) stays the one of `f₂`, the
+    /// outside-wear term (`FrettingSimulation::outside_wear_error`) stays the one of `f₂`, the
     /// unprojected result (its edge `a_e` and rates): it describes a result that is not kept (the
     /// kept one's edge lies near `f₁`'s when λ is small). Evaluating it again on the projected
     /// result was measured and not landed (docs/fretting-wear.md, "What sets the step"). Only with
@@ -611,11 +611,11 @@ impl FrettingSimulation {
     ///   Jacobian at a frozen contact (`linearization`), each solve by GMRES on the transforms;
     ///   adaptive steps keep the embedded error `Δτ |k₁ + k₂|/2` (vs. the linearly implicit Euler
     ///   `f̃ + Δτ k₁`) and, on the nodes outside the start's contact, the error of their
-    ///   end-of-step wear ([`FrettingSimulation::outside_wear_error`]) and the holes the result
-    ///   opens ([`FrettingSimulation::opened_hole_error`]; a result whose holes exceed the
+    ///   end-of-step wear (`FrettingSimulation::outside_wear_error`) and the holes the result
+    ///   opens (`FrettingSimulation::opened_hole_error`; a result whose holes exceed the
     ///   tolerance is projected onto the closed set, [`FrettingSimulation::set_hole_projection`])
     ///   below the tolerance with a
-    ///   PI controller whose steps are rounded to `2^(j/64)` ([`quantized_step`]), and land on the
+    ///   PI controller whose steps are rounded to `2^(j/64)` (`quantized_step`), and land on the
     ///   snapshot times.
     ///
     /// Takes a snapshot after the step when it lands on a snapshot time (and of the initial state
@@ -939,7 +939,7 @@ impl FrettingSimulation {
     /// `a_t²`); its pressure grows like `(a²(τ) − ξ_j)^γ`, `γ = (1+k)/2`, so the wear it missed is
     /// `∫ F_j dτ = Δτ (1 − s_j) F_j(f + Δτ k₁)/(1 + γ)`. Outside the ROS2 stages (these rates
     /// switch on like `(τ − τ_j)^γ`, the non-smoothness that set the steps before); its error is
-    /// estimated by [`FrettingSimulation::outside_wear_error`].
+    /// estimated by `FrettingSimulation::outside_wear_error`.
     fn wear_entered_nodes(&mut self, dtau: f64) {
         if self.entered_nodes.is_empty() {
             return;
@@ -1411,7 +1411,7 @@ fn edge_cell_means(
     first..end + 1
 }
 
-/// Levels per octave of the adaptive step ([`quantized_step`]).
+/// Levels per octave of the adaptive step (`quantized_step`).
 const STEP_LEVELS: f64 = 64.0;
 
 /// `Δτ` rounded to the nearest `2^(j/STEP_LEVELS)` (`j` an integer): the step the controller

@@ -59,14 +59,14 @@ pub fn fast_length(min: usize) -> usize {
 }
 
 /// Padded lengths from which a plan whose length is a multiple of 4 evaluates its real FFTs as
-/// two of half the length, on the even and on the odd samples ([`SplitFft`]): two independent
+/// two of half the length, on the even and on the odd samples (`SplitFft`): two independent
 /// transforms that run on two threads. Below it the hand-offs between threads cost more than
 /// they save: at `N = 2001` (`P` of 2048–4050) the split was 9 % slower on one thread and slower
 /// still on two (docs/performance.md, "Two threads in the MDR wear run").
 pub const SPLIT_FROM: usize = 8192;
 
 /// The padded length of a plan for `P ≥ min`: [`fast_length`]`(min)`, or from [`SPLIT_FROM`] on
-/// the smallest multiple of 4 of the form `4 · 2^a 3^b 5^c` (so that the plan splits, [`SplitFft`]).
+/// the smallest multiple of 4 of the form `4 · 2^a 3^b 5^c` (so that the plan splits, `SplitFft`).
 pub fn plan_length(min: usize) -> usize {
     let p = fast_length(min);
     if p >= SPLIT_FROM && p % 4 != 0 {
@@ -129,7 +129,7 @@ struct SplitFft {
     lanes: [SplitLane; 2],
 }
 
-/// One half of a [`SplitFft`]: its samples, their spectrum and the scratch of its transforms.
+/// One half of a `SplitFft`: its samples, their spectrum and the scratch of its transforms.
 struct SplitLane {
     time: Vec<f64>,
     freq: Vec<Complex<f64>>,

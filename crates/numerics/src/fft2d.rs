@@ -49,7 +49,7 @@ pub trait Precision: rustfft::FftNum + Copy + Send + Sync + 'static {
     fn round_from(v: f64) -> Self;
     /// `self` as `f64` (exact).
     fn widen(self) -> f64;
-    /// The process-wide plan cache of this type ([`plans`]).
+    /// The process-wide plan cache of this type (`plans`).
     fn cache() -> &'static PlanCache<Self>;
 }
 
