@@ -28,7 +28,7 @@ comment, then about 400 characters around it, then the whole file. `--list` show
 was resolved.
 
 A bare "§N" (no "spec" before it in the same comment run) is rewritten in the same way unless it
-cites a paper or book (a year, "[LN11]", "paper", "Section" shortly before it, e.g. "Mura 1987 §11").
+cites a paper or book (a year, "[LN11]" (escaped `\[LN11\]` in doc comments, for rustdoc), "paper", "Section" shortly before it, e.g. "Mura 1987 §11").
 Citations inside string literals (user-visible messages and headers) are reported and left alone
 unless --include-strings is given.
 
@@ -152,7 +152,7 @@ MDR_WORDS = re.compile(
 )
 SAM_WORDS = re.compile(
     r"\bsam\b|contact3d|fretting[-_ ]loop|fretting[-_ ]map|\bEIM\b|inhomogene|inclusion|p_c\b"
-    r"|Cattaneo|Mindlin|Deresiewicz|\[LN11\]|Leroux|Nélias|Polonsky|DC-FFT|σ₃₃|μW|μP|\bgrid \d+|\b\d{2,4}²"
+    r"|Cattaneo|Mindlin|Deresiewicz|\\?\[LN11\\?\]|Leroux|Nélias|Polonsky|DC-FFT|σ₃₃|μW|μP|\bgrid \d+|\b\d{2,4}²"
     r"|eigen|Eshelby|Love\b|composite|fibre",
     re.IGNORECASE,
 )
@@ -170,7 +170,7 @@ SPEC_HEAD = re.compile(
     r"(?P<spec>\b[Ss]pec)(?P<qual>\s+`?(?:shared/spec/)?(?P<doc>mdr|sam)\.md`?)?\s+(?=§|conventions\b)"
 )
 PAPER_BEFORE = re.compile(
-    r"(?:\b(?:19|20)\d\d\b[^§;]{0,12}$)|(?:\[LN11\][^§]{0,20}$)|(?:\bpaper[^§]{0,8}$)"
+    r"(?:\b(?:19|20)\d\d\b[^§;]{0,12}$)|(?:\\?\[LN11\\?\][^§]{0,20}$)|(?:\bpaper[^§]{0,8}$)"
     r"|(?:Section[^§]{0,4}$)|(?:\bJ\.[^§]{0,40}$)"
 )
 POSSESSIVE_NOUNS = (
