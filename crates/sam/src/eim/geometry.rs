@@ -192,7 +192,7 @@ impl Inhomogeneity {
 }
 
 /// Where the fibres of a unidirectional composite sit relative to the contact centre `x = 0`
-/// ([LN11] does not give the positions: docs/theory-sam.md#inhomogeneity-references runs both).
+/// (\[LN11\] does not give the positions: docs/theory-sam.md#inhomogeneity-references runs both).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FibreLayout {
     /// A fibre axis at `x = 0`.
@@ -203,7 +203,7 @@ pub enum FibreLayout {
 
 /// Parallel cylindrical fibres along `x₂` (perpendicular to a sliding motion along `x₁`) of radius
 /// `r`, axes at depth `depth` and centre spacing `spacing`, every fibre whose section lies within
-/// `|x₁| ≤ half_width` ([LN11]: `r = 0.13a`, spacing `3r`, depth `1.5r`).
+/// `|x₁| ≤ half_width` (\[LN11\]: `r = 0.13a`, spacing `3r`, depth `1.5r`).
 pub fn fibres(
     r: f64,
     depth: f64,
@@ -262,7 +262,7 @@ pub fn fibres(
     Ok(list)
 }
 
-/// The unidirectional composite of [LN11] (§4 of the paper, docs/theory-sam.md#inhomogeneity-references) below a contact of Hertz
+/// The unidirectional composite of \[LN11\] (§4 of the paper, docs/theory-sam.md#inhomogeneity-references) below a contact of Hertz
 /// radius `a`: fibres along `x₂` of radius `0.13a`, centre spacing `3r`, axes at depth `1.5r`,
 /// Young's modulus `e_ratio · e_matrix` and the matrix's Poisson ratio, over `|x₁| ≤ half_width`.
 pub fn composite_fibres(
@@ -287,7 +287,7 @@ pub fn composite_fibres(
     )
 }
 
-/// Fibre radius of [LN11]'s composite over the Hertz radius.
+/// Fibre radius of \[LN11\]'s composite over the Hertz radius.
 pub const COMPOSITE_FIBRE_RADIUS: f64 = 0.13;
 
 /// Cells per fibre radius at the paper's resolution (128² over 4.16a).

@@ -1,5 +1,5 @@
 //! Inhomogeneities below the surface by Eshelby's equivalent inclusion method (docs/theory-sam.md#equivalent-inclusion-method to #eigen-displacements-and-nested-loops;
-//! [LN11]; Liu & Wang 2005; Zhou et al. 2009): the inhomogeneities on the volume lattice
+//! \[LN11\]; Liu & Wang 2005; Zhou et al. 2009): the inhomogeneities on the volume lattice
 //! ([`geometry`]), the layered field operators of a cuboid eigenstrain in the half-space with their
 //! dense twin ([`operator`]) and the equivalency equations solved by block Jacobi or GMRES
 //! ([`solve`]).

@@ -1,5 +1,5 @@
 //! The discrete operators of the equivalent inclusion method on the layered lattice (docs/theory-sam.md#mirror-image-and-correction-pressure,
-//! docs/theory-sam.md#layered-operators, docs/theory-sam.md#eigen-displacements; [LN11] Eqs. 11–16):
+//! docs/theory-sam.md#layered-operators, docs/theory-sam.md#eigen-displacements; \[LN11\] Eqs. 11–16):
 //!
 //! * eigenstrain `ε*` (6 components per cell of the source layers) → **disturbance strain** at the
 //!   cell centres of the target layers, `ε^d = ε⁽¹⁾ + ε⁽²⁾ + ε⁽³⁾`: the cuboids in infinite space
@@ -776,7 +776,7 @@ impl EimFields {
         &self.surface_fields[0]
     }
 
-    /// Surface eigen-displacements of the last disturbance (docs/theory-sam.md#eigen-displacements, [LN11] Eqs. 14–15):
+    /// Surface eigen-displacements of the last disturbance (docs/theory-sam.md#eigen-displacements, \[LN11\] Eqs. 14–15):
     /// `u₃^eig = K^p₃ * p_c`, `u_α^eig = 2u_α⁽¹⁾ + K^p_α * p_c` (half-space alone), on the whole
     /// grid. The `p_c` product is a plain 2D DC-FFT in both backends (its dense twin is tested in
     /// `numerics::conv2d`).

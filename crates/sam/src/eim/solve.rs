@@ -1,8 +1,8 @@
-//! The discrete equivalency equations (docs/theory-sam.md#equivalency-equation, docs/theory-sam.md#solving-the-eim-equations; [LN11] Eqs. 1–2): in every inclusion cell
+//! The discrete equivalency equations (docs/theory-sam.md#equivalency-equation, docs/theory-sam.md#solving-the-eim-equations; \[LN11\] Eqs. 1–2): in every inclusion cell
 //! `I`, `r_I = C^m ε*_I − ΔC_I (ε⁰_I + (𝒟ε*)_I) = 0`, `ΔC = C^m − C^I`, solved for the eigenstrains
 //! `ε*` (6 per cell) by
 //!
-//! * **block Jacobi** ([LN11]): `ε* ← ε* + P⁻¹ r` with `P_I = C^m − ΔC_I S₀`, `S₀ = D(0)` the
+//! * **block Jacobi** (\[LN11\]): `ε* ← ε* + P⁻¹ r` with `P_I = C^m − ΔC_I S₀`, `S₀ = D(0)` the
 //!   cube's Eshelby tensor at its centre (the exact self term), i.e.
 //!   `ε*_new = (C^m − ΔC S₀)⁻¹ ΔC (ε⁰ + 𝒟ε* − S₀ε*)`;
 //! * **GMRES** (restart 50) on `A ε* = ΔC ε⁰`, `A = C^m − ΔC 𝒟`, right-preconditioned by the same
@@ -28,7 +28,7 @@ use crate::SamError;
 /// The iteration used for the equivalency equations.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum EimMethod {
-    /// Block Jacobi with the exact self term ([LN11]); diverges for stiffness ratios ≳ 10 and voids.
+    /// Block Jacobi with the exact self term (\[LN11\]); diverges for stiffness ratios ≳ 10 and voids.
     BlockJacobi,
     /// GMRES with the block-Jacobi preconditioner.
     Gmres,
@@ -55,7 +55,7 @@ pub struct EimParams {
     /// outer pass's solve starts by projecting on the earlier passes' iterations), and a solve
     /// warm-started from the last result gets its first residual without an operator
     /// application (docs/theory-sam.md#solving-the-eim-equations). 0: plain block Jacobi
-    /// ([LN11], the reference; this struct's default). The nested contact ↔ EIM loop's default
+    /// (\[LN11\], the reference; this struct's default). The nested contact ↔ EIM loop's default
     /// is 5 (`crate::contact::DEFAULT_EIM_RECYCLED_DEPTH`, config key `eim_recycled_depth`).
     /// Reduced automatically when its (2·depth + 7) vectors would exceed 2 GiB.
     pub recycled_depth: usize,

@@ -5,8 +5,8 @@
 //! `u^eig = T τ`,  `T = U ∘ 𝒟_s ∘ A⁻¹ ∘ ΔC ∘ L`,
 //!
 //! with `L` Love's applied strain of the tractions at the inclusion cells, `A = C^m − ΔC 𝒟` the
-//! equivalency operator ([LN11] Eqs. 1–2), and `U ∘ 𝒟_s` the surface eigen-displacements of the
-//! eigenstrains ([LN11] Eqs. 14–15). Every factor is linear and none depends on the load or the
+//! equivalency operator (\[LN11\] Eqs. 1–2), and `U ∘ 𝒟_s` the surface eigen-displacements of the
+//! eigenstrains (\[LN11\] Eqs. 14–15). Every factor is linear and none depends on the load or the
 //! surface geometry, so `T` is built once per body, column by column: column `(c, j)` is the
 //! response to a unit traction component `c` on candidate cell `j`, one EIM solve from zero to the
 //! full tolerance. This is the exact (uncompressed) operator; its cost is one EIM solve per column
