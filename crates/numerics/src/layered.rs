@@ -1400,15 +1400,7 @@ mod tests {
             assert_eq!(fft.spectrum_len() > SMALL_SPECTRUM, n1 == 72);
             let (targets, sources) = ([0i64], [3i64, 5]);
             let spectra = LayeredSpectra::new(&mut fft, &targets, &sources, &families).unwrap();
-            let mut rng = crate::testkit::Lcg::new(5);
-            let hats: Vec<Vec<C64>> = (0..sources.len() * 3)
-                .map(|_| {
-                    let x: Vec<f64> = (0..n1 * n2).map(|_| rng.unit() - 0.5).collect();
-                    let mut h = fft.new_spectrum();
-                    fft.forward(&x, &mut h).unwrap();
-                    h
-                })
-                .collect();
+            let hats = random_spectra(&mut fft, sources.len() * 3, 5);
             let skip = vec![false; hats.len()];
             let mut whole: Vec<Vec<C64>> = (0..2).map(|_| fft.new_spectrum()).collect();
             spectra.accumulate(&hats, &skip, &mut whole).unwrap();
@@ -1435,6 +1427,20 @@ mod tests {
             .is_err());
     }
 
+    /// `count` spectra of fields uniform in [−½, ½) from the seeded generator `seed`.
+    fn random_spectra(fft: &mut Fft2d, count: usize, seed: u64) -> Vec<Vec<C64>> {
+        let (n1, n2) = fft.shape();
+        let mut rng = crate::testkit::Lcg::new(seed);
+        (0..count)
+            .map(|_| {
+                let x: Vec<f64> = (0..n1 * n2).map(|_| rng.unit() - 0.5).collect();
+                let mut h = fft.new_spectrum();
+                fft.forward(&x, &mut h).unwrap();
+                h
+            })
+            .collect()
+    }
+
     /// The depth products give the same bits on the scalar level as on the CPU's SIMD level
     /// (pulp's dispatch: the same operations in the same order on wider lanes).
     #[test]
@@ -1447,15 +1453,7 @@ mod tests {
         let fast = LayeredSpectra::new(&mut fft, &layers, &layers, &families).unwrap();
         let mut scalar = LayeredSpectra::new(&mut fft, &layers, &layers, &families).unwrap();
         scalar.depth.as_mut().expect("a contiguous stack").arch = pulp::Arch::Scalar;
-        let mut rng = crate::testkit::Lcg::new(7);
-        let hats: Vec<Vec<C64>> = (0..layers.len() * 3)
-            .map(|_| {
-                let x: Vec<f64> = (0..n1 * n2).map(|_| rng.unit() - 0.5).collect();
-                let mut h = fft.new_spectrum();
-                fft.forward(&x, &mut h).unwrap();
-                h
-            })
-            .collect();
+        let hats = random_spectra(&mut fft, layers.len() * 3, 7);
         let skip = vec![false; hats.len()];
         let mut a: Vec<Vec<C64>> = (0..layers.len() * 2).map(|_| fft.new_spectrum()).collect();
         let mut b = a.clone();
