@@ -119,6 +119,22 @@ fn layered_operators_equal_their_dense_twin_and_the_window_equals_the_full_grid(
     }
 }
 
+/// The windows and backends the disturbance tests run on: a sub-window on the FFT and on the
+/// dense twin, and the shared whole-grid path.
+fn disturbance_cases(grid: &SurfaceGrid) -> [(Window, Backend); 3] {
+    let sub = Window {
+        i0: 2,
+        n1: 4,
+        j0: 1,
+        n2: 5,
+    };
+    [
+        (sub, Backend::Fft),
+        (sub, Backend::Dense),
+        (Window::full(grid), Backend::Fft),
+    ]
+}
+
 /// The surface-only disturbance (what the outer loop's eigen-displacements read) gives the
 /// correction pressure and the eigen-displacements of the full disturbance bit for bit, on the
 /// windowed FFT, the dense twin and the shared whole-grid path.
@@ -127,17 +143,7 @@ fn the_surface_disturbance_is_the_full_disturbances_surface_bit_for_bit() {
     let grid = SurfaceGrid::square(8, 8.0).unwrap();
     let (sources, targets) = ([1usize, 2, 4], [1usize, 2, 4]);
     let n = grid.len();
-    let sub = Window {
-        i0: 2,
-        n1: 4,
-        j0: 1,
-        n2: 5,
-    };
-    for (window, backend) in [
-        (sub, Backend::Fft),
-        (sub, Backend::Dense),
-        (Window::full(&grid), Backend::Fft),
-    ] {
+    for (window, backend) in disturbance_cases(&grid) {
         let eigen: Vec<Vec<f64>> = (0..sources.len() * 6)
             .map(|k| lcg(k as u64 + 11, window.len()))
             .collect();
@@ -185,17 +191,7 @@ fn the_strain_only_disturbance_is_the_full_disturbances_strain_bit_for_bit() {
     let grid = SurfaceGrid::square(8, 8.0).unwrap();
     let (sources, targets) = ([1usize, 2, 4], [1usize, 2, 4]);
     let n = grid.len();
-    let sub = Window {
-        i0: 2,
-        n1: 4,
-        j0: 1,
-        n2: 5,
-    };
-    for (window, backend) in [
-        (sub, Backend::Fft),
-        (sub, Backend::Dense),
-        (Window::full(&grid), Backend::Fft),
-    ] {
+    for (window, backend) in disturbance_cases(&grid) {
         let eigen: Vec<Vec<f64>> = (0..sources.len() * 6)
             .map(|k| lcg(k as u64 + 5, window.len()))
             .collect();
