@@ -398,6 +398,29 @@ impl InhomogeneousContact {
         Ok(())
     }
 
+    /// Sets the next increment's start to `(eigenstrain, u^eig)` instead of the predictor of
+    /// [`NestedParams::predictor`] (e.g. the same increment of an earlier fretting cycle,
+    /// [`crate::drivers::fretting_wear3d::FrettingWear3d`]): the current and the previous
+    /// values both become `x`, so the secant predictor's `2x − x` returns `x` exactly (Sterbenz)
+    /// and the increment starts from it. Nothing is solved; the committed count is kept.
+    pub fn set_prediction(
+        &mut self,
+        eigenstrain: &[f64],
+        u_eig: [&[f64]; 3],
+    ) -> Result<(), SamError> {
+        check_len("predicted eigenstrain", eigenstrain, self.eps_star.len())?;
+        for u in u_eig {
+            check_len("predicted eigen-displacement", u, self.u_eig[0].len())?;
+        }
+        self.eps_star.copy_from_slice(eigenstrain);
+        self.eps_prev.copy_from_slice(eigenstrain);
+        for ((x, prev), v) in self.u_eig.iter_mut().zip(self.u_prev.iter_mut()).zip(u_eig) {
+            x.copy_from_slice(v);
+            prev.copy_from_slice(v);
+        }
+        Ok(())
+    }
+
     /// One increment to normal load `load` and a prescribed tangential force `Q₁` (`Q₂` free at
     /// `D₂ = 0`): the shift `D₁` by [`shift_for_force`], each evaluation the nested loop of
     /// [`InhomogeneousContact::increment`] from the same history and the same warm start

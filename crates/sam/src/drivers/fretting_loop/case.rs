@@ -496,6 +496,23 @@ impl LoopCase {
         Ok(())
     }
 
+    /// Eigenstrain values of the inclusion cells (6 each), bounded by every cell of the layers
+    /// down to the deepest inhomogeneity (the layers of `InclusionSet::new`); 0 without
+    /// inhomogeneities.
+    pub fn eigenstrain_values_bound(&self) -> f64 {
+        if self.inhomogeneities.is_empty() {
+            return 0.0;
+        }
+        let cells = (self.grid as f64).powi(2);
+        let cell = self.extent() / self.grid as f64;
+        let deepest = self
+            .inhomogeneities
+            .iter()
+            .map(|inh| inh.bounds().1)
+            .fold(0.0f64, f64::max);
+        6.0 * cells * ((deepest / cell).ceil() + 1.0)
+    }
+
     /// The cost of this loop ([`LoopEstimate`]), from the configuration alone.
     pub fn estimate(&self) -> LoopEstimate {
         let increments =
@@ -511,18 +528,7 @@ impl LoopCase {
         // The points A–D: eight surface fields each (and the von Mises layers, when asked).
         let points = 4.0 * cells * 8.0 * 8.0;
         let cell = self.extent() / self.grid as f64;
-        // Eigenstrain values of the inclusion cells (6 each), bounded by every cell of the
-        // layers down to the deepest inhomogeneity (the layers of `InclusionSet::new`).
-        let eigen_len = if self.inhomogeneities.is_empty() {
-            0.0
-        } else {
-            let deepest = self
-                .inhomogeneities
-                .iter()
-                .map(|inh| inh.bounds().1)
-                .fold(0.0f64, f64::max);
-            6.0 * cells * ((deepest / cell).ceil() + 1.0)
-        };
+        let eigen_len = self.eigenstrain_values_bound();
         // The nested loop's recycled EIM history (docs/theory-sam.md#solving-the-eim-equations):
         // `2 · depth + 7` vectors of the EIM system's size (the eigenstrains), capped at 2 GiB
         // like the solver's (`EimParams::recycled_depth`).
