@@ -933,6 +933,9 @@ pub fn wear3d_snapshot_from_record(rec: &Record) -> Result<WearSnapshot, String>
     // The cycle predictor's store (absent: empty, as in a checkpoint written before it).
     let cycle = |k: usize| -> Result<CycleEigen, String> {
         match rec.get(&format!("cycle_eigenstrain_{k}")) {
+            None if rec.get(&format!("cycle_eigen_displacement_{k}")).is_some() => Err(format!(
+                "member cycle_eigen_displacement_{k} is present without cycle_eigenstrain_{k}"
+            )),
             None => Ok(CycleEigen::default()),
             Some(e) => Ok(CycleEigen {
                 eigenstrain: e.to_vec(),

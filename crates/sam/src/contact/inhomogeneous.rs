@@ -43,6 +43,11 @@ pub struct NestedParams {
     /// eigen-displacements of the last two increments (instead of `x_n`): on the loop's equal
     /// steps it removes most of the first outer change.
     pub predictor: bool,
+    /// In a fretting-wear run ([`crate::drivers::fretting_wear3d::FrettingWear3d`]), start each
+    /// increment of a computed cycle from the same increment of the last two computed cycles
+    /// (the cycle predictor, docs/wear3d.md#the-cycle-predictor) instead of the secant
+    /// prediction; only with [`NestedParams::predictor`]. Not read by the nested loop itself.
+    pub cycle_predictor: bool,
     /// The EIM of an outer pass is solved to this factor `η` times the last outer change
     /// (clamped to `[eim.tolerance, 10⁻³]`; docs/theory-sam.md#outer-loop-tolerances): default
     /// 3·10⁻³ ([`DEFAULT_EIM_CHANGE_FACTOR`]); [`REFERENCE_EIM_CHANGE_FACTOR`] = 10⁻³ on the
@@ -125,6 +130,7 @@ impl Default for NestedParams {
             inexact_contact: true,
             anderson_depth: 3,
             predictor: true,
+            cycle_predictor: true,
             eim_change_factor: DEFAULT_EIM_CHANGE_FACTOR,
             body: BodyResponse::Nested,
         }

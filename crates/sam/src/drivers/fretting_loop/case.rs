@@ -753,6 +753,9 @@ pub fn work_limit_hours() -> f64 {
         .unwrap_or(24.0)
 }
 
+/// Bytes in a GiB.
+const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+
 /// Cores of this machine (rayon's pool: `RAYON_NUM_THREADS` or the CPUs).
 fn cores() -> f64 {
     rayon::current_num_threads().max(1) as f64
@@ -763,39 +766,47 @@ impl LoopEstimate {
     /// ([`halfspace_numerics::memory::available_bytes`]) or more work than [`work_limit_hours`]; the
     /// message gives the estimate and names the inputs that set it.
     pub fn check(&self, what: &str) -> Result<(), SamError> {
-        const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+        self.check_memory(what)?;
+        let limit = work_limit_hours();
         let hours = self.hours();
-        let describe = || {
-            format!(
-                "{what}: {} loop(s) of {:.4e} increments (normal_steps + 5 · amplitude/shift_step) \
-                 on {} cells: about {:.3} GiB and {hours:.3e} hours of work on {} cores",
-                self.loops,
-                self.increments,
-                self.cells,
-                self.bytes / GIB,
-                cores()
-            )
-        };
+        if hours.is_nan() || hours > limit {
+            return Err(SamError::InvalidInput(format!(
+                "{}; more than the limit of {limit} hours (HALFSPACE_WORK_LIMIT): refused before \
+                 starting — use fewer increments, fewer points or a coarser grid",
+                self.describe(what),
+            )));
+        }
+        Ok(())
+    }
+
+    /// The memory half of [`LoopEstimate::check`]: refuses `bytes` above the available memory.
+    pub fn check_memory(&self, what: &str) -> Result<(), SamError> {
         if let Some(available) = halfspace_numerics::memory::available_bytes() {
             if self.bytes.is_nan() || self.bytes > available {
                 return Err(SamError::InvalidInput(format!(
                     "{}; {:.3} GiB are available (HALFSPACE_MEMORY_LIMIT): refused before \
                      starting — use fewer increments (a larger shift_step, fewer normal_steps), \
                      fewer points or a coarser grid",
-                    describe(),
+                    self.describe(what),
                     available / GIB
                 )));
             }
         }
-        let limit = work_limit_hours();
-        if hours.is_nan() || hours > limit {
-            return Err(SamError::InvalidInput(format!(
-                "{}; more than the limit of {limit} hours (HALFSPACE_WORK_LIMIT): refused before \
-                 starting — use fewer increments, fewer points or a coarser grid",
-                describe(),
-            )));
-        }
         Ok(())
+    }
+
+    /// The estimate in words, for the refusals.
+    fn describe(&self, what: &str) -> String {
+        let hours = self.hours();
+        format!(
+            "{what}: {} loop(s) of {:.4e} increments (normal_steps + 5 · amplitude/shift_step) \
+             on {} cells: about {:.3} GiB and {hours:.3e} hours of work on {} cores",
+            self.loops,
+            self.increments,
+            self.cells,
+            self.bytes / GIB,
+            cores()
+        )
     }
 
     /// Estimated wall-clock hours on this machine (the loops spread over its cores).

@@ -101,6 +101,10 @@ pub struct WearRecord {
     pub pressure: Vec<f64>,
 }
 
+/// The largest ratio `ΔN_n / ΔN_{n−1}` of the cycle predictor's linear extrapolation
+/// ([`FrettingWear3d::step`]); above it the last cycle alone is the start.
+pub const MAX_CYCLE_RATIO: f64 = 2.0;
+
 /// The converged eigenstrains and eigen-displacements of every increment of one computed cycle
 /// (with inhomogeneities, on the nested path): increment `j`'s eigenstrains are
 /// `eigenstrain[j·m..(j+1)·m]` (`m` = 6 per inclusion cell) and its `u_c^eig` are
@@ -217,6 +221,7 @@ impl FrettingWear3d {
         let lc = &case.fretting;
         let grid = SurfaceGrid::square(lc.grid, case.extent())?;
         crate::memory::check_problem(&grid, true, lc.is_coupled())?;
+        case.estimate()?.run.check_memory("the wear run")?;
         let unworn: Vec<f64> = (0..grid.len())
             .map(|k| {
                 let (x, y) = grid.centre(k / grid.n2, k % grid.n2);
@@ -385,30 +390,24 @@ impl FrettingWear3d {
                     ))
                 }
             };
-            if c.eigenstrain.len() != per_cycle * m
-                || c.eigen_displacement.len() != 3 * per_cycle * n
-            {
-                return Err(bad(
-                    &format!("cycle_eigenstrain_{k}"),
-                    format!(
-                        "{} eigenstrains and {} eigen-displacements, the run's cycle needs {} and {}",
-                        c.eigenstrain.len(),
-                        c.eigen_displacement.len(),
-                        per_cycle * m,
-                        3 * per_cycle * n
-                    ),
-                ));
-            }
-            if let Some(i) = c
-                .eigenstrain
-                .iter()
-                .chain(&c.eigen_displacement)
-                .position(|x| !x.is_finite())
-            {
-                return Err(bad(
-                    &format!("cycle_eigenstrain_{k}"),
-                    format!("value [{i}] is not finite"),
-                ));
+            for (member, v, len) in [
+                ("eigenstrain", &c.eigenstrain, per_cycle * m),
+                (
+                    "eigen_displacement",
+                    &c.eigen_displacement,
+                    3 * per_cycle * n,
+                ),
+            ] {
+                let member = format!("cycle_{member}_{k}");
+                if v.len() != len {
+                    return Err(bad(
+                        &member,
+                        format!("{} values, the run's cycle needs {len}", v.len()),
+                    ));
+                }
+                if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+                    return Err(bad(&member, format!("value [{i}] is not finite")));
+                }
             }
         }
         if s.cycle_eigen[0].eigenstrain.is_empty() && !s.cycle_eigen[1].eigenstrain.is_empty() {
@@ -519,25 +518,21 @@ impl FrettingWear3d {
     /// operator solves no eigenstrains per increment) and [`NestedParams::predictor`].
     fn cycle_store_sizes(&self) -> Option<(usize, usize)> {
         let n = self.solver.nested()?;
-        (self.nested.predictor && n.surface_response().is_none())
+        (self.nested.predictor && self.nested.cycle_predictor && n.surface_response().is_none())
             .then(|| (n.eigenstrain().len(), n.eigen_displacements()[0].len()))
     }
 
-    /// Sets the nested loop's start of increment `j` of the cycle from the cycle store (nothing
-    /// before the first computed cycle): `S_j` after one cycle, `S_j + ratio (S_j − B_j)` after
-    /// two ([`FrettingWear3d::step`]).
+    /// Sets the nested loop's start of increment `j` of the cycle from the cycle store (both
+    /// slots checked complete by [`FrettingWear3d::step`]): `S_j + ratio (S_j − B_j)` when
+    /// `linear`, else `S_j`.
     fn predict_cycle(
         &mut self,
         j: usize,
         (m, n): (usize, usize),
-        per_cycle: usize,
+        linear: bool,
         ratio: f64,
     ) -> Result<(), SamError> {
         let [now, before] = &self.cycle_eigen;
-        if now.eigenstrain.len() != per_cycle * m {
-            return Ok(());
-        }
-        let linear = before.eigenstrain.len() == per_cycle * m && ratio > 0.0;
         let extrapolate = |out: &mut [f64], s: &[f64], b: &[f64]| {
             if linear {
                 for ((o, s), b) in out.iter_mut().zip(s).zip(b) {
@@ -549,20 +544,18 @@ impl FrettingWear3d {
         };
         let (eps, u) = &mut self.predicted;
         let range = j * m..(j + 1) * m;
-        let b = if linear {
-            &before.eigenstrain[range.clone()]
-        } else {
-            &[][..]
-        };
-        extrapolate(eps, &now.eigenstrain[range], b);
+        extrapolate(
+            eps,
+            &now.eigenstrain[range.clone()],
+            &before.eigenstrain[range],
+        );
         for (c, u) in u.iter_mut().enumerate() {
             let range = (3 * j + c) * n..(3 * j + c + 1) * n;
-            let b = if linear {
-                &before.eigen_displacement[range.clone()]
-            } else {
-                &[][..]
-            };
-            extrapolate(u, &now.eigen_displacement[range], b);
+            extrapolate(
+                u,
+                &now.eigen_displacement[range.clone()],
+                &before.eigen_displacement[range],
+            );
         }
         if let Some(nested) = self.solver.nested_mut() {
             nested.set_prediction(eps, [&u[0], &u[1], &u[2]])?;
@@ -571,19 +564,13 @@ impl FrettingWear3d {
     }
 
     /// Keeps increment `j`'s converged eigenstrains and eigen-displacements in the cycle store's
-    /// second slot, whose value for `j` the prediction has read; [`FrettingWear3d::step`] swaps
-    /// the slots once the cycle is complete.
-    fn store_cycle(&mut self, j: usize, (m, n): (usize, usize), per_cycle: usize) {
+    /// second slot (allocated by [`FrettingWear3d::step`] before the cycle), whose value for `j`
+    /// the prediction has read; the slots are swapped once the cycle is complete.
+    fn store_cycle(&mut self, j: usize, (m, n): (usize, usize)) {
         let Some(nested) = self.solver.nested() else {
             return;
         };
         let next = &mut self.cycle_eigen[1];
-        if next.eigenstrain.len() != per_cycle * m {
-            *next = CycleEigen {
-                eigenstrain: vec![0.0; per_cycle * m],
-                eigen_displacement: vec![0.0; 3 * per_cycle * n],
-            };
-        }
         next.eigenstrain[j * m..(j + 1) * m].copy_from_slice(nested.eigenstrain());
         for (c, u) in nested.eigen_displacements().iter().enumerate() {
             next.eigen_displacement[(3 * j + c) * n..(3 * j + c + 1) * n].copy_from_slice(u);
@@ -604,7 +591,8 @@ impl FrettingWear3d {
     /// next record or the end)⌋ ≥ 1` and `h ← h + ΔN r`. The last call (at `cycles`) computes the
     /// final state without wear. Returns the row, or `None` when the run is complete. Refuses
     /// ([`SamError::WornIntoInhomogeneity`], nothing applied) a step that would wear the flat over
-    /// an inhomogeneity deeper than [`WearCase::inhomogeneity_depth_cells`] cells.
+    /// an inhomogeneity deeper than [`WearCase::inhomogeneity_depth_cells`] cells (the contact state and
+    /// the cycle predictor's store have moved on: resume from the last snapshot).
     pub fn step(&mut self) -> Result<Option<&WearRow>, SamError> {
         if self.done {
             return Ok(None);
@@ -633,16 +621,35 @@ impl FrettingWear3d {
             _ => 0.0,
         };
         let store = self.cycle_store_sizes();
+        // Decided once per cycle, before the store's second slot is written: predict from the
+        // last cycle when it is complete, linearly when the one before is complete too and the
+        // ratio is at most MAX_CYCLE_RATIO (a short step landing on a record cycle followed by a
+        // long one would magnify the two cycles' convergence noise).
+        let mut predict = None;
         if let Some((m, n)) = store {
+            let full = |c: &CycleEigen| {
+                c.eigenstrain.len() == per_cycle * m
+                    && c.eigen_displacement.len() == 3 * per_cycle * n
+            };
+            let [now, before] = &self.cycle_eigen;
+            if full(now) {
+                predict = Some(full(before) && ratio > 0.0 && ratio <= MAX_CYCLE_RATIO);
+            }
             if self.predicted.0.len() != m {
                 self.predicted = (vec![0.0; m], [vec![0.0; n], vec![0.0; n], vec![0.0; n]]);
+            }
+            if !full(&self.cycle_eigen[1]) {
+                self.cycle_eigen[1] = CycleEigen {
+                    eigenstrain: vec![0.0; per_cycle * m],
+                    eigen_displacement: vec![0.0; 3 * per_cycle * n],
+                };
             }
         }
         for k in first..self.path.len() {
             let (_, shift) = self.path.increment(k).unwrap_or_default();
             let j = k - first;
-            if let Some((m, n)) = store {
-                self.predict_cycle(j, (m, n), per_cycle, ratio)?;
+            if let (Some((m, n)), Some(linear)) = (store, predict) {
+                self.predict_cycle(j, (m, n), linear, ratio)?;
             }
             let (_, info) = self.solver.increment(self.case.normal_load(k), shift)?;
             if let Some(info) = &info {
@@ -650,7 +657,7 @@ impl FrettingWear3d {
                 self.seconds.eim_applications += info.eim_iterations;
             }
             if let Some((m, n)) = store {
-                self.store_cycle(j, (m, n), per_cycle);
+                self.store_cycle(j, (m, n));
             }
             let st = self.solver.problem().state();
             for i in 0..self.rate.len() {
@@ -751,7 +758,8 @@ impl FrettingWear3d {
                 .fold(0.0, f64::max);
             if depth > limit {
                 // Nothing of this step is kept: the state is that of the last completed step
-                // except the contact state, which a resume restores from the checkpoint.
+                // except the contact state and the cycle predictor's store, which a resume
+                // restores from the checkpoint.
                 return Err(SamError::WornIntoInhomogeneity {
                     cycles: self.cycles + dn,
                     depth,
