@@ -12,6 +12,19 @@ approach = 1e-7\nindenter_e = 210e9\nindenter_nu = 0.0\n\
 [wear]\nlaw = \"archard\"\ncoefficient = 1.5430335e-12\nbody = \"gap\"\ncycles = 1000\n\
 record_cycles = [100]\n";
 
+/// `fretting-wear3d --config cfg --out out extra…`.
+fn wear3d_args(cfg: &std::path::Path, out: &std::path::Path, extra: &[&str]) -> Vec<String> {
+    let mut v = vec![
+        "fretting-wear3d".to_string(),
+        "--config".into(),
+        cfg.to_str().unwrap().into(),
+        "--out".into(),
+        out.to_str().unwrap().into(),
+    ];
+    v.extend(extra.iter().map(|s| s.to_string()));
+    v
+}
+
 /// A run's JSON keys, results and figures; a run stopped twice and resumed ends bit for bit where the
 /// uninterrupted run ends; a re-run into a directory holding a checkpoint is refused.
 #[test]
@@ -20,17 +33,7 @@ fn wear3d_runs_and_resumes_bit_for_bit() {
     let cfg = dir.path().join("wear.toml");
     std::fs::write(&cfg, TWIN).unwrap();
     let (a, b) = (dir.path().join("a"), dir.path().join("b"));
-    let args = |out: &std::path::Path, extra: &[&str]| {
-        let mut v = vec![
-            "fretting-wear3d".to_string(),
-            "--config".into(),
-            cfg.to_str().unwrap().into(),
-            "--out".into(),
-            out.to_str().unwrap().into(),
-        ];
-        v.extend(extra.iter().map(|s| s.to_string()));
-        v
-    };
+    let args = |out: &std::path::Path, extra: &[&str]| wear3d_args(&cfg, out, extra);
     let go = |v: Vec<String>| run(&v.iter().map(|s| s.as_str()).collect::<Vec<_>>());
     let full = ok_json(&go(args(&a, &["--json"])));
     for key in [
@@ -80,6 +83,37 @@ fn wear3d_runs_and_resumes_bit_for_bit() {
     arrays_equal(&a.join("results.h5"), &b.join("results.h5"));
     assert_eq!(full["wear_volume"], resumed["wear_volume"]);
     assert!(!b.join("checkpoint.npz").exists());
+}
+
+/// With an inhomogeneity (a stiff sphere under the contact edge, the indenter wearing, 2 shift
+/// steps per quarter) the checkpoint carries the cycle predictor's store
+/// (docs/wear3d.md#the-cycle-predictor): a run stopped after four wear steps (both cycles of the
+/// store filled) and resumed ends bit for bit where the uninterrupted run ends; the JSON counts
+/// the outer passes and EIM applications.
+#[test]
+fn wear3d_with_an_inhomogeneity_resumes_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("wear.toml");
+    let config = TWIN
+        .replace("shift_step = 1.5e-8", "shift_step = 0.75e-8")
+        .replace("body = \"gap\"", "body = \"indenter\"")
+        + "[[inhomogeneity]]\nkind = \"sphere\"\nx = 1.62e-6\ny = 0.0\nz = 1.62e-6\n\
+           r = 0.97e-6\nE = 420e9\nnu = 0.0\n";
+    std::fs::write(&cfg, config).unwrap();
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    let args = |out: &std::path::Path, extra: &[&str]| {
+        wear3d_args(&cfg, out, &[&["--no-animation"], extra].concat())
+    };
+    let go = |v: Vec<String>| run(&v.iter().map(|s| s.as_str()).collect::<Vec<_>>());
+    let full = ok_json(&go(args(&a, &["--json"])));
+    assert!(full["wear_steps"].as_u64().unwrap() >= 6, "{full}");
+    assert!(full["outer_passes"].as_u64().unwrap() > 0, "{full}");
+    assert!(full["eim_applications"].as_u64().unwrap() > 0, "{full}");
+    assert!(go(args(&b, &["--stop-after", "4"])).status.success());
+    assert!(b.join("checkpoint.npz").is_file());
+    let resumed = ok_json(&go(args(&b, &["--resume", "--json"])));
+    arrays_equal(&a.join("results.h5"), &b.join("results.h5"));
+    assert_eq!(full["wear_volume"], resumed["wear_volume"]);
 }
 
 /// Bad configurations are refused with the key named.

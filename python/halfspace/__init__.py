@@ -469,6 +469,10 @@ class Wear3dResult(Result):
     dissipated_energy_total: float | None
     seconds: float
     seconds_per_computed_cycle: float
+    # With inhomogeneities: the contact ↔ EIM outer passes and EIM applications of the computed
+    # cycles (0 without).
+    outer_passes: int
+    eim_applications: int
     x: NDArray[np.float64]
     y: NDArray[np.float64]
     wear_depth: NDArray[np.float64]

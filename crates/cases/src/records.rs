@@ -10,7 +10,7 @@ use crate::sam::drivers::fretting_loop::{
     FrettingLoop, LoopCase, LoopMetrics, LoopRow, LoopSnapshot, PointFields, POINT_LABELS,
 };
 use crate::sam::drivers::fretting_wear3d::{
-    FrettingWear3d, WearCase, WearEstimate, WearRecord, WearRow, WearSnapshot,
+    CycleEigen, FrettingWear3d, WearCase, WearEstimate, WearRecord, WearRow, WearSnapshot,
 };
 use crate::sam::drivers::one_contact::{ContactCase, ContactOutcome};
 use crate::sam::kernels::surface::Body;
@@ -777,6 +777,8 @@ pub fn wear3d_summary(run: &FrettingWear3d, seconds: f64) -> serde_json::Value {
         "dissipated_energy_total": last.map(|r| r.dissipated_energy_total),
         "seconds": seconds,
         "seconds_per_computed_cycle": run.seconds().cycles / run.seconds().computed.max(1) as f64,
+        "outer_passes": run.seconds().outer_passes,
+        "eim_applications": run.seconds().eim_applications,
     })
 }
 
@@ -845,6 +847,16 @@ pub fn wear3d_snapshot_record(s: &WearSnapshot) -> Record {
     }
     if let Some(w) = &s.eigen {
         rec = warm_start_record(rec, w);
+    }
+    for (k, c) in s.cycle_eigen.iter().enumerate() {
+        if !c.eigenstrain.is_empty() {
+            rec = rec
+                .array(&format!("cycle_eigenstrain_{k}"), c.eigenstrain.clone())
+                .array(
+                    &format!("cycle_eigen_displacement_{k}"),
+                    c.eigen_displacement.clone(),
+                );
+        }
     }
     rec
 }
@@ -918,6 +930,20 @@ pub fn wear3d_snapshot_from_record(rec: &Record) -> Result<WearSnapshot, String>
             },
         )?),
     };
+    // The cycle predictor's store (absent: empty, as in a checkpoint written before it).
+    let cycle = |k: usize| -> Result<CycleEigen, String> {
+        match rec.get(&format!("cycle_eigenstrain_{k}")) {
+            None if rec.get(&format!("cycle_eigen_displacement_{k}")).is_some() => Err(format!(
+                "member cycle_eigen_displacement_{k} is present without cycle_eigenstrain_{k}"
+            )),
+            None => Ok(CycleEigen::default()),
+            Some(e) => Ok(CycleEigen {
+                eigenstrain: e.to_vec(),
+                eigen_displacement: array(&format!("cycle_eigen_displacement_{k}"))?,
+            }),
+        }
+    };
+    let cycle_eigen = [cycle(0)?, cycle(1)?];
     Ok(WearSnapshot {
         fingerprint,
         cycles: count("progress", progress[0])?,
@@ -928,5 +954,6 @@ pub fn wear3d_snapshot_from_record(rec: &Record) -> Result<WearSnapshot, String>
         records,
         state,
         eigen,
+        cycle_eigen,
     })
 }

@@ -43,6 +43,11 @@ pub struct NestedParams {
     /// eigen-displacements of the last two increments (instead of `x_n`): on the loop's equal
     /// steps it removes most of the first outer change.
     pub predictor: bool,
+    /// In a fretting-wear run ([`crate::drivers::fretting_wear3d::FrettingWear3d`]), start each
+    /// increment of a computed cycle from the same increment of the last two computed cycles
+    /// (the cycle predictor, docs/wear3d.md#the-cycle-predictor) instead of the secant
+    /// prediction; only with [`NestedParams::predictor`]. Not read by the nested loop itself.
+    pub cycle_predictor: bool,
     /// The EIM of an outer pass is solved to this factor `η` times the last outer change
     /// (clamped to `[eim.tolerance, 10⁻³]`; docs/theory-sam.md#outer-loop-tolerances): default
     /// 3·10⁻³ ([`DEFAULT_EIM_CHANGE_FACTOR`]); [`REFERENCE_EIM_CHANGE_FACTOR`] = 10⁻³ on the
@@ -125,6 +130,7 @@ impl Default for NestedParams {
             inexact_contact: true,
             anderson_depth: 3,
             predictor: true,
+            cycle_predictor: true,
             eim_change_factor: DEFAULT_EIM_CHANGE_FACTOR,
             body: BodyResponse::Nested,
         }
@@ -395,6 +401,29 @@ impl InhomogeneousContact {
             mine.copy_from_slice(theirs);
         }
         self.committed = w.committed;
+        Ok(())
+    }
+
+    /// Sets the next increment's start to `(eigenstrain, u^eig)` instead of the predictor of
+    /// [`NestedParams::predictor`] (e.g. the same increment of an earlier fretting cycle,
+    /// [`crate::drivers::fretting_wear3d::FrettingWear3d`]): the current and the previous
+    /// values both become `x`, so the secant predictor's `2x − x` returns `x` exactly (Sterbenz)
+    /// and the increment starts from it. Nothing is solved; the committed count is kept.
+    pub fn set_prediction(
+        &mut self,
+        eigenstrain: &[f64],
+        u_eig: [&[f64]; 3],
+    ) -> Result<(), SamError> {
+        check_len("predicted eigenstrain", eigenstrain, self.eps_star.len())?;
+        for u in u_eig {
+            check_len("predicted eigen-displacement", u, self.u_eig[0].len())?;
+        }
+        self.eps_star.copy_from_slice(eigenstrain);
+        self.eps_prev.copy_from_slice(eigenstrain);
+        for ((x, prev), v) in self.u_eig.iter_mut().zip(self.u_prev.iter_mut()).zip(u_eig) {
+            x.copy_from_slice(v);
+            prev.copy_from_slice(v);
+        }
         Ok(())
     }
 

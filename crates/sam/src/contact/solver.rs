@@ -79,6 +79,14 @@ impl ContactSolver {
         }
     }
 
+    /// The nested solver, with inhomogeneities, mutable (to set its warm start).
+    pub fn nested_mut(&mut self) -> Option<&mut InhomogeneousContact> {
+        match self {
+            Self::Plain(_) => None,
+            Self::Nested(n) => Some(n),
+        }
+    }
+
     /// Restores a checkpoint's converged state and, with inhomogeneities, the nested loop's warm
     /// start ([`ContactProblem::restore_state`], [`InhomogeneousContact::set_warm_start`]); the
     /// warm start must be present exactly when the solver has inhomogeneities.

@@ -496,6 +496,23 @@ impl LoopCase {
         Ok(())
     }
 
+    /// Eigenstrain values of the inclusion cells (6 each), bounded by every cell of the layers
+    /// down to the deepest inhomogeneity (the layers of `InclusionSet::new`); 0 without
+    /// inhomogeneities.
+    pub fn eigenstrain_values_bound(&self) -> f64 {
+        if self.inhomogeneities.is_empty() {
+            return 0.0;
+        }
+        let cells = (self.grid as f64).powi(2);
+        let cell = self.extent() / self.grid as f64;
+        let deepest = self
+            .inhomogeneities
+            .iter()
+            .map(|inh| inh.bounds().1)
+            .fold(0.0f64, f64::max);
+        6.0 * cells * ((deepest / cell).ceil() + 1.0)
+    }
+
     /// The cost of this loop ([`LoopEstimate`]), from the configuration alone.
     pub fn estimate(&self) -> LoopEstimate {
         let increments =
@@ -511,18 +528,7 @@ impl LoopCase {
         // The points A–D: eight surface fields each (and the von Mises layers, when asked).
         let points = 4.0 * cells * 8.0 * 8.0;
         let cell = self.extent() / self.grid as f64;
-        // Eigenstrain values of the inclusion cells (6 each), bounded by every cell of the
-        // layers down to the deepest inhomogeneity (the layers of `InclusionSet::new`).
-        let eigen_len = if self.inhomogeneities.is_empty() {
-            0.0
-        } else {
-            let deepest = self
-                .inhomogeneities
-                .iter()
-                .map(|inh| inh.bounds().1)
-                .fold(0.0f64, f64::max);
-            6.0 * cells * ((deepest / cell).ceil() + 1.0)
-        };
+        let eigen_len = self.eigenstrain_values_bound();
         // The nested loop's recycled EIM history (docs/theory-sam.md#solving-the-eim-equations):
         // `2 · depth + 7` vectors of the EIM system's size (the eigenstrains), capped at 2 GiB
         // like the solver's (`EimParams::recycled_depth`).
@@ -747,6 +753,9 @@ pub fn work_limit_hours() -> f64 {
         .unwrap_or(24.0)
 }
 
+/// Bytes in a GiB.
+const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+
 /// Cores of this machine (rayon's pool: `RAYON_NUM_THREADS` or the CPUs).
 fn cores() -> f64 {
     rayon::current_num_threads().max(1) as f64
@@ -757,39 +766,47 @@ impl LoopEstimate {
     /// ([`halfspace_numerics::memory::available_bytes`]) or more work than [`work_limit_hours`]; the
     /// message gives the estimate and names the inputs that set it.
     pub fn check(&self, what: &str) -> Result<(), SamError> {
-        const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+        self.check_memory(what)?;
+        let limit = work_limit_hours();
         let hours = self.hours();
-        let describe = || {
-            format!(
-                "{what}: {} loop(s) of {:.4e} increments (normal_steps + 5 · amplitude/shift_step) \
-                 on {} cells: about {:.3} GiB and {hours:.3e} hours of work on {} cores",
-                self.loops,
-                self.increments,
-                self.cells,
-                self.bytes / GIB,
-                cores()
-            )
-        };
+        if hours.is_nan() || hours > limit {
+            return Err(SamError::InvalidInput(format!(
+                "{}; more than the limit of {limit} hours (HALFSPACE_WORK_LIMIT): refused before \
+                 starting — use fewer increments, fewer points or a coarser grid",
+                self.describe(what),
+            )));
+        }
+        Ok(())
+    }
+
+    /// The memory half of [`LoopEstimate::check`]: refuses `bytes` above the available memory.
+    pub fn check_memory(&self, what: &str) -> Result<(), SamError> {
         if let Some(available) = halfspace_numerics::memory::available_bytes() {
             if self.bytes.is_nan() || self.bytes > available {
                 return Err(SamError::InvalidInput(format!(
                     "{}; {:.3} GiB are available (HALFSPACE_MEMORY_LIMIT): refused before \
                      starting — use fewer increments (a larger shift_step, fewer normal_steps), \
                      fewer points or a coarser grid",
-                    describe(),
+                    self.describe(what),
                     available / GIB
                 )));
             }
         }
-        let limit = work_limit_hours();
-        if hours.is_nan() || hours > limit {
-            return Err(SamError::InvalidInput(format!(
-                "{}; more than the limit of {limit} hours (HALFSPACE_WORK_LIMIT): refused before \
-                 starting — use fewer increments, fewer points or a coarser grid",
-                describe(),
-            )));
-        }
         Ok(())
+    }
+
+    /// The estimate in words, for the refusals.
+    fn describe(&self, what: &str) -> String {
+        let hours = self.hours();
+        format!(
+            "{what}: {} loop(s) of {:.4e} increments (normal_steps + 5 · amplitude/shift_step) \
+             on {} cells: about {:.3} GiB and {hours:.3e} hours of work on {} cores",
+            self.loops,
+            self.increments,
+            self.cells,
+            self.bytes / GIB,
+            cores()
+        )
     }
 
     /// Estimated wall-clock hours on this machine (the loops spread over its cores).

@@ -116,6 +116,15 @@ impl WearCase {
         let increments_per_cycle = 4.0 * quarter;
         let increments = (path.cycle_start() + 1) as f64 + wear_steps * increments_per_cycle;
         let one = lc.estimate();
+        // With inhomogeneities, the cycle predictor's store (docs/wear3d.md#the-cycle-predictor):
+        // eigenstrains and eigen-displacements of every increment of the last two computed
+        // cycles, in the run and in its checkpoint's snapshot and record.
+        let cycle_store = if lc.inhomogeneities.is_empty() || lc.surface_operator_over_a.is_some() {
+            0.0
+        } else {
+            let cells = (lc.grid as f64).powi(2);
+            3.0 * 2.0 * increments_per_cycle * (lc.eigenstrain_values_bound() + 3.0 * cells) * 8.0
+        };
         Ok(WearEstimate {
             wear_steps,
             first_delta_cycles: dn,
@@ -124,6 +133,7 @@ impl WearCase {
             run: LoopEstimate {
                 increments,
                 work: one.work / one.increments * increments,
+                bytes: one.bytes + cycle_store,
                 ..one
             },
         })

@@ -20,5 +20,6 @@ pub use case::{
 };
 pub use laws::{WearLaw, WornBody};
 pub use run::{
-    checkerboard_compliance, FrettingWear3d, WearRecord, WearRow, WearSeconds, WearSnapshot,
+    checkerboard_compliance, CycleEigen, FrettingWear3d, WearRecord, WearRow, WearSeconds,
+    WearSnapshot,
 };

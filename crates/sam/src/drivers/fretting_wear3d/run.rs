@@ -101,6 +101,23 @@ pub struct WearRecord {
     pub pressure: Vec<f64>,
 }
 
+/// The largest ratio `ΔN_n / ΔN_{n−1}` of the cycle predictor's linear extrapolation
+/// ([`FrettingWear3d::step`]); above it the last cycle alone is the start.
+pub const MAX_CYCLE_RATIO: f64 = 2.0;
+
+/// The converged eigenstrains and eigen-displacements of every increment of one computed cycle
+/// (with inhomogeneities, on the nested path): increment `j`'s eigenstrains are
+/// `eigenstrain[j·m..(j+1)·m]` (`m` = 6 per inclusion cell) and its `u_c^eig` are
+/// `eigen_displacement[(3j + c)·n..(3j + c + 1)·n]` (`n` cells); both empty before a cycle is
+/// computed.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct CycleEigen {
+    /// Eigenstrains, increment after increment.
+    pub eigenstrain: Vec<f64>,
+    /// Eigen-displacements `u₁, u₂, u₃`, increment after increment.
+    pub eigen_displacement: Vec<f64>,
+}
+
 /// Everything to continue a run bit for bit ([`FrettingWear3d::resume`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct WearSnapshot {
@@ -122,6 +139,9 @@ pub struct WearSnapshot {
     pub state: ContactState,
     /// With inhomogeneities: the nested loop's warm start.
     pub eigen: Option<NestedWarmStart>,
+    /// The cycle predictor's store ([`FrettingWear3d::step`]): the last computed cycle's
+    /// eigenstrains and eigen-displacements, then the one's before.
+    pub cycle_eigen: [CycleEigen; 2],
 }
 
 /// Wall time (s) by part; not part of the results' arrays.
@@ -133,6 +153,10 @@ pub struct WearSeconds {
     pub cycles: f64,
     /// Computed cycles done.
     pub computed: usize,
+    /// Outer contact ↔ EIM passes of the computed cycles (with inhomogeneities).
+    pub outer_passes: usize,
+    /// EIM operator applications of the computed cycles (with inhomogeneities).
+    pub eim_applications: usize,
 }
 
 /// A 3D fretting-wear run of a [`WearCase`] (docs/wear3d.md): the fretting loop of
@@ -162,6 +186,10 @@ pub struct FrettingWear3d {
     gap: Vec<f64>,
     geometry: Vec<f64>,
     seconds: WearSeconds,
+    /// The cycle predictor's store: the last computed cycle, the one before.
+    cycle_eigen: [CycleEigen; 2],
+    /// The predicted eigenstrains and eigen-displacements of one increment (scratch).
+    predicted: (Vec<f64>, [Vec<f64>; 3]),
 }
 
 /// `C_min = Σ_{m,n} (−1)^{m+n} K(m, n)` over the grid's offsets: the surface compliance's symbol
@@ -193,6 +221,7 @@ impl FrettingWear3d {
         let lc = &case.fretting;
         let grid = SurfaceGrid::square(lc.grid, case.extent())?;
         crate::memory::check_problem(&grid, true, lc.is_coupled())?;
+        case.estimate()?.run.check_memory("the wear run")?;
         let unworn: Vec<f64> = (0..grid.len())
             .map(|k| {
                 let (x, y) = grid.centre(k / grid.n2, k % grid.n2);
@@ -248,6 +277,8 @@ impl FrettingWear3d {
             gap: vec![0.0; n],
             geometry: vec![0.0; n],
             seconds: WearSeconds::default(),
+            cycle_eigen: Default::default(),
+            predicted: Default::default(),
         })
     }
 
@@ -271,6 +302,7 @@ impl FrettingWear3d {
         run.done = snapshot.done;
         run.history = snapshot.history;
         run.records = snapshot.records;
+        run.cycle_eigen = snapshot.cycle_eigen;
         run.apply_wear()?;
         Ok(run)
     }
@@ -341,6 +373,47 @@ impl FrettingWear3d {
                     "{} cycles, the rows end at {next} (done: {})",
                     s.cycles, s.done
                 ),
+            ));
+        }
+        // The cycle store: empty, or one value per increment of a cycle on the nested path.
+        let per_cycle = self.path.len() - (self.path.cycle_start() + 1);
+        let sizes = self.cycle_store_sizes();
+        for (k, c) in s.cycle_eigen.iter().enumerate() {
+            let (m, n) = match sizes {
+                Some(_) if c.eigenstrain.is_empty() && c.eigen_displacement.is_empty() => continue,
+                Some(mn) => mn,
+                None if c.eigenstrain.is_empty() && c.eigen_displacement.is_empty() => continue,
+                None => {
+                    return Err(bad(
+                        &format!("cycle_eigenstrain_{k}"),
+                        "present, but the run keeps no eigenstrains per increment".into(),
+                    ))
+                }
+            };
+            for (member, v, len) in [
+                ("eigenstrain", &c.eigenstrain, per_cycle * m),
+                (
+                    "eigen_displacement",
+                    &c.eigen_displacement,
+                    3 * per_cycle * n,
+                ),
+            ] {
+                let member = format!("cycle_{member}_{k}");
+                if v.len() != len {
+                    return Err(bad(
+                        &member,
+                        format!("{} values, the run's cycle needs {len}", v.len()),
+                    ));
+                }
+                if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+                    return Err(bad(&member, format!("value [{i}] is not finite")));
+                }
+            }
+        }
+        if s.cycle_eigen[0].eigenstrain.is_empty() && !s.cycle_eigen[1].eigenstrain.is_empty() {
+            return Err(bad(
+                "cycle_eigenstrain_1",
+                "present without cycle_eigenstrain_0".into(),
             ));
         }
         for r in &s.records {
@@ -436,6 +509,71 @@ impl FrettingWear3d {
             records: self.records.clone(),
             state: self.solver.problem().state().clone(),
             eigen: self.solver.nested().map(|n| n.warm_start()),
+            cycle_eigen: self.cycle_eigen.clone(),
+        }
+    }
+
+    /// The sizes `(m, n)` of one increment's eigenstrains and of one eigen-displacement component
+    /// when the cycle predictor is on: with inhomogeneities on the nested path (the surface
+    /// operator solves no eigenstrains per increment) and [`NestedParams::predictor`].
+    fn cycle_store_sizes(&self) -> Option<(usize, usize)> {
+        let n = self.solver.nested()?;
+        (self.nested.predictor && self.nested.cycle_predictor && n.surface_response().is_none())
+            .then(|| (n.eigenstrain().len(), n.eigen_displacements()[0].len()))
+    }
+
+    /// Sets the nested loop's start of increment `j` of the cycle from the cycle store (both
+    /// slots checked complete by [`FrettingWear3d::step`]): `S_j + ratio (S_j − B_j)` when
+    /// `linear`, else `S_j`.
+    fn predict_cycle(
+        &mut self,
+        j: usize,
+        (m, n): (usize, usize),
+        linear: bool,
+        ratio: f64,
+    ) -> Result<(), SamError> {
+        let [now, before] = &self.cycle_eigen;
+        let extrapolate = |out: &mut [f64], s: &[f64], b: &[f64]| {
+            if linear {
+                for ((o, s), b) in out.iter_mut().zip(s).zip(b) {
+                    *o = s + ratio * (s - b);
+                }
+            } else {
+                out.copy_from_slice(s);
+            }
+        };
+        let (eps, u) = &mut self.predicted;
+        let range = j * m..(j + 1) * m;
+        extrapolate(
+            eps,
+            &now.eigenstrain[range.clone()],
+            &before.eigenstrain[range],
+        );
+        for (c, u) in u.iter_mut().enumerate() {
+            let range = (3 * j + c) * n..(3 * j + c + 1) * n;
+            extrapolate(
+                u,
+                &now.eigen_displacement[range.clone()],
+                &before.eigen_displacement[range],
+            );
+        }
+        if let Some(nested) = self.solver.nested_mut() {
+            nested.set_prediction(eps, [&u[0], &u[1], &u[2]])?;
+        }
+        Ok(())
+    }
+
+    /// Keeps increment `j`'s converged eigenstrains and eigen-displacements in the cycle store's
+    /// second slot (allocated by [`FrettingWear3d::step`] before the cycle), whose value for `j`
+    /// the prediction has read; the slots are swapped once the cycle is complete.
+    fn store_cycle(&mut self, j: usize, (m, n): (usize, usize)) {
+        let Some(nested) = self.solver.nested() else {
+            return;
+        };
+        let next = &mut self.cycle_eigen[1];
+        next.eigenstrain[j * m..(j + 1) * m].copy_from_slice(nested.eigenstrain());
+        for (c, u) in nested.eigen_displacements().iter().enumerate() {
+            next.eigen_displacement[(3 * j + c) * n..(3 * j + c + 1) * n].copy_from_slice(u);
         }
     }
 
@@ -453,7 +591,8 @@ impl FrettingWear3d {
     /// next record or the end)⌋ ≥ 1` and `h ← h + ΔN r`. The last call (at `cycles`) computes the
     /// final state without wear. Returns the row, or `None` when the run is complete. Refuses
     /// ([`SamError::WornIntoInhomogeneity`], nothing applied) a step that would wear the flat over
-    /// an inhomogeneity deeper than [`WearCase::inhomogeneity_depth_cells`] cells.
+    /// an inhomogeneity deeper than [`WearCase::inhomogeneity_depth_cells`] cells (the contact state and
+    /// the cycle predictor's store have moved on: resume from the last snapshot).
     pub fn step(&mut self) -> Result<Option<&WearRow>, SamError> {
         if self.done {
             return Ok(None);
@@ -472,9 +611,54 @@ impl FrettingWear3d {
         self.slip_path.fill(0.0);
         self.dissipation.fill(0.0);
         let law = self.case.law;
-        for k in self.path.cycle_start() + 1..self.path.len() {
+        let first = self.path.cycle_start() + 1;
+        let per_cycle = self.path.len() - first;
+        // The cycle predictor: linear in the cycles through the last two computed cycles,
+        // `x = S + (ΔN_n / ΔN_{n−1}) (S − B)` (the worn gap changes by `ΔN r` between computed
+        // cycles), `S` alone after one cycle.
+        let ratio = match self.history.as_slice() {
+            [.., a, b] if a.delta_cycles > 0 => b.delta_cycles as f64 / a.delta_cycles as f64,
+            _ => 0.0,
+        };
+        let store = self.cycle_store_sizes();
+        // Decided once per cycle, before the store's second slot is written: predict from the
+        // last cycle when it is complete, linearly when the one before is complete too and the
+        // ratio is at most MAX_CYCLE_RATIO (a short step landing on a record cycle followed by a
+        // long one would magnify the two cycles' convergence noise).
+        let mut predict = None;
+        if let Some((m, n)) = store {
+            let full = |c: &CycleEigen| {
+                c.eigenstrain.len() == per_cycle * m
+                    && c.eigen_displacement.len() == 3 * per_cycle * n
+            };
+            let [now, before] = &self.cycle_eigen;
+            if full(now) {
+                predict = Some(full(before) && ratio > 0.0 && ratio <= MAX_CYCLE_RATIO);
+            }
+            if self.predicted.0.len() != m {
+                self.predicted = (vec![0.0; m], [vec![0.0; n], vec![0.0; n], vec![0.0; n]]);
+            }
+            if !full(&self.cycle_eigen[1]) {
+                self.cycle_eigen[1] = CycleEigen {
+                    eigenstrain: vec![0.0; per_cycle * m],
+                    eigen_displacement: vec![0.0; 3 * per_cycle * n],
+                };
+            }
+        }
+        for k in first..self.path.len() {
             let (_, shift) = self.path.increment(k).unwrap_or_default();
-            self.solver.increment(self.case.normal_load(k), shift)?;
+            let j = k - first;
+            if let (Some((m, n)), Some(linear)) = (store, predict) {
+                self.predict_cycle(j, (m, n), linear, ratio)?;
+            }
+            let (_, info) = self.solver.increment(self.case.normal_load(k), shift)?;
+            if let Some(info) = &info {
+                self.seconds.outer_passes += info.outer_iterations;
+                self.seconds.eim_applications += info.eim_iterations;
+            }
+            if let Some((m, n)) = store {
+                self.store_cycle(j, (m, n));
+            }
             let st = self.solver.problem().state();
             for i in 0..self.rate.len() {
                 let p = st.pressure[i];
@@ -487,6 +671,10 @@ impl FrettingWear3d {
                 self.slip_path[i] += s;
                 self.dissipation[i] += q * s;
             }
+        }
+        if store.is_some() {
+            // This cycle's values (written over the cycle before's) become the last cycle.
+            self.cycle_eigen.swap(0, 1);
         }
         self.seconds.cycles += t.elapsed().as_secs_f64();
         self.seconds.computed += 1;
@@ -570,7 +758,8 @@ impl FrettingWear3d {
                 .fold(0.0, f64::max);
             if depth > limit {
                 // Nothing of this step is kept: the state is that of the last completed step
-                // except the contact state, which a resume restores from the checkpoint.
+                // except the contact state and the cycle predictor's store, which a resume
+                // restores from the checkpoint.
                 return Err(SamError::WornIntoInhomogeneity {
                     cycles: self.cycles + dn,
                     depth,
