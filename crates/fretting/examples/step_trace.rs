@@ -41,8 +41,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // `HOLE_PROJECTION=off`: an attempt whose result opens holes above the tolerance is
     // rejected instead of projected onto the closed set (the scheme before).
     sim.set_hole_projection(std::env::var("HOLE_PROJECTION").map_or(true, |v| v != "off"));
-    // `SMOOTH_PIECES=on`: the error estimate of each smooth piece (experimental, off by default).
-    sim.set_smooth_piece_estimate(std::env::var("SMOOTH_PIECES").is_ok_and(|v| v == "on"));
     let sink = Arc::clone(&attempts);
     sim.set_attempt_observer(Box::new(move |a| sink.lock().expect("lock").push(*a)));
     let start = std::time::Instant::now();

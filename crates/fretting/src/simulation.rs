@@ -107,7 +107,8 @@ pub struct StepAttempt {
     /// attempt's contact could not be evaluated (e.g. it reached beyond the grid).
     pub edge_end: usize,
     /// The sub-cell edge (where the linear interpolant of `g` reaches `d`, `a/a₀`) at the step's
-    /// start and of the attempt's result (0 when the result's contact could not be evaluated).
+    /// start and of the attempt's result (NaN when the result's contact could not be evaluated or
+    /// the attempt's error is not finite).
     pub edge_radius_start: f64,
     /// See `edge_radius_start`.
     pub edge_radius_end: f64,
@@ -177,7 +178,7 @@ struct StartRate {
 /// checkpoints without the attribute were made by the scheme before the projection (the same
 /// path was first recorded as `ros2-hole-projection`, never on main). The name must change
 /// whenever the path does: `HOLE_MARGIN`, the default
-/// switches (`hole_estimate`, `smooth_piece_estimate`, `freeze_contact`, `first_order_fallback`, `hole_projection` in
+/// switches (`hole_estimate`, `freeze_contact`, `first_order_fallback`, `hole_projection` in
 /// `FrettingSimulation::with_state`) or how an attempt's error is formed. A library run with a non-default
 /// switch records nothing of it: it must be set again to resume on the same path.
 pub const ADAPTIVE_SCHEME: &str = "ros2-hole-projection-eta1e-3";
@@ -236,12 +237,6 @@ pub struct FrettingSimulation {
     /// is projected back onto the closed set along the pair's segment
     /// ([`FrettingSimulation::set_hole_projection`]).
     hole_projection: bool,
-    /// Whether the ROS2 and outside-wear terms of the error estimate leave out the nodes whose
-    /// contact state switches within the attempt ([`FrettingSimulation::set_smooth_piece_estimate`];
-    /// experimental, off by default).
-    smooth_piece_estimate: bool,
-    /// `Δτ |k₁ + k₂|_i / 2` of the attempt, per node (for the smooth-piece estimate).
-    local_error: Vec<f64>,
     start: Vec<f64>,
     /// `g`, `σ`, `p`, the slip and the rate of the step's start and its contact, put back after a
     /// rejected attempt instead of evaluated again (the same bits).
@@ -393,8 +388,6 @@ impl FrettingSimulation {
             // ADAPTIVE_SCHEME with it (old checkpoints are then refused instead of resumed on
             // another path).
             hole_estimate: true,
-            smooth_piece_estimate: false,
-            local_error: vec![0.0; n],
             start: vec![0.0; n],
             start_rate: StartRate {
                 g: vec![0.0; n],
@@ -471,26 +464,6 @@ impl FrettingSimulation {
     /// resumed run repeats the uninterrupted one bit for bit when it is set the same way again.
     pub fn set_hole_estimate(&mut self, on: bool) {
         self.hole_estimate = on;
-    }
-
-    /// Experimental, off by default: whether the error estimate of the adaptive steps leaves out
-    /// the nodes whose contact state switches within the attempt (the "local error of each smooth
-    /// piece"). The rate `p Δu` of a node is not smooth where its contact state switches (`g`
-    /// crossing `d`); with this on, the ROS2 term `Δτ |k₁ + k₂|_i/2` is taken over the nodes whose
-    /// contact state (`g_i < d`) is the same at the step's start, at the first-order solution
-    /// `f + Δτ k₁` and at the result, and the outside-wear term
-    /// (`FrettingSimulation::outside_wear_error`) over the nodes beyond the start's contact that
-    /// the trial and the result both bring into contact (or both leave open); the opened-hole
-    /// term and the projection onto the closed set are unchanged. Measured (docs/fretting-wear.md,
-    /// "The contact edge going back and forth"): 15–24 % fewer attempts (graded k = −0.5, χ = 0.9,
-    /// N = 2001 to τ = 30: 29 339 → 22 365; N = 8001: 2191 → 1842), every stepping test passes,
-    /// but the global error at k = −0.5 against a tol-1e-7 run reaches 11.5 tol (tol 1e-6, τ = 3;
-    /// 7.0 tol at 3e-4) where the default estimate stays within 6.6: the left-out nodes carry
-    /// real error (a node that opens within the step was worn as if it stayed closed), so this
-    /// loosens the error control and is not the default. Set before the first step; not part of
-    /// the checkpointed state (as [`FrettingSimulation::set_hole_estimate`]).
-    pub fn set_smooth_piece_estimate(&mut self, on: bool) {
-        self.smooth_piece_estimate = on;
     }
 
     /// Experimental, off by default: whether an adaptive attempt whose result opens holes that
@@ -825,7 +798,6 @@ impl FrettingSimulation {
         {
             *f = s + dtau * (1.5 * a + 0.5 * b);
             let e = (0.5 * dtau * (a + b)).abs();
-            self.local_error[i] = e;
             if e > error {
                 error = e;
                 self.attempt.worst_node = i;
@@ -845,22 +817,6 @@ impl FrettingSimulation {
                 }
                 Err(e) => return Err(e),
             };
-            if self.smooth_piece_estimate {
-                // The ROS2 pair's error on the nodes whose contact state (g < d) is the same at
-                // the start, the trial and the result: the local error of each smooth piece.
-                error = 0.0;
-                for i in 0..self.local_error.len() {
-                    let s = self.start_rate.g[i] < 1.0;
-                    if s == (self.trial_gap[i] < 1.0)
-                        && s == (self.g[i] < 1.0)
-                        && self.local_error[i] > error
-                    {
-                        error = self.local_error[i];
-                        self.attempt.worst_node = i;
-                    }
-                }
-                self.attempt.error_terms[0] = error;
-            }
             self.attempt.error_terms[1] = outside_error.0;
             if outside_error.0 > error {
                 error = outside_error.0;
@@ -931,9 +887,7 @@ impl FrettingSimulation {
     /// before the correction (its edge `a_e²`, `s_j = (ξ_j − a₀²)/(a_e² − a₀²)` and rate `F_j`,
     /// which also counts isolated nodes closing beyond the edge and nodes the trial missed):
     /// `max_j |W_j(trial) − W_j(result)|` and its node (docs/fretting-wear.md, "The contact set
-    /// within a step"); with the smooth-piece estimate
-    /// ([`FrettingSimulation::set_smooth_piece_estimate`]) over the nodes that the trial and the
-    /// result both bring into contact (or both leave open). Leaves `g`, `p`, the slip and the rate of the result (its contact in
+    /// within a step"). Leaves `g`, `p`, the slip and the rate of the result (its contact in
     /// `current` when no correction follows, so an accepted step does not compute it again).
     fn outside_wear_error(&mut self, m: usize, dtau: f64) -> Result<(f64, usize), FrettingError> {
         let end = self.contact_state_with(None)?;
@@ -957,11 +911,6 @@ impl FrettingSimulation {
                 0.0
             };
             let result = dtau * (1.0 - fraction(xi, ae)) * self.rate[j];
-            if self.smooth_piece_estimate
-                && self.entered_nodes.contains(&j) != (j < end.edge && self.g[j] < 1.0)
-            {
-                continue;
-            }
             let e = (trial - result).abs() / (1.0 + gamma);
             if e > worst.0 {
                 worst = (e, j);
@@ -1116,9 +1065,9 @@ impl FrettingSimulation {
                 // an observer, never turned into an error.
                 (self.attempt.edge_end, self.attempt.edge_radius_end) = if ratio.is_finite() {
                     self.contact()
-                        .map_or((usize::MAX, 0.0), |c| (c.edge, c.edge_radius))
+                        .map_or((usize::MAX, f64::NAN), |c| (c.edge, c.edge_radius))
                 } else {
-                    (0, 0.0)
+                    (0, f64::NAN)
                 };
                 let attempt = self.attempt;
                 if let Some(observer) = self.observer.as_mut() {

@@ -947,14 +947,3 @@ fn first_order_fallback_takes_fewer_steps() {
 fn hole_projection_takes_fewer_steps() {
     fewer_attempts_than_rejecting_holes(|s| s.set_hole_projection(true));
 }
-
-/// The experimental error estimate of each smooth piece
-/// (`FrettingSimulation::set_smooth_piece_estimate`, docs/fretting-wear.md, "The contact edge
-/// going back and forth") against the default estimate ([`graded_phase_attempts`]): fewer
-/// attempts summed over the starts, each pair within 5 tol. It is not the default: the global
-/// error at k = −0.5 reaches 11.5 tol at tol 1e-6 with it (the default's at most 6.6).
-#[test]
-fn smooth_piece_estimate_takes_fewer_steps() {
-    let (base, other) = graded_phase_attempts(|_| {}, |s| s.set_smooth_piece_estimate(true));
-    assert!(other < base, "{other} attempts vs {base}");
-}
