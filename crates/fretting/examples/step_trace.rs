@@ -2,7 +2,8 @@
 //! every attempt of the error-controlled ROS2 steps through the attempt observer, written as CSV
 //! (τ, Δτ, error ratio, accepted, the node of the largest error and the contact edge at the
 //! start, the second stage's trial and the end, GMRES iterations, the holes the result opens, the
-//! three parts of the error estimate and whether the result is the first-order solution), and a
+//! three parts of the error estimate, whether the result is the first-order solution, the
+//! projection's `λ` and the sub-cell edge `a/a₀` at the start and of the result), and a
 //! summary on stdout (with the holes at the end).
 //!
 //! `cargo run --release -p halfspace-fretting --example step_trace -- N K CHI [TOL] [TAU_END] [CSV]`
@@ -50,12 +51,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut out = std::io::BufWriter::new(std::fs::File::create(&csv)?);
     writeln!(
         out,
-        "tau,dtau,ratio,accepted,worst,edge_start,edge_trial,edge_end,gmres1,gmres2,opened_holes,err_ros2,err_outside,err_hole,first_order,projection"
+        "tau,dtau,ratio,accepted,worst,edge_start,edge_trial,edge_end,gmres1,gmres2,opened_holes,err_ros2,err_outside,err_hole,first_order,projection,edge_radius_start,edge_radius_end"
     )?;
     for a in attempts.iter() {
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             a.tau,
             a.dtau,
             a.error_ratio,
@@ -71,7 +72,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             a.error_terms[1],
             a.error_terms[2],
             u8::from(a.first_order),
-            a.projection
+            a.projection,
+            a.edge_radius_start,
+            a.edge_radius_end
         )?;
     }
     run?;

@@ -106,6 +106,12 @@ pub struct StepAttempt {
     /// attempt is rejected; an accepted one needs it anyway); `usize::MAX` when a rejected
     /// attempt's contact could not be evaluated (e.g. it reached beyond the grid).
     pub edge_end: usize,
+    /// The sub-cell edge (where the linear interpolant of `g` reaches `d`, `a/a₀`) at the step's
+    /// start and of the attempt's result (NaN when the result's contact could not be evaluated or
+    /// the attempt's error is not finite).
+    pub edge_radius_start: f64,
+    /// See `edge_radius_start`.
+    pub edge_radius_end: f64,
     /// GMRES iterations of the two stages.
     pub krylov_iterations: (usize, usize),
     /// The nodes the second stage's trial brought into contact beyond the start's contact
@@ -414,6 +420,8 @@ impl FrettingSimulation {
                 edge_start: 0,
                 edge_trial: 0,
                 edge_end: 0,
+                edge_radius_start: 0.0,
+                edge_radius_end: 0.0,
                 krylov_iterations: (0, 0),
                 entered_nodes: 0,
                 trial_outermost: 0,
@@ -1036,6 +1044,7 @@ impl FrettingSimulation {
             FIRST_STEP
         };
         self.attempt.edge_start = contact.edge;
+        self.attempt.edge_radius_start = contact.edge_radius;
         loop {
             let attempt = dtau.min(room);
             self.attempt.tau = self.state.tau;
@@ -1054,10 +1063,11 @@ impl FrettingSimulation {
                 // The observer only reads: a rejected profile whose contact cannot be evaluated
                 // (e.g. outside the grid) is reported as edge `usize::MAX` and retried as without
                 // an observer, never turned into an error.
-                self.attempt.edge_end = if ratio.is_finite() {
-                    self.contact().map_or(usize::MAX, |c| c.edge)
+                (self.attempt.edge_end, self.attempt.edge_radius_end) = if ratio.is_finite() {
+                    self.contact()
+                        .map_or((usize::MAX, f64::NAN), |c| (c.edge, c.edge_radius))
                 } else {
-                    0
+                    (0, f64::NAN)
                 };
                 let attempt = self.attempt;
                 if let Some(observer) = self.observer.as_mut() {
