@@ -508,8 +508,6 @@ impl LoopCase {
         // The frictional contact problem's footprint (`memory::problem_bytes`), with the two
         // coupling operators and fields when the pair is coupled.
         let frictional = crate::memory::problem_bytes_per_cell(true, self.is_coupled());
-        // The points A–D: eight surface fields each (and the von Mises layers, when asked).
-        let points = 4.0 * cells * 8.0 * 8.0;
         let cell = self.extent() / self.grid as f64;
         // Eigenstrain values of the inclusion cells (6 each), bounded by every cell of the
         // layers down to the deepest inhomogeneity (the layers of `InclusionSet::new`).
@@ -523,6 +521,16 @@ impl LoopCase {
                 .fold(0.0f64, f64::max);
             6.0 * cells * ((deepest / cell).ceil() + 1.0)
         };
+        // The points A–D: eight surface fields each (and the von Mises layers, when asked); with
+        // inhomogeneities and a subsurface depth, the eigenstrains of the three points whose von
+        // Mises fields wait for the fourth's (three copies: the loop's, a snapshot's and its
+        // record's).
+        let pending = if self.subsurface_depth.is_some() {
+            3.0 * 3.0 * eigen_len * 8.0
+        } else {
+            0.0
+        };
+        let points = 4.0 * cells * 8.0 * 8.0 + pending;
         // The nested loop's recycled EIM history (docs/theory-sam.md#solving-the-eim-equations):
         // `2 · depth + 7` vectors of the EIM system's size (the eigenstrains), capped at 2 GiB
         // like the solver's (`EimParams::recycled_depth`).
