@@ -976,6 +976,8 @@ fn stream_keys(
     let (inputs, skips) = hats;
     let width = targets.len();
     let len = acc.first().map_or(0, Vec::len);
+    let (n1, n2) = fft.shape();
+    let mut partner = Fft2d::new(n1, n2)?;
     for &(family, kernel) in families {
         let n_in = kernel.blocks().1;
         let mut keys: Vec<i64> = targets
@@ -984,52 +986,65 @@ fn stream_keys(
             .collect();
         keys.sort_unstable();
         keys.dedup();
-        for key in keys {
-            let spectra = LayeredSpectra::per_key(fft, &[key], &[0], &[(family, kernel)])?;
-            let blocks = spectra.key_blocks(family, key).ok_or_else(|| {
-                SamError::InvalidInput(format!("subsurface fields: no spectra of depth key {key}"))
-            })?;
-            // The (target, source) pairs of this key, targets in order, sources in order.
-            let pairs: Vec<(usize, usize)> = (0..width)
-                .flat_map(|a| (0..sources.len()).map(move |b| (a, b)))
-                .filter(|&(a, b)| family.key(targets[a], sources[b]) == key)
-                .collect();
-            // Frequency chunks on rayon's threads: a chunk of the key's blocks stays in cache
-            // while every state and pair reads it.
-            let mut per_chunk: Vec<Vec<&mut [C64]>> = (0..len.div_ceil(PRODUCT_CHUNK))
-                .map(|_| Vec::with_capacity(acc.len()))
-                .collect();
-            for out in acc.iter_mut() {
-                for (c, piece) in out.chunks_mut(PRODUCT_CHUNK).enumerate() {
-                    per_chunk[c].push(piece);
+        // Two keys' spectra built at once, one on each FFT core (each key's spectra do not
+        // depend on the other's), then applied in key order.
+        for pair in keys.chunks(2) {
+            let build = |core: &mut Fft2d, key: i64| {
+                LayeredSpectra::per_key(core, &[key], &[0], &[(family, kernel)])
+            };
+            let (first, second) = rayon::join(
+                || build(fft, pair[0]),
+                || pair.get(1).map(|&key| build(&mut partner, key)),
+            );
+            let built = [Some(first?), second.transpose()?];
+            for (&key, spectra) in pair.iter().zip(built.iter().flatten()) {
+                let blocks = spectra.key_blocks(family, key).ok_or_else(|| {
+                    SamError::InvalidInput(format!(
+                        "subsurface fields: no spectra of depth key {key}"
+                    ))
+                })?;
+                // The (target, source) pairs of this key, targets in order, sources in order.
+                let pairs: Vec<(usize, usize)> = (0..width)
+                    .flat_map(|a| (0..sources.len()).map(move |b| (a, b)))
+                    .filter(|&(a, b)| family.key(targets[a], sources[b]) == key)
+                    .collect();
+                // Frequency chunks on rayon's threads: a chunk of the key's blocks stays in cache
+                // while every state and pair reads it.
+                let mut per_chunk: Vec<Vec<&mut [C64]>> = (0..len.div_ceil(PRODUCT_CHUNK))
+                    .map(|_| Vec::with_capacity(acc.len()))
+                    .collect();
+                for out in acc.iter_mut() {
+                    for (c, piece) in out.chunks_mut(PRODUCT_CHUNK).enumerate() {
+                        per_chunk[c].push(piece);
+                    }
                 }
-            }
-            per_chunk
-                .into_par_iter()
-                .enumerate()
-                .for_each(|(c, mut outs)| {
-                    let start = c * PRODUCT_CHUNK;
-                    for (s, (x, skip)) in inputs.iter().zip(skips).enumerate() {
-                        for &(a, b) in &pairs {
-                            for o in 0..outputs {
-                                let out = &mut outs[(s * width + a) * outputs + o];
-                                let end = start + out.len();
-                                for i in 0..n_in {
-                                    if skip[b * n_in + i] {
-                                        continue;
-                                    }
-                                    if let Some(k) = &blocks[o * n_in + i] {
-                                        multiply_accumulate(
-                                            out,
-                                            &k[start..end],
-                                            &x[b * n_in + i][start..end],
-                                        );
+                per_chunk
+                    .into_par_iter()
+                    .enumerate()
+                    .for_each(|(c, mut outs)| {
+                        let start = c * PRODUCT_CHUNK;
+                        for (s, (x, skip)) in inputs.iter().zip(skips).enumerate() {
+                            for &(a, b) in &pairs {
+                                for o in 0..outputs {
+                                    let out = &mut outs[(s * width + a) * outputs + o];
+                                    let end = start + out.len();
+                                    for i in 0..n_in {
+                                        if skip[b * n_in + i] {
+                                            continue;
+                                        }
+                                        if let Some(k) = &blocks[o * n_in + i] {
+                                            multiply_accumulate(
+                                                out,
+                                                &k[start..end],
+                                                &x[b * n_in + i][start..end],
+                                            );
+                                        }
                                     }
                                 }
                             }
                         }
-                    }
-                });
+                    });
+            }
         }
     }
     Ok(())
