@@ -775,6 +775,23 @@ fn fields_in_groups(
     let layers = SubsurfacePlan::check(grid, e, nu, depth)?;
     let n = grid.len();
     let half = grid.half1;
+    if states.is_empty() {
+        return Ok(Vec::new());
+    }
+    if let Some(set) = inclusions {
+        let fits = (set.half - half).abs() <= 1e-12 * half
+            && set
+                .cells
+                .iter()
+                .all(|c| c.flat < n && c.layer < set.layers.len());
+        if !fits {
+            return Err(SamError::InvalidInput(format!(
+                "subsurface fields: the inclusion set (cells of half side {:e}) was not built on \
+                 this grid ({} cells of half side {half:e})",
+                set.half, n
+            )));
+        }
+    }
     for s in states {
         check_tractions(n, s.pressure, s.shear)?;
         let expected = inclusions.map_or(0, |set| 6 * set.len());
@@ -796,10 +813,12 @@ fn fields_in_groups(
         set.layers.iter().map(|k| (2 * k + 1) as i64).collect()
     });
     let group = ((group_bytes / (count.max(1) as f64 * 6.0 * spectrum)) as usize).clamp(1, layers);
-    // Held at once: the states' input spectra and strain spectra of a group, one key's blocks,
-    // the eigenstrain fields, the outputs.
+    // Held at once: the states' input spectra and strain spectra of a group, two keys' blocks
+    // and their tables (or a layer's 18 Love blocks and tables), the eigenstrain fields, the
+    // outputs.
+    let table = ((2 * n1 - 1) * (2 * n2 - 1)) as f64 * 8.0;
     let need = count as f64 * ((sources.len() * 6 + 3) as f64 + (group * 6) as f64) * spectrum
-        + 36.0 * spectrum
+        + 2.0 * 36.0 * (spectrum + table)
         + (sources.len() * 6 * n) as f64 * 8.0
         + (count * layers * n) as f64 * 8.0;
     if need > FIELD_LIMIT_BYTES {
@@ -1298,6 +1317,18 @@ mod tests {
             ..sources[0]
         };
         assert!(von_mises_fields(&grid, e, nu, depth, Some(set), &[short]).is_err());
+        assert!(von_mises_fields(&grid, e, nu, depth, Some(set), &[])
+            .unwrap()
+            .is_empty());
+        // A set built on another grid is refused, not indexed out of bounds.
+        let coarse = SurfaceGrid::square(8, 3.0).unwrap();
+        let plain8 = vec![0.0; 64];
+        let other = FieldSources {
+            pressure: &plain8,
+            shear: None,
+            eigenstrain: Some(&states[0].2),
+        };
+        assert!(von_mises_fields(&coarse, e, nu, depth, Some(set), &[other]).is_err());
     }
 
     /// A traction field of the wrong length is refused by the stresses of the whole box and of

@@ -609,6 +609,11 @@ impl FrettingLoop {
 
     /// The next increment: its row, or `None` when the loop is done.
     pub fn step(&mut self) -> Result<Option<&LoopRow>, SamError> {
+        // Fields still pending with every point reached (a failure at the fourth point, saved
+        // by the checkpoint written after it): computed before anything else.
+        if self.points.len() == POINT_LABELS.len() {
+            self.von_mises_fields()?;
+        }
         let k = self.rows.len();
         let Some((load, shift)) = self.path.load(k) else {
             return Ok(None);
