@@ -47,6 +47,9 @@ fn point_record(mut rec: Record, prefix: &str, p: &PointFields, shape: (usize, u
             rec = put(rec, &format!("eigen_displacement_{}", c + 1), v);
         }
     }
+    if let Some(eps) = &p.eigenstrain {
+        rec = rec.array(&format!("{prefix}eigenstrain_{l}"), eps.clone());
+    }
     if let Some(vm) = &p.von_mises {
         let layers = vm.len() / (n1 * n2).max(1);
         rec = rec.shaped(
@@ -279,6 +282,9 @@ pub fn snapshot_from_record(rec: &Record, path: &Path) -> Result<LoopSnapshot, D
             eigen_displacement: eigen,
             von_mises: rec
                 .get(&format!("point_von_mises_{label}"))
+                .map(|v| v.to_vec()),
+            eigenstrain: rec
+                .get(&format!("point_eigenstrain_{label}"))
                 .map(|v| v.to_vec()),
         });
     }

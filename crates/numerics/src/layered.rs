@@ -789,6 +789,17 @@ impl LayeredSpectra {
         &self.sources
     }
 
+    /// The spectra of depth key `key` of family `family` (block `o · n_in + i`, `None` an
+    /// identically zero block) of an operator stored per key; `None` when it has no such key
+    /// (or holds the depth FFT). Read by products that apply one key to many layer pairs.
+    pub fn key_blocks(&self, family: Family, key: i64) -> Option<&[Option<Vec<C64>>]> {
+        self.families
+            .iter()
+            .find(|(f, _)| *f == family)
+            .and_then(|(_, map)| map.get(&key))
+            .map(Vec::as_slice)
+    }
+
     /// Bytes held by the stored spectra.
     pub fn bytes(&self) -> usize {
         if let Some(d) = &self.depth {

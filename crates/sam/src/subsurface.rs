@@ -12,8 +12,9 @@
 //! ([`halfspace_numerics::layered::accumulate_streamed`]). Von Mises `√(3J₂)`, Tresca `σ₁ − σ₃` and the principal stresses (eigenvalues of the 3 × 3
 //! tensor, trigonometric form) are computed per cell.
 
-use halfspace_numerics::fft2d::{Fft2d, C64};
+use halfspace_numerics::fft2d::{multiply_accumulate, Fft2d, C64};
 use halfspace_numerics::layered::{accumulate_streamed, Family, LayerKernel, LayeredSpectra};
+use rayon::prelude::*;
 
 use crate::eim::operator::{ImageStrain, InfiniteStrain, LoveStrain, SurfaceFields};
 use crate::eim::InclusionSet;
@@ -200,24 +201,8 @@ impl SubsurfacePlan {
         depth: f64,
         levels: &[usize],
     ) -> Result<Self, SamError> {
-        crate::error::positive("subsurface depth", depth)?;
-        crate::error::positive("Young's modulus", e)?;
-        if !(nu > -1.0 && nu < 0.5) {
-            return Err(SamError::InvalidParameter {
-                name: "Poisson ratio (subsurface stresses)",
-                value: nu,
-                allowed: "in (−1, 0.5)",
-            });
-        }
-        if (grid.half1 - grid.half2).abs() > 1e-12 * grid.half1 {
-            return Err(SamError::InvalidParameter {
-                name: "cell aspect ratio Δ₂/Δ₁ (subsurface stresses need cubic cells)",
-                value: grid.half2 / grid.half1,
-                allowed: "1",
-            });
-        }
+        let layers = Self::check(grid, e, nu, depth)?;
         let half = grid.half1;
-        let layers = Self::layers_for(depth, half);
         if levels.is_empty()
             || levels.windows(2).any(|w| w[1] <= w[0])
             || levels.iter().any(|&k| k > layers)
@@ -271,6 +256,28 @@ impl SubsurfacePlan {
             spectra: Vec::new(),
             strain: Vec::new(),
         })
+    }
+
+    /// The inputs of a plan checked (a positive depth and modulus, `ν ∈ (−1, 0.5)`, cubic cells):
+    /// the layers of the box, [`SubsurfacePlan::layers_for`].
+    fn check(grid: &SurfaceGrid, e: f64, nu: f64, depth: f64) -> Result<usize, SamError> {
+        crate::error::positive("subsurface depth", depth)?;
+        crate::error::positive("Young's modulus", e)?;
+        if !(nu > -1.0 && nu < 0.5) {
+            return Err(SamError::InvalidParameter {
+                name: "Poisson ratio (subsurface stresses)",
+                value: nu,
+                allowed: "in (−1, 0.5)",
+            });
+        }
+        if (grid.half1 - grid.half2).abs() > 1e-12 * grid.half1 {
+            return Err(SamError::InvalidParameter {
+                name: "cell aspect ratio Δ₂/Δ₁ (subsurface stresses need cubic cells)",
+                value: grid.half2 / grid.half1,
+                allowed: "1",
+            });
+        }
+        Ok(Self::layers_for(depth, grid.half1))
     }
 
     /// Layers of the box below the surface.
@@ -718,6 +725,353 @@ pub fn subsurface_stress(
     Ok(StressField::of(*grid, plan.layers, stress, material))
 }
 
+/// The sources of one state's stress field for [`von_mises_fields`]: the tractions `p` (and
+/// `q`) and, with inclusions, their eigenstrains (6 per inclusion cell).
+#[derive(Debug, Clone, Copy)]
+pub struct FieldSources<'a> {
+    /// Pressure `p` per cell.
+    pub pressure: &'a [f64],
+    /// Shear `(q₁, q₂)` per cell (`None`: frictionless).
+    pub shear: Option<[&'a [f64]; 2]>,
+    /// Eigenstrains, 6 per cell of the [`InclusionSet`] given to [`von_mises_fields`].
+    pub eigenstrain: Option<&'a [f64]>,
+}
+
+/// Bytes of strain spectra [`von_mises_fields`] accumulates at once (all states, a group of
+/// layers): the layers are taken in groups that fit, each group streaming the kernels of its
+/// own depth keys.
+const FIELD_GROUP_BYTES: f64 = 128.0 * (1u64 << 20) as f64;
+
+/// The von Mises fields `√(3J₂)` of several states on the layers from the surface to `depth`
+/// (`⌈depth/2Δ⌉` layers, cell `k N₁N₂ + i N₂ + j`), each bit for bit the `von_mises` of
+/// [`subsurface_stress`] of that state (the same sums in the same order,
+/// docs/theory-sam.md#love-rectangle-stresses to #layered-operators): the kernels' spectra of
+/// every depth key (the eigenstrains' fields (1) + (2), the correction pressure `p_c`, Love's
+/// strains of each layer) are built once and applied to every state, instead of once per state;
+/// the layers are processed in groups whose strain spectra fit in [`FIELD_GROUP_BYTES`], Love's
+/// spectra one layer at a time (the stored plan of [`SubsurfacePlan`] holds every layer's). The
+/// fretting loop's fields at the points A–D (docs/performance.md, "The 128² composite command
+/// outside the EIM (issue 21)").
+pub fn von_mises_fields(
+    grid: &SurfaceGrid,
+    e: f64,
+    nu: f64,
+    depth: f64,
+    inclusions: Option<&InclusionSet>,
+    states: &[FieldSources<'_>],
+) -> Result<Vec<Vec<f64>>, SamError> {
+    fields_in_groups(grid, (e, nu), depth, inclusions, states, FIELD_GROUP_BYTES)
+}
+
+/// [`von_mises_fields`] with the strain spectra of a group of layers held to `group_bytes`.
+fn fields_in_groups(
+    grid: &SurfaceGrid,
+    (e, nu): (f64, f64),
+    depth: f64,
+    inclusions: Option<&InclusionSet>,
+    states: &[FieldSources<'_>],
+    group_bytes: f64,
+) -> Result<Vec<Vec<f64>>, SamError> {
+    let layers = SubsurfacePlan::check(grid, e, nu, depth)?;
+    let n = grid.len();
+    let half = grid.half1;
+    if states.is_empty() {
+        return Ok(Vec::new());
+    }
+    if let Some(set) = inclusions {
+        let fits = (set.half - half).abs() <= 1e-12 * half
+            && set
+                .cells
+                .iter()
+                .all(|c| c.flat < n && c.layer < set.layers.len());
+        if !fits {
+            return Err(SamError::InvalidInput(format!(
+                "subsurface fields: the inclusion set (cells of half side {:e}) was not built on \
+                 this grid ({} cells of half side {half:e})",
+                set.half, n
+            )));
+        }
+    }
+    for s in states {
+        check_tractions(n, s.pressure, s.shear)?;
+        let expected = inclusions.map_or(0, |set| 6 * set.len());
+        let got = s.eigenstrain.map_or(0, <[f64]>::len);
+        if s.eigenstrain.is_some() != inclusions.is_some() || got != expected {
+            return Err(SamError::Numerics(
+                halfspace_numerics::NumericsError::LengthMismatch {
+                    what: "eigenstrains (6 per inclusion cell)",
+                    expected,
+                    got,
+                },
+            ));
+        }
+    }
+    let count = states.len();
+    let (n1, n2) = (grid.n1, grid.n2);
+    let spectrum = 2.0 * n1 as f64 * (n2 + 1) as f64 * 16.0;
+    let sources: Vec<i64> = inclusions.map_or(Vec::new(), |set| {
+        set.layers.iter().map(|k| (2 * k + 1) as i64).collect()
+    });
+    let group = ((group_bytes / (count.max(1) as f64 * 6.0 * spectrum)) as usize).clamp(1, layers);
+    // Held at once: the states' input spectra and strain spectra of a group, two keys' blocks
+    // and their tables (or a layer's 18 Love blocks and tables), the eigenstrain fields, the
+    // outputs.
+    let table = ((2 * n1 - 1) * (2 * n2 - 1)) as f64 * 8.0;
+    let need = count as f64 * ((sources.len() * 6 + 3) as f64 + (group * 6) as f64) * spectrum
+        + 2.0 * 36.0 * (spectrum + table)
+        + (sources.len() * 6 * n) as f64 * 8.0
+        + (count * layers * n) as f64 * 8.0;
+    if need > FIELD_LIMIT_BYTES {
+        return Err(SamError::InvalidParameter {
+            name: "memory for the subsurface stress fields (bytes)",
+            value: need,
+            allowed: "≤ 8 GiB: a shallower subsurface depth, a coarser grid or fewer fields",
+        });
+    }
+    let targets: Vec<i64> = (0..layers).map(|k| (2 * k + 1) as i64).collect();
+    let mut fft = Fft2d::new(n1, n2)?;
+    // The material of each cell of the layers (0 the matrix), and the inclusions' stiffnesses.
+    let mut material = vec![0u16; layers * n];
+    let mut ci = Vec::new();
+    if let Some(set) = inclusions {
+        for cell in &set.cells {
+            let k = set.layers[cell.layer];
+            if k < layers {
+                material[k * n + cell.flat] = cell.material as u16 + 1;
+            }
+        }
+        ci = set
+            .materials
+            .iter()
+            .map(|&(a, b)| stiffness(a, b))
+            .collect();
+    }
+    // Per state: the eigenstrains' spectra, then p + p_c and the spectra of (p + p_c, q₁, q₂).
+    let mut eigen_hats: Vec<Vec<Vec<C64>>> = Vec::with_capacity(count);
+    let mut eigen_skip: Vec<Vec<bool>> = Vec::with_capacity(count);
+    let mut pressures: Vec<Vec<f64>> = states.iter().map(|s| s.pressure.to_vec()).collect();
+    if let Some(set) = inclusions {
+        let mut fields = vec![vec![0.0; n]; sources.len() * 6];
+        for s in states {
+            let eps_star = s.eigenstrain.unwrap_or(&[]);
+            fields.iter_mut().for_each(|f| f.fill(0.0));
+            for (c, cell) in set.cells.iter().enumerate() {
+                for o in 0..6 {
+                    fields[cell.layer * 6 + o][cell.flat] = eps_star[c * 6 + o];
+                }
+            }
+            let mut hats: Vec<Vec<C64>> = fields.iter().map(|_| fft.new_spectrum()).collect();
+            let mut skip = vec![false; fields.len()];
+            for ((f, h), s) in fields.iter().zip(hats.iter_mut()).zip(skip.iter_mut()) {
+                *s = f.iter().all(|v| *v == 0.0);
+                if !*s {
+                    fft.forward(f, h)?;
+                }
+            }
+            eigen_hats.push(hats);
+            eigen_skip.push(skip);
+        }
+        // p_c = the first surface field of the eigenstrains (field (3) is Love's field of p_c).
+        let sk = SurfaceFields {
+            half,
+            nu,
+            c: stiffness(e, nu),
+        };
+        let mut surf: Vec<Vec<C64>> = (0..count).map(|_| fft.new_spectrum()).collect();
+        stream_keys(
+            &mut fft,
+            &[0],
+            &sources,
+            &[(Family::Difference, &sk)],
+            (&eigen_hats, &eigen_skip),
+            1,
+            &mut surf,
+        )?;
+        let mut pc = vec![0.0; n];
+        for (h, pressure) in surf.iter_mut().zip(pressures.iter_mut()) {
+            fft.inverse(h, &mut pc)?;
+            pressure.iter_mut().zip(&pc).for_each(|(a, b)| *a += b);
+        }
+    }
+    let zero = vec![0.0; n];
+    let mut love_hats: Vec<Vec<Vec<C64>>> = Vec::with_capacity(count);
+    let mut love_skip: Vec<Vec<bool>> = Vec::with_capacity(count);
+    for (s, pressure) in states.iter().zip(&pressures) {
+        let inputs: [&[f64]; 3] = match s.shear {
+            Some([q1, q2]) => [pressure, q1, q2],
+            None => [pressure, &zero, &zero],
+        };
+        let mut hats: Vec<Vec<C64>> = (0..3).map(|_| fft.new_spectrum()).collect();
+        let mut skip = vec![false; 3];
+        for i in 0..3 {
+            skip[i] = inputs[i].iter().all(|v| *v == 0.0);
+            if !skip[i] {
+                fft.forward(inputs[i], &mut hats[i])?;
+            }
+        }
+        love_hats.push(hats);
+        love_skip.push(skip);
+    }
+    drop(pressures);
+    let love_kernel = LoveStrain {
+        half,
+        nu,
+        s: compliance(e, nu),
+    };
+    let inf = InfiniteStrain { half, nu };
+    let img = ImageStrain(InfiniteStrain { half, nu });
+    let fam: [(Family, &dyn LayerKernel); 2] = [(Family::Difference, &inf), (Family::Sum, &img)];
+    let cm = stiffness(e, nu);
+    let mut out: Vec<Vec<f64>> = (0..count).map(|_| vec![0.0; layers * n]).collect();
+    let mut acc: Vec<Vec<C64>> = (0..count * group.min(layers) * 6)
+        .map(|_| fft.new_spectrum())
+        .collect();
+    let mut strain = vec![vec![0.0; n]; 6];
+    for k0 in (0..layers).step_by(group) {
+        let k1 = (k0 + group).min(layers);
+        let width = k1 - k0;
+        // acc[(s · width + a) · 6 + o]: state s, layer k0 + a, strain o.
+        let acc = &mut acc[..count * width * 6];
+        acc.iter_mut().for_each(|a| a.fill(C64::default()));
+        if inclusions.is_some() {
+            // Fields (1) + (2), the keys of this group's layers.
+            stream_keys(
+                &mut fft,
+                &targets[k0..k1],
+                &sources,
+                &fam,
+                (&eigen_hats, &eigen_skip),
+                6,
+                acc,
+            )?;
+        }
+        for a in 0..width {
+            let k = k0 + a;
+            // Love's strains of (p + p_c, q₁, q₂) at this layer.
+            let love = LayeredSpectra::per_key(
+                &mut fft,
+                &[targets[k]],
+                &[0],
+                &[(Family::Difference, &love_kernel)],
+            )?;
+            for s in 0..count {
+                let at = (s * width + a) * 6;
+                love.accumulate(&love_hats[s], &love_skip[s], &mut acc[at..at + 6])?;
+                for (h, f) in acc[at..at + 6].iter_mut().zip(strain.iter_mut()) {
+                    fft.inverse(h, f)?;
+                }
+                let vm = &mut out[s][k * n..(k + 1) * n];
+                for c in 0..n {
+                    let eps: [f64; 6] = std::array::from_fn(|o| strain[o][c]);
+                    let m = material[k * n + c];
+                    let sig = if m == 0 {
+                        mul6(&cm, &eps)
+                    } else {
+                        mul6(&ci[m as usize - 1], &eps)
+                    };
+                    vm[c] = von_mises(&sig);
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// `acc[(s · T + a) · outputs + o] += Σ_F Σ_b Σ_i K̂^F_{oi}(key_F(z_a, z_b)) x̂^s_{b,i}` for every
+/// state `s` (inputs `hats.0[s][b · n_in + i]`, zero where `hats.1[s]` says), target `a` of
+/// `targets` (`T` of them) and the first `outputs` outputs `o`: each key's spectra built once
+/// ([`LayeredSpectra::per_key`]) and applied to every state, the sums of each output in the order
+/// of [`halfspace_numerics::layered::accumulate_streamed`] (family, key ascending, source, input),
+/// so bit for bit its products state by state.
+fn stream_keys(
+    fft: &mut Fft2d,
+    targets: &[i64],
+    sources: &[i64],
+    families: &[(Family, &dyn LayerKernel)],
+    hats: (&[Vec<Vec<C64>>], &[Vec<bool>]),
+    outputs: usize,
+    acc: &mut [Vec<C64>],
+) -> Result<(), SamError> {
+    let (inputs, skips) = hats;
+    let width = targets.len();
+    let len = acc.first().map_or(0, Vec::len);
+    let (n1, n2) = fft.shape();
+    let mut partner = Fft2d::new(n1, n2)?;
+    for &(family, kernel) in families {
+        let n_in = kernel.blocks().1;
+        let mut keys: Vec<i64> = targets
+            .iter()
+            .flat_map(|&a| sources.iter().map(move |&b| family.key(a, b)))
+            .collect();
+        keys.sort_unstable();
+        keys.dedup();
+        // Two keys' spectra built at once, one on each FFT core (each key's spectra do not
+        // depend on the other's), then applied in key order.
+        for pair in keys.chunks(2) {
+            let build = |core: &mut Fft2d, key: i64| {
+                LayeredSpectra::per_key(core, &[key], &[0], &[(family, kernel)])
+            };
+            let (first, second) = rayon::join(
+                || build(fft, pair[0]),
+                || pair.get(1).map(|&key| build(&mut partner, key)),
+            );
+            let built = [Some(first?), second.transpose()?];
+            for (&key, spectra) in pair.iter().zip(built.iter().flatten()) {
+                let blocks = spectra.key_blocks(family, key).ok_or_else(|| {
+                    SamError::InvalidInput(format!(
+                        "subsurface fields: no spectra of depth key {key}"
+                    ))
+                })?;
+                // The (target, source) pairs of this key, targets in order, sources in order.
+                let pairs: Vec<(usize, usize)> = (0..width)
+                    .flat_map(|a| (0..sources.len()).map(move |b| (a, b)))
+                    .filter(|&(a, b)| family.key(targets[a], sources[b]) == key)
+                    .collect();
+                // Frequency chunks on rayon's threads: a chunk of the key's blocks stays in cache
+                // while every state and pair reads it.
+                let mut per_chunk: Vec<Vec<&mut [C64]>> = (0..len.div_ceil(PRODUCT_CHUNK))
+                    .map(|_| Vec::with_capacity(acc.len()))
+                    .collect();
+                for out in acc.iter_mut() {
+                    for (c, piece) in out.chunks_mut(PRODUCT_CHUNK).enumerate() {
+                        per_chunk[c].push(piece);
+                    }
+                }
+                per_chunk
+                    .into_par_iter()
+                    .enumerate()
+                    .for_each(|(c, mut outs)| {
+                        let start = c * PRODUCT_CHUNK;
+                        for (s, (x, skip)) in inputs.iter().zip(skips).enumerate() {
+                            for &(a, b) in &pairs {
+                                for o in 0..outputs {
+                                    let out = &mut outs[(s * width + a) * outputs + o];
+                                    let end = start + out.len();
+                                    for i in 0..n_in {
+                                        if skip[b * n_in + i] {
+                                            continue;
+                                        }
+                                        if let Some(k) = &blocks[o * n_in + i] {
+                                            multiply_accumulate(
+                                                out,
+                                                &k[start..end],
+                                                &x[b * n_in + i][start..end],
+                                            );
+                                        }
+                                    }
+                                }
+                            }
+                        }
+                    });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Frequencies per task of [`stream_keys`]' products.
+const PRODUCT_CHUNK: usize = 512;
+
 impl StressField {
     /// The field of the stresses `stress` (and cell materials) with its invariants per cell:
     /// von Mises, Tresca `σ₁ − σ₃`, the principal stresses.
@@ -874,6 +1228,107 @@ mod tests {
         let vm_p =
             (0.5 * ((p[0] - p[1]).powi(2) + (p[1] - p[2]).powi(2) + (p[2] - p[0]).powi(2))).sqrt();
         assert!((von_mises(&s) - vm_p).abs() < 1e-12);
+    }
+
+    /// The von Mises fields of several states at once (with eigenstrains, shear on some states
+    /// only, the layers in one group and in groups of one layer) are each state's
+    /// [`subsurface_stress`] field bit for bit; a wrong eigenstrain length is refused.
+    #[test]
+    fn the_fields_of_several_states_are_each_states_field_bit_for_bit() {
+        use crate::eim::{solve_under_tractions, EimParams, Inhomogeneity, Shape};
+        let n = 12;
+        let grid = SurfaceGrid::square(n, 3.0).unwrap();
+        let (e, nu, depth) = (1.0, 0.3, 1.3);
+        let inh = Inhomogeneity {
+            shape: Shape::Sphere {
+                x: 0.1,
+                y: -0.1,
+                z: 0.6,
+                r: 0.35,
+            },
+            e: 3.0,
+            nu: 0.25,
+        };
+        let mut states = Vec::new();
+        for (s, scale) in [(0.0, 1.0), (0.2, 0.8), (-0.3, 1.1)].iter().enumerate() {
+            let p: Vec<f64> = (0..n * n)
+                .map(|k| {
+                    let (x, y) = grid.centre(k / n, k % n);
+                    scale.1 * (1.0 - (x - scale.0).powi(2) - y * y).max(0.0).sqrt()
+                })
+                .collect();
+            let q: Option<[Vec<f64>; 2]> = (s != 1).then(|| {
+                [
+                    p.iter().map(|v| 0.2 * v).collect(),
+                    p.iter().map(|v| -0.05 * scale.0 * v).collect(),
+                ]
+            });
+            let qs = q.as_ref().map(|q| [q[0].as_slice(), q[1].as_slice()]);
+            let sol =
+                solve_under_tractions(grid, e, nu, &[inh], &p, qs, &EimParams::default()).unwrap();
+            states.push((p, q, sol.eigenstrain, sol.set));
+        }
+        let set = &states[0].3;
+        let sources: Vec<FieldSources> = states
+            .iter()
+            .map(|(p, q, eps, _)| FieldSources {
+                pressure: p,
+                shear: q.as_ref().map(|q| [q[0].as_slice(), q[1].as_slice()]),
+                eigenstrain: Some(eps),
+            })
+            .collect();
+        let one = |s: &FieldSources| {
+            subsurface_stress(
+                &grid,
+                e,
+                nu,
+                s.pressure,
+                s.shear,
+                depth,
+                Some((set, s.eigenstrain.unwrap())),
+            )
+            .unwrap()
+            .von_mises
+        };
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        for budget in [FIELD_GROUP_BYTES, 1.0] {
+            let fields =
+                fields_in_groups(&grid, (e, nu), depth, Some(set), &sources, budget).unwrap();
+            assert_eq!(fields.len(), 3);
+            for (s, f) in sources.iter().zip(&fields) {
+                assert_eq!(bits(f), bits(&one(s)), "group budget {budget}");
+            }
+        }
+        // Without inclusions: Love's field alone.
+        let plain: Vec<FieldSources> = sources
+            .iter()
+            .map(|s| FieldSources {
+                eigenstrain: None,
+                ..*s
+            })
+            .collect();
+        let fields = von_mises_fields(&grid, e, nu, depth, None, &plain).unwrap();
+        for (s, f) in plain.iter().zip(&fields) {
+            let want = subsurface_stress(&grid, e, nu, s.pressure, s.shear, depth, None).unwrap();
+            assert_eq!(bits(f), bits(&want.von_mises));
+        }
+        let short = FieldSources {
+            eigenstrain: Some(&states[0].2[1..]),
+            ..sources[0]
+        };
+        assert!(von_mises_fields(&grid, e, nu, depth, Some(set), &[short]).is_err());
+        assert!(von_mises_fields(&grid, e, nu, depth, Some(set), &[])
+            .unwrap()
+            .is_empty());
+        // A set built on another grid is refused, not indexed out of bounds.
+        let coarse = SurfaceGrid::square(8, 3.0).unwrap();
+        let plain8 = vec![0.0; 64];
+        let other = FieldSources {
+            pressure: &plain8,
+            shear: None,
+            eigenstrain: Some(&states[0].2),
+        };
+        assert!(von_mises_fields(&coarse, e, nu, depth, Some(set), &[other]).is_err());
     }
 
     /// A traction field of the wrong length is refused by the stresses of the whole box and of

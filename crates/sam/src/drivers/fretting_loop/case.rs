@@ -525,10 +525,18 @@ impl LoopCase {
         // The frictional contact problem's footprint (`memory::problem_bytes`), with the two
         // coupling operators and fields when the pair is coupled.
         let frictional = crate::memory::problem_bytes_per_cell(true, self.is_coupled());
-        // The points A–D: eight surface fields each (and the von Mises layers, when asked).
-        let points = 4.0 * cells * 8.0 * 8.0;
         let cell = self.extent() / self.grid as f64;
         let eigen_len = self.eigenstrain_values_bound();
+        // The points A–D: eight surface fields each (and the von Mises layers, when asked); with
+        // inhomogeneities and a subsurface depth, the eigenstrains of the three points whose von
+        // Mises fields wait for the fourth's (three copies: the loop's, a snapshot's and its
+        // record's).
+        let pending = if self.subsurface_depth.is_some() {
+            3.0 * 3.0 * eigen_len * 8.0
+        } else {
+            0.0
+        };
+        let points = 4.0 * cells * 8.0 * 8.0 + pending;
         // The nested loop's recycled EIM history (docs/theory-sam.md#solving-the-eim-equations):
         // `2 · depth + 7` vectors of the EIM system's size (the eigenstrains), capped at 2 GiB
         // like the solver's (`EimParams::recycled_depth`).

@@ -12,7 +12,7 @@ use crate::contact::{ContactParams, ContactProblem, ContactState};
 use crate::contact::{ContactWork, NestedParams, NestedWarmStart};
 use crate::kernels::surface::{Body, Compliance};
 use crate::normal::NormalLoad;
-use crate::subsurface::SubsurfacePlan;
+use crate::subsurface::{von_mises_fields, FieldSources, SubsurfacePlan};
 use crate::tangential::is_stick;
 use crate::{SamError, SurfaceGrid};
 
@@ -55,8 +55,12 @@ pub struct PointFields {
     /// Surface eigen-displacements `(u₁, u₂, u₃)^eig` (with inhomogeneities).
     pub eigen_displacement: Option<[Vec<f64>; 3]>,
     /// Von Mises stress on the layers below (`layers · N₁N₂`, layer slow), with
-    /// [`LoopCase::subsurface_depth`].
+    /// [`LoopCase::subsurface_depth`]: computed for the four points at once when the last one
+    /// is reached ([`FrettingLoop::step`]; `None` until then).
     pub von_mises: Option<Vec<f64>>,
+    /// With inhomogeneities and [`LoopCase::subsurface_depth`], the eigenstrains of the point's
+    /// state (6 per inclusion cell) while its von Mises field is pending; `None` once computed.
+    pub eigenstrain: Option<Vec<f64>>,
 }
 
 /// Everything a loop needs to continue bit for bit.
@@ -302,6 +306,28 @@ impl FrettingLoop {
                     v,
                     Some(cells),
                 )?;
+            }
+            // A pending von Mises field (the last point not reached yet) keeps the point's
+            // eigenstrains with inhomogeneities, and only then.
+            let eigen_len = self.solver.nested().map(|n| n.eigenstrain().len());
+            let pending = self.case.subsurface_depth.is_some() && p.von_mises.is_none();
+            match (&p.eigenstrain, pending, eigen_len) {
+                (Some(eps), true, Some(len)) if eps.len() == len => {
+                    finite(format!("point_eigenstrain_{l}"), eps, None)?;
+                }
+                (None, true, None) | (None, false, _) => {}
+                (eps, _, len) => {
+                    return Err(bad(
+                        format!("point_eigenstrain_{l}"),
+                        format!(
+                            "{} values: the eigenstrains of a point whose von Mises field is \
+                             pending ({} values with this loop's inhomogeneities; none without, \
+                             or once the field is computed)",
+                            eps.as_ref().map_or(0, Vec::len),
+                            len.unwrap_or(0)
+                        ),
+                    ))
+                }
             }
             if let Some(vm) = &p.von_mises {
                 finite(format!("point_von_mises_{l}"), vm, None)?;
@@ -583,6 +609,11 @@ impl FrettingLoop {
 
     /// The next increment: its row, or `None` when the loop is done.
     pub fn step(&mut self) -> Result<Option<&LoopRow>, SamError> {
+        // Fields still pending with every point reached (a failure at the fourth point, saved
+        // by the checkpoint written after it): computed before anything else.
+        if self.points.len() == POINT_LABELS.len() {
+            self.von_mises_fields()?;
+        }
         let k = self.rows.len();
         let Some((load, shift)) = self.path.load(k) else {
             return Ok(None);
@@ -620,6 +651,9 @@ impl FrettingLoop {
         if let Some(m) = self.path.marks().iter().position(|&s| s == k + 1) {
             let fields = self.point_fields(POINT_LABELS[m], k + 1)?;
             self.points.push(fields);
+            if self.points.len() == POINT_LABELS.len() {
+                self.von_mises_fields()?;
+            }
         }
         if self.case.fatigue_depth.is_some() && k >= self.path.cycle_start() {
             let t = Instant::now();
@@ -689,11 +723,25 @@ impl FrettingLoop {
         ))
     }
 
+    /// The surface fields at a point; with [`LoopCase::subsurface_depth`] its von Mises field is
+    /// left pending (and, with inhomogeneities, the state's eigenstrains kept for it:
+    /// [`FrettingLoop::von_mises_fields`]).
     fn point_fields(
         &mut self,
         label: &'static str,
         increment: usize,
     ) -> Result<PointFields, SamError> {
+        let eigenstrain = match (self.case.subsurface_depth, self.solver.nested().is_some()) {
+            (Some(_), true) => {
+                let t = Instant::now();
+                // On the surface-operator path the eigenstrains follow the tractions only when
+                // synced.
+                self.solver.sync_eigenstrain()?;
+                self.seconds.subsurface += t.elapsed().as_secs_f64();
+                self.solver.nested().map(|n| n.eigenstrain().to_vec())
+            }
+            _ => None,
+        };
         let problem = self.solver.problem();
         let st = problem.state();
         let n = problem.grid().len();
@@ -707,16 +755,6 @@ impl FrettingLoop {
                 )))
             })
             .collect();
-        let von_mises = match self.case.subsurface_depth {
-            Some(depth) => {
-                let t = Instant::now();
-                let field = self.solver.subsurface(self.case.e, self.case.nu, depth)?;
-                self.seconds.subsurface += t.elapsed().as_secs_f64();
-                Some(field.von_mises)
-            }
-            None => None,
-        };
-        let st = self.solver.problem().state();
         Ok(PointFields {
             label,
             increment,
@@ -728,7 +766,55 @@ impl FrettingLoop {
                 .solver
                 .nested()
                 .map(|n| n.eigen_displacements().clone()),
-            von_mises,
+            von_mises: None,
+            eigenstrain,
         })
+    }
+
+    /// The von Mises fields of the points whose field is pending (with
+    /// [`LoopCase::subsurface_depth`]), all at once: [`crate::subsurface::von_mises_fields`] of
+    /// their tractions and eigenstrains in the flat `(e, nu)` down to the depth (each the field
+    /// of [`ContactSolver::subsurface`] at that point, bit for bit), the kernels' spectra built
+    /// once for the four points (docs/performance.md, "The 128² composite command outside the
+    /// EIM (issue 21)").
+    fn von_mises_fields(&mut self) -> Result<(), SamError> {
+        let Some(depth) = self.case.subsurface_depth else {
+            return Ok(());
+        };
+        let t = Instant::now();
+        let pending: Vec<usize> = (0..self.points.len())
+            .filter(|&i| self.points[i].von_mises.is_none())
+            .collect();
+        if pending.is_empty() {
+            return Ok(());
+        }
+        let problem = self.solver.problem();
+        let frictional = problem.friction() > 0.0;
+        let inclusions = self.solver.nested().map(|n| n.inclusions());
+        let sources: Vec<FieldSources> = pending
+            .iter()
+            .map(|&i| {
+                let p = &self.points[i];
+                FieldSources {
+                    pressure: &p.pressure,
+                    shear: frictional.then(|| [p.shear[0].as_slice(), p.shear[1].as_slice()]),
+                    eigenstrain: p.eigenstrain.as_deref(),
+                }
+            })
+            .collect();
+        let fields = von_mises_fields(
+            problem.grid(),
+            self.case.e,
+            self.case.nu,
+            depth,
+            inclusions,
+            &sources,
+        )?;
+        for (&i, field) in pending.iter().zip(fields) {
+            self.points[i].von_mises = Some(field);
+            self.points[i].eigenstrain = None;
+        }
+        self.seconds.subsurface += t.elapsed().as_secs_f64();
+        Ok(())
     }
 }

@@ -1,0 +1,97 @@
+//! What the homogeneous reference loop of the composite fretting loop costs (issue 21,
+//! docs/performance.md "The 128² composite command outside the EIM (issue 21)"): [LN11]'s case
+//! without the fibres at `N²` (the `fretting-loop --case composite` command's reference loop),
+//! its increments solved one by one with the contact problem's own solve, reporting per phase
+//! (normal loading, fretting) the alternations, the normal iterations and tangential products
+//! summed over every alternation, and the wall and process CPU seconds.
+//!
+//! Run: `cargo run --release -p halfspace-sam --example reference_loop -- N [increments]`.
+
+use halfspace_sam::contact::{ContactParams, ContactProblem};
+use halfspace_sam::drivers::fretting_loop::LoopCase;
+use halfspace_sam::eim::FibreLayout;
+use halfspace_sam::kernels::surface::{Body, Compliance};
+use halfspace_sam::SurfaceGrid;
+
+/// CPU seconds of this process (utime + stime of /proc/self/stat, 100 ticks per second).
+fn cpu() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    let after = stat.rsplit(')').next().unwrap_or("");
+    let f: Vec<&str> = after.split_whitespace().collect();
+    let t = |i: usize| f.get(i).and_then(|v| v.parse::<f64>().ok()).unwrap_or(0.0);
+    (t(11) + t(12)) / 100.0
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let n: usize = args.first().and_then(|v| v.parse().ok()).unwrap_or(64);
+    let limit: usize = args.get(1).and_then(|v| v.parse().ok()).unwrap_or(0);
+    let mut case = LoopCase::default()
+        .composite(FibreLayout::FibreCentred, 2.0)
+        .unwrap()
+        .homogeneous();
+    case.grid = n;
+    let a = case.hertz_radius();
+    let grid = SurfaceGrid::square(case.grid, case.extent_over_a * a).unwrap();
+    let geometry = (0..grid.len())
+        .map(|k| {
+            let (x, y) = grid.centre(k / grid.n2, k % grid.n2);
+            (x * x + y * y) / (2.0 * case.radius)
+        })
+        .collect();
+    let compliance =
+        Compliance::pair(case.indenter, Body::elastic(case.e, case.nu).unwrap()).unwrap();
+    let params = ContactParams {
+        friction: case.friction,
+        ..ContactParams::default()
+    };
+    let mut problem = ContactProblem::new(grid, compliance, geometry, params).unwrap();
+    let path = case.path();
+    let total = if limit > 0 {
+        limit.min(path.len())
+    } else {
+        path.len()
+    };
+    // Per phase: increments, alternations, normal iterations, tangential products, wall, CPU.
+    let mut sums = [[0.0f64; 6]; 2];
+    for k in 0..total {
+        let (load, shift) = path.load(k).unwrap();
+        let (t, c) = (std::time::Instant::now(), cpu());
+        let info = problem.increment(load, shift).unwrap();
+        let phase = usize::from(k >= path.normal_steps);
+        let s = &mut sums[phase];
+        s[0] += 1.0;
+        s[1] += info.alternations as f64;
+        s[2] += info.normal_iterations_total as f64;
+        s[3] += info.tangential_iterations_total as f64;
+        s[4] += t.elapsed().as_secs_f64();
+        s[5] += cpu() - c;
+        if std::env::var_os("REFERENCE_LOOP_TRACE").is_some() {
+            println!(
+                "{k} alternations {} normal {} tangential {} {:.1} ms",
+                info.alternations,
+                info.normal_iterations_total,
+                info.tangential_iterations_total,
+                t.elapsed().as_secs_f64() * 1e3
+            );
+        }
+    }
+    let s = problem.state();
+    let bits = s
+        .pressure
+        .iter()
+        .chain(&s.shear[0])
+        .chain(&s.shear[1])
+        .fold(0xcbf2_9ce4_8422_2325u64, |h, v| {
+            (h ^ v.to_bits()).wrapping_mul(0x100_0000_01b3)
+        });
+    println!("homogeneous reference loop at {n}², {total} increments, state bits {bits:016x}");
+    println!("| phase | increments | alternations | normal iterations | tangential products | wall (s) | CPU (s) |");
+    println!("|---|---:|---:|---:|---:|---:|---:|");
+    for (name, s) in ["normal loading", "fretting"].iter().zip(&sums) {
+        println!(
+            "| {name} | {} | {} | {} | {} | {:.2} | {:.2} |",
+            s[0], s[1], s[2], s[3], s[4], s[5]
+        );
+    }
+}
