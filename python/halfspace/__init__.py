@@ -814,7 +814,10 @@ class FrettingLoop:
         return self._inner.rows()
 
     def points(self) -> dict[str, dict[str, Any]]:
-        """The fields at the points A–D reached so far: label → {name: (N₁, N₂) array}."""
+        """The fields at the points A–D reached so far: label → {name: (N₁, N₂) array}. With a
+        subsurface depth, the four von Mises fields are computed together when D is reached
+        (docs/performance.md, "The 128² composite command outside the EIM"): before that, A–C
+        hold no ``von_mises``."""
         return self._inner.points()
 
     def metrics(self) -> LoopMetrics:
