@@ -556,6 +556,31 @@ impl EimFields {
         (self.sources.len(), self.targets.len())
     }
 
+    /// The volume operator's difference family stored real (its depth spectra are real or
+    /// imaginary: [`LayeredSpectra::real_storage_discarded`]): the largest dropped part over the
+    /// largest kept value, per block; `None` when it is stored complex (or dense).
+    pub fn real_storage_discarded(&self) -> Option<f64> {
+        match &self.volume {
+            Layered::Fast(s) => s.real_storage_discarded(),
+            Layered::Dense(_) => None,
+        }
+    }
+
+    /// The surface and Love operators' spectra stored by quarter
+    /// ([`LayeredSpectra::quarter_storage_discarded`]): the largest dropped part over the largest
+    /// kept value, per block, the larger of the two operators'; `None` when neither is.
+    pub fn quarter_storage_discarded(&self) -> Option<f64> {
+        let of = |l: &Layered| match l {
+            Layered::Fast(s) => s.quarter_storage_discarded(),
+            Layered::Dense(_) => None,
+        };
+        [Some(&self.love), self.surface.as_ref()]
+            .into_iter()
+            .flatten()
+            .filter_map(of)
+            .reduce(f64::max)
+    }
+
     /// Bytes of stored kernel spectra.
     pub fn spectra_bytes(&self) -> usize {
         self.volume.bytes()
