@@ -425,10 +425,12 @@ impl EimFields {
         let targets: Vec<i64> = target_layers.iter().map(key).collect();
         let (ns, nt) = (sources.len(), targets.len());
         let families = if space == Space::HalfSpace { 2 } else { 1 };
-        // An upper bound of the build's peak: the 2D spectra of every family's keys (when targets
-        // = sources, the EIM's case, the depth-FFT build holds one family's at a time, then the
-        // quarter-stored depth spectra, ≈ 0.5 of one family's: 128² composite, 8 layers: 0.47 GB
-        // peak of the system against 1.3 GB here).
+        // An upper bound of the build's peak: the complex 2D spectra of every family's keys (when
+        // targets = sources, the EIM's case, the depth-FFT build holds one family's at a time,
+        // then the quarter-stored depth spectra, the difference family's stored real, ≈ 0.4 of one
+        // family's) and of the surface and Love operators (their build holds one operator's
+        // complex spectra, then stores them by quarter: a quarter of the bytes). Stored at 128²
+        // (composite, 8 layers): 169 MB (326 MB with complex storage), against 1.3 GB here.
         let need = estimated_bytes(
             window.n1,
             window.n2,
