@@ -125,6 +125,8 @@ const SMALL_SPECTRUM: usize = 8320;
 type SpectraByKey = BTreeMap<i64, Vec<Option<Vec<C64>>>>;
 /// Per depth key, the kernel tables of the blocks.
 type TablesByKey = BTreeMap<i64, Vec<Vec<f64>>>;
+/// Per depth key, the quarter-stored spectra of the blocks ([`Quarters`]; `None` = zero block).
+type QuartersByKey = BTreeMap<i64, Vec<Option<Vec<f64>>>>;
 
 /// The stored kernel spectra of a layered operator.
 pub struct LayeredSpectra {
@@ -134,12 +136,122 @@ pub struct LayeredSpectra {
     n_out: usize,
     targets: Vec<i64>,
     sources: Vec<i64>,
-    /// Per family: key → blocks (`None` = identically zero block); empty when `depth` holds the
-    /// operator.
+    /// Per family: key → blocks (`None` = identically zero block); empty when `depth` or
+    /// `quarters` holds the operator.
     families: Vec<(Family, SpectraByKey)>,
+    /// The same per-key spectra stored by quarter when every block has a parity in `m` and `n`.
+    quarters: Option<Quarters>,
     /// The same operator with the depth sums done by FFT, when targets and sources are one
     /// contiguous stack of layers.
     depth: Option<Box<DepthSpectra>>,
+}
+
+/// Per-key spectra stored by quarter (docs/performance.md, "The difference family's real spectra
+/// and the per-pass fields"): a block even or odd in `m` and in `n` has a 2D spectrum that is real
+/// (the same parity in both) or imaginary, `K̂ = i^c R`, and even or odd under `ξ₁ → −ξ₁`
+/// (`K̂(2N₁ − r) = s K̂(r)`, `s = −1` when odd in `m`): one real number per frequency of the rows
+/// `r ≤ N₁` is stored (a quarter of the bytes of the complex spectrum), and a product is a real
+/// times a complex number, turned by `i^c` and signed by `s` (exact).
+struct Quarters {
+    /// Per block: (odd in `m`: `s = −1`, imaginary: `c = 1`).
+    kinds: Vec<(bool, bool)>,
+    /// Per family: key → per block `R[col · (N₁ + 1) + r]` (`None` = identically zero block).
+    families: Vec<(Family, QuartersByKey)>,
+    /// Per block, the largest dropped part (the imaginary part of `K̂ (−i)^c` and the mirrored
+    /// rows' departure from `s K̂(r)`) over the largest kept `|R|`: the largest of these.
+    discarded: f64,
+}
+
+impl Quarters {
+    /// The quarter of a block's spectrum `k` (`2N₁ × (N₂ + 1)` values, column-major), with the
+    /// largest dropped part and the largest kept value.
+    fn store(
+        k: &[C64],
+        (n1, n2): (usize, usize),
+        (odd_m, imag): (bool, bool),
+    ) -> (Vec<f64>, f64, f64) {
+        let (p1, h) = (2 * n1, n1 + 1);
+        let turn = |v: C64| if imag { C64::new(v.im, -v.re) } else { v };
+        let mut out = vec![0.0; (n2 + 1) * h];
+        let (mut kept, mut dropped) = (0.0f64, 0.0f64);
+        for col in 0..=n2 {
+            for r in 0..p1 {
+                let v = turn(k[col * p1 + r]);
+                if r <= n1 {
+                    out[col * h + r] = v.re;
+                    kept = kept.max(v.re.abs());
+                    dropped = dropped.max(v.im.abs());
+                } else {
+                    let sign = if odd_m { -1.0 } else { 1.0 };
+                    let mirror = turn(k[col * p1 + (p1 - r)]);
+                    dropped = dropped.max((v - mirror * sign).norm());
+                }
+            }
+        }
+        (out, dropped, kept)
+    }
+}
+
+/// Largest part of a 2D spectrum the quarter storage may drop, relative to the block's largest
+/// kept value (the 2D FFT's rounding of an exactly (anti)symmetric table: measured ≤ 3.3e-15 for
+/// the EIM's Love and surface kernels at 128², ≤ 4.9e-16 for the test kernels); above it the
+/// complex spectra are kept. (A wrongly declared parity is already imposed on the table by
+/// [`tabulate`], before any spectrum: only the dense twin tests catch that.)
+const QUARTER_TOLERANCE: f64 = 1e-12;
+
+/// `acc[j] += K̂(start + j) x[j]` for a block stored by quarter ([`Quarters`]): `R` (`(N₂ + 1) ·
+/// (N₁ + 1)` values), odd in `m` (`s = −1` on the mirrored rows), imaginary (`K̂ = i R`).
+fn quarter_accumulate(
+    acc: &mut [C64],
+    start: usize,
+    r_quarter: &[f64],
+    x: &[C64],
+    n1: usize,
+    (odd_m, imag): (bool, bool),
+) {
+    let (p1, h) = (2 * n1, n1 + 1);
+    let end = start + acc.len();
+    let mut f = start;
+    while f < end {
+        let (col, r) = (f / p1, f % p1);
+        let base = col * h;
+        let j = f - start;
+        if r <= n1 {
+            let run = (h - r).min(end - f);
+            let ks = r_quarter[base + r..base + r + run].iter().copied();
+            real_times_complex(&mut acc[j..j + run], ks, &x[j..j + run], imag);
+            f += run;
+        } else {
+            // Rows r, r + 1, … read the stored rows 2N₁ − r, 2N₁ − r − 1, … (times s).
+            let run = (p1 - r).min(end - f);
+            let top = base + p1 - r;
+            let ks = r_quarter[top + 1 - run..=top].iter().rev();
+            let (a, xs) = (&mut acc[j..j + run], &x[j..j + run]);
+            if odd_m {
+                real_times_complex(a, ks.map(|k| -k), xs, imag);
+            } else {
+                real_times_complex(a, ks.copied(), xs, imag);
+            }
+            f += run;
+        }
+    }
+}
+
+/// `acc += k x` (`imag`: `acc += i k x`) per element, `k` real: `re += k x.re, im += k x.im`
+/// (turned: `re −= k x.im, im += k x.re`).
+#[inline(always)]
+fn real_times_complex(acc: &mut [C64], ks: impl Iterator<Item = f64>, x: &[C64], imag: bool) {
+    if imag {
+        for ((a, k), xv) in acc.iter_mut().zip(ks).zip(x) {
+            a.re -= k * xv.im;
+            a.im += k * xv.re;
+        }
+    } else {
+        for ((a, k), xv) in acc.iter_mut().zip(ks).zip(x) {
+            a.re += k * xv.re;
+            a.im += k * xv.im;
+        }
+    }
 }
 
 /// The layered operator on one contiguous stack of `L` layers (targets = sources, depth keys
@@ -152,8 +264,12 @@ pub struct LayeredSpectra {
 struct DepthSpectra {
     layers: usize,
     p: usize,
-    /// Whether each stored part (family) is the sum family.
+    /// Whether each part stored complex in `data` is the sum family (the families in their given
+    /// order, without a difference family stored real in `real`).
     part_is_sum: Vec<bool>,
+    /// The difference family stored as one real number per value, when its depth spectra are real
+    /// or imaginary.
+    real: Option<RealPart>,
     /// In-plane plan: `2N₁` rows per column; stored rows (`N₁ + 1` with the row symmetry).
     p1: usize,
     stored_rows: usize,
@@ -164,7 +280,7 @@ struct DepthSpectra {
     /// `w^{(L−1)k}`: the phase of the reversed stack's spectrum (sum family).
     phase: Vec<C64>,
     /// `data[((g · stored_k + k) · n_out + o) · parts · n_in + part · n_in + i]`: the kernel's depth
-    /// spectrum / P at the stored in-plane frequency `g`.
+    /// spectrum / P at the stored in-plane frequency `g` (the parts of `part_is_sum`).
     data: Vec<C64>,
     fwd: std::sync::Arc<dyn rustfft::Fft<f64>>,
     inv: std::sync::Arc<dyn rustfft::Fft<f64>>,
@@ -188,6 +304,108 @@ impl Drop for Pooled<'_> {
     }
 }
 
+/// The difference family's depth spectra stored real (docs/performance.md, "The difference
+/// family's real spectra and the per-pass fields"): a block's 2D spectrum is real or imaginary by
+/// its parities in `m` and `n` (`t_o t_i`), and its depth sequence, zero-padded to `P` around
+/// `d = a − b = 0`, is even or odd in `d` (`K(−d) = ±K(d)`: a tensor component changes sign under
+/// `x₃ → −x₃` with the count of the index 3), so its depth spectrum is real or imaginary. Both
+/// factor per output and input: `K̂_{oi}(g, k) = i^{c_o} i^{c_i} r_{oi}(g, k)` with `r` real.
+struct RealPart {
+    /// `c_o`, `c_i`: the factor `i` per output and input.
+    c_out: Vec<bool>,
+    c_in: Vec<bool>,
+    /// `data[((g · stored_k + k) · n_out + o) · n_in + i] = r_{oi}(g, k)`.
+    data: Vec<f64>,
+    /// Per block, the largest dropped part (`K̂ − i^{c_o + c_i} r`) over the largest kept `|r|`
+    /// (0 for a zero block): the largest of these.
+    discarded: f64,
+}
+
+/// Largest departure from the even/odd parity of a block's depth sequence allowed, relative to
+/// the block's largest 2D spectrum value (`max |K(2d) ∓ K(−2d)| / max |K|`): above it the family
+/// is stored complex. The exact kernels are exactly even or odd; their tabulation is not to the
+/// bit (the strain potentials of a cube at `x₃` and `−x₃` round differently): measured ≤ 6.8e-13
+/// at 64² and ≤ 1.6e-12 at 128² for the EIM's strain kernels (growing ≈ 2.4× per doubling of N),
+/// O(1) for a block of no parity; 1e-10 leaves ≈ 60× for the finer grids. Storing the even or odd
+/// part drops that departure (the tabulation's rounding). The check is against the block's largest
+/// value, not per frequency.
+const DEPTH_PARITY_TOLERANCE: f64 = 1e-10;
+
+/// Per block, whether its 2D spectra are odd in the depth difference `d` (`K(−d) = −K(d)`, `true`)
+/// or even, from the spectra at keys `2d`, `|d| < L` (`None` when a block is neither to
+/// [`DEPTH_PARITY_TOLERANCE`] of its largest value, or is zero).
+fn depth_parities(map: &SpectraByKey, layers: i64, blocks: usize) -> Option<Vec<Option<bool>>> {
+    (0..blocks)
+        .map(|b| {
+            let (mut even, mut odd, mut scale) = (0.0f64, 0.0f64, 0.0f64);
+            for d in 0..layers {
+                let get = |key: i64| map.get(&key).and_then(|bl| bl[b].as_deref());
+                let (plus, minus) = (get(2 * d), get(-2 * d));
+                let len = plus.or(minus).map_or(0, |v| v.len());
+                for f in 0..len {
+                    let u = plus.map_or(C64::new(0.0, 0.0), |v| v[f]);
+                    let w = minus.map_or(C64::new(0.0, 0.0), |v| v[f]);
+                    even = even.max((u - w).norm());
+                    odd = odd.max((u + w).norm());
+                    scale = scale.max(u.norm()).max(w.norm());
+                }
+            }
+            if scale == 0.0 {
+                Some(None)
+            } else if odd <= DEPTH_PARITY_TOLERANCE * scale {
+                Some(Some(true))
+            } else if even <= DEPTH_PARITY_TOLERANCE * scale {
+                Some(Some(false))
+            } else {
+                None
+            }
+        })
+        .collect()
+}
+
+/// `(u_o, v_i)` with `odd[o · n_in + i] = u_o ⊕ v_i` for every block whose parity is known
+/// (`None`: a zero block, either), if such a factorisation exists.
+fn factor_parities(
+    odd: &[Option<bool>],
+    n_out: usize,
+    n_in: usize,
+) -> Option<(Vec<bool>, Vec<bool>)> {
+    let (mut u, mut v): (Vec<Option<bool>>, Vec<Option<bool>>) =
+        (vec![None; n_out], vec![None; n_in]);
+    // Propagate from each unassigned output (a bipartite 2-colouring with edge labels).
+    for start in 0..n_out {
+        if u[start].is_some() {
+            continue;
+        }
+        u[start] = Some(false);
+        let mut changed = true;
+        while changed {
+            changed = false;
+            for o in 0..n_out {
+                for i in 0..n_in {
+                    let Some(x) = odd[o * n_in + i] else { continue };
+                    match (u[o], v[i]) {
+                        (Some(a), None) => {
+                            v[i] = Some(a ^ x);
+                            changed = true;
+                        }
+                        (None, Some(b)) => {
+                            u[o] = Some(b ^ x);
+                            changed = true;
+                        }
+                        (Some(a), Some(b)) if a ^ b != x => return None,
+                        _ => {}
+                    }
+                }
+            }
+        }
+    }
+    Some((
+        u.into_iter().map(|x| x.unwrap_or(false)).collect(),
+        v.into_iter().map(|x| x.unwrap_or(false)).collect(),
+    ))
+}
+
 impl DepthSpectra {
     /// Whether `targets` = `sources` = `z₀, z₀ + 2, …` and the families are at most one
     /// difference and one sum family.
@@ -207,10 +425,15 @@ impl DepthSpectra {
     /// Builds the depth spectra. With `parity` (every block even or odd in m and in n, the same for
     /// all families), a block's 2D spectrum is (anti)symmetric under ξ₁ → −ξ₁ and purely real
     /// (same parity in m and n) or purely imaginary: only the rows ξ₁ ≥ 0 and the depth
-    /// frequencies k ≤ P/2 are stored (a quarter of the memory and of the memory traffic).
+    /// frequencies k ≤ P/2 are stored (a quarter of the memory and of the memory traffic). With
+    /// `allow_real` and a difference family whose blocks are each even or odd in the depth
+    /// difference (found from its 2D spectra, [`depth_parities`]) with parities that factor, that
+    /// family's depth spectra are real or imaginary and stored as one real number each
+    /// ([`RealPart`]: half its memory and half its multiplies).
     /// `spectra(part)` gives the 2D kernel spectra of family `part`, by key: they are requested one
-    /// family at a time and dropped once that family's depth spectra are stored (the build holds
-    /// one family's 2D spectra, not all).
+    /// family at a time (the difference family first) and dropped once that family's depth spectra
+    /// are stored (the build holds one family's 2D spectra, not all).
+    #[allow(clippy::too_many_arguments)]
     fn build(
         families: &[Family],
         spectra: &mut dyn FnMut(usize) -> Result<SpectraByKey, NumericsError>,
@@ -219,13 +442,13 @@ impl DepthSpectra {
         (n1, n2): (usize, usize),
         (n_out, n_in): (usize, usize),
         parity: Option<&[(bool, bool)]>,
+        allow_real: bool,
     ) -> Result<Self, NumericsError> {
         let blocks = n_out * n_in;
         let p = 2 * layers;
         let mut planner = rustfft::FftPlanner::<f64>::new();
         let fwd = planner.plan_fft_forward(p);
         let inv = planner.plan_fft_inverse(p);
-        let parts = families.len();
         let l = layers as i64;
         let p1 = 2 * n1;
         let cols = n2 + 1;
@@ -235,17 +458,22 @@ impl DepthSpectra {
         } else {
             (p1, p)
         };
-        let part_is_sum: Vec<bool> = families.iter().map(|f| *f == Family::Sum).collect();
         let phase: Vec<C64> = (0..p)
             .map(|k| {
                 let a = -2.0 * std::f64::consts::PI * (k * (layers - 1)) as f64 / p as f64;
                 C64::new(a.cos(), a.sin())
             })
             .collect();
-        let mut data = vec![C64::new(0.0, 0.0); cols * stored_rows * parts * stored_k * blocks];
         let scratch_len = fwd.get_inplace_scratch_len();
         let fwd_ref = &fwd;
-        for (part, family) in families.iter().enumerate() {
+        let stored = cols * stored_rows * stored_k * blocks;
+        // The difference family first: whether it is stored real decides the complex parts.
+        let mut order: Vec<usize> = (0..families.len()).collect();
+        order.sort_by_key(|&part| families[part] != Family::Difference);
+        let mut real: Option<RealPart> = None;
+        let mut data: Vec<C64> = Vec::new();
+        for part in order {
+            let family = families[part];
             let map = spectra(part)?;
             // Per depth slot m ∈ 0..P, per block: the key spectrum (if any) that goes there.
             let mut per_slot: Vec<Vec<Option<&[C64]>>> = vec![vec![None; blocks]; p];
@@ -266,34 +494,125 @@ impl DepthSpectra {
                 }
             }
             let per_slot = &per_slot;
-            data.par_chunks_mut(parts * stored_k * blocks)
-                .enumerate()
-                .for_each_init(
-                    || {
-                        (
-                            vec![C64::new(0.0, 0.0); p],
-                            vec![C64::new(0.0, 0.0); scratch_len],
-                        )
-                    },
-                    |(t, scratch), (g, chunk)| {
-                        let f = (g / stored_rows) * p1 + g % stored_rows;
+            // The depth spectrum / P of block b at stored frequency g into `t`.
+            let depth_spectrum = move |g: usize, b: usize, t: &mut [C64], scratch: &mut [C64]| {
+                let f = (g / stored_rows) * p1 + g % stored_rows;
+                for (m, v) in t.iter_mut().enumerate() {
+                    *v = per_slot[m][b].map_or(C64::new(0.0, 0.0), |s| s[f]);
+                }
+                fwd_ref.process_with_scratch(t, scratch);
+                for v in t.iter_mut() {
+                    *v /= p as f64;
+                }
+            };
+            let init = || {
+                (
+                    vec![C64::new(0.0, 0.0); p],
+                    vec![C64::new(0.0, 0.0); scratch_len],
+                )
+            };
+            let classes = match (&symmetry, family) {
+                (Some(sy), Family::Difference) if allow_real => {
+                    depth_parities(&map, l, blocks)
+                        .and_then(|odd| factor_parities(&odd, n_out, n_in))
+                        .map(|(u, v)| {
+                            // i per index: an imaginary 2D spectrum (t = −1) xor an odd depth
+                            // sequence.
+                            let c_out: Vec<bool> = sy
+                                .t_out
+                                .iter()
+                                .zip(&u)
+                                .map(|(t, &u)| (*t < 0.0) ^ u)
+                                .collect();
+                            let c_in: Vec<bool> = sy
+                                .t_in
+                                .iter()
+                                .zip(&v)
+                                .map(|(t, &v)| (*t < 0.0) ^ v)
+                                .collect();
+                            (c_out, c_in)
+                        })
+                }
+                _ => None,
+            };
+            if let Some((c_out, c_in)) = classes {
+                let mut values = vec![0.0; stored];
+                // Per block: (largest kept |r|, largest dropped part).
+                let extremes = values
+                    .par_chunks_mut(stored_k * blocks)
+                    .enumerate()
+                    .map_init(init, |(t, scratch), (g, chunk)| {
+                        let mut ext = vec![(0.0f64, 0.0f64); blocks];
                         let pairs = (0..n_out).flat_map(|o| (0..n_in).map(move |i| (o, i)));
                         for (b, (o, i)) in pairs.enumerate() {
-                            for (m, v) in t.iter_mut().enumerate() {
-                                *v = per_slot[m][b].map_or(C64::new(0.0, 0.0), |s| s[f]);
-                            }
-                            fwd_ref.process_with_scratch(t, scratch);
+                            depth_spectrum(g, b, t, scratch);
+                            // K = i^{c_o + c_i} r: r = K · (−i)^{c_o + c_i}.
+                            let turns = usize::from(c_out[o]) + usize::from(c_in[i]);
                             for (k, v) in t.iter().enumerate().take(stored_k) {
-                                chunk[((k * n_out + o) * parts + part) * n_in + i] = v / p as f64;
+                                let w = match turns {
+                                    0 => *v,
+                                    1 => C64::new(v.im, -v.re),
+                                    _ => -*v,
+                                };
+                                chunk[(k * n_out + o) * n_in + i] = w.re;
+                                ext[b].0 = ext[b].0.max(w.re.abs());
+                                ext[b].1 = ext[b].1.max(w.im.abs());
                             }
                         }
-                    },
-                );
+                        ext
+                    })
+                    .reduce(
+                        || vec![(0.0, 0.0); blocks],
+                        |a, b| {
+                            a.iter()
+                                .zip(&b)
+                                .map(|(x, y)| (x.0.max(y.0), x.1.max(y.1)))
+                                .collect()
+                        },
+                    );
+                let discarded = extremes
+                    .iter()
+                    .map(|&(kept, dropped)| if kept > 0.0 { dropped / kept } else { 0.0 })
+                    .fold(0.0, f64::max);
+                real = Some(RealPart {
+                    c_out,
+                    c_in,
+                    data: values,
+                    discarded,
+                });
+                continue;
+            }
+            if data.is_empty() {
+                let complex_parts = families.len() - usize::from(real.is_some());
+                data = vec![C64::new(0.0, 0.0); stored * complex_parts];
+            }
+            let parts = families.len() - usize::from(real.is_some());
+            // This family's index among the complex parts (the families' order).
+            let cpart = (0..part)
+                .filter(|&q| !(real.is_some() && families[q] == Family::Difference))
+                .count();
+            data.par_chunks_mut(parts * stored_k * blocks)
+                .enumerate()
+                .for_each_init(init, |(t, scratch), (g, chunk)| {
+                    let pairs = (0..n_out).flat_map(|o| (0..n_in).map(move |i| (o, i)));
+                    for (b, (o, i)) in pairs.enumerate() {
+                        depth_spectrum(g, b, t, scratch);
+                        for (k, v) in t.iter().enumerate().take(stored_k) {
+                            chunk[((k * n_out + o) * parts + cpart) * n_in + i] = *v;
+                        }
+                    }
+                });
         }
+        let part_is_sum: Vec<bool> = families
+            .iter()
+            .filter(|f| !(real.is_some() && **f == Family::Difference))
+            .map(|f| *f == Family::Sum)
+            .collect();
         Ok(Self {
             layers,
             p,
             part_is_sum,
+            real,
             p1,
             stored_rows,
             stored_k,
@@ -366,12 +685,18 @@ impl DepthSpectra {
         for stored_row in 0..self.stored_rows {
             let g = col * self.stored_rows + stored_row;
             let stored = &self.data[g * per_g..(g + 1) * per_g];
+            let per_real = self.stored_k * n_out * n_in;
+            let real_stored = self
+                .real
+                .as_ref()
+                .map_or(&[][..], |r| &r.data[g * per_real..(g + 1) * per_real]);
             let mirror = (self.symmetry.is_some() && stored_row > 0 && stored_row < self.p1 / 2)
                 .then_some(self.p1 - stored_row);
             let DepthBuffers {
                 first,
                 second,
                 lanes,
+                real_lanes,
                 acc,
                 column_in,
                 column_out,
@@ -385,11 +710,11 @@ impl DepthSpectra {
                 simd,
                 n_out,
                 n_in,
-                stored,
+                (stored, real_stored),
                 mirror.is_some(),
                 first,
                 second,
-                lanes,
+                (lanes, real_lanes),
                 acc,
             );
             let rows = std::iter::once((stored_row, first)).chain(mirror.map(|row| (row, second)));
@@ -453,7 +778,9 @@ impl DepthSpectra {
     /// (`K(−ξ₁) = s_o s_i K(ξ₁)`, `K(P − k) = t_o t_i conj K(k)`), the four products of one stored
     /// value are plain complex products on four lanes:
     /// `y(k) = Σ K(k) x(k)`, `y(P−k) = t_o conj Σ K(k) conj(t_i x(P−k))`, and the same on the
-    /// mirrored row with `s_i` on the inputs and `s_o` on the outputs.
+    /// mirrored row with `s_i` on the inputs and `s_o` on the outputs. A difference family stored
+    /// real (`K = i^{c_o} i^{c_i} r`, [`RealPart`]) has its lanes turned by `i^{c_i}`, the real
+    /// products summed apart and turned by `i^{c_o}`, then added to the complex parts' sum.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn product<S: pulp::Simd>(
@@ -461,17 +788,53 @@ impl DepthSpectra {
         simd: S,
         n_out: usize,
         n_in: usize,
-        stored: &[C64],
+        (stored, real_stored): (&[C64], &[f64]),
         mirrored: bool,
         first: &mut DepthSide,
         second: &mut DepthSide,
-        lanes: &mut [[f64; 8]],
+        (lanes, real_lanes): (&mut [[f64; 8]], &mut [[f64; 8]]),
         acc: &mut [[f64; 8]],
     ) {
         let p = self.p;
         let sk = self.stored_k;
         let parts = self.part_is_sum.len();
         let zero = C64::new(0.0, 0.0);
+        // The four lanes of input i at stored depth frequency kk from the depth spectra `in1`
+        // (row r) and `in2` (row 2N₁ − r), multiplied by `turn` (1 or i).
+        let four = |in1: &[C64], in2: &[C64], kk: usize, i: usize, turn: bool| -> [f64; 8] {
+            let k2 = p - kk;
+            let paired = self.symmetry.is_some() && kk > 0 && k2 != kk;
+            let (s_i, t_i) = self
+                .symmetry
+                .as_ref()
+                .map_or((1.0, 1.0), |sy| (sy.s_in[i], sy.t_in[i]));
+            let v = [
+                in1[i * p + kk],
+                if paired {
+                    (in1[i * p + k2] * t_i).conj()
+                } else {
+                    zero
+                },
+                if mirrored {
+                    in2[i * p + kk] * s_i
+                } else {
+                    zero
+                },
+                if mirrored && paired {
+                    (in2[i * p + k2] * (s_i * t_i)).conj()
+                } else {
+                    zero
+                },
+            ];
+            let mut lane = [0.0; 8];
+            for (j, c) in v.iter().enumerate() {
+                // c · i = (−c.im, c.re): exact.
+                let c = if turn { C64::new(-c.im, c.re) } else { *c };
+                lane[j] = c.re;
+                lane[4 + j] = c.im;
+            }
+            lane
+        };
         // Lanes: re 0..4, im 4..8 of [x₁(k), conj(t x₁(P−k)), s x₂(k), conj(s t x₂(P−k))].
         for (part, &is_sum) in self.part_is_sum.iter().enumerate() {
             let (in1, in2) = if is_sum {
@@ -480,36 +843,15 @@ impl DepthSpectra {
                 (&first.x, &second.x)
             };
             for kk in 0..sk {
-                let k2 = p - kk;
-                let paired = self.symmetry.is_some() && kk > 0 && k2 != kk;
                 for i in 0..n_in {
-                    let (s_i, t_i) = self
-                        .symmetry
-                        .as_ref()
-                        .map_or((1.0, 1.0), |sy| (sy.s_in[i], sy.t_in[i]));
-                    let v = [
-                        in1[i * p + kk],
-                        if paired {
-                            (in1[i * p + k2] * t_i).conj()
-                        } else {
-                            zero
-                        },
-                        if mirrored {
-                            in2[i * p + kk] * s_i
-                        } else {
-                            zero
-                        },
-                        if mirrored && paired {
-                            (in2[i * p + k2] * (s_i * t_i)).conj()
-                        } else {
-                            zero
-                        },
-                    ];
-                    let lane = &mut lanes[(kk * parts + part) * n_in + i];
-                    for (j, c) in v.iter().enumerate() {
-                        lane[j] = c.re;
-                        lane[4 + j] = c.im;
-                    }
+                    lanes[(kk * parts + part) * n_in + i] = four(in1, in2, kk, i, false);
+                }
+            }
+        }
+        if let Some(real) = &self.real {
+            for kk in 0..sk {
+                for i in 0..n_in {
+                    real_lanes[kk * n_in + i] = four(&first.x, &second.x, kk, i, real.c_in[i]);
                 }
             }
         }
@@ -521,7 +863,21 @@ impl DepthSpectra {
             let lane = &lanes[kk * parts * n_in..][..parts * n_in];
             for (o, a) in acc.iter_mut().enumerate().take(n_out) {
                 let kernel = &stored[(kk * n_out + o) * parts * n_in..][..parts * n_in];
-                let (re, im) = lane_products(simd, kernel, lane);
+                let (mut re, mut im) = lane_products(simd, kernel, lane);
+                if let Some(real) = &self.real {
+                    let r = &real_stored[(kk * n_out + o) * n_in..][..n_in];
+                    let (rr, ri) = real_lane_products(simd, r, &real_lanes[kk * n_in..][..n_in]);
+                    // Turned by i^{c_o}, added to the complex parts' sum.
+                    let (rr, ri) = if real.c_out[o] {
+                        (ri.map(|v| -v), rr)
+                    } else {
+                        (rr, ri)
+                    };
+                    for j in 0..4 {
+                        re[j] += rr[j];
+                        im[j] += ri[j];
+                    }
+                }
                 a[..4].copy_from_slice(&re);
                 a[4..].copy_from_slice(&im);
                 let (s_o, t_o) = self
@@ -541,6 +897,37 @@ impl DepthSpectra {
             }
         }
     }
+}
+
+/// `(re, im)` of the four lanes' sums `Σ_j r_j z_j` over one row of real kernel values and lanes
+/// (lanes: re 0..4, im 4..8): in each lane `re += r z.re`, `im += r z.im`, in this order (no fused
+/// multiply-adds: the same bits on every SIMD level), on `S`'s vectors where they hold whole lanes.
+#[inline(always)]
+fn real_lane_products<S: pulp::Simd>(
+    simd: S,
+    kernel: &[f64],
+    lanes: &[[f64; 8]],
+) -> ([f64; 4], [f64; 4]) {
+    let (mut re, mut im) = ([0.0f64; 4], [0.0f64; 4]);
+    {
+        let (re_v, re_t) = S::as_mut_simd_f64s(&mut re);
+        let (im_v, im_t) = S::as_mut_simd_f64s(&mut im);
+        for (kv, z) in kernel.iter().zip(lanes) {
+            let (zr, zi) = z.split_at(4);
+            let (zr_v, zr_t) = S::as_simd_f64s(zr);
+            let (zi_v, zi_t) = S::as_simd_f64s(zi);
+            let k = simd.splat_f64s(*kv);
+            for (((r, i), a), b) in re_v.iter_mut().zip(im_v.iter_mut()).zip(zr_v).zip(zi_v) {
+                *r = simd.add_f64s(*r, simd.mul_f64s(k, *a));
+                *i = simd.add_f64s(*i, simd.mul_f64s(k, *b));
+            }
+            for (((r, i), a), b) in re_t.iter_mut().zip(im_t.iter_mut()).zip(zr_t).zip(zi_t) {
+                *r += kv * a;
+                *i += kv * b;
+            }
+        }
+    }
+    (re, im)
 }
 
 /// `(re, im)` of the four lanes' sums `Σ_j K_j z_j` over one row of kernel values and lanes
@@ -663,6 +1050,8 @@ struct DepthBuffers {
     second: DepthSide,
     /// Per (part, stored depth frequency, input): the four lanes of [`DepthSpectra::product`].
     lanes: Vec<[f64; 8]>,
+    /// Per (stored depth frequency, input): those of the difference family stored real.
+    real_lanes: Vec<[f64; 8]>,
     /// Per output: the four lanes' sums.
     acc: Vec<[f64; 8]>,
     /// The column's input and output spectra, `[v · 2N₁ + row]`.
@@ -673,14 +1062,19 @@ struct DepthBuffers {
 
 impl LayeredSpectra {
     /// Tabulates and transforms every kernel needed between `sources` and `targets` (depth keys).
-    /// All families must have the same block shape.
+    /// All families must have the same block shape. On one contiguous stack of layers the depth
+    /// sums run by FFT, and a difference family whose blocks are even or odd in the depth
+    /// difference is stored real (docs/performance.md, "The difference family's real spectra and
+    /// the per-pass fields"; [`LayeredSpectra::real_storage_discarded`]); otherwise, with every
+    /// block of a parity in `m` and `n`, each key's spectra are stored by quarter
+    /// ([`LayeredSpectra::quarter_storage_discarded`]).
     pub fn new(
         fft: &mut Fft2d,
         targets: &[i64],
         sources: &[i64],
         families: &[(Family, &dyn LayerKernel)],
     ) -> Result<Self, NumericsError> {
-        Self::build(fft, targets, sources, families, true)
+        Self::build(fft, targets, sources, families, true, true)
     }
 
     /// [`LayeredSpectra::new`] with the products always per depth key (never the depth FFT of a
@@ -692,7 +1086,7 @@ impl LayeredSpectra {
         sources: &[i64],
         families: &[(Family, &dyn LayerKernel)],
     ) -> Result<Self, NumericsError> {
-        Self::build(fft, targets, sources, families, false)
+        Self::build(fft, targets, sources, families, false, false)
     }
 
     fn build(
@@ -701,6 +1095,7 @@ impl LayeredSpectra {
         sources: &[i64],
         families: &[(Family, &dyn LayerKernel)],
         allow_depth: bool,
+        real: bool,
     ) -> Result<Self, NumericsError> {
         let (n1, n2) = fft.shape();
         let Some((_, first)) = families.first() else {
@@ -755,6 +1150,7 @@ impl LayeredSpectra {
                 (n1, n2),
                 (n_out, n_in),
                 parity.as_deref(),
+                real,
             )?))
         } else {
             for (part, &family) in kinds.iter().enumerate() {
@@ -762,6 +1158,50 @@ impl LayeredSpectra {
             }
             None
         };
+        // Per key by quarter (not `per_key`'s operators: their bits stay those of the complex
+        // spectra).
+        let quarters = match &parity {
+            Some(par) if depth.is_none() && allow_depth && real => {
+                let kinds: Vec<(bool, bool)> = par.iter().map(|&(m, n)| (m, m != n)).collect();
+                let mut discarded = 0.0f64;
+                let families: Vec<(Family, QuartersByKey)> = stored
+                    .iter()
+                    .map(|(family, map)| {
+                        let map = map
+                            .iter()
+                            .map(|(&key, blocks)| {
+                                let blocks = blocks
+                                    .iter()
+                                    .zip(&kinds)
+                                    .map(|(b, &kind)| {
+                                        b.as_ref().map(|k| {
+                                            let (q, dropped, kept) =
+                                                Quarters::store(k, (n1, n2), kind);
+                                            if kept > 0.0 {
+                                                discarded = discarded.max(dropped / kept);
+                                            }
+                                            q
+                                        })
+                                    })
+                                    .collect();
+                                (key, blocks)
+                            })
+                            .collect();
+                        (*family, map)
+                    })
+                    .collect();
+                // A declared parity the spectra do not have: the complex spectra are kept.
+                (discarded <= QUARTER_TOLERANCE).then_some(Quarters {
+                    kinds,
+                    families,
+                    discarded,
+                })
+            }
+            _ => None,
+        };
+        if quarters.is_some() {
+            stored.clear();
+        }
         Ok(Self {
             n1,
             n2,
@@ -770,6 +1210,7 @@ impl LayeredSpectra {
             targets: targets.to_vec(),
             sources: sources.to_vec(),
             families: stored,
+            quarters,
             depth,
         })
     }
@@ -800,10 +1241,40 @@ impl LayeredSpectra {
             .map(Vec::as_slice)
     }
 
+    /// With the depth FFT and the difference family stored real (its blocks' depth spectra are
+    /// real or imaginary, [`LayeredSpectra::new`]): per block, the largest part of the computed
+    /// depth spectra dropped by that storage over the largest value kept, the largest over the
+    /// blocks (rounding: the 2D spectra's and the depth FFT's). `None` when nothing is stored real.
+    pub fn real_storage_discarded(&self) -> Option<f64> {
+        self.depth
+            .as_ref()
+            .and_then(|d| d.real.as_ref())
+            .map(|r| r.discarded)
+    }
+
+    /// Per-key spectra stored by quarter ([`LayeredSpectra::new`] with every block of a parity in
+    /// `m` and `n`, not a contiguous stack): per block, the largest dropped part over the largest
+    /// kept value, the largest over the blocks (the 2D FFT's rounding). `None` otherwise.
+    pub fn quarter_storage_discarded(&self) -> Option<f64> {
+        self.quarters.as_ref().map(|q| q.discarded)
+    }
+
     /// Bytes held by the stored spectra.
     pub fn bytes(&self) -> usize {
         if let Some(d) = &self.depth {
-            return d.data.len() * std::mem::size_of::<C64>();
+            return d.data.len() * std::mem::size_of::<C64>()
+                + d.real.as_ref().map_or(0, |r| r.data.len() * 8);
+        }
+        if let Some(q) = &self.quarters {
+            let per = (self.n1 + 1) * (self.n2 + 1) * 8;
+            return q
+                .families
+                .iter()
+                .flat_map(|(_, m)| m.values())
+                .flat_map(|blocks| blocks.iter())
+                .filter(|b| b.is_some())
+                .count()
+                * per;
         }
         let per = 2 * self.n1 * (self.n2 + 1) * std::mem::size_of::<C64>();
         self.families
@@ -889,6 +1360,7 @@ impl LayeredSpectra {
                 y: vec![C64::new(0.0, 0.0); n_out * p],
             };
             let lanes = depth.part_is_sum.len() * depth.stored_k * n_in;
+            let real_lanes = usize::from(depth.real.is_some()) * depth.stored_k * n_in;
             // Work arrays from the operator's pool (allocated at the first application only: a
             // fresh allocation per task costs page faults on every application).
             per_column.into_par_iter().enumerate().for_each_init(
@@ -900,6 +1372,7 @@ impl LayeredSpectra {
                             first: side(),
                             second: side(),
                             lanes: vec![[0.0; 8]; lanes],
+                            real_lanes: vec![[0.0; 8]; real_lanes],
                             acc: vec![[0.0; 8]; n_out],
                             column_in: vec![C64::new(0.0, 0.0); inputs_hat.len() * column],
                             column_out: vec![C64::new(0.0, 0.0); out_count * column],
@@ -956,6 +1429,29 @@ impl LayeredSpectra {
         acc: &mut [C64],
     ) {
         let end = start + acc.len();
+        if let Some(q) = &self.quarters {
+            for (family, map) in &q.families {
+                for (b, &zb) in self.sources.iter().enumerate() {
+                    let blocks = &map[&family.key(self.targets[a], zb)];
+                    for i in 0..self.n_in {
+                        if skip[b * self.n_in + i] {
+                            continue;
+                        }
+                        if let Some(k) = &blocks[o * self.n_in + i] {
+                            quarter_accumulate(
+                                acc,
+                                start,
+                                k,
+                                &inputs_hat[b * self.n_in + i][start..end],
+                                self.n1,
+                                q.kinds[o * self.n_in + i],
+                            );
+                        }
+                    }
+                }
+            }
+            return;
+        }
         for (family, map) in &self.families {
             for (b, &zb) in self.sources.iter().enumerate() {
                 let blocks = &map[&family.key(self.targets[a], zb)];
@@ -1343,13 +1839,63 @@ mod tests {
         }
     }
 
+    /// [`Factored`] with blocks also even or odd in the depth key, with parities that factor (as
+    /// the strain kernels' do in `x₃ − x₃′`): the difference family is then stored real.
+    struct FactoredDepth;
+    impl FactoredDepth {
+        /// Per output and input: odd in (m, n, key).
+        const OUTS: [(bool, bool, bool); 2] = [(false, false, false), (true, true, true)];
+        const INS: [(bool, bool, bool); 3] = [
+            (false, false, false),
+            (true, false, true),
+            (false, true, false),
+        ];
+        fn odd(b: usize) -> (bool, bool, bool) {
+            let (o, i) = (Self::OUTS[b / 3], Self::INS[b % 3]);
+            (o.0 ^ i.0, o.1 ^ i.1, o.2 ^ i.2)
+        }
+    }
+    impl LayerKernel for FactoredDepth {
+        fn blocks(&self) -> (usize, usize) {
+            (2, 3)
+        }
+        fn eval(&self, key: i64, m: i64, n: i64, out: &mut [f64]) {
+            for (b, v) in out.iter_mut().enumerate() {
+                let r2 = (m * m + 2 * n * n + key * key) as f64 + 1.0 + b as f64;
+                // Even in key: key² only; odd: key · (even), exactly antisymmetric.
+                let mut w = (1.0 + 0.05 * (key * key) as f64) / r2.sqrt();
+                let (om, on, ok) = Self::odd(b);
+                if om {
+                    w *= m as f64;
+                }
+                if on {
+                    w *= n as f64;
+                }
+                if ok {
+                    w *= key as f64;
+                }
+                *v = w;
+            }
+        }
+        fn parity(&self) -> Option<Vec<(bool, bool)>> {
+            Some(
+                (0..6)
+                    .map(|b| {
+                        let (om, on, _) = Self::odd(b);
+                        (om, on)
+                    })
+                    .collect(),
+            )
+        }
+    }
+
     #[test]
     fn depth_fft_products_equal_the_direct_sum() {
         // Targets = sources = a contiguous stack: the depth sums go through the depth FFT.
         let (n1, n2) = (6, 5);
         let layers = [5i64, 7, 9, 11];
         let (k1, k2) = (Smooth(1.0), Smooth(-0.4));
-        for families in [
+        for (case, families) in [
             vec![
                 (Family::Difference, &k1 as &dyn LayerKernel),
                 (Family::Sum, &k2),
@@ -1367,7 +1913,18 @@ mod tests {
                 (Family::Sum, &Factored),
             ],
             vec![(Family::Sum, &Factored as &dyn LayerKernel)],
-        ] {
+            // Depth parities as well: the difference family stored real.
+            vec![
+                (Family::Difference, &FactoredDepth as &dyn LayerKernel),
+                (Family::Sum, &FactoredDepth),
+            ],
+            vec![(Family::Difference, &FactoredDepth as &dyn LayerKernel)],
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            // The last two: the difference family stored real.
+            let real = case >= 6;
             let mut fft = Fft2d::new(n1, n2).unwrap();
             let spectra = LayeredSpectra::new(&mut fft, &layers, &layers, &families).unwrap();
             let depth = spectra.depth.as_ref().expect("a contiguous stack");
@@ -1376,6 +1933,7 @@ mod tests {
                 .parity()
                 .is_some_and(|p| p[4] == (false, true));
             assert_eq!(depth.symmetry.is_some(), factored);
+            assert_eq!(spectra.real_storage_discarded().is_some(), real);
             let dense = DenseLayered::new(n1, n2, &layers, &layers, &families);
             let xs: Vec<Vec<f64>> = (0..layers.len() * 3)
                 .map(|k| {
@@ -1458,20 +2016,153 @@ mod tests {
     fn depth_products_are_the_same_bits_on_every_simd_level() {
         let (n1, n2) = (6, 5);
         let layers = [5i64, 7, 9, 11];
-        let families: [(Family, &dyn LayerKernel); 2] =
-            [(Family::Difference, &Factored), (Family::Sum, &Factored)];
-        let mut fft = Fft2d::new(n1, n2).unwrap();
-        let fast = LayeredSpectra::new(&mut fft, &layers, &layers, &families).unwrap();
-        let mut scalar = LayeredSpectra::new(&mut fft, &layers, &layers, &families).unwrap();
-        scalar.depth.as_mut().expect("a contiguous stack").arch = pulp::Arch::Scalar;
-        let hats = random_spectra(&mut fft, layers.len() * 3, 7);
-        let skip = vec![false; hats.len()];
-        let mut a: Vec<Vec<C64>> = (0..layers.len() * 2).map(|_| fft.new_spectrum()).collect();
-        let mut b = a.clone();
-        fast.accumulate(&hats, &skip, &mut a).unwrap();
-        scalar.accumulate(&hats, &skip, &mut b).unwrap();
-        assert!(a.iter().flatten().any(|v| v.norm() > 0.0));
-        assert_eq!(a, b);
+        // Complex storage ([`Factored`]) and the difference family stored real
+        // ([`FactoredDepth`]).
+        let kernels: [&dyn LayerKernel; 2] = [&Factored, &FactoredDepth];
+        for kernel in kernels {
+            let families: [(Family, &dyn LayerKernel); 2] =
+                [(Family::Difference, kernel), (Family::Sum, kernel)];
+            let mut fft = Fft2d::new(n1, n2).unwrap();
+            let fast = LayeredSpectra::new(&mut fft, &layers, &layers, &families).unwrap();
+            let mut scalar = LayeredSpectra::new(&mut fft, &layers, &layers, &families).unwrap();
+            scalar.depth.as_mut().expect("a contiguous stack").arch = pulp::Arch::Scalar;
+            let hats = random_spectra(&mut fft, layers.len() * 3, 7);
+            let skip = vec![false; hats.len()];
+            let mut a: Vec<Vec<C64>> = (0..layers.len() * 2).map(|_| fft.new_spectrum()).collect();
+            let mut b = a.clone();
+            fast.accumulate(&hats, &skip, &mut a).unwrap();
+            scalar.accumulate(&hats, &skip, &mut b).unwrap();
+            assert!(a.iter().flatten().any(|v| v.norm() > 0.0));
+            assert_eq!(a, b);
+        }
+    }
+
+    /// The difference family stored real gives the complex storage's products to rounding on
+    /// seeded random inputs, at half that family's bytes ([`FactoredDepth`], two grids and
+    /// stacks). Bound: 1e-14 of the largest output value (≈ 45 ulps); measured 5.9e-17 and
+    /// 1.7e-16, and the dropped parts 2.0e-16 and 7.9e-17 of the kept (the FFTs' rounding).
+    /// The strain kernels of the EIM (sam) are checked against their dense twin there.
+    #[test]
+    fn real_difference_spectra_reproduce_the_complex_storage() {
+        {
+            let kernel = &FactoredDepth;
+            for (n1, n2, layers) in [
+                (6usize, 5usize, vec![5i64, 7, 9, 11]),
+                (16, 12, vec![3, 5, 7]),
+            ] {
+                let families: [(Family, &dyn LayerKernel); 2] =
+                    [(Family::Difference, kernel), (Family::Sum, kernel)];
+                let mut fft = Fft2d::new(n1, n2).unwrap();
+                let real = LayeredSpectra::new(&mut fft, &layers, &layers, &families).unwrap();
+                let complex =
+                    LayeredSpectra::build(&mut fft, &layers, &layers, &families, true, false)
+                        .unwrap();
+                let discarded = real.real_storage_discarded().expect("stored real");
+                assert!(discarded < 1e-14, "{discarded:e}");
+                assert!(complex.real_storage_discarded().is_none());
+                // Sum family complex, difference real: 3/4 of the bytes.
+                assert_eq!(4 * real.bytes(), 3 * complex.bytes());
+                let hats = random_spectra(&mut fft, layers.len() * 3, 13);
+                let mut skip = vec![false; hats.len()];
+                skip[1] = true;
+                let mut a: Vec<Vec<C64>> =
+                    (0..layers.len() * 2).map(|_| fft.new_spectrum()).collect();
+                let mut b = a.clone();
+                real.accumulate(&hats, &skip, &mut a).unwrap();
+                complex.accumulate(&hats, &skip, &mut b).unwrap();
+                let scale = b.iter().flatten().fold(0.0f64, |m, v| m.max(v.norm()));
+                let err = a
+                    .iter()
+                    .flatten()
+                    .zip(b.iter().flatten())
+                    .fold(0.0f64, |m, (x, y)| m.max((x - y).norm()));
+                assert!(scale > 0.0);
+                assert!(err <= 1e-14 * scale, "{err:e} of {scale:e}");
+            }
+        }
+    }
+
+    /// Per-key spectra stored by quarter (every block of a parity in `m` and `n`, targets ≠
+    /// sources) equal the direct sum, and the complex per-key storage (`per_key`) to rounding, on
+    /// the small and the frequency-chunked path; the leading outputs alone are the whole
+    /// accumulation's bit for bit there too. Bound 1e-14 of the largest output (≈ 45 ulps;
+    /// measured ≤ 4.9e-16, dropped parts ≤ 4.8e-16 of the kept).
+    #[test]
+    fn quarter_stored_spectra_equal_the_direct_sum_and_the_complex_storage() {
+        let kernels: [&dyn LayerKernel; 3] = [&Parity, &Factored, &FactoredDepth];
+        let (targets, sources) = ([0i64, 3, 5, 9], [3i64, 5, 7]);
+        for kernel in kernels {
+            let families: [(Family, &dyn LayerKernel); 2] =
+                [(Family::Difference, kernel), (Family::Sum, kernel)];
+            for (n1, n2) in [(5, 4), (72, 64)] {
+                let mut fft = Fft2d::new(n1, n2).unwrap();
+                let quarter = LayeredSpectra::new(&mut fft, &targets, &sources, &families).unwrap();
+                let complex =
+                    LayeredSpectra::per_key(&mut fft, &targets, &sources, &families).unwrap();
+                let discarded = quarter.quarter_storage_discarded().expect("by quarter");
+                assert!(discarded < 1e-14, "{discarded:e}");
+                assert!(complex.quarter_storage_discarded().is_none());
+                // (N₁ + 1)(N₂ + 1) reals against 2N₁(N₂ + 1) complex values.
+                assert_eq!(quarter.bytes() * 4 * n1, complex.bytes() * (n1 + 1));
+                let hats = random_spectra(&mut fft, sources.len() * 3, 17);
+                let mut skip = vec![false; hats.len()];
+                skip[2] = true;
+                let outputs = targets.len() * 2;
+                let mut a: Vec<Vec<C64>> = (0..outputs).map(|_| fft.new_spectrum()).collect();
+                let mut b = a.clone();
+                quarter.accumulate(&hats, &skip, &mut a).unwrap();
+                complex.accumulate(&hats, &skip, &mut b).unwrap();
+                let scale = b.iter().flatten().fold(0.0f64, |m, v| m.max(v.norm()));
+                let err = a
+                    .iter()
+                    .flatten()
+                    .zip(b.iter().flatten())
+                    .fold(0.0f64, |m, (x, y)| m.max((x - y).norm()));
+                assert!(scale > 0.0 && err <= 1e-14 * scale, "{err:e} of {scale:e}");
+                // Leading outputs (one per target) bit for bit.
+                let mut lead: Vec<Vec<C64>> =
+                    (0..targets.len()).map(|_| fft.new_spectrum()).collect();
+                quarter
+                    .accumulate_leading(&hats, &skip, 1, &mut lead)
+                    .unwrap();
+                for (t, l) in lead.iter().enumerate() {
+                    assert_eq!(*l, a[t * 2]);
+                }
+                if n1 == 5 {
+                    // Against the direct sum.
+                    let dense = DenseLayered::new(n1, n2, &targets, &sources, &families);
+                    let mut rng = crate::testkit::Lcg::new(3);
+                    let xs: Vec<Vec<f64>> = (0..sources.len() * 3)
+                        .map(|_| (0..n1 * n2).map(|_| rng.unit() - 0.5).collect())
+                        .collect();
+                    let fast = via_spectra(&mut fft, &quarter, &xs, &[false; 9], outputs);
+                    let slow = direct(&dense, &xs, outputs);
+                    let (err, scale) = max_error(&fast, &slow);
+                    assert!(err < 1e-13 * scale, "{err:e} of {scale:e}");
+                }
+            }
+        }
+    }
+
+    /// Depth parities factor per output and input when they exist (zero blocks take either);
+    /// a pattern with no factorisation is refused.
+    #[test]
+    fn depth_parities_factor_or_are_refused() {
+        let t = Some(true);
+        let f = Some(false);
+        // odd = u ⊕ v with u = (0, 1), v = (0, 1, 1); block (1, 0) zero.
+        let (u, v) = factor_parities(&[f, t, t, None, f, f], 2, 3).expect("factors");
+        for o in 0..2 {
+            for i in 0..3 {
+                if (o, i) != (1, 0) {
+                    assert_eq!(
+                        u[o] ^ v[i],
+                        [false, true, true, true, false, false][o * 3 + i]
+                    );
+                }
+            }
+        }
+        assert!(factor_parities(&[f, f, f, t], 2, 2).is_none());
     }
 
     #[test]

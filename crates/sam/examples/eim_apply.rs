@@ -51,6 +51,14 @@ fn main() {
         t.elapsed().as_secs_f64(),
         fields.spectra_bytes() / 1_000_000
     );
+    // The volume's difference family stored real: its dropped parts over the kept, per block.
+    if let Some(d) = fields.real_storage_discarded() {
+        println!("difference family stored real, dropped / kept ≤ {d:.2e}");
+    }
+    // The surface and Love spectra stored by quarter.
+    if let Some(d) = fields.quarter_storage_discarded() {
+        println!("surface and Love spectra by quarter, dropped / kept ≤ {d:.2e}");
+    }
     let mut system = EimSystem::new(fields, set, case.e, case.nu).unwrap();
     let dim = system.dim();
     let x: Vec<f64> = (0..dim)
@@ -58,14 +66,21 @@ fn main() {
         .collect();
     let mut y = vec![0.0; dim];
     system.apply(&x, &mut y).unwrap();
+    // `EIM_APPLY_FIELDS_ONLY` set: the application's timing loop is skipped (to profile the
+    // per-pass fields below alone).
+    let apply_reps = if std::env::var_os("EIM_APPLY_FIELDS_ONLY").is_some() {
+        1
+    } else {
+        reps
+    };
     let (t, c) = (std::time::Instant::now(), cpu());
-    for _ in 0..reps {
+    for _ in 0..apply_reps {
         system.apply(&x, &mut y).unwrap();
     }
     println!(
         "apply {:.2} ms wall, {:.1} ms CPU",
-        t.elapsed().as_secs_f64() * 1e3 / reps as f64,
-        (cpu() - c) * 1e3 / reps as f64
+        t.elapsed().as_secs_f64() * 1e3 / apply_reps as f64,
+        (cpu() - c) * 1e3 / apply_reps as f64
     );
     let h = y.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, v| {
         (h ^ v.to_bits()).wrapping_mul(0x100_0000_01b3)
@@ -114,4 +129,73 @@ fn main() {
         (h ^ v.to_bits()).wrapping_mul(0x100_0000_01b3)
     });
     println!("solution bits {h:016x}");
+    // The outer pass's other EIM-family work, per call: the applied strain of the tractions
+    // (p and a shear q = 0.3 p: Love's strains at the inclusion layers) and the surface fields
+    // of the solution with its eigen-displacements; and, for scale, the 2D transforms alone on
+    // the grid's plan (the count one traction strain makes: 3 forward, 6 per layer inverse).
+    let q: Vec<f64> = bump.iter().map(|v| 0.3 * v).collect();
+    let (t, c) = (std::time::Instant::now(), cpu());
+    for _ in 0..reps {
+        system
+            .fields()
+            .traction_strain(&bump, Some([&q, &q]), &mut applied)
+            .unwrap();
+    }
+    let h = applied
+        .iter()
+        .flatten()
+        .fold(0xcbf2_9ce4_8422_2325u64, |h, v| {
+            (h ^ v.to_bits()).wrapping_mul(0x100_0000_01b3)
+        });
+    println!(
+        "traction strain {:.2} ms wall, {:.1} ms CPU per call, bits {h:016x}",
+        t.elapsed().as_secs_f64() * 1e3 / reps as f64,
+        (cpu() - c) * 1e3 / reps as f64
+    );
+    let mut u = vec![vec![0.0; n * n]; 3];
+    let (t, c) = (std::time::Instant::now(), cpu());
+    for _ in 0..reps {
+        system.surface_disturbance(&eps).unwrap();
+        let [a, b, d] = &mut u[..] else {
+            unreachable!("three fields")
+        };
+        system.fields().eigen_displacements([a, b, d]).unwrap();
+    }
+    let h = u.iter().flatten().fold(0xcbf2_9ce4_8422_2325u64, |h, v| {
+        (h ^ v.to_bits()).wrapping_mul(0x100_0000_01b3)
+    });
+    println!(
+        "surface fields and eigen-displacements {:.2} ms wall, {:.1} ms CPU per call, bits {h:016x}",
+        t.elapsed().as_secs_f64() * 1e3 / reps as f64,
+        (cpu() - c) * 1e3 / reps as f64
+    );
+    let mut fft = halfspace_numerics::fft2d::Fft2d::new(n, n).unwrap();
+    let mut spec = fft.new_spectrum();
+    fft.forward(&bump, &mut spec).unwrap();
+    let (kept, mut work) = (spec.clone(), spec.clone());
+    let mut out = vec![0.0; n * n];
+    let count = 6 * layers;
+    let (t, c) = (std::time::Instant::now(), cpu());
+    for _ in 0..reps {
+        for _ in 0..count {
+            fft.forward(&bump, &mut spec).unwrap();
+        }
+    }
+    let (fw, fc) = (t.elapsed().as_secs_f64(), cpu() - c);
+    let (t, c) = (std::time::Instant::now(), cpu());
+    for _ in 0..reps {
+        for _ in 0..count {
+            work.copy_from_slice(&kept);
+            fft.inverse(&mut work, &mut out).unwrap();
+        }
+    }
+    let (iw, ic) = (t.elapsed().as_secs_f64(), cpu() - c);
+    let per = 1e3 / (reps * count) as f64;
+    println!(
+        "one 2D FFT on the grid's plan: forward {:.3} ms wall ({:.3} CPU), inverse {:.3} ms wall ({:.3} CPU)",
+        fw * per,
+        fc * per,
+        iw * per,
+        ic * per
+    );
 }

@@ -425,10 +425,12 @@ impl EimFields {
         let targets: Vec<i64> = target_layers.iter().map(key).collect();
         let (ns, nt) = (sources.len(), targets.len());
         let families = if space == Space::HalfSpace { 2 } else { 1 };
-        // An upper bound of the build's peak: the 2D spectra of every family's keys (when targets
-        // = sources, the EIM's case, the depth-FFT build holds one family's at a time, then the
-        // quarter-stored depth spectra, ≈ 0.5 of one family's: 128² composite, 8 layers: 0.47 GB
-        // peak of the system against 1.3 GB here).
+        // An upper bound of the build's peak: the complex 2D spectra of every family's keys (when
+        // targets = sources, the EIM's case, the depth-FFT build holds one family's at a time,
+        // then the quarter-stored depth spectra, the difference family's stored real, ≈ 0.4 of one
+        // family's) and of the surface and Love operators (their build holds one operator's
+        // complex spectra, then stores them by quarter: a quarter of the bytes). Stored at 128²
+        // (composite, 8 layers): 169 MB (326 MB with complex storage), against 1.3 GB here.
         let need = estimated_bytes(
             window.n1,
             window.n2,
@@ -554,6 +556,31 @@ impl EimFields {
     /// Number of source and target layers.
     pub fn layer_counts(&self) -> (usize, usize) {
         (self.sources.len(), self.targets.len())
+    }
+
+    /// The volume operator's difference family stored real (its depth spectra are real or
+    /// imaginary: [`LayeredSpectra::real_storage_discarded`]): the largest dropped part over the
+    /// largest kept value, per block; `None` when it is stored complex (or dense).
+    pub fn real_storage_discarded(&self) -> Option<f64> {
+        match &self.volume {
+            Layered::Fast(s) => s.real_storage_discarded(),
+            Layered::Dense(_) => None,
+        }
+    }
+
+    /// The surface and Love operators' spectra stored by quarter
+    /// ([`LayeredSpectra::quarter_storage_discarded`]): the largest dropped part over the largest
+    /// kept value, per block, the larger of the two operators'; `None` when neither is.
+    pub fn quarter_storage_discarded(&self) -> Option<f64> {
+        let of = |l: &Layered| match l {
+            Layered::Fast(s) => s.quarter_storage_discarded(),
+            Layered::Dense(_) => None,
+        };
+        [Some(&self.love), self.surface.as_ref()]
+            .into_iter()
+            .flatten()
+            .filter_map(of)
+            .reduce(f64::max)
     }
 
     /// Bytes of stored kernel spectra.
