@@ -748,7 +748,7 @@ const FIELD_GROUP_BYTES: f64 = 128.0 * (1u64 << 20) as f64;
 /// docs/theory-sam.md#love-rectangle-stresses to #layered-operators): the kernels' spectra of
 /// every depth key (the eigenstrains' fields (1) + (2), the correction pressure `p_c`, Love's
 /// strains of each layer) are built once and applied to every state, instead of once per state;
-/// the layers are processed in groups whose strain spectra fit in [`FIELD_GROUP_BYTES`], Love's
+/// the layers are processed in groups whose strain spectra fit in `FIELD_GROUP_BYTES` (128 MiB), Love's
 /// spectra one layer at a time (the stored plan of [`SubsurfacePlan`] holds every layer's). The
 /// fretting loop's fields at the points A–D (docs/performance.md, "The 128² composite command
 /// outside the EIM (issue 21)").
