@@ -25,20 +25,9 @@ use halfspace_sam::contact::{NestedParams, REFERENCE_EIM_CHANGE_FACTOR};
 use halfspace_sam::drivers::fretting_loop::{FrettingLoop, LoopCase};
 use halfspace_sam::eim::{EimMethod, EimParams, FibreLayout};
 
-/// CPU seconds of this process (utime + stime of /proc/self/stat, 100 ticks per second).
-fn thread_cpu() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    let after = stat.rsplit(')').next().unwrap_or("");
-    let fields: Vec<&str> = after.split_whitespace().collect();
-    let ticks = |i: usize| {
-        fields
-            .get(i)
-            .and_then(|v| v.parse::<f64>().ok())
-            .unwrap_or(0.0)
-    };
-    // Fields after the command: state is 0, utime 11, stime 12.
-    (ticks(11) + ticks(12)) / 100.0
-}
+#[path = "probe/mod.rs"]
+mod probe;
+use probe::process_cpu_seconds as thread_cpu;
 
 fn max_diff(a: &[f64], b: &[f64]) -> f64 {
     a.iter()

@@ -15,18 +15,9 @@ use halfspace_sam::drivers::fretting_loop::LoopCase;
 use halfspace_sam::eim::{EimFields, EimMethod, EimParams, EimSystem, FibreLayout, InclusionSet};
 use halfspace_sam::SurfaceGrid;
 
-/// CPU seconds of this process (utime + stime of /proc/self/stat, 100 ticks per second).
-fn cpu() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    let fields: Vec<f64> = stat
-        .rsplit(')')
-        .next()
-        .unwrap_or("")
-        .split_whitespace()
-        .map(|v| v.parse().unwrap_or(0.0))
-        .collect();
-    (fields.get(11).unwrap_or(&0.0) + fields.get(12).unwrap_or(&0.0)) / 100.0
-}
+#[path = "probe/mod.rs"]
+mod probe;
+use probe::process_cpu_seconds as cpu;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -12,14 +12,9 @@ use halfspace_sam::drivers::fretting_loop::{FrettingLoop, LoopCase};
 use halfspace_sam::eim::FibreLayout;
 use halfspace_sam::subsurface::{subsurface_stress, von_mises_fields, FieldSources};
 
-/// CPU seconds of this process (utime + stime of /proc/self/stat, 100 ticks per second).
-fn cpu() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    let after = stat.rsplit(')').next().unwrap_or("");
-    let f: Vec<&str> = after.split_whitespace().collect();
-    let t = |i: usize| f.get(i).and_then(|v| v.parse::<f64>().ok()).unwrap_or(0.0);
-    (t(11) + t(12)) / 100.0
-}
+#[path = "probe/mod.rs"]
+mod probe;
+use probe::process_cpu_seconds as cpu;
 
 /// `VmHWM` and `VmRSS` of this process (MB).
 fn memory() -> (f64, f64) {
