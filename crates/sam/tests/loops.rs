@@ -3,7 +3,7 @@
 
 use halfspace_numerics::op::DenseOperators;
 use halfspace_sam::analytic::mindlin;
-use halfspace_sam::contact::{ContactParams, ContactProblem, ContactState};
+use halfspace_sam::contact::{Alternation, ContactParams, ContactProblem, ContactState};
 use halfspace_sam::normal::{NormalLoad, NormalParams};
 use halfspace_sam::tangential::TangentialParams;
 use halfspace_sam::{Body, Compliance, SurfaceGrid};
@@ -508,4 +508,76 @@ fn warm_and_plain_tangential_solves_agree_through_load_reversals() {
         assert!(tp <= dp / 30.0 && tq <= dq / 30.0, "{tp:e} {tq:e}");
         assert!(products[0] < products[1]);
     }
+}
+
+/// The gauged alternation ([`Alternation::Gauged`], the default) against the plain one
+/// ([`Alternation::Plain`]) on a coupled Cattaneo–Mindlin-type path: the rigid sphere on steel,
+/// 32², `W` in two steps, then a shift to `D = 0.5 K` in two steps, every increment re-solved
+/// four times with small eigen-displacements as a nested loop's outer passes do (a smooth `u₃`
+/// bump and an odd `u₁`, `10⁻³, 10⁻⁵, 10⁻⁷, 10⁻⁹` of the Hertz approach). Both reach the same
+/// state to the alternation tolerance at every increment (measured ≤ 1.2e-9 in p, 1.0e-8 in q),
+/// and the gauged one in fewer alternations (measured 105 against 112) and fewer normal
+/// iterations (465 against 648).
+#[test]
+fn gauged_alternation_reaches_the_plain_state_in_fewer_alternations() {
+    let run = |alternation: Alternation| {
+        let mut prob = problem_with(
+            32,
+            true,
+            ContactParams {
+                alternation,
+                ..params()
+            },
+        );
+        let grid = *prob.grid();
+        let a = a_hertz();
+        let delta = a * a / R;
+        let (u3, u1): (Vec<f64>, Vec<f64>) = (0..grid.len())
+            .map(|k| {
+                let (x, y) = grid.centre(k / grid.n2, k % grid.n2);
+                let r2 = (x * x + y * y) / (a * a);
+                (delta * (-r2).exp(), delta * (x / a) * (-r2).exp())
+            })
+            .unzip();
+        let zero = vec![0.0; grid.len()];
+        let d = 0.5 * k_cm();
+        let mut states = Vec::new();
+        let (mut alternations, mut normal) = (0, 0);
+        for (w, s) in [(0.5 * W, 0.0), (W, 0.0), (W, 0.5 * d), (W, d)] {
+            prob.begin();
+            let mut this_increment = 0;
+            for pass in 0..5 {
+                let eps = if pass == 0 {
+                    0.0
+                } else {
+                    1e-3 * 10f64.powi(-2 * (pass - 1))
+                };
+                let e3: Vec<f64> = u3.iter().map(|v| eps * v).collect();
+                let e1: Vec<f64> = u1.iter().map(|v| eps * v).collect();
+                prob.set_eigen_displacements(Some([&e1, &zero, &e3]))
+                    .unwrap();
+                let info = prob.solve(NormalLoad::Force(w), [s, 0.0]).unwrap();
+                alternations += info.alternations;
+                normal += info.normal_iterations_total;
+                // The trace holds every alternation since `begin`, each with its solve.
+                this_increment += info.alternations;
+                let trace = prob.alternation_trace();
+                assert_eq!(trace.len(), this_increment);
+                assert_eq!(trace.last().unwrap().solve, pass as usize);
+            }
+            prob.commit();
+            states.push(prob.state().clone());
+        }
+        (states, alternations, normal)
+    };
+    let (plain, pa, pn) = run(Alternation::Plain);
+    let (gauged, ga, gn) = run(Alternation::Gauged);
+    for (i, (p, g)) in plain.iter().zip(&gauged).enumerate() {
+        let (dp, dq) = state_gap(p, g);
+        eprintln!("increment {i}: max|Δp|/p_max {dp:.1e}, max|Δq|/(μ p_max) {dq:.1e}");
+        assert!(dp < 1e-7 && dq < 1e-7, "increment {i}: {dp:e} {dq:e}");
+    }
+    eprintln!("alternations plain {pa} gauged {ga}; normal iterations plain {pn} gauged {gn}");
+    assert!(ga < pa, "alternations: gauged {ga}, plain {pa}");
+    assert!(gn < pn, "normal iterations: gauged {gn}, plain {pn}");
 }

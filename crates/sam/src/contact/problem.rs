@@ -2,6 +2,7 @@
 //! coupled (dissimilar) bodies, the incremental (history-dependent) friction law, load paths and
 //! fretting loops.
 
+use halfspace_numerics::anderson::Anderson;
 use halfspace_numerics::fft2d::{Fft2d, KernelFn};
 use halfspace_numerics::op::{BlockConvolution, FftOperators, GridOperator, OperatorSet};
 
@@ -26,6 +27,72 @@ pub struct ContactParams {
     /// Tangential solves of the early alternations to a hundredth of the alternation's last
     /// change (at most [`INEXACT_CEILING`]), the last one to the full tolerance.
     pub inexact_alternation: bool,
+    /// How the shear read by the next normal solve is formed from the alternations so far
+    /// (docs/theory-sam.md#normal-tangential-alternation).
+    pub alternation: Alternation,
+}
+
+/// The fixed point of the normal–tangential alternation `q = T(N(q))` (`N`: the normal solve with
+/// the shear `q` frozen, `T`: the tangential solve with the resulting pressure frozen;
+/// docs/theory-sam.md#normal-tangential-alternation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Alternation {
+    /// Gauss–Seidel (Panagiotopoulos 1975): the next normal solve reads the last tangential
+    /// solve's shear, `q_in^{k+1} = T(N(q_in^k))`; at least two alternations, the first
+    /// tangential solve (coupled, inexact) to [`INEXACT_CEILING`].
+    Plain,
+    /// [`Alternation::Plain`] whose first alternation is gauged by the change it meets: in a
+    /// re-solve of the increment (any solve after the first since [`ContactProblem::begin`]: the
+    /// outer passes of a nested loop), the first tangential solve is solved to a hundredth of
+    /// `max(max|Δp|/max p, max|Δb|/max|b|)` (the pressure change of the normal solve just done
+    /// and the change of the tangential right-hand side since the last solve), clamped as the
+    /// inexact alternation's; and a first alternation at the full tolerance that meets the
+    /// stopping rule ends the solve. The stopping rule and the tolerances are the plain ones.
+    Gauged,
+    /// Anderson mixing of that fixed point (Anderson 1965; Walker & Ni 2011) with `depth`
+    /// differences: the next normal solve reads `q_in^{k+1} = AA(q_in^k, T(N(q_in^k)))`
+    /// ([`halfspace_numerics::anderson`], mixing 1). Only the shear read by the normal solve is
+    /// mixed: the returned state is an actual normal solve and the tangential solve on its
+    /// pressure. The stopping rule of the plain alternation holds on the actual solves
+    /// (successive pressures and shears) and, in addition, on the residual
+    /// `max|T(N(q_in)) − q_in|`. A step whose residual is not below the last one's falls back to
+    /// the plain step (the history is dropped).
+    Anderson {
+        /// History depth `m ≥ 1`.
+        depth: usize,
+    },
+}
+
+/// The most alternations [`ContactProblem::alternation_trace`] keeps between two
+/// [`ContactProblem::begin`] calls (later ones are not recorded).
+pub const TRACE_LIMIT: usize = 4096;
+
+/// [`Alternation::Gauged`]: an early alternation's normal solve stops at this factor times the
+/// last alternation change …
+pub const NORMAL_GAUGE: f64 = 1e-4;
+/// … but no looser than this.
+pub const NORMAL_CEILING: f64 = 1e-6;
+
+/// The default [`Alternation`]'s Anderson depth.
+pub const DEFAULT_ALTERNATION_DEPTH: usize = 2;
+
+/// Per alternation of the solves since the last [`ContactProblem::begin`]
+/// ([`ContactProblem::alternation_trace`]): the changes of the stopping rule, relative to `max p`
+/// and `μ max p`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AlternationStep {
+    /// The solve since the last [`ContactProblem::begin`] (0-based: outer passes of a nested loop,
+    /// evaluations of a force control) this alternation belongs to.
+    pub solve: usize,
+    /// `max|p − p_prev| / max p` between successive normal solves.
+    pub pressure_change: f64,
+    /// `max|q − q_prev| / (μ max p)` between successive tangential solves.
+    pub shear_change: f64,
+    /// `max|q − q_in| / (μ max p)`: the tangential solve's shear against the shear the normal solve
+    /// read (the fixed-point residual; equal to `shear_change` on the plain alternation).
+    pub residual: f64,
+    /// Whether the next normal solve reads a mixed shear (false: the plain step, or the last).
+    pub mixed: bool,
 }
 
 /// The loosest KKT tolerance an early alternation's tangential solve uses.
@@ -40,6 +107,7 @@ impl Default for ContactParams {
             alternation_tolerance: 1e-7,
             max_alternations: 200,
             inexact_alternation: true,
+            alternation: Alternation::Gauged,
         }
     }
 }
@@ -89,6 +157,15 @@ pub struct IncrementInfo {
     pub max_pressure: f64,
 }
 
+/// The mixed alternation's state ([`Alternation::Anderson`]).
+struct Mixer {
+    anderson: Anderson,
+    /// The shear the next normal solve reads, flat (`q₁` then `q₂`).
+    q_in: Vec<f64>,
+    /// `T(N(q_in))` flat: the tangential solve's shear.
+    g: Vec<f64>,
+}
+
 /// A contact problem on one grid: geometry, bodies, friction, solvers and the current state, on the
 /// operators of `S` (the DC-FFT ones by default, or their dense twins). Every operator of the
 /// problem uses one padded and one periodic FFT core of the grid.
@@ -123,6 +200,12 @@ pub struct ContactProblem<S: OperatorSet = FftOperators> {
     /// `Δuⁿ⁺¹` of the last [`ContactProblem::solve`], committed by [`ContactProblem::commit`].
     trial_displacement: [Vec<f64>; 2],
     trial_shift: [f64; 2],
+    /// The mixed alternation's history and the shear the next normal solve reads (flat,
+    /// `q₁` then `q₂`); made at the first mixed solve.
+    mixer: Option<Mixer>,
+    /// The changes of every alternation of the solves since the last `begin`, and their count.
+    trace: Vec<AlternationStep>,
+    solves: usize,
 }
 
 impl ContactProblem {
@@ -237,6 +320,9 @@ impl<S: OperatorSet> ContactProblem<S> {
             eigen: None,
             trial_displacement: [t(), t()],
             trial_shift: [0.0; 2],
+            mixer: None,
+            trace: Vec::new(),
+            solves: 0,
         })
     }
 
@@ -343,6 +429,12 @@ impl<S: OperatorSet> ContactProblem<S> {
         self.coupled
     }
 
+    /// The changes of each alternation of the solves since the last [`ContactProblem::begin`], in
+    /// order (for observers: the contraction of the alternation, docs/performance.md).
+    pub fn alternation_trace(&self) -> &[AlternationStep] {
+        &self.trace
+    }
+
     /// The converged state of the last increment.
     pub fn state(&self) -> &ContactState {
         &self.state
@@ -416,6 +508,8 @@ impl<S: OperatorSet> ContactProblem<S> {
     /// increment with new eigen-displacements, a force control searching the shift); only
     /// [`ContactProblem::commit`] changes the history.
     pub fn begin(&mut self) {
+        self.trace.clear();
+        self.solves = 0;
         let n = self.state.tangential_displacement[0].len();
         for a in 0..2 {
             for k in 0..n {
@@ -502,7 +596,42 @@ impl<S: OperatorSet> ContactProblem<S> {
         };
         let alternation_tolerance = self.params.alternation_tolerance * slack;
         let (mut normal_info, mut tangential_info);
+        let mut normal_full;
         let (mut normal_total, mut tangential_total) = (0, 0);
+        // The mixed alternation (docs/theory-sam.md#normal-tangential-alternation): the shear the
+        // normal solve reads, `q_in`, held flat in the mixer, starts as the current shear; its
+        // history starts empty, so a solve depends only on the state it starts from.
+        let mixing = match self.params.alternation {
+            Alternation::Anderson { depth } if self.coupled && self.tangential.is_some() => {
+                if depth == 0 {
+                    return Err(SamError::InvalidParameter {
+                        name: "alternation Anderson depth",
+                        value: 0.0,
+                        allowed: "≥ 1",
+                    });
+                }
+                let fresh = !matches!(&self.mixer, Some(m) if m.anderson.shape() == (2 * n, depth));
+                if fresh {
+                    self.mixer = Some(Mixer {
+                        anderson: Anderson::new(2 * n, depth),
+                        q_in: vec![0.0; 2 * n],
+                        g: vec![0.0; 2 * n],
+                    });
+                }
+                let Mixer { anderson, q_in, .. } = self.mixer.as_mut().expect("made above");
+                anderson.reset();
+                q_in[..n].copy_from_slice(&self.state.shear[0]);
+                q_in[n..].copy_from_slice(&self.state.shear[1]);
+                true
+            }
+            _ => false,
+        };
+        let mut last_residual = f64::INFINITY;
+        let solve_index = self.solves;
+        // The gauged first alternation: only in a re-solve, whose last b is this increment's.
+        let gauged = self.coupled && self.params.alternation == Alternation::Gauged;
+        let gauge_first = gauged && solve_index > 0;
+        self.solves += 1;
         loop {
             alternations += 1;
             if self.tangential.is_some() && self.params.tangential.warm_start {
@@ -532,18 +661,45 @@ impl<S: OperatorSet> ContactProblem<S> {
                     self.h.iter_mut().zip(&eig[2]).for_each(|(h, u)| *h += u);
                 }
                 if let Some(op) = &mut self.shear_to_normal {
-                    op.apply(
-                        &[&self.state.shear[0], &self.state.shear[1]],
-                        &mut [&mut self.u3],
-                    )?;
+                    // The shear the normal solve reads: the last tangential solve's, or the mixed
+                    // one.
+                    let q_in: [&[f64]; 2] = match (&self.mixer, mixing) {
+                        (Some(m), true) => [&m.q_in[..n], &m.q_in[n..]],
+                        _ => [&self.state.shear[0], &self.state.shear[1]],
+                    };
+                    op.apply(&q_in, &mut [&mut self.u3])?;
                     self.h.iter_mut().zip(&self.u3).for_each(|(h, u)| *h += u);
                 }
                 &self.h
             };
-            normal_info =
-                self.normal
-                    .solve(h, load, &mut self.state.pressure, &self.params.normal)?;
+            // Gauged: the normal solves of the early alternations to 10⁻⁴ of the last change
+            // (full when it is below 10⁻⁶, as the tangential solve's), except the first of a
+            // re-solve, whose change is not known yet.
+            let normal_params =
+                if gauged && self.params.inexact_alternation && !(gauge_first && alternations == 1)
+                {
+                    let base = self.params.normal;
+                    NormalParams {
+                        tolerance: (NORMAL_GAUGE * change)
+                            .clamp(base.tolerance, NORMAL_CEILING.max(base.tolerance)),
+                        ..base
+                    }
+                } else {
+                    self.params.normal
+                };
+            normal_full = normal_params == self.params.normal;
+            normal_info = self
+                .normal
+                .solve(h, load, &mut self.state.pressure, &normal_params)?;
             normal_total += normal_info.iterations;
+            // The change the first alternation meets (Alternation::Gauged): the normal solve's.
+            let mut first_change = 0.0f64;
+            if gauge_first && alternations == 1 {
+                let pmax = self.state.pressure.iter().cloned().fold(0.0, f64::max);
+                let dp = (self.state.pressure.iter().zip(&self.p_prev))
+                    .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+                first_change = if pmax > 0.0 { dp / pmax } else { f64::INFINITY };
+            }
             let Some(tangential) = self.tangential.as_mut() else {
                 // μ = 0: no shear and no tangential fields (docs/theory-sam.md#normal-contact alone).
                 tangential_info = TangentialInfo::frictionless(normal_info.contact_cells);
@@ -566,10 +722,25 @@ impl<S: OperatorSet> ContactProblem<S> {
                 self.c[0].fill(0.0);
                 self.c[1].fill(0.0);
             }
-            for k in 0..n {
-                self.bound[k] = mu * self.state.pressure[k];
-                for a in 0..2 {
-                    self.b[a][k] = self.w[a][k] + shift[a] - self.c[a][k];
+            if gauge_first && alternations == 1 {
+                // … and the change of b since the last alternation of the last solve.
+                let (mut db, mut bmax) = (0.0f64, 0.0f64);
+                for k in 0..n {
+                    self.bound[k] = mu * self.state.pressure[k];
+                    for a in 0..2 {
+                        let b = self.w[a][k] + shift[a] - self.c[a][k];
+                        db = db.max((b - self.b[a][k]).abs());
+                        bmax = bmax.max(b.abs());
+                        self.b[a][k] = b;
+                    }
+                }
+                first_change = first_change.max(if bmax > 0.0 { db / bmax } else { 0.0 });
+            } else {
+                for k in 0..n {
+                    self.bound[k] = mu * self.state.pressure[k];
+                    for a in 0..2 {
+                        self.b[a][k] = self.w[a][k] + shift[a] - self.c[a][k];
+                    }
                 }
             }
             let [q0, q1] = &mut self.state.shear;
@@ -586,7 +757,12 @@ impl<S: OperatorSet> ContactProblem<S> {
                 }
             }
             let [s0, s1] = &mut self.state.slip;
-            let loose = (0.01 * change).clamp(tight.kkt_tolerance, INEXACT_CEILING);
+            let gauge = if gauge_first && alternations == 1 {
+                first_change
+            } else {
+                change
+            };
+            let loose = (0.01 * gauge).clamp(tight.kkt_tolerance, INEXACT_CEILING);
             let tangential_params =
                 if self.coupled && self.params.inexact_alternation && loose > tight.kkt_tolerance {
                     TangentialParams {
@@ -597,7 +773,7 @@ impl<S: OperatorSet> ContactProblem<S> {
                 } else {
                     tight
                 };
-            let at_full_tolerance = tangential_params == tight;
+            let at_full_tolerance = tangential_params == tight && normal_full;
             tangential_info = tangential.solve(
                 &self.bound,
                 [&self.b[0], &self.b[1]],
@@ -626,8 +802,53 @@ impl<S: OperatorSet> ContactProblem<S> {
                 })
                 .fold(0.0, f64::max);
             let tol = alternation_tolerance;
-            change = (dp / pmax).max(dq / (mu * pmax));
-            if alternations > 1 && at_full_tolerance && dp <= tol * pmax && dq <= tol * mu * pmax {
+            // The fixed-point residual max|q − q_in| (the shear change itself when plain).
+            let residual = match (&self.mixer, mixing) {
+                (Some(m), true) => (0..2)
+                    .flat_map(|a| {
+                        self.state.shear[a]
+                            .iter()
+                            .zip(&m.q_in[a * n..(a + 1) * n])
+                            .map(|(x, y)| (x - y).abs())
+                    })
+                    .fold(0.0, f64::max),
+                _ => dq,
+            };
+            change = (dp / pmax)
+                .max(dq / (mu * pmax))
+                .max(residual / (mu * pmax));
+            let converged = (alternations > 1 || gauged)
+                && at_full_tolerance
+                && dp <= tol * pmax
+                && dq <= tol * mu * pmax
+                && residual <= tol * mu * pmax;
+            let mut step = AlternationStep {
+                solve: solve_index,
+                pressure_change: dp / pmax,
+                shear_change: dq / (mu * pmax),
+                residual: residual / (mu * pmax),
+                mixed: false,
+            };
+            if mixing && !converged {
+                let Mixer { anderson, q_in, g } = self.mixer.as_mut().expect("made with mixing");
+                if residual < last_residual {
+                    // Walker & Ni's AA on x = q_in with G(x) = T(N(x)), the shear just solved.
+                    g[..n].copy_from_slice(&self.state.shear[0]);
+                    g[n..].copy_from_slice(&self.state.shear[1]);
+                    anderson.step(q_in, g, 1.0)?;
+                    step.mixed = true;
+                } else {
+                    // Not contracting: the plain step, and the history starts again.
+                    anderson.reset();
+                    q_in[..n].copy_from_slice(&self.state.shear[0]);
+                    q_in[n..].copy_from_slice(&self.state.shear[1]);
+                }
+                last_residual = residual;
+            }
+            if self.trace.len() < TRACE_LIMIT {
+                self.trace.push(step);
+            }
+            if converged {
                 break;
             }
             if alternations >= self.params.max_alternations {
