@@ -22,9 +22,8 @@
 //! to `DIR/p0.txt`: two binaries' paths can then be compared increment by increment.
 //!
 //! With `COMPOSITE_OUTER_TRACE=1` the last variant's alternations are printed after every
-//! increment: per outer pass (`solve`) and alternation the changes `max|Δp|/max p`,
-//! `max|Δq|/(μ max p)` and the residual `max|q − q_in|/(μ max p)`
-//! ([`halfspace_sam::contact::ContactProblem::alternation_trace`]).
+//! increment: per outer pass (`solve`) and alternation the changes `max|Δp|/max p` and
+//! `max|Δq|/(μ max p)` ([`halfspace_sam::contact::ContactProblem::alternation_trace`]).
 
 use halfspace_sam::contact::{NestedParams, REFERENCE_EIM_CHANGE_FACTOR};
 use halfspace_sam::drivers::fretting_loop::{FrettingLoop, LoopCase};
@@ -158,12 +157,12 @@ fn main() {
             println!("increment {steps}");
             for s in lp.solver().problem().alternation_trace() {
                 println!(
-                    "  pass {} dp {:.2e} dq {:.2e} residual {:.2e}{}",
+                    "  pass {} dp {:.2e} dq {:.2e} normal {} tangential {}",
                     s.solve + 1,
                     s.pressure_change,
                     s.shear_change,
-                    s.residual,
-                    if s.mixed { " mixed" } else { "" }
+                    s.normal_iterations,
+                    s.tangential_products
                 );
             }
         }

@@ -5,14 +5,13 @@
 //! (normal loading, fretting) the alternations, the normal iterations and tangential products
 //! summed over every alternation, and the wall and process CPU seconds.
 //!
-//! Run: `cargo run --release -p halfspace-sam --example reference_loop -- N [increments] [plain|gauged|aa<depth>] [exact]`
+//! Run: `cargo run --release -p halfspace-sam --example reference_loop -- N [increments] [plain|gauged] [exact]`
 //! (the alternation: `plain`, the Gauss–Seidel alternation; `gauged`, its gauged early solves;
-//! `aa2`, Anderson mixing of depth 2;
 //! default the library's, docs/theory-sam.md#normal-tangential-alternation; `exact`: every
 //! tangential solve to the full tolerance, `ContactParams::inexact_alternation` off). With
 //! `REFERENCE_LOOP_TRACE=1` one line per increment; `=2` also every alternation's changes
-//! (`max|Δp|/max p`, `max|Δq|/(μ max p)`, the residual `max|q − q_in|/(μ max p)`, mixed or not)
-//! and the contraction of the changes. With `REFERENCE_LOOP_DUMP=FILE` the state after every
+//! (`max|Δp|/max p`, `max|Δq|/(μ max p)`) and the ratio of the larger to the last alternation's
+//! (the contraction). With `REFERENCE_LOOP_DUMP=FILE` the state after every
 //! increment is appended to `FILE` (`p`, `q₁`, `q₂` as little-endian f64) and `p₀` printed.
 
 use halfspace_sam::contact::{Alternation, ContactParams, ContactProblem};
@@ -33,12 +32,7 @@ fn main() {
         None => ContactParams::default().alternation,
         Some("plain") => Alternation::Plain,
         Some("gauged") => Alternation::Gauged,
-        Some(v) => Alternation::Anderson {
-            depth: v
-                .strip_prefix("aa")
-                .and_then(|d| d.parse().ok())
-                .expect("plain, gauged or aa<depth>"),
-        },
+        Some(v) => panic!("{v}: plain or gauged"),
     };
     let mut case = LoopCase::default()
         .composite(FibreLayout::FibreCentred, 2.0)
@@ -128,21 +122,21 @@ fn main() {
     }
 }
 
-/// One line per alternation: its solve, the changes and the residual, and the ratio of the larger
-/// change to the last alternation's (the observed contraction).
+/// One line per alternation: its solve, the changes, and the ratio of the larger change to the
+/// last alternation's (the observed contraction).
 fn print_trace(steps: &[halfspace_sam::contact::AlternationStep]) {
     let mut last = f64::NAN;
     for (i, s) in steps.iter().enumerate() {
         let change = s.pressure_change.max(s.shear_change);
         println!(
-            "  solve {} alternation {} dp {:.2e} dq {:.2e} residual {:.2e} ratio {:.3} {}",
+            "  solve {} alternation {} dp {:.2e} dq {:.2e} ratio {:.3} normal {} tangential {}",
             s.solve,
             i + 1,
             s.pressure_change,
             s.shear_change,
-            s.residual,
             change / last,
-            if s.mixed { "mixed" } else { "" }
+            s.normal_iterations,
+            s.tangential_products,
         );
         last = change;
     }

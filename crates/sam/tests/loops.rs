@@ -515,9 +515,9 @@ fn warm_and_plain_tangential_solves_agree_through_load_reversals() {
 /// 32², `W` in two steps, then a shift to `D = 0.5 K` in two steps, every increment re-solved
 /// four times with small eigen-displacements as a nested loop's outer passes do (a smooth `u₃`
 /// bump and an odd `u₁`, `10⁻³, 10⁻⁵, 10⁻⁷, 10⁻⁹` of the Hertz approach). Both reach the same
-/// state to the alternation tolerance at every increment (measured ≤ 1.2e-9 in p, 1.0e-8 in q),
-/// and the gauged one in fewer alternations (measured 105 against 112) and fewer normal
-/// iterations (465 against 648).
+/// state to the alternation tolerance at every increment (measured ≤ 1.0e-9 in p, 1.0e-8 in q),
+/// and the gauged one in fewer alternations (measured 104 against 112) and fewer normal
+/// iterations (455 against 648).
 #[test]
 fn gauged_alternation_reaches_the_plain_state_in_fewer_alternations() {
     let run = |alternation: Alternation| {

@@ -16,6 +16,6 @@ pub use inhomogeneous::{
 };
 pub use problem::{
     Alternation, AlternationStep, ContactParams, ContactProblem, ContactState, IncrementInfo,
-    DEFAULT_ALTERNATION_DEPTH, INEXACT_CEILING,
+    INEXACT_CEILING, NORMAL_CEILING, NORMAL_GAUGE, TRACE_LIMIT,
 };
 pub use solver::ContactSolver;

@@ -2,7 +2,6 @@
 //! coupled (dissimilar) bodies, the incremental (history-dependent) friction law, load paths and
 //! fretting loops.
 
-use halfspace_numerics::anderson::Anderson;
 use halfspace_numerics::fft2d::{Fft2d, KernelFn};
 use halfspace_numerics::op::{BlockConvolution, FftOperators, GridOperator, OperatorSet};
 
@@ -41,40 +40,36 @@ pub enum Alternation {
     /// solve's shear, `q_in^{k+1} = T(N(q_in^k))`; at least two alternations, the first
     /// tangential solve (coupled, inexact) to [`INEXACT_CEILING`].
     Plain,
-    /// [`Alternation::Plain`] whose first alternation is gauged by the change it meets: in a
-    /// re-solve of the increment (any solve after the first since [`ContactProblem::begin`]: the
-    /// outer passes of a nested loop), the first tangential solve is solved to a hundredth of
-    /// `max(max|Δp|/max p, max|Δb|/max|b|)` (the pressure change of the normal solve just done
-    /// and the change of the tangential right-hand side since the last solve), clamped as the
-    /// inexact alternation's; and a first alternation at the full tolerance that meets the
-    /// stopping rule ends the solve. The stopping rule and the tolerances are the plain ones.
+    /// [`Alternation::Plain`] with its inexact solves gauged by the change they meet
+    /// (docs/theory-sam.md#normal-tangential-alternation): the early tangential solves to
+    /// [`TANGENTIAL_GAUGE`] of the last alternation change instead of 10⁻²; the early normal
+    /// solves to [`NORMAL_GAUGE`] of it (at most [`NORMAL_CEILING`]; the plain alternation
+    /// solves every normal solve to its full tolerance); in a re-solve of the increment (any
+    /// solve after the first since [`ContactProblem::begin`]: the outer passes of a nested
+    /// loop) the first alternation's normal solve to the full tolerance and its tangential solve
+    /// to [`TANGENTIAL_GAUGE`] of `max(max|Δp|/max p, max|Δb|/max|b|)` (the pressure change of
+    /// that normal solve and the change of the tangential right-hand side since the last
+    /// solve); and a first alternation at the full tolerances that meets the stopping rule ends
+    /// the solve (the plain one always runs a second). The stopping rule is the plain one; with
+    /// [`ContactProblem::solve_loosely`]'s slack the normal solve's full tolerance is scaled as
+    /// the tangential one is (at most to [`NORMAL_CEILING`]). Only coupled problems alternate:
+    /// uncoupled ones solve as the plain alternation does.
     Gauged,
-    /// Anderson mixing of that fixed point (Anderson 1965; Walker & Ni 2011) with `depth`
-    /// differences: the next normal solve reads `q_in^{k+1} = AA(q_in^k, T(N(q_in^k)))`
-    /// ([`halfspace_numerics::anderson`], mixing 1). Only the shear read by the normal solve is
-    /// mixed: the returned state is an actual normal solve and the tangential solve on its
-    /// pressure. The stopping rule of the plain alternation holds on the actual solves
-    /// (successive pressures and shears) and, in addition, on the residual
-    /// `max|T(N(q_in)) − q_in|`. A step whose residual is not below the last one's falls back to
-    /// the plain step (the history is dropped).
-    Anderson {
-        /// History depth `m ≥ 1`.
-        depth: usize,
-    },
 }
 
 /// The most alternations [`ContactProblem::alternation_trace`] keeps between two
 /// [`ContactProblem::begin`] calls (later ones are not recorded).
 pub const TRACE_LIMIT: usize = 4096;
 
+/// [`Alternation::Gauged`]: an early alternation's tangential solve stops at this factor times the
+/// last alternation change (the plain alternation's: 10⁻²).
+pub const TANGENTIAL_GAUGE: f64 = 3e-3;
+
 /// [`Alternation::Gauged`]: an early alternation's normal solve stops at this factor times the
 /// last alternation change …
 pub const NORMAL_GAUGE: f64 = 1e-4;
 /// … but no looser than this.
 pub const NORMAL_CEILING: f64 = 1e-6;
-
-/// The default [`Alternation`]'s Anderson depth.
-pub const DEFAULT_ALTERNATION_DEPTH: usize = 2;
 
 /// Per alternation of the solves since the last [`ContactProblem::begin`]
 /// ([`ContactProblem::alternation_trace`]): the changes of the stopping rule, relative to `max p`
@@ -88,11 +83,10 @@ pub struct AlternationStep {
     pub pressure_change: f64,
     /// `max|q − q_prev| / (μ max p)` between successive tangential solves.
     pub shear_change: f64,
-    /// `max|q − q_in| / (μ max p)`: the tangential solve's shear against the shear the normal solve
-    /// read (the fixed-point residual; equal to `shear_change` on the plain alternation).
-    pub residual: f64,
-    /// Whether the next normal solve reads a mixed shear (false: the plain step, or the last).
-    pub mixed: bool,
+    /// Iterations of the alternation's normal solve.
+    pub normal_iterations: usize,
+    /// Block products of the alternation's tangential solve.
+    pub tangential_products: usize,
 }
 
 /// The loosest KKT tolerance an early alternation's tangential solve uses.
@@ -157,15 +151,6 @@ pub struct IncrementInfo {
     pub max_pressure: f64,
 }
 
-/// The mixed alternation's state ([`Alternation::Anderson`]).
-struct Mixer {
-    anderson: Anderson,
-    /// The shear the next normal solve reads, flat (`q₁` then `q₂`).
-    q_in: Vec<f64>,
-    /// `T(N(q_in))` flat: the tangential solve's shear.
-    g: Vec<f64>,
-}
-
 /// A contact problem on one grid: geometry, bodies, friction, solvers and the current state, on the
 /// operators of `S` (the DC-FFT ones by default, or their dense twins). Every operator of the
 /// problem uses one padded and one periodic FFT core of the grid.
@@ -200,9 +185,6 @@ pub struct ContactProblem<S: OperatorSet = FftOperators> {
     /// `Δuⁿ⁺¹` of the last [`ContactProblem::solve`], committed by [`ContactProblem::commit`].
     trial_displacement: [Vec<f64>; 2],
     trial_shift: [f64; 2],
-    /// The mixed alternation's history and the shear the next normal solve reads (flat,
-    /// `q₁` then `q₂`); made at the first mixed solve.
-    mixer: Option<Mixer>,
     /// The changes of every alternation of the solves since the last `begin`, and their count.
     trace: Vec<AlternationStep>,
     solves: usize,
@@ -320,7 +302,6 @@ impl<S: OperatorSet> ContactProblem<S> {
             eigen: None,
             trial_displacement: [t(), t()],
             trial_shift: [0.0; 2],
-            mixer: None,
             trace: Vec::new(),
             solves: 0,
         })
@@ -598,39 +579,21 @@ impl<S: OperatorSet> ContactProblem<S> {
         let (mut normal_info, mut tangential_info);
         let mut normal_full;
         let (mut normal_total, mut tangential_total) = (0, 0);
-        // The mixed alternation (docs/theory-sam.md#normal-tangential-alternation): the shear the
-        // normal solve reads, `q_in`, held flat in the mixer, starts as the current shear; its
-        // history starts empty, so a solve depends only on the state it starts from.
-        let mixing = match self.params.alternation {
-            Alternation::Anderson { depth } if self.coupled && self.tangential.is_some() => {
-                if depth == 0 {
-                    return Err(SamError::InvalidParameter {
-                        name: "alternation Anderson depth",
-                        value: 0.0,
-                        allowed: "≥ 1",
-                    });
-                }
-                let fresh = !matches!(&self.mixer, Some(m) if m.anderson.shape() == (2 * n, depth));
-                if fresh {
-                    self.mixer = Some(Mixer {
-                        anderson: Anderson::new(2 * n, depth),
-                        q_in: vec![0.0; 2 * n],
-                        g: vec![0.0; 2 * n],
-                    });
-                }
-                let Mixer { anderson, q_in, .. } = self.mixer.as_mut().expect("made above");
-                anderson.reset();
-                q_in[..n].copy_from_slice(&self.state.shear[0]);
-                q_in[n..].copy_from_slice(&self.state.shear[1]);
-                true
-            }
-            _ => false,
-        };
-        let mut last_residual = f64::INFINITY;
         let solve_index = self.solves;
         // The gauged first alternation: only in a re-solve, whose last b is this increment's.
         let gauged = self.coupled && self.params.alternation == Alternation::Gauged;
         let gauge_first = gauged && solve_index > 0;
+        // The normal solve's full tolerance: scaled by the slack (at most to the loosest early
+        // solve's) when gauged, the plain one's otherwise.
+        let normal_tight = if gauged {
+            let base = self.params.normal;
+            NormalParams {
+                tolerance: (base.tolerance * slack).min(NORMAL_CEILING.max(base.tolerance)),
+                ..base
+            }
+        } else {
+            self.params.normal
+        };
         self.solves += 1;
         loop {
             alternations += 1;
@@ -661,33 +624,35 @@ impl<S: OperatorSet> ContactProblem<S> {
                     self.h.iter_mut().zip(&eig[2]).for_each(|(h, u)| *h += u);
                 }
                 if let Some(op) = &mut self.shear_to_normal {
-                    // The shear the normal solve reads: the last tangential solve's, or the mixed
-                    // one.
-                    let q_in: [&[f64]; 2] = match (&self.mixer, mixing) {
-                        (Some(m), true) => [&m.q_in[..n], &m.q_in[n..]],
-                        _ => [&self.state.shear[0], &self.state.shear[1]],
-                    };
-                    op.apply(&q_in, &mut [&mut self.u3])?;
+                    op.apply(
+                        &[&self.state.shear[0], &self.state.shear[1]],
+                        &mut [&mut self.u3],
+                    )?;
                     self.h.iter_mut().zip(&self.u3).for_each(|(h, u)| *h += u);
                 }
                 &self.h
             };
             // Gauged: the normal solves of the early alternations to 10⁻⁴ of the last change
             // (full when it is below 10⁻⁶, as the tangential solve's), except the first of a
-            // re-solve, whose change is not known yet.
-            let normal_params =
-                if gauged && self.params.inexact_alternation && !(gauge_first && alternations == 1)
-                {
-                    let base = self.params.normal;
-                    NormalParams {
-                        tolerance: (NORMAL_GAUGE * change)
-                            .clamp(base.tolerance, NORMAL_CEILING.max(base.tolerance)),
-                        ..base
-                    }
+            // re-solve, whose change is not known yet; the full tolerance scaled by the slack
+            // as the tangential one is.
+            let normal_params = if gauged && self.params.inexact_alternation {
+                let loose = if gauge_first && alternations == 1 {
+                    normal_tight.tolerance
                 } else {
-                    self.params.normal
+                    (NORMAL_GAUGE * change).clamp(
+                        normal_tight.tolerance,
+                        NORMAL_CEILING.max(normal_tight.tolerance),
+                    )
                 };
-            normal_full = normal_params == self.params.normal;
+                NormalParams {
+                    tolerance: loose,
+                    ..normal_tight
+                }
+            } else {
+                normal_tight
+            };
+            normal_full = normal_params == normal_tight;
             normal_info = self
                 .normal
                 .solve(h, load, &mut self.state.pressure, &normal_params)?;
@@ -762,7 +727,11 @@ impl<S: OperatorSet> ContactProblem<S> {
             } else {
                 change
             };
-            let loose = (0.01 * gauge).clamp(tight.kkt_tolerance, INEXACT_CEILING);
+            // The plain alternation's early tangential solves to a hundredth of the last change,
+            // the gauged one's to TANGENTIAL_GAUGE of it (its first of a re-solve: of the change
+            // it meets).
+            let factor = if gauged { TANGENTIAL_GAUGE } else { 0.01 };
+            let loose = (factor * gauge).clamp(tight.kkt_tolerance, INEXACT_CEILING);
             let tangential_params =
                 if self.coupled && self.params.inexact_alternation && loose > tight.kkt_tolerance {
                     TangentialParams {
@@ -802,49 +771,18 @@ impl<S: OperatorSet> ContactProblem<S> {
                 })
                 .fold(0.0, f64::max);
             let tol = alternation_tolerance;
-            // The fixed-point residual max|q − q_in| (the shear change itself when plain).
-            let residual = match (&self.mixer, mixing) {
-                (Some(m), true) => (0..2)
-                    .flat_map(|a| {
-                        self.state.shear[a]
-                            .iter()
-                            .zip(&m.q_in[a * n..(a + 1) * n])
-                            .map(|(x, y)| (x - y).abs())
-                    })
-                    .fold(0.0, f64::max),
-                _ => dq,
-            };
-            change = (dp / pmax)
-                .max(dq / (mu * pmax))
-                .max(residual / (mu * pmax));
+            change = (dp / pmax).max(dq / (mu * pmax));
             let converged = (alternations > 1 || gauged)
                 && at_full_tolerance
                 && dp <= tol * pmax
-                && dq <= tol * mu * pmax
-                && residual <= tol * mu * pmax;
-            let mut step = AlternationStep {
+                && dq <= tol * mu * pmax;
+            let step = AlternationStep {
                 solve: solve_index,
                 pressure_change: dp / pmax,
                 shear_change: dq / (mu * pmax),
-                residual: residual / (mu * pmax),
-                mixed: false,
+                normal_iterations: normal_info.iterations,
+                tangential_products: tangential_info.iterations,
             };
-            if mixing && !converged {
-                let Mixer { anderson, q_in, g } = self.mixer.as_mut().expect("made with mixing");
-                if residual < last_residual {
-                    // Walker & Ni's AA on x = q_in with G(x) = T(N(x)), the shear just solved.
-                    g[..n].copy_from_slice(&self.state.shear[0]);
-                    g[n..].copy_from_slice(&self.state.shear[1]);
-                    anderson.step(q_in, g, 1.0)?;
-                    step.mixed = true;
-                } else {
-                    // Not contracting: the plain step, and the history starts again.
-                    anderson.reset();
-                    q_in[..n].copy_from_slice(&self.state.shear[0]);
-                    q_in[n..].copy_from_slice(&self.state.shear[1]);
-                }
-                last_residual = residual;
-            }
             if self.trace.len() < TRACE_LIMIT {
                 self.trace.push(step);
             }
