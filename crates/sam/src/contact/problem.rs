@@ -24,7 +24,8 @@ pub struct ContactParams {
     /// Alternation limit.
     pub max_alternations: usize,
     /// Tangential solves of the early alternations to a hundredth of the alternation's last
-    /// change (at most [`INEXACT_CEILING`]), the last one to the full tolerance.
+    /// change (at most [`INEXACT_CEILING`]; [`TANGENTIAL_GAUGE`] of it and the early normal
+    /// solves loosened too with [`Alternation::Gauged`]), the last one to the full tolerance.
     pub inexact_alternation: bool,
     /// How the shear read by the next normal solve is formed from the alternations so far
     /// (docs/theory-sam.md#normal-tangential-alternation).
@@ -38,7 +39,9 @@ pub struct ContactParams {
 pub enum Alternation {
     /// Gauss–Seidel (Panagiotopoulos 1975): the next normal solve reads the last tangential
     /// solve's shear, `q_in^{k+1} = T(N(q_in^k))`; at least two alternations, the first
-    /// tangential solve (coupled, inexact) to [`INEXACT_CEILING`].
+    /// tangential solve (coupled, inexact) to [`INEXACT_CEILING`]. The default: the fretting
+    /// loop, map and wear run take it, and their checkpoint fingerprints do not record the
+    /// alternation (docs/performance.md "Fewer normal–tangential alternations").
     Plain,
     /// [`Alternation::Plain`] with its inexact solves gauged by the change they meet
     /// (docs/theory-sam.md#normal-tangential-alternation): the early tangential solves to
@@ -50,7 +53,9 @@ pub enum Alternation {
     /// to [`TANGENTIAL_GAUGE`] of `max(max|Δp|/max p, max|Δb|/max|b|)` (the pressure change of
     /// that normal solve and the change of the tangential right-hand side since the last
     /// solve); and a first alternation at the full tolerances that meets the stopping rule ends
-    /// the solve (the plain one always runs a second). The stopping rule is the plain one; with
+    /// the solve (the plain one always runs a second). After a loose alternation whose change did
+    /// not fall below the last one's, the next alternation solves both problems to the full
+    /// tolerances (the guard). The stopping rule is the plain one; with
     /// [`ContactProblem::solve_loosely`]'s slack the normal solve's full tolerance is scaled as
     /// the tangential one is (at most to [`NORMAL_CEILING`]). Only coupled problems alternate:
     /// uncoupled ones solve as the plain alternation does.
@@ -59,7 +64,7 @@ pub enum Alternation {
 
 /// The most alternations [`ContactProblem::alternation_trace`] keeps between two
 /// [`ContactProblem::begin`] calls (later ones are not recorded).
-pub const TRACE_LIMIT: usize = 4096;
+pub const TRACE_LIMIT: usize = 1024;
 
 /// [`Alternation::Gauged`]: an early alternation's tangential solve stops at this factor times the
 /// last alternation change (the plain alternation's: 10⁻²).
@@ -101,7 +106,7 @@ impl Default for ContactParams {
             alternation_tolerance: 1e-7,
             max_alternations: 200,
             inexact_alternation: true,
-            alternation: Alternation::Gauged,
+            alternation: Alternation::Plain,
         }
     }
 }
@@ -302,7 +307,7 @@ impl<S: OperatorSet> ContactProblem<S> {
             eigen: None,
             trial_displacement: [t(), t()],
             trial_shift: [0.0; 2],
-            trace: Vec::new(),
+            trace: Vec::with_capacity(TRACE_LIMIT),
             solves: 0,
         })
     }
@@ -595,6 +600,9 @@ impl<S: OperatorSet> ContactProblem<S> {
             self.params.normal
         };
         self.solves += 1;
+        // Gauged: after an alternation whose change did not fall below the last one's, the next
+        // alternation solves both problems to the full tolerances (the plain step's guard).
+        let (mut full_next, mut last_change) = (false, f64::INFINITY);
         loop {
             alternations += 1;
             if self.tangential.is_some() && self.params.tangential.warm_start {
@@ -636,7 +644,7 @@ impl<S: OperatorSet> ContactProblem<S> {
             // (full when it is below 10⁻⁶, as the tangential solve's), except the first of a
             // re-solve, whose change is not known yet; the full tolerance scaled by the slack
             // as the tangential one is.
-            let normal_params = if gauged && self.params.inexact_alternation {
+            let normal_params = if gauged && self.params.inexact_alternation && !full_next {
                 let loose = if gauge_first && alternations == 1 {
                     normal_tight.tolerance
                 } else {
@@ -660,9 +668,8 @@ impl<S: OperatorSet> ContactProblem<S> {
             // The change the first alternation meets (Alternation::Gauged): the normal solve's.
             let mut first_change = 0.0f64;
             if gauge_first && alternations == 1 {
-                let pmax = self.state.pressure.iter().cloned().fold(0.0, f64::max);
-                let dp = (self.state.pressure.iter().zip(&self.p_prev))
-                    .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+                let pmax = max_of(&self.state.pressure);
+                let dp = max_gap(&self.state.pressure, &self.p_prev);
                 first_change = if pmax > 0.0 { dp / pmax } else { f64::INFINITY };
             }
             let Some(tangential) = self.tangential.as_mut() else {
@@ -687,26 +694,23 @@ impl<S: OperatorSet> ContactProblem<S> {
                 self.c[0].fill(0.0);
                 self.c[1].fill(0.0);
             }
-            if gauge_first && alternations == 1 {
-                // … and the change of b since the last alternation of the last solve.
-                let (mut db, mut bmax) = (0.0f64, 0.0f64);
-                for k in 0..n {
-                    self.bound[k] = mu * self.state.pressure[k];
-                    for a in 0..2 {
-                        let b = self.w[a][k] + shift[a] - self.c[a][k];
+            // b and the bound; in a gauged re-solve's first alternation also the change of b
+            // since the last alternation of the last solve (the change it meets).
+            let measure_b = gauge_first && alternations == 1;
+            let (mut db, mut bmax) = (0.0f64, 0.0f64);
+            for k in 0..n {
+                self.bound[k] = mu * self.state.pressure[k];
+                for a in 0..2 {
+                    let b = self.w[a][k] + shift[a] - self.c[a][k];
+                    if measure_b {
                         db = db.max((b - self.b[a][k]).abs());
                         bmax = bmax.max(b.abs());
-                        self.b[a][k] = b;
                     }
+                    self.b[a][k] = b;
                 }
+            }
+            if measure_b {
                 first_change = first_change.max(if bmax > 0.0 { db / bmax } else { 0.0 });
-            } else {
-                for k in 0..n {
-                    self.bound[k] = mu * self.state.pressure[k];
-                    for a in 0..2 {
-                        self.b[a][k] = self.w[a][k] + shift[a] - self.c[a][k];
-                    }
-                }
             }
             let [q0, q1] = &mut self.state.shear;
             // Rim warm start: a cell that slipped starts on its new circle `|q| = μp`
@@ -732,16 +736,19 @@ impl<S: OperatorSet> ContactProblem<S> {
             // it meets).
             let factor = if gauged { TANGENTIAL_GAUGE } else { 0.01 };
             let loose = (factor * gauge).clamp(tight.kkt_tolerance, INEXACT_CEILING);
-            let tangential_params =
-                if self.coupled && self.params.inexact_alternation && loose > tight.kkt_tolerance {
-                    TangentialParams {
-                        kkt_tolerance: loose,
-                        tolerance: tight.tolerance * loose / tight.kkt_tolerance,
-                        ..tight
-                    }
-                } else {
-                    tight
-                };
+            let tangential_params = if self.coupled
+                && self.params.inexact_alternation
+                && loose > tight.kkt_tolerance
+                && !full_next
+            {
+                TangentialParams {
+                    kkt_tolerance: loose,
+                    tolerance: tight.tolerance * loose / tight.kkt_tolerance,
+                    ..tight
+                }
+            } else {
+                tight
+            };
             let at_full_tolerance = tangential_params == tight && normal_full;
             tangential_info = tangential.solve(
                 &self.bound,
@@ -754,24 +761,14 @@ impl<S: OperatorSet> ContactProblem<S> {
             if !self.coupled {
                 break;
             }
-            let pmax = self.state.pressure.iter().cloned().fold(0.0, f64::max);
-            let dp = self
-                .state
-                .pressure
-                .iter()
-                .zip(&self.p_prev)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max);
-            let dq = (0..2)
-                .flat_map(|a| {
-                    self.state.shear[a]
-                        .iter()
-                        .zip(&self.q_prev[a])
-                        .map(|(x, y)| (x - y).abs())
-                })
-                .fold(0.0, f64::max);
+            let pmax = max_of(&self.state.pressure);
+            let dp = max_gap(&self.state.pressure, &self.p_prev);
+            let dq = max_gap(&self.state.shear[0], &self.q_prev[0])
+                .max(max_gap(&self.state.shear[1], &self.q_prev[1]));
             let tol = alternation_tolerance;
             change = (dp / pmax).max(dq / (mu * pmax));
+            full_next = gauged && !at_full_tolerance && change >= last_change;
+            last_change = change;
             let converged = (alternations > 1 || gauged)
                 && at_full_tolerance
                 && dp <= tol * pmax
@@ -876,6 +873,9 @@ impl<S: OperatorSet> ContactProblem<S> {
         }
         let tol_q = 1e-6 * mu * w_force;
         let mut eval = |d: f64| -> Result<(f64, IncrementInfo), SamError> {
+            // Every evaluation a first solve of the increment: a function of `D₁` alone (the
+            // gauged alternation gauges re-solves by the last solve's `b`).
+            self.solves = 0;
             self.state.pressure.copy_from_slice(&warm_p);
             self.state.shear[0].copy_from_slice(&warm_q[0]);
             self.state.shear[1].copy_from_slice(&warm_q[1]);
@@ -886,4 +886,16 @@ impl<S: OperatorSet> ContactProblem<S> {
         self.commit();
         Ok((info, d))
     }
+}
+
+/// `max_k a_k` (0 for an empty or non-positive field).
+fn max_of(a: &[f64]) -> f64 {
+    a.iter().cloned().fold(0.0, f64::max)
+}
+
+/// `max_k |a_k − b_k|`.
+fn max_gap(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
 }
