@@ -20,6 +20,10 @@
 //! With `COMPOSITE_OUTER_DUMP=DIR` every variant's state after every increment is appended to
 //! `DIR/variant<i>.bin` (`p`, `q₁`, `q₂` as little-endian f64, `N²` values each) and `p₀` written
 //! to `DIR/p0.txt`: two binaries' paths can then be compared increment by increment.
+//!
+//! With `COMPOSITE_OUTER_TRACE=1` the last variant's alternations are printed after every
+//! increment: per outer pass (`solve`) and alternation the changes `max|Δp|/max p` and
+//! `max|Δq|/(μ max p)` ([`halfspace_sam::contact::ContactProblem::alternation_trace`]).
 
 use halfspace_sam::contact::{NestedParams, REFERENCE_EIM_CHANGE_FACTOR};
 use halfspace_sam::drivers::fretting_loop::{FrettingLoop, LoopCase};
@@ -148,6 +152,20 @@ fn main() {
             break;
         }
         steps += 1;
+        if std::env::var_os("COMPOSITE_OUTER_TRACE").is_some() {
+            let (_, lp) = variants.last().expect("the reference at least");
+            println!("increment {steps}");
+            for s in lp.solver().problem().alternation_trace() {
+                println!(
+                    "  pass {} dp {:.2e} dq {:.2e} normal {} tangential {}",
+                    s.solve + 1,
+                    s.pressure_change,
+                    s.shear_change,
+                    s.normal_iterations,
+                    s.tangential_products
+                );
+            }
+        }
         for ((_, lp), f) in variants.iter().zip(files.iter_mut()) {
             use std::io::Write;
             let s = lp.solver().problem().state();

@@ -5,9 +5,16 @@
 //! (normal loading, fretting) the alternations, the normal iterations and tangential products
 //! summed over every alternation, and the wall and process CPU seconds.
 //!
-//! Run: `cargo run --release -p halfspace-sam --example reference_loop -- N [increments]`.
+//! Run: `cargo run --release -p halfspace-sam --example reference_loop -- N [increments] [plain|gauged] [exact]`
+//! (the alternation: `plain`, the Gauss–Seidel alternation; `gauged`, its gauged early solves;
+//! default the library's, docs/theory-sam.md#normal-tangential-alternation; `exact`: every
+//! tangential solve to the full tolerance, `ContactParams::inexact_alternation` off). With
+//! `REFERENCE_LOOP_TRACE=1` one line per increment; `=2` also every alternation's changes
+//! (`max|Δp|/max p`, `max|Δq|/(μ max p)`) and the ratio of the larger to the last alternation's
+//! (the contraction). With `REFERENCE_LOOP_DUMP=FILE` the state after every
+//! increment is appended to `FILE` (`p`, `q₁`, `q₂` as little-endian f64) and `p₀` printed.
 
-use halfspace_sam::contact::{ContactParams, ContactProblem};
+use halfspace_sam::contact::{Alternation, ContactParams, ContactProblem};
 use halfspace_sam::drivers::fretting_loop::LoopCase;
 use halfspace_sam::eim::FibreLayout;
 use halfspace_sam::kernels::surface::{Body, Compliance};
@@ -21,6 +28,12 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let n: usize = args.first().and_then(|v| v.parse().ok()).unwrap_or(64);
     let limit: usize = args.get(1).and_then(|v| v.parse().ok()).unwrap_or(0);
+    let alternation = match args.get(2).map(String::as_str) {
+        None => ContactParams::default().alternation,
+        Some("plain") => Alternation::Plain,
+        Some("gauged") => Alternation::Gauged,
+        Some(v) => panic!("{v}: plain or gauged"),
+    };
     let mut case = LoopCase::default()
         .composite(FibreLayout::FibreCentred, 2.0)
         .unwrap()
@@ -38,8 +51,16 @@ fn main() {
         Compliance::pair(case.indenter, Body::elastic(case.e, case.nu).unwrap()).unwrap();
     let params = ContactParams {
         friction: case.friction,
+        alternation,
+        inexact_alternation: args.get(3).map(String::as_str) != Some("exact"),
         ..ContactParams::default()
     };
+    let trace = std::env::var("REFERENCE_LOOP_TRACE").unwrap_or_default();
+    let mut dump = std::env::var_os("REFERENCE_LOOP_DUMP")
+        .map(|f| std::io::BufWriter::new(std::fs::File::create(f).expect("dump file")));
+    if dump.is_some() {
+        println!("p0 {:e}", case.hertz_pressure());
+    }
     let mut problem = ContactProblem::new(grid, compliance, geometry, params).unwrap();
     let path = case.path();
     let total = if limit > 0 {
@@ -61,7 +82,7 @@ fn main() {
         s[3] += info.tangential_iterations_total as f64;
         s[4] += t.elapsed().as_secs_f64();
         s[5] += cpu() - c;
-        if std::env::var_os("REFERENCE_LOOP_TRACE").is_some() {
+        if !trace.is_empty() {
             println!(
                 "{k} alternations {} normal {} tangential {} {:.1} ms",
                 info.alternations,
@@ -69,6 +90,16 @@ fn main() {
                 info.tangential_iterations_total,
                 t.elapsed().as_secs_f64() * 1e3
             );
+        }
+        if trace == "2" {
+            print_trace(problem.alternation_trace());
+        }
+        if let Some(f) = dump.as_mut() {
+            use std::io::Write;
+            let s = problem.state();
+            for v in s.pressure.iter().chain(&s.shear[0]).chain(&s.shear[1]) {
+                f.write_all(&v.to_le_bytes()).unwrap();
+            }
         }
     }
     let s = problem.state();
@@ -88,5 +119,25 @@ fn main() {
             "| {name} | {} | {} | {} | {} | {:.2} | {:.2} |",
             s[0], s[1], s[2], s[3], s[4], s[5]
         );
+    }
+}
+
+/// One line per alternation: its solve, the changes, and the ratio of the larger change to the
+/// last alternation's (the observed contraction).
+fn print_trace(steps: &[halfspace_sam::contact::AlternationStep]) {
+    let mut last = f64::NAN;
+    for (i, s) in steps.iter().enumerate() {
+        let change = s.pressure_change.max(s.shear_change);
+        println!(
+            "  solve {} alternation {} dp {:.2e} dq {:.2e} ratio {:.3} normal {} tangential {}",
+            s.solve,
+            i + 1,
+            s.pressure_change,
+            s.shear_change,
+            change / last,
+            s.normal_iterations,
+            s.tangential_products,
+        );
+        last = change;
     }
 }

@@ -14,5 +14,8 @@ pub use inhomogeneous::{
     NestedWarmStart, DEFAULT_EIM_CHANGE_FACTOR, DEFAULT_EIM_RECYCLED_DEPTH, LOOSE_CONTACT_CEILING,
     MAX_EIM_RECYCLED_DEPTH, REFERENCE_EIM_CHANGE_FACTOR,
 };
-pub use problem::{ContactParams, ContactProblem, ContactState, IncrementInfo, INEXACT_CEILING};
+pub use problem::{
+    Alternation, AlternationStep, ContactParams, ContactProblem, ContactState, IncrementInfo,
+    INEXACT_CEILING, NORMAL_CEILING, NORMAL_GAUGE, TRACE_LIMIT,
+};
 pub use solver::ContactSolver;

@@ -24,8 +24,74 @@ pub struct ContactParams {
     /// Alternation limit.
     pub max_alternations: usize,
     /// Tangential solves of the early alternations to a hundredth of the alternation's last
-    /// change (at most [`INEXACT_CEILING`]), the last one to the full tolerance.
+    /// change (at most [`INEXACT_CEILING`]; [`TANGENTIAL_GAUGE`] of it and the early normal
+    /// solves loosened too with [`Alternation::Gauged`]), the last one to the full tolerance.
     pub inexact_alternation: bool,
+    /// How the shear read by the next normal solve is formed from the alternations so far
+    /// (docs/theory-sam.md#normal-tangential-alternation).
+    pub alternation: Alternation,
+}
+
+/// The fixed point of the normal–tangential alternation `q = T(N(q))` (`N`: the normal solve with
+/// the shear `q` frozen, `T`: the tangential solve with the resulting pressure frozen;
+/// docs/theory-sam.md#normal-tangential-alternation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Alternation {
+    /// Gauss–Seidel (Panagiotopoulos 1975): the next normal solve reads the last tangential
+    /// solve's shear, `q_in^{k+1} = T(N(q_in^k))`; at least two alternations, the first
+    /// tangential solve (coupled, inexact) to [`INEXACT_CEILING`]. The default: the fretting
+    /// loop, map and wear run take it, and their checkpoint fingerprints do not record the
+    /// alternation (docs/performance.md "Fewer normal–tangential alternations").
+    Plain,
+    /// [`Alternation::Plain`] with its inexact solves gauged by the change they meet
+    /// (docs/theory-sam.md#normal-tangential-alternation): the early tangential solves to
+    /// [`TANGENTIAL_GAUGE`] of the last alternation change instead of 10⁻²; the early normal
+    /// solves to [`NORMAL_GAUGE`] of it (at most [`NORMAL_CEILING`]; the plain alternation
+    /// solves every normal solve to its full tolerance); in a re-solve of the increment (any
+    /// solve after the first since [`ContactProblem::begin`]: the outer passes of a nested
+    /// loop) the first alternation's normal solve to the full tolerance and its tangential solve
+    /// to [`TANGENTIAL_GAUGE`] of `max(max|Δp|/max p, max|Δb|/max|b|)` (the pressure change of
+    /// that normal solve and the change of the tangential right-hand side since the last
+    /// solve); and a first alternation at the full tolerances that meets the stopping rule ends
+    /// the solve (the plain one always runs a second). After a loose alternation whose change did
+    /// not fall below the last one's, the next alternation solves both problems to the full
+    /// tolerances (the guard). The stopping rule is the plain one; with
+    /// [`ContactProblem::solve_loosely`]'s slack the normal solve's full tolerance is scaled as
+    /// the tangential one is (at most to [`NORMAL_CEILING`]). Only coupled problems alternate:
+    /// uncoupled ones solve as the plain alternation does.
+    Gauged,
+}
+
+/// The most alternations [`ContactProblem::alternation_trace`] keeps between two
+/// [`ContactProblem::begin`] calls (later ones are not recorded).
+pub const TRACE_LIMIT: usize = 1024;
+
+/// [`Alternation::Gauged`]: an early alternation's tangential solve stops at this factor times the
+/// last alternation change (the plain alternation's: 10⁻²).
+pub const TANGENTIAL_GAUGE: f64 = 3e-3;
+
+/// [`Alternation::Gauged`]: an early alternation's normal solve stops at this factor times the
+/// last alternation change …
+pub const NORMAL_GAUGE: f64 = 1e-4;
+/// … but no looser than this.
+pub const NORMAL_CEILING: f64 = 1e-6;
+
+/// Per alternation of the solves since the last [`ContactProblem::begin`]
+/// ([`ContactProblem::alternation_trace`]): the changes of the stopping rule, relative to `max p`
+/// and `μ max p`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AlternationStep {
+    /// The solve since the last [`ContactProblem::begin`] (0-based: outer passes of a nested loop,
+    /// evaluations of a force control) this alternation belongs to.
+    pub solve: usize,
+    /// `max|p − p_prev| / max p` between successive normal solves.
+    pub pressure_change: f64,
+    /// `max|q − q_prev| / (μ max p)` between successive tangential solves.
+    pub shear_change: f64,
+    /// Iterations of the alternation's normal solve.
+    pub normal_iterations: usize,
+    /// Block products of the alternation's tangential solve.
+    pub tangential_products: usize,
 }
 
 /// The loosest KKT tolerance an early alternation's tangential solve uses.
@@ -40,6 +106,7 @@ impl Default for ContactParams {
             alternation_tolerance: 1e-7,
             max_alternations: 200,
             inexact_alternation: true,
+            alternation: Alternation::Plain,
         }
     }
 }
@@ -123,6 +190,9 @@ pub struct ContactProblem<S: OperatorSet = FftOperators> {
     /// `Δuⁿ⁺¹` of the last [`ContactProblem::solve`], committed by [`ContactProblem::commit`].
     trial_displacement: [Vec<f64>; 2],
     trial_shift: [f64; 2],
+    /// The changes of every alternation of the solves since the last `begin`, and their count.
+    trace: Vec<AlternationStep>,
+    solves: usize,
 }
 
 impl ContactProblem {
@@ -237,6 +307,8 @@ impl<S: OperatorSet> ContactProblem<S> {
             eigen: None,
             trial_displacement: [t(), t()],
             trial_shift: [0.0; 2],
+            trace: Vec::with_capacity(TRACE_LIMIT),
+            solves: 0,
         })
     }
 
@@ -343,6 +415,12 @@ impl<S: OperatorSet> ContactProblem<S> {
         self.coupled
     }
 
+    /// The changes of each alternation of the solves since the last [`ContactProblem::begin`], in
+    /// order (for observers: the contraction of the alternation, docs/performance.md).
+    pub fn alternation_trace(&self) -> &[AlternationStep] {
+        &self.trace
+    }
+
     /// The converged state of the last increment.
     pub fn state(&self) -> &ContactState {
         &self.state
@@ -416,6 +494,8 @@ impl<S: OperatorSet> ContactProblem<S> {
     /// increment with new eigen-displacements, a force control searching the shift); only
     /// [`ContactProblem::commit`] changes the history.
     pub fn begin(&mut self) {
+        self.trace.clear();
+        self.solves = 0;
         let n = self.state.tangential_displacement[0].len();
         for a in 0..2 {
             for k in 0..n {
@@ -502,7 +582,27 @@ impl<S: OperatorSet> ContactProblem<S> {
         };
         let alternation_tolerance = self.params.alternation_tolerance * slack;
         let (mut normal_info, mut tangential_info);
+        let mut normal_full;
         let (mut normal_total, mut tangential_total) = (0, 0);
+        let solve_index = self.solves;
+        // The gauged first alternation: only in a re-solve, whose last b is this increment's.
+        let gauged = self.coupled && self.params.alternation == Alternation::Gauged;
+        let gauge_first = gauged && solve_index > 0;
+        // The normal solve's full tolerance: scaled by the slack (at most to the loosest early
+        // solve's) when gauged, the plain one's otherwise.
+        let normal_tight = if gauged {
+            let base = self.params.normal;
+            NormalParams {
+                tolerance: (base.tolerance * slack).min(NORMAL_CEILING.max(base.tolerance)),
+                ..base
+            }
+        } else {
+            self.params.normal
+        };
+        self.solves += 1;
+        // Gauged: after an alternation whose change did not fall below the last one's, the next
+        // alternation solves both problems to the full tolerances (the plain step's guard).
+        let (mut full_next, mut last_change) = (false, f64::INFINITY);
         loop {
             alternations += 1;
             if self.tangential.is_some() && self.params.tangential.warm_start {
@@ -540,10 +640,38 @@ impl<S: OperatorSet> ContactProblem<S> {
                 }
                 &self.h
             };
-            normal_info =
-                self.normal
-                    .solve(h, load, &mut self.state.pressure, &self.params.normal)?;
+            // Gauged: the normal solves of the early alternations to 10⁻⁴ of the last change
+            // (full when it is below 10⁻⁶, as the tangential solve's), except the first of a
+            // re-solve, whose change is not known yet; the full tolerance scaled by the slack
+            // as the tangential one is.
+            let normal_params = if gauged && self.params.inexact_alternation && !full_next {
+                let loose = if gauge_first && alternations == 1 {
+                    normal_tight.tolerance
+                } else {
+                    (NORMAL_GAUGE * change).clamp(
+                        normal_tight.tolerance,
+                        NORMAL_CEILING.max(normal_tight.tolerance),
+                    )
+                };
+                NormalParams {
+                    tolerance: loose,
+                    ..normal_tight
+                }
+            } else {
+                normal_tight
+            };
+            normal_full = normal_params == normal_tight;
+            normal_info = self
+                .normal
+                .solve(h, load, &mut self.state.pressure, &normal_params)?;
             normal_total += normal_info.iterations;
+            // The change the first alternation meets (Alternation::Gauged): the normal solve's.
+            let mut first_change = 0.0f64;
+            if gauge_first && alternations == 1 {
+                let pmax = max_of(&self.state.pressure);
+                let dp = max_gap(&self.state.pressure, &self.p_prev);
+                first_change = if pmax > 0.0 { dp / pmax } else { f64::INFINITY };
+            }
             let Some(tangential) = self.tangential.as_mut() else {
                 // μ = 0: no shear and no tangential fields (docs/theory-sam.md#normal-contact alone).
                 tangential_info = TangentialInfo::frictionless(normal_info.contact_cells);
@@ -566,11 +694,23 @@ impl<S: OperatorSet> ContactProblem<S> {
                 self.c[0].fill(0.0);
                 self.c[1].fill(0.0);
             }
+            // b and the bound; in a gauged re-solve's first alternation also the change of b
+            // since the last alternation of the last solve (the change it meets).
+            let measure_b = gauge_first && alternations == 1;
+            let (mut db, mut bmax) = (0.0f64, 0.0f64);
             for k in 0..n {
                 self.bound[k] = mu * self.state.pressure[k];
                 for a in 0..2 {
-                    self.b[a][k] = self.w[a][k] + shift[a] - self.c[a][k];
+                    let b = self.w[a][k] + shift[a] - self.c[a][k];
+                    if measure_b {
+                        db = db.max((b - self.b[a][k]).abs());
+                        bmax = bmax.max(b.abs());
+                    }
+                    self.b[a][k] = b;
                 }
+            }
+            if measure_b {
+                first_change = first_change.max(if bmax > 0.0 { db / bmax } else { 0.0 });
             }
             let [q0, q1] = &mut self.state.shear;
             // Rim warm start: a cell that slipped starts on its new circle `|q| = μp`
@@ -586,18 +726,30 @@ impl<S: OperatorSet> ContactProblem<S> {
                 }
             }
             let [s0, s1] = &mut self.state.slip;
-            let loose = (0.01 * change).clamp(tight.kkt_tolerance, INEXACT_CEILING);
-            let tangential_params =
-                if self.coupled && self.params.inexact_alternation && loose > tight.kkt_tolerance {
-                    TangentialParams {
-                        kkt_tolerance: loose,
-                        tolerance: tight.tolerance * loose / tight.kkt_tolerance,
-                        ..tight
-                    }
-                } else {
-                    tight
-                };
-            let at_full_tolerance = tangential_params == tight;
+            let gauge = if gauge_first && alternations == 1 {
+                first_change
+            } else {
+                change
+            };
+            // The plain alternation's early tangential solves to a hundredth of the last change,
+            // the gauged one's to TANGENTIAL_GAUGE of it (its first of a re-solve: of the change
+            // it meets).
+            let factor = if gauged { TANGENTIAL_GAUGE } else { 0.01 };
+            let loose = (factor * gauge).clamp(tight.kkt_tolerance, INEXACT_CEILING);
+            let tangential_params = if self.coupled
+                && self.params.inexact_alternation
+                && loose > tight.kkt_tolerance
+                && !full_next
+            {
+                TangentialParams {
+                    kkt_tolerance: loose,
+                    tolerance: tight.tolerance * loose / tight.kkt_tolerance,
+                    ..tight
+                }
+            } else {
+                tight
+            };
+            let at_full_tolerance = tangential_params == tight && normal_full;
             tangential_info = tangential.solve(
                 &self.bound,
                 [&self.b[0], &self.b[1]],
@@ -609,25 +761,29 @@ impl<S: OperatorSet> ContactProblem<S> {
             if !self.coupled {
                 break;
             }
-            let pmax = self.state.pressure.iter().cloned().fold(0.0, f64::max);
-            let dp = self
-                .state
-                .pressure
-                .iter()
-                .zip(&self.p_prev)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max);
-            let dq = (0..2)
-                .flat_map(|a| {
-                    self.state.shear[a]
-                        .iter()
-                        .zip(&self.q_prev[a])
-                        .map(|(x, y)| (x - y).abs())
-                })
-                .fold(0.0, f64::max);
+            let pmax = max_of(&self.state.pressure);
+            let dp = max_gap(&self.state.pressure, &self.p_prev);
+            let dq = max_gap(&self.state.shear[0], &self.q_prev[0])
+                .max(max_gap(&self.state.shear[1], &self.q_prev[1]));
             let tol = alternation_tolerance;
             change = (dp / pmax).max(dq / (mu * pmax));
-            if alternations > 1 && at_full_tolerance && dp <= tol * pmax && dq <= tol * mu * pmax {
+            full_next = gauged && !at_full_tolerance && change >= last_change;
+            last_change = change;
+            let converged = (alternations > 1 || gauged)
+                && at_full_tolerance
+                && dp <= tol * pmax
+                && dq <= tol * mu * pmax;
+            let step = AlternationStep {
+                solve: solve_index,
+                pressure_change: dp / pmax,
+                shear_change: dq / (mu * pmax),
+                normal_iterations: normal_info.iterations,
+                tangential_products: tangential_info.iterations,
+            };
+            if self.trace.len() < TRACE_LIMIT {
+                self.trace.push(step);
+            }
+            if converged {
                 break;
             }
             if alternations >= self.params.max_alternations {
@@ -717,6 +873,9 @@ impl<S: OperatorSet> ContactProblem<S> {
         }
         let tol_q = 1e-6 * mu * w_force;
         let mut eval = |d: f64| -> Result<(f64, IncrementInfo), SamError> {
+            // Every evaluation a first solve of the increment: a function of `D₁` alone (the
+            // gauged alternation gauges re-solves by the last solve's `b`).
+            self.solves = 0;
             self.state.pressure.copy_from_slice(&warm_p);
             self.state.shear[0].copy_from_slice(&warm_q[0]);
             self.state.shear[1].copy_from_slice(&warm_q[1]);
@@ -727,4 +886,16 @@ impl<S: OperatorSet> ContactProblem<S> {
         self.commit();
         Ok((info, d))
     }
+}
+
+/// `max_k a_k` (0 for an empty or non-positive field).
+fn max_of(a: &[f64]) -> f64 {
+    a.iter().cloned().fold(0.0, f64::max)
+}
+
+/// `max_k |a_k − b_k|`.
+fn max_gap(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
 }
