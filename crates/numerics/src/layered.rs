@@ -705,6 +705,7 @@ impl DepthSpectra {
                 real_lanes,
                 acc,
                 column_in,
+                column_out,
                 scratch,
             } = &mut *buffers;
             self.load(n_in, stored_row, column_in, skip, first, scratch);
@@ -728,13 +729,21 @@ impl DepthSpectra {
                 self.inv.process_with_scratch(&mut side.y, scratch);
                 for a in 0..self.layers {
                     for o in 0..n_out {
-                        let (y, c) = (&mut outs[a * n_out + o][row], side.y[o * self.p + a]);
-                        if write {
-                            *y = zero + c;
-                        } else {
-                            *y += c;
-                        }
+                        column_out[(a * n_out + o) * p1 + row] = side.y[o * self.p + a];
                     }
+                }
+            }
+        }
+        // Added (or written as `0 + c`) in one sequential pass per output.
+        for (v, out) in outs.iter_mut().enumerate() {
+            let column = &buffers.column_out[v * p1..(v + 1) * p1];
+            if write {
+                for (y, c) in out.iter_mut().zip(column) {
+                    *y = zero + c;
+                }
+            } else {
+                for (y, c) in out.iter_mut().zip(column) {
+                    *y += c;
                 }
             }
         }
@@ -1059,8 +1068,9 @@ struct DepthBuffers {
     real_lanes: Vec<[f64; 8]>,
     /// Per output: the four lanes' sums.
     acc: Vec<[f64; 8]>,
-    /// The column's input spectra, `[v · 2N₁ + row]`.
+    /// The column's input and output spectra, `[v · 2N₁ + row]`.
     column_in: Vec<C64>,
+    column_out: Vec<C64>,
     scratch: Vec<C64>,
 }
 
@@ -1413,6 +1423,7 @@ impl LayeredSpectra {
                             real_lanes: vec![[0.0; 8]; real_lanes],
                             acc: vec![[0.0; 8]; n_out],
                             column_in: vec![C64::new(0.0, 0.0); inputs_hat.len() * column],
+                            column_out: vec![C64::new(0.0, 0.0); count * column],
                             scratch: vec![C64::new(0.0, 0.0); scratch],
                         })),
                     }

@@ -118,8 +118,8 @@ pub struct EimSystem {
     /// The eigenstrain fields of the layers: zero outside the cells, written only at the cells.
     eigen: Vec<Vec<f64>>,
     strain: Vec<Vec<f64>>,
-    /// The right-hand side `ΔC ε⁰` of the last solve (kept: a solve allocates no vector of the
-    /// system's size).
+    /// The right-hand side `ΔC ε⁰` of the last solve (kept: a solve allocates no right-hand side;
+    /// the block preconditioner is still copied per solve).
     rhs: Vec<f64>,
     /// GMRES work arrays, kept between solves (warm outer loops do not reallocate).
     gmres: Option<Gmres>,
