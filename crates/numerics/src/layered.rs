@@ -144,6 +144,8 @@ pub struct LayeredSpectra {
     /// The same operator with the depth sums done by FFT, when targets and sources are one
     /// contiguous stack of layers.
     depth: Option<Box<DepthSpectra>>,
+    /// The output pieces of the parallel products, kept between applications.
+    pieces: PieceStore,
 }
 
 /// Per-key spectra stored by quarter (docs/performance.md, "The difference family's real spectra
@@ -627,9 +629,10 @@ impl DepthSpectra {
     }
 
     /// `outs[a · n_out + o][row] += Σ_b Σ_i K_{oi}(a, b) x̂[b · n_in + i][col · 2N₁ + row]` for every
-    /// row of one in-plane column (`outs` are that column's slices). With the symmetries the rows
-    /// `r` and `2N₁ − r` and the depth frequencies `k` and `P − k` share one stored kernel value,
-    /// read once for all four.
+    /// row of one in-plane column (`outs` are that column's slices; with `write`, `=` instead of
+    /// `+=`: the sum is written as `0 + Σ`, the bits of a cleared output added to). With the
+    /// symmetries the rows `r` and `2N₁ − r` and the depth frequencies `k` and `P − k` share one
+    /// stored kernel value, read once for all four.
     // Several arrays share the frequency and layer indices.
     #[allow(clippy::too_many_arguments)]
     fn apply_column(
@@ -640,6 +643,7 @@ impl DepthSpectra {
         inputs_hat: &[Vec<C64>],
         skip: &[bool],
         outs: &mut [&mut [C64]],
+        write: bool,
         buffers: &mut DepthBuffers,
     ) {
         // The widest SIMD level of this CPU (pulp's runtime dispatch: AVX2 on x86-64-v3): the
@@ -653,6 +657,7 @@ impl DepthSpectra {
             inputs_hat,
             skip,
             outs,
+            write,
             buffers,
         });
     }
@@ -668,6 +673,7 @@ impl DepthSpectra {
         inputs_hat: &[Vec<C64>],
         skip: &[bool],
         outs: &mut [&mut [C64]],
+        write: bool,
         buffers: &mut DepthBuffers,
     ) {
         let parts = self.part_is_sum.len();
@@ -681,7 +687,7 @@ impl DepthSpectra {
                     .copy_from_slice(&input[col * p1..(col + 1) * p1]);
             }
         }
-        buffers.column_out.fill(C64::new(0.0, 0.0));
+        let zero = C64::new(0.0, 0.0);
         for stored_row in 0..self.stored_rows {
             let g = col * self.stored_rows + stored_row;
             let stored = &self.data[g * per_g..(g + 1) * per_g];
@@ -717,6 +723,7 @@ impl DepthSpectra {
                 (lanes, real_lanes),
                 acc,
             );
+            // Every row of the column is written once: r ≤ N₁ here, the others as mirrors.
             let rows = std::iter::once((stored_row, first)).chain(mirror.map(|row| (row, second)));
             for (row, side) in rows {
                 self.inv.process_with_scratch(&mut side.y, scratch);
@@ -727,12 +734,17 @@ impl DepthSpectra {
                 }
             }
         }
+        // Added (or written as `0 + c`) in one sequential pass per output.
         for (v, out) in outs.iter_mut().enumerate() {
-            for (y, c) in out
-                .iter_mut()
-                .zip(&buffers.column_out[v * p1..(v + 1) * p1])
-            {
-                *y += c;
+            let column = &buffers.column_out[v * p1..(v + 1) * p1];
+            if write {
+                for (y, c) in out.iter_mut().zip(column) {
+                    *y = zero + c;
+                }
+            } else {
+                for (y, c) in out.iter_mut().zip(column) {
+                    *y += c;
+                }
             }
         }
     }
@@ -973,6 +985,7 @@ struct ColumnTask<'a, 'b> {
     inputs_hat: &'a [Vec<C64>],
     skip: &'a [bool],
     outs: &'a mut [&'b mut [C64]],
+    write: bool,
     buffers: &'a mut DepthBuffers,
 }
 
@@ -989,6 +1002,7 @@ impl pulp::WithSimd for ColumnTask<'_, '_> {
             self.inputs_hat,
             self.skip,
             self.outs,
+            self.write,
             self.buffers,
         );
     }
@@ -1212,6 +1226,7 @@ impl LayeredSpectra {
             families: stored,
             quarters,
             depth,
+            pieces: PieceStore::default(),
         })
     }
 
@@ -1289,14 +1304,15 @@ impl LayeredSpectra {
     /// `out_hat[a · n_out + o] += Σ_b Σ_i Σ_F K̂^F_{oi}(key_F(a, b)) · x̂[b · n_in + i]` for every target
     /// `a` and output `o` (in parallel over them). `inputs_hat` holds the spectra of the source fields
     /// ([`Fft2d::forward`]); `skip[b · n_in + i]` marks inputs known to be zero. The products are
-    /// **added** to `out_hat` (clear it first), so several operators can sum into one output.
+    /// **added** to `out_hat`, so several operators can sum into one output
+    /// ([`LayeredSpectra::assign_leading`] writes them instead).
     pub fn accumulate(
         &self,
         inputs_hat: &[Vec<C64>],
         skip: &[bool],
         out_hat: &mut [Vec<C64>],
     ) -> Result<(), NumericsError> {
-        self.accumulate_leading(inputs_hat, skip, self.n_out, out_hat)
+        self.products(inputs_hat, skip, self.n_out, out_hat, false)
     }
 
     /// [`LayeredSpectra::accumulate`] of the first `outputs` outputs of each target only
@@ -1309,6 +1325,34 @@ impl LayeredSpectra {
         skip: &[bool],
         outputs: usize,
         out_hat: &mut [Vec<C64>],
+    ) -> Result<(), NumericsError> {
+        self.products(inputs_hat, skip, outputs, out_hat, false)
+    }
+
+    /// `out_hat[a · outputs + o] = Σ_b Σ_i Σ_F K̂^F_{oi}(key_F(a, b)) · x̂[b · n_in + i]`: the products
+    /// of [`LayeredSpectra::accumulate_leading`] written over `out_hat` (its values are not read),
+    /// bit for bit those of clearing `out_hat` and accumulating (each output's first contribution
+    /// is added to zero where it is written, in the chunk being computed): no separate pass
+    /// clears the outputs (docs/performance.md, "Overheads of one EIM application and one outer
+    /// pass").
+    pub fn assign_leading(
+        &self,
+        inputs_hat: &[Vec<C64>],
+        skip: &[bool],
+        outputs: usize,
+        out_hat: &mut [Vec<C64>],
+    ) -> Result<(), NumericsError> {
+        self.products(inputs_hat, skip, outputs, out_hat, true)
+    }
+
+    /// [`LayeredSpectra::accumulate_leading`] (`write`: [`LayeredSpectra::assign_leading`]).
+    fn products(
+        &self,
+        inputs_hat: &[Vec<C64>],
+        skip: &[bool],
+        outputs: usize,
+        out_hat: &mut [Vec<C64>],
+        write: bool,
     ) -> Result<(), NumericsError> {
         let (nt, ns) = (self.targets.len(), self.sources.len());
         if inputs_hat.len() != ns * self.n_in || skip.len() != ns * self.n_in {
@@ -1332,22 +1376,26 @@ impl LayeredSpectra {
                 got: out_hat.len(),
             });
         }
+        let len = out_hat.first().map_or(0, |v| v.len());
+        if out_hat.iter().any(|v| v.len() != len) {
+            return Err(NumericsError::LengthMismatch {
+                what: "layered operator output spectra (one length)",
+                expected: len,
+                got: out_hat
+                    .iter()
+                    .map(Vec::len)
+                    .find(|&l| l != len)
+                    .unwrap_or(len),
+            });
+        }
+        let count = out_hat.len();
         // Block over frequencies: every (target, output) of a chunk of frequencies is accumulated
         // while that chunk of every kernel spectrum is in cache, so each stored spectrum is read
         // from memory once per application (instead of once per target).
-        let len = out_hat.first().map_or(0, |v| v.len());
         if let Some(depth) = &self.depth {
             // One task per in-plane column: its rows r and 2N₁ − r share a stored kernel.
             let column = depth.p1;
-            let out_count = out_hat.len();
-            let mut per_column: Vec<Vec<&mut [C64]>> = (0..len / column)
-                .map(|_| Vec::with_capacity(out_hat.len()))
-                .collect();
-            for out in out_hat.iter_mut() {
-                for (c, piece) in out.chunks_mut(column).enumerate() {
-                    per_column[c].push(piece);
-                }
-            }
+            let mut pieces = self.pieces.split(out_hat, column);
             let p = depth.p;
             let scratch = depth
                 .fwd
@@ -1363,7 +1411,7 @@ impl LayeredSpectra {
             let real_lanes = usize::from(depth.real.is_some()) * depth.stored_k * n_in;
             // Work arrays from the operator's pool (allocated at the first application only: a
             // fresh allocation per task costs page faults on every application).
-            per_column.into_par_iter().enumerate().for_each_init(
+            pieces.par_chunks_mut(count).enumerate().for_each_init(
                 || {
                     let buffers = depth.pool.lock().ok().and_then(|mut pool| pool.pop());
                     Pooled {
@@ -1375,46 +1423,108 @@ impl LayeredSpectra {
                             real_lanes: vec![[0.0; 8]; real_lanes],
                             acc: vec![[0.0; 8]; n_out],
                             column_in: vec![C64::new(0.0, 0.0); inputs_hat.len() * column],
-                            column_out: vec![C64::new(0.0, 0.0); out_count * column],
+                            column_out: vec![C64::new(0.0, 0.0); count * column],
                             scratch: vec![C64::new(0.0, 0.0); scratch],
                         })),
                     }
                 },
-                |pooled, (c, mut outs)| {
+                |pooled, (c, outs)| {
                     if let Some(buffers) = pooled.buffers.as_mut() {
-                        depth.apply_column(n_out, n_in, c, inputs_hat, skip, &mut outs, buffers);
+                        depth.apply_column(n_out, n_in, c, inputs_hat, skip, outs, write, buffers);
                     }
                 },
             );
+            self.pieces.keep(pieces);
             return Ok(());
         }
         if len <= SMALL_SPECTRUM {
             // Small plans (an inhomogeneity's window) stay in cache: parallel over outputs.
             out_hat.par_iter_mut().enumerate().for_each(|(ao, acc)| {
+                if write {
+                    acc.fill(C64::new(0.0, 0.0));
+                }
                 self.accumulate_one((ao / outputs, ao % outputs), 0, inputs_hat, skip, acc);
             });
             return Ok(());
         }
-        let chunks = len.div_ceil(FREQUENCY_CHUNK).max(1);
-        let mut per_chunk: Vec<Vec<&mut [C64]>> = (0..chunks)
-            .map(|_| Vec::with_capacity(out_hat.len()))
-            .collect();
-        for out in out_hat.iter_mut() {
-            for (c, piece) in out.chunks_mut(FREQUENCY_CHUNK).enumerate() {
-                per_chunk[c].push(piece);
-            }
-        }
-        per_chunk
-            .into_par_iter()
+        let mut pieces = self.pieces.split(out_hat, FREQUENCY_CHUNK);
+        pieces
+            .par_chunks_mut(count)
             .enumerate()
-            .for_each(|(c, mut outs)| {
+            .for_each(|(c, outs)| {
                 let start = c * FREQUENCY_CHUNK;
                 for (ao, acc) in outs.iter_mut().enumerate() {
+                    if write {
+                        // Cleared where it is accumulated (in cache), not in a pass of its own.
+                        acc.fill(C64::new(0.0, 0.0));
+                    }
                     self.accumulate_one((ao / outputs, ao % outputs), start, inputs_hat, skip, acc);
                 }
             });
+        self.pieces.keep(pieces);
         Ok(())
     }
+}
+
+/// The per-task pieces of the output spectra of [`LayeredSpectra::accumulate`] (`pieces[c · V + v]`
+/// = frequencies `c · len ..` of output `v`, `V` outputs), in vectors whose allocations are kept
+/// between applications (they borrow one application's outputs, so they are kept empty: an empty
+/// vector's allocation is carried to the next application's lifetime by an in-place collect).
+#[derive(Default)]
+struct PieceStore {
+    /// `(pieces, tails)`: the pieces, and each output's part not yet cut into pieces.
+    kept: std::sync::Mutex<(Pieces<'static>, Pieces<'static>)>,
+}
+
+/// Borrowed pieces of output spectra.
+type Pieces<'a> = Vec<&'a mut [C64]>;
+
+impl PieceStore {
+    /// Each output of `out_hat` (all of one length) cut into pieces of `len` values (the last
+    /// may be shorter), in the order `pieces[c · V + v]`.
+    fn split<'a>(&self, out_hat: &'a mut [Vec<C64>], len: usize) -> Vec<&'a mut [C64]> {
+        let (mut pieces, mut tails): (Vec<&'a mut [C64]>, Vec<&'a mut [C64]>) = self
+            .kept
+            .lock()
+            .map(|mut kept| std::mem::take(&mut *kept))
+            .unwrap_or_default();
+        let total = out_hat.first().map_or(0, Vec::len);
+        tails.extend(out_hat.iter_mut().map(Vec::as_mut_slice));
+        pieces.reserve(tails.len() * total.div_ceil(len.max(1)));
+        for _ in 0..total.div_ceil(len.max(1)) {
+            for tail in tails.iter_mut() {
+                let cut = len.min(tail.len());
+                let (piece, rest) = std::mem::take(tail).split_at_mut(cut);
+                pieces.push(piece);
+                *tail = rest;
+            }
+        }
+        tails.clear();
+        let tails = erase(tails);
+        if let Ok(mut kept) = self.kept.lock() {
+            kept.1 = tails;
+        }
+        pieces
+    }
+
+    /// Keeps the allocation of `pieces` (emptied) for the next application.
+    fn keep(&self, mut pieces: Vec<&mut [C64]>) {
+        pieces.clear();
+        let empty = erase(pieces);
+        if let Ok(mut kept) = self.kept.lock() {
+            kept.0 = empty;
+        }
+    }
+}
+
+/// An empty vector of borrowed pieces as one of any lifetime, in the same allocation (the
+/// standard library collects a mapped `into_iter` of equal layout in place; nothing is mapped).
+fn erase<'a, 'b>(empty: Vec<&'a mut [C64]>) -> Vec<&'b mut [C64]> {
+    debug_assert!(empty.is_empty());
+    empty
+        .into_iter()
+        .map(|_| -> &'b mut [C64] { unreachable!("an empty vector") })
+        .collect()
 }
 
 impl LayeredSpectra {
@@ -1994,6 +2104,83 @@ mod tests {
         assert!(spectra
             .accumulate_leading(&hats, &[false; 9], 1, &mut out)
             .is_err());
+    }
+
+    /// The products written over the outputs ([`LayeredSpectra::assign_leading`], whatever the
+    /// outputs held: NaN here) are bit for bit those of clearing the outputs and accumulating, on
+    /// the small, the frequency-chunked and the depth-FFT paths, with a zero input skipped; the
+    /// output pieces' vectors keep their allocation from one application to the next.
+    #[test]
+    fn assigned_products_equal_the_cleared_accumulation_bit_for_bit() {
+        let (k1, k2) = (Smooth(1.0), Smooth(-0.4));
+        let families: [(Family, &dyn LayerKernel); 2] =
+            [(Family::Difference, &k1), (Family::Sum, &k2)];
+        let factored: [(Family, &dyn LayerKernel); 2] = [
+            (Family::Difference, &FactoredDepth),
+            (Family::Sum, &FactoredDepth),
+        ];
+        let stack = [5i64, 7, 9];
+        type Case<'a> = (
+            usize,
+            usize,
+            &'a [i64],
+            &'a [i64],
+            &'a [(Family, &'a dyn LayerKernel)],
+        );
+        let cases: [Case; 5] = [
+            (5, 4, &[0], &[3, 5], &families),
+            (72, 64, &[0, 2], &[3, 5], &families),
+            (72, 64, &[0], &[3, 5], &[(Family::Difference, &Factored)]),
+            (6, 5, &stack, &stack, &families),
+            (16, 12, &stack, &stack, &factored),
+        ];
+        for (n1, n2, targets, sources, families) in cases {
+            let mut fft = Fft2d::new(n1, n2).unwrap();
+            let spectra = LayeredSpectra::new(&mut fft, targets, sources, families).unwrap();
+            let n_in = spectra.blocks().1;
+            let hats = random_spectra(&mut fft, sources.len() * n_in, 11);
+            let mut skip = vec![false; hats.len()];
+            skip[1] = true;
+            let outputs = spectra.blocks().0;
+            let count = targets.len() * outputs;
+            let mut added: Vec<Vec<C64>> = (0..count).map(|_| fft.new_spectrum()).collect();
+            spectra
+                .accumulate_leading(&hats, &skip, outputs, &mut added)
+                .unwrap();
+            let nan = C64::new(f64::NAN, f64::NAN);
+            let mut written: Vec<Vec<C64>> =
+                (0..count).map(|_| vec![nan; added[0].len()]).collect();
+            spectra
+                .assign_leading(&hats, &skip, outputs, &mut written)
+                .unwrap();
+            let bits = |v: &[Vec<C64>]| -> Vec<u64> {
+                v.iter()
+                    .flatten()
+                    .flat_map(|c| [c.re.to_bits(), c.im.to_bits()])
+                    .collect()
+            };
+            assert!(added.iter().flatten().any(|v| v.norm() > 0.0));
+            assert_eq!(
+                bits(&written),
+                bits(&added),
+                "{n1}×{n2}, {} targets",
+                targets.len()
+            );
+            // Written again over the last result: the same bits, in the kept piece vectors.
+            let kept = |s: &LayeredSpectra| {
+                let k = s.pieces.kept.lock().unwrap();
+                (k.0.as_ptr(), k.0.capacity())
+            };
+            let before = kept(&spectra);
+            spectra
+                .assign_leading(&hats, &skip, outputs, &mut written)
+                .unwrap();
+            assert_eq!(bits(&written), bits(&added));
+            if written[0].len() > SMALL_SPECTRUM || spectra.depth.is_some() {
+                assert!(before.1 > 0);
+                assert_eq!(kept(&spectra), before, "the pieces' allocation is kept");
+            }
+        }
     }
 
     /// `count` spectra of fields uniform in [−½, ½) from the seeded generator `seed`.

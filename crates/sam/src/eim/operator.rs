@@ -191,14 +191,14 @@ impl Layered {
     /// output rows are left stale). `y` may hold only the first outputs of an operator with one
     /// target (the surface fields: `p_c` alone); those are the same, bit for bit.
     #[allow(clippy::too_many_arguments)]
-    fn apply(
+    fn apply<X: AsRef<[f64]>, Y: AsMut<[f64]>>(
         &self,
         fft: &mut Fft2d,
-        x: &[&[f64]],
+        x: &[X],
         x_hat: &mut [Vec<C64>],
         skip: &mut [bool],
         y_hat: &mut [Vec<C64>],
-        y: &mut [&mut [f64]],
+        y: &mut [Y],
         rows: (Range<usize>, Range<usize>),
     ) -> Result<(), SamError> {
         match self {
@@ -207,12 +207,12 @@ impl Layered {
                 let rows_in = rows.0.start.min(n1)..rows.0.end.min(n1);
                 let rows_out = rows.1.start.min(n1)..rows.1.end.min(n1);
                 for ((xi, hat), sk) in x.iter().zip(x_hat.iter_mut()).zip(skip.iter_mut()) {
+                    let xi = xi.as_ref();
                     *sk = xi.iter().all(|v| *v == 0.0);
                     if !*sk {
                         fft.forward_rows(xi, rows_in.clone(), hat)?;
                     }
                 }
-                let zero = C64::new(0.0, 0.0);
                 let outputs = match spectra.targets().len() {
                     0 => spectra.blocks().0,
                     nt => y.len() / nt,
@@ -228,13 +228,16 @@ impl Layered {
                     ));
                 }
                 let y_hat = &mut y_hat[..y.len()];
-                y_hat.iter_mut().for_each(|s| s.fill(zero));
-                spectra.accumulate_leading(x_hat, skip, outputs, y_hat)?;
+                spectra.assign_leading(x_hat, skip, outputs, y_hat)?;
                 for (hat, yo) in y_hat.iter_mut().zip(y.iter_mut()) {
-                    fft.inverse_rows(hat, rows_out.clone(), yo)?;
+                    fft.inverse_rows(hat, rows_out.clone(), yo.as_mut())?;
                 }
             }
-            Layered::Dense(dense) => dense.direct_sum(x, y),
+            Layered::Dense(dense) => {
+                let x: Vec<&[f64]> = x.iter().map(AsRef::as_ref).collect();
+                let mut y: Vec<&mut [f64]> = y.iter_mut().map(AsMut::as_mut).collect();
+                dense.direct_sum(&x, &mut y);
+            }
         }
         Ok(())
     }
@@ -251,19 +254,16 @@ fn love_into_window(
     x: &[&[f64]; 3],
     strain: &mut [Vec<f64>],
 ) -> Result<(), SamError> {
-    {
-        let mut y: Vec<&mut [f64]> = love_full.iter_mut().map(|v| v.as_mut_slice()).collect();
-        let rows = window.i0..window.i0 + window.n1;
-        love.apply(
-            fft,
-            x,
-            &mut work.x_hat,
-            &mut work.skip,
-            &mut work.y_hat,
-            &mut y,
-            (0..usize::MAX, rows),
-        )?;
-    }
+    let rows = window.i0..window.i0 + window.n1;
+    love.apply(
+        fft,
+        x,
+        &mut work.x_hat,
+        &mut work.skip,
+        &mut work.y_hat,
+        love_full,
+        (0..usize::MAX, rows),
+    )?;
     for (full, local) in love_full.iter().zip(strain.iter_mut()) {
         window.gather_add(grid, full, local);
     }
@@ -324,10 +324,8 @@ impl Work {
         inputs: &Work,
         fields: &mut [Vec<f64>],
     ) -> Result<(), SamError> {
-        let zero = C64::new(0.0, 0.0);
         let y_hat = &mut self.y_hat[..fields.len()];
-        y_hat.iter_mut().for_each(|s| s.fill(zero));
-        spectra.accumulate_leading(&inputs.x_hat, &inputs.skip, fields.len(), y_hat)?;
+        spectra.assign_leading(&inputs.x_hat, &inputs.skip, fields.len(), y_hat)?;
         for (hat, field) in y_hat.iter_mut().zip(fields.iter_mut()) {
             fft.inverse(hat, field)?;
         }
@@ -538,7 +536,9 @@ impl EimFields {
             surface_fields: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
             displacements_current: true,
             scattered: vec![vec![0.0; n]; ns * 6 * half_space * windowed],
-            love_full: vec![vec![0.0; n]; nt * 6],
+            // Off the shared path only (a whole-grid window on the FFT backend transforms Love's
+            // strains back into the window fields themselves).
+            love_full: vec![vec![0.0; n]; nt * 6 * windowed],
             zero: vec![0.0; n],
         })
     }
@@ -652,16 +652,14 @@ impl EimFields {
         }
         // Fields (1) + (2) on the window.
         {
-            let x: Vec<&[f64]> = eigen.iter().map(|v| v.as_slice()).collect();
-            let mut y: Vec<&mut [f64]> = strain.iter_mut().map(|v| v.as_mut_slice()).collect();
             let w = &mut self.volume_work;
             self.volume.apply(
                 &mut self.wfft,
-                &x,
+                eigen,
                 &mut w.x_hat,
                 &mut w.skip,
                 &mut w.y_hat,
-                &mut y,
+                strain,
                 (0..usize::MAX, 0..usize::MAX),
             )?;
         }
@@ -741,20 +739,15 @@ impl EimFields {
         for (local, full) in eigen.iter().zip(self.scattered.iter_mut()) {
             self.window.scatter(&self.grid, local, full);
         }
-        let x: Vec<&[f64]> = self.scattered.iter().map(|v| v.as_slice()).collect();
-        let mut y: Vec<&mut [f64]> = self.surface_fields[..count]
-            .iter_mut()
-            .map(|v| v.as_mut_slice())
-            .collect();
         let w = &mut self.surface_work;
         let rows = self.window.i0..self.window.i0 + self.window.n1;
         surface.apply(
             &mut self.fft,
-            &x,
+            &self.scattered,
             &mut w.x_hat,
             &mut w.skip,
             &mut w.y_hat,
-            &mut y,
+            &mut self.surface_fields[..count],
             (rows, 0..usize::MAX),
         )
     }
@@ -775,10 +768,9 @@ impl EimFields {
             unreachable!("checked by the caller")
         };
         self.volume_work.transform_inputs(&mut self.fft, eigen)?;
-        let zero = C64::new(0.0, 0.0);
         let vw = &mut self.volume_work;
-        vw.y_hat.iter_mut().for_each(|s| s.fill(zero));
-        volume.accumulate(&vw.x_hat, &vw.skip, &mut vw.y_hat)?;
+        let outputs = volume.blocks().0;
+        volume.assign_leading(&vw.x_hat, &vw.skip, outputs, &mut vw.y_hat)?;
         self.displacements_current = surface_count == 3;
         self.surface_work.surface_fields(
             &mut self.fft,
@@ -871,6 +863,20 @@ impl EimFields {
             Some([q1, q2]) => [p, q1, q2],
             None => [p, &self.zero, &self.zero],
         };
+        if self.window.is_full(&self.grid) {
+            // The window is the grid: Love's strains are transformed back into `strain` itself
+            // (no whole-grid copy to clear, crop and add).
+            let w = &mut self.love_work;
+            return self.love.apply(
+                &mut self.fft,
+                &x,
+                &mut w.x_hat,
+                &mut w.skip,
+                &mut w.y_hat,
+                strain,
+                (0..usize::MAX, 0..usize::MAX),
+            );
+        }
         strain.iter_mut().for_each(|f| f.fill(0.0));
         love_into_window(
             &self.love,

@@ -115,8 +115,12 @@ pub struct EimSystem {
     dc: Vec<[[f64; 6]; 6]>,
     /// `(C^m − ΔC S₀)⁻¹` per material.
     precond: Vec<[[f64; 6]; 6]>,
+    /// The eigenstrain fields of the layers: zero outside the cells, written only at the cells.
     eigen: Vec<Vec<f64>>,
     strain: Vec<Vec<f64>>,
+    /// The right-hand side `ΔC ε⁰` of the last solve (kept: a solve allocates no right-hand side;
+    /// the block preconditioner is still copied per solve).
+    rhs: Vec<f64>,
     /// GMRES work arrays, kept between solves (warm outer loops do not reallocate).
     gmres: Option<Gmres>,
     /// The block-Jacobi iteration's Anderson history ([`EimParams::recycled_depth`]), kept
@@ -174,6 +178,7 @@ impl EimSystem {
             precond,
             eigen: vec![vec![0.0; n]; layers * 6],
             strain: vec![vec![0.0; n]; layers * 6],
+            rhs: Vec::new(),
             gmres: None,
             mixing: None,
         })
@@ -193,11 +198,14 @@ impl EimSystem {
     /// Scatters the cell eigenstrains into the layer fields.
     pub fn scatter(&self, x: &[f64], fields: &mut [Vec<f64>]) {
         fields.iter_mut().for_each(|f| f.fill(0.0));
-        for (c, cell) in self.set.cells.iter().enumerate() {
-            for o in 0..6 {
-                fields[cell.layer * 6 + o][cell.local] = x[c * 6 + o];
-            }
-        }
+        scatter_cells(&self.set, x, fields);
+    }
+
+    /// [`EimSystem::scatter`] into the system's own layer fields, which are zero outside the
+    /// cells from their allocation on and only ever written at the cells: only the cells are
+    /// written (no pass clears the fields).
+    fn scatter_own(&mut self, x: &[f64]) {
+        scatter_cells(&self.set, x, &mut self.eigen);
     }
 
     /// The block preconditioner `P⁻¹` as an operator.
@@ -218,7 +226,8 @@ impl EimSystem {
     ) -> Result<EimInfo, SamError> {
         let n = self.dim();
         check_lengths(n, eps_star, eps_star)?;
-        let mut b = vec![0.0; n];
+        let mut b = std::mem::take(&mut self.rhs);
+        b.resize(n, 0.0);
         self.rhs(applied, &mut b);
         let method = match params.method {
             EimMethod::Auto => {
@@ -245,7 +254,7 @@ impl EimSystem {
             restart,
         };
         let mut pre = self.preconditioner();
-        let info: KrylovInfo = match method {
+        let result = match method {
             EimMethod::Gmres => {
                 let mut gmres = match self.gmres.take() {
                     Some(g) if g.shape() == (n, restart.max(1)) => g,
@@ -270,8 +279,9 @@ impl EimSystem {
                 self.mixing = mixing;
                 r
             }
-        }
-        .map_err(|e| match e {
+        };
+        self.rhs = b;
+        let info: KrylovInfo = result.map_err(|e| match e {
             NumericsError::NoConvergence {
                 solver,
                 iterations,
@@ -308,11 +318,8 @@ impl EimSystem {
     /// The disturbance strain of `eps_star` at the inclusion layers (the fields are kept for
     /// eigen-displacements).
     pub fn disturbance(&mut self, eps_star: &[f64]) -> Result<&[Vec<f64>], SamError> {
-        let mut eigen = std::mem::take(&mut self.eigen);
-        self.scatter(eps_star, &mut eigen);
-        let r = self.fields.disturbance(&eigen, &mut self.strain);
-        self.eigen = eigen;
-        r?;
+        self.scatter_own(eps_star);
+        self.fields.disturbance(&self.eigen, &mut self.strain)?;
         Ok(&self.strain)
     }
 
@@ -320,11 +327,8 @@ impl EimSystem {
     /// bit for bit those of [`EimSystem::disturbance`], without the strain at the inclusion
     /// layers), for [`EimFields::eigen_displacements`].
     pub fn surface_disturbance(&mut self, eps_star: &[f64]) -> Result<(), SamError> {
-        let mut eigen = std::mem::take(&mut self.eigen);
-        self.scatter(eps_star, &mut eigen);
-        let r = self.fields.surface_disturbance(&eigen);
-        self.eigen = eigen;
-        r
+        self.scatter_own(eps_star);
+        self.fields.surface_disturbance(&self.eigen)
     }
 
     /// The field operators (for eigen-displacements after a solve).
@@ -355,12 +359,12 @@ impl LinearOperator for EimSystem {
 
     fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), NumericsError> {
         check_lengths(self.dim(), x, y)?;
-        let mut eigen = std::mem::take(&mut self.eigen);
-        self.scatter(x, &mut eigen);
+        self.scatter_own(x);
         // The strain alone (bit for bit the full disturbance's): the iteration reads no
         // surface displacement.
-        let r = self.fields.disturbance_strain(&eigen, &mut self.strain);
-        self.eigen = eigen;
+        let r = self
+            .fields
+            .disturbance_strain(&self.eigen, &mut self.strain);
         r.map_err(|e| match e {
             SamError::Numerics(n) => n,
             _ => NumericsError::InvalidParameter {
@@ -382,6 +386,16 @@ impl LinearOperator for EimSystem {
             }
         }
         Ok(())
+    }
+}
+
+/// `fields[layer · 6 + o][local] = x[c · 6 + o]` at every cell `c` of `set` (the other values are
+/// not written).
+fn scatter_cells(set: &InclusionSet, x: &[f64], fields: &mut [Vec<f64>]) {
+    for (c, cell) in set.cells.iter().enumerate() {
+        for o in 0..6 {
+            fields[cell.layer * 6 + o][cell.local] = x[c * 6 + o];
+        }
     }
 }
 
