@@ -176,15 +176,13 @@ struct StartRate {
 /// outside-wear and opened-hole estimates, and the projection onto the closed set
 /// ([`FrettingSimulation::set_hole_projection`]) with the margin `η = 1e-3` (`HOLE_MARGIN`);
 /// checkpoints without the attribute were made by the scheme before the projection (the same
-/// path was first recorded as `ros2-hole-projection`, never on main); `-recycled-stage2`: the
-/// second stage's GMRES in the first stage's Krylov space
-/// ([`FrettingSimulation::set_recycled_second_stage`]; before it `ros2-hole-projection-eta1e-3`).
-/// The name must change whenever the path does: `HOLE_MARGIN`, the default
+/// path was first recorded as `ros2-hole-projection`, never on main). The name must change
+/// whenever the path does: `HOLE_MARGIN`, the default
 /// switches (`hole_estimate`, `freeze_contact`, `first_order_fallback`, `hole_projection`,
 /// `recycled_second_stage` in `FrettingSimulation::with_state`) or how an attempt's error is
 /// formed. A library run with a non-default switch records nothing of it: it must be set again
 /// to resume on the same path.
-pub const ADAPTIVE_SCHEME: &str = "ros2-hole-projection-eta1e-3-recycled-stage2";
+pub const ADAPTIVE_SCHEME: &str = "ros2-hole-projection-eta1e-3";
 
 /// `γ = 1 + 1/√2` of ROS2.
 const ROS2_GAMMA: f64 = 1.0 + std::f64::consts::FRAC_1_SQRT_2;
@@ -420,8 +418,9 @@ impl FrettingSimulation {
             freeze_contact: true,
             first_order_fallback: false,
             hole_projection: true,
-            // Part of ADAPTIVE_SCHEME (see `hole_estimate`).
-            recycled_second_stage: true,
+            // Off: measured, not a net gain (docs/performance.md, "The second stage started
+            // from the first stage's Krylov space"); part of ADAPTIVE_SCHEME if turned on.
+            recycled_second_stage: false,
             stage_one_dim: None,
             observer: None,
             attempt: StepAttempt {
@@ -521,19 +520,19 @@ impl FrettingSimulation {
         self.hole_projection = on;
     }
 
-    /// Whether the second ROS2 stage `W k₂ = b₂` is solved in the first stage's Krylov space
-    /// (default on; off: GMRES warm-started from `b₂`, the scheme before, for comparisons). Both
-    /// stages share `W` and the band preconditioner `M`, so with the first stage's Arnoldi relation
-    /// `W M⁻¹ V_k = V_{k+1} H̄_k` kept (and its result `k₁`, whose image `W k₁ = b₁ − r₁` is known
-    /// without a product), GMRES for the second stage starts from 0 and minimizes
-    /// `‖b₂ − W k‖` over `k ∈ M⁻¹ span{V_k} + span{k₁} + M⁻¹ K_j`, the new Krylov space
-    /// (`Gmres::solve_continuing_previous_space`; an augmented Krylov method, GCRO, de Sturler
-    /// 1999), with the same stopping rule on `‖b₂ − W k₂‖`. Measured on the same systems (a run
-    /// solving every second stage both ways): 5.38 → 3.12 products a solve (graded k = −0.5,
-    /// χ = 0.9, N = 2001 to τ = 1), 7.46 → 5.49 (N = 8001, χ = 0.5, to τ = 3)
-    /// (docs/performance.md, "The second stage started from the first stage's Krylov space").
-    /// Set before the first step; not part of the checkpointed state (the CLI records the
-    /// scheme, [`ADAPTIVE_SCHEME`]).
+    /// Experimental, off by default: the second ROS2 stage `W k₂ = b₂` solved in the first
+    /// stage's Krylov space. Both stages share `W` and the band preconditioner `M`, so with the
+    /// first stage's Arnoldi relation `W M⁻¹ V_k = V_{k+1} H̄_k` and its result `k₁` kept (whose
+    /// image `W k₁ = b₁ − r₁` is known in the kept basis without a product), GMRES for the second
+    /// stage starts from 0 and minimizes `‖b₂ − W k‖` over `k ∈ M⁻¹ span{V_k} + span{k₁} +
+    /// M⁻¹ K_j`, the new Krylov space (`Gmres::solve_continuing_previous_space`; an augmented
+    /// Krylov method, GCRO, de Sturler 1999), with the same stopping rule on `‖b₂ − W k₂‖`.
+    /// Measured on the same systems (a run solving every second stage both ways): 5.38 → 3.12
+    /// products a solve (graded k = −0.5, χ = 0.9, N = 2001 to τ = 1), 7.46 → 5.49 (N = 8001,
+    /// χ = 0.5, to τ = 3); but whole runs take other step sequences with more rejections at
+    /// χ = 0.5 and are not faster but for the graded run (docs/performance.md, "The second
+    /// stage started from the first stage's Krylov space"). Set before the first step; not part
+    /// of the checkpointed state (with it on, the checkpoint's `adaptive_scheme` does not say so).
     pub fn set_recycled_second_stage(&mut self, on: bool) {
         self.recycled_second_stage = on;
     }
@@ -1728,9 +1727,6 @@ mod tests {
                 snapshots: vec![1.0, 3.0],
                 ..FrettingParams::default()
             };
-            // Both runs solve each stage on its own (the second stage's recycled Krylov space
-            // needs the preconditioner's `M`; it is compared over perturbed step sequences in
-            // `recycled_second_stage_is_as_accurate_over_perturbed_starts`).
             let run = |precondition: bool, tolerance: f64| {
                 let mut sim = FrettingSimulation::new(FrettingParams {
                     stepping: TimeStepping::Adaptive { tolerance },
@@ -1738,7 +1734,6 @@ mod tests {
                 })
                 .unwrap();
                 sim.precondition = precondition;
-                sim.set_recycled_second_stage(false);
                 sim.run(|_| false).unwrap();
                 sim
             };
