@@ -374,8 +374,6 @@ impl FrettingSimulation {
                 // product after the Arnoldi estimate falls below the stage tolerance.
                 let mut gmres = Gmres::new(n, KRYLOV.restart);
                 gmres.confirm_residual(false);
-                // The first stage's result joins the recycled space of the second.
-                gmres.keep_solution(true);
                 gmres
             },
             precond: BandPreconditioner::new(n, PRECONDITIONER_WIDTH),
@@ -526,7 +524,7 @@ impl FrettingSimulation {
     /// image `W k₁ = b₁ − r₁` is known in the kept basis without a product), GMRES for the second
     /// stage starts from 0 and minimizes `‖b₂ − W k‖` over `k ∈ M⁻¹ span{V_k} + span{k₁} +
     /// M⁻¹ K_j`, the new Krylov space (`Gmres::solve_continuing_previous_space`; an augmented
-    /// Krylov method, GCRO, de Sturler 1999), with the same stopping rule on `‖b₂ − W k₂‖`.
+    /// Krylov method, GCRO, de Sturler 1996), with the same stopping rule on `‖b₂ − W k₂‖`.
     /// Measured on the same systems (a run solving every second stage both ways): 5.38 → 3.12
     /// products a solve (graded k = −0.5, χ = 0.9, N = 2001 to τ = 1), 7.46 → 5.49 (N = 8001,
     /// χ = 0.5, to τ = 3); but whole runs take other step sequences with more rejections at
@@ -535,6 +533,8 @@ impl FrettingSimulation {
     /// of the checkpointed state (with it on, the checkpoint's `adaptive_scheme` does not say so).
     pub fn set_recycled_second_stage(&mut self, on: bool) {
         self.recycled_second_stage = on;
+        // The first stage's result joins the recycled space of the second.
+        self.gmres.keep_solution(on);
     }
 
     /// Calls `observer` after every attempt of an error-controlled step ([`StepAttempt`]: the step,
@@ -1178,9 +1178,11 @@ impl FrettingSimulation {
         self.matrix.set_dim(d);
         self.precond.dim = d;
         let info = if self.precondition {
+            // Only when the first stage left a usable space (else its warm start b₂ stays).
             let recycled = matches!(stage, Stage::Second)
                 && self.recycled_second_stage
-                && self.stage_one_dim == Some(d);
+                && self.stage_one_dim == Some(d)
+                && self.gmres.has_previous_space(d, params.restart);
             if recycled {
                 // The second stage minimizes over the first stage's space, its result and the
                 // new Krylov directions from a zero start (no product for the start's residual;
@@ -1787,10 +1789,14 @@ mod tests {
     /// a single sequence's touching radius is not bounded by the tolerance — the unrecycled
     /// scheme's own seed-1 run ends 1.96 cells from the reference at k = −0.5, τ = 1): the
     /// medians over the starts of the profile error against a tol-1e-6 run within 10 tol
-    /// (`GLOBAL_ERROR` of tests/stepping.rs) and of the radius within half a cell, for both, and
-    /// fewer GMRES iterations summed over the starts with the recycled space.
+    /// (`GLOBAL_ERROR` of tests/stepping.rs) and of the radius within half a cell (the bound
+    /// of `preconditioned_runs_match_unpreconditioned` at τ = 1), for both, and fewer GMRES
+    /// iterations summed over the starts with the recycled space. Not "as accurate": measured
+    /// at k = −0.5, τ = 3 the recycled median is 2.97 tol against 1.23 (all four starts larger),
+    /// which this bound lets pass (docs/performance.md, "The second stage started from the first
+    /// stage's Krylov space"); the switch is off by default.
     #[test]
-    fn recycled_second_stage_is_as_accurate_over_perturbed_starts() {
+    fn recycled_second_stage_stays_within_the_error_bound_over_perturbed_starts() {
         let tolerance = 1e-4;
         let median = |mut v: Vec<f64>| {
             v.sort_by(f64::total_cmp);
