@@ -32,7 +32,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..FrettingParams::default()
     };
     let attempts: Arc<Mutex<Vec<StepAttempt>>> = Arc::default();
-    let mut sim = FrettingSimulation::new(params)?;
+    let mut sim = FrettingSimulation::new(params.clone())?;
+    // `PERTURB=SEED`: the start profile multiplied by `1 + 1e-13 u_i`, `u_i` uniform in [−1, 1)
+    // from the seed — another step sequence, as another rounding gives (docs/fretting-wear.md,
+    // "The grazing-phase stepping tests over perturbed step sequences").
+    if let Ok(seed) = std::env::var("PERTURB") {
+        let mut state = sim.state().clone();
+        let mut x: u64 = seed
+            .parse::<u64>()?
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        for f in state.profile.iter_mut() {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let u = (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
+            *f *= 1.0 + 1e-13 * u;
+        }
+        sim = FrettingSimulation::resume(params, state)?;
+    }
     // `HOLE_ESTIMATE=off`: the adaptive steps without the opened-hole estimate.
     sim.set_hole_estimate(std::env::var("HOLE_ESTIMATE").map_or(true, |v| v != "off"));
     // `FIRST_ORDER_FALLBACK=on`: an attempt whose result opens holes takes its first-order
@@ -41,6 +59,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // `HOLE_PROJECTION=off`: an attempt whose result opens holes above the tolerance is
     // rejected instead of projected onto the closed set (the scheme before).
     sim.set_hole_projection(std::env::var("HOLE_PROJECTION").map_or(true, |v| v != "off"));
+    // `RECYCLED_STAGE2=on`: the second stage's GMRES continues the first stage's Krylov space
+    // (experimental, off by default).
+    sim.set_recycled_second_stage(std::env::var("RECYCLED_STAGE2").is_ok_and(|v| v == "on"));
     let sink = Arc::clone(&attempts);
     sim.set_attempt_observer(Box::new(move |a| sink.lock().expect("lock").push(*a)));
     let start = std::time::Instant::now();
@@ -94,10 +115,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let cell = sim.grid().step() / (2.0 * r_star);
     let a = *state.contact_radius_history.last().unwrap_or(&0.0);
     println!(
-        "steps {} ({} rejected), GMRES {}, a/a0 {a:.6} ({:+.2} cells from r*), V {:.5e}, V/V∞ − 1 {:+.3e}, holes {holes}, {seconds:.2} s",
+        "steps {} ({} rejected), attempts {}, GMRES {} ({:.3} an attempt), a/a0 {a:.6} ({:+.2} cells from r*), V {:.5e}, V/V∞ − 1 {:+.3e}, holes {holes}, {seconds:.2} s",
         state.step,
         state.rejected_steps,
+        attempts.len(),
         sim.krylov_iterations(),
+        sim.krylov_iterations() as f64 / attempts.len() as f64,
         (a - r_star) / cell,
         sim.wear_volume(),
         sim.wear_volume() / sim.limit_wear_volume() - 1.0
