@@ -266,7 +266,7 @@ pub struct FrettingSimulation {
     /// those of the trial profile, as before, for the tests' comparison).
     freeze_contact: bool,
     /// Whether the second ROS2 stage's GMRES continues the first stage's Krylov space
-    /// ([`FrettingSimulation::set_recycled_second_stage`]; default on) and the dimension the
+    /// ([`FrettingSimulation::set_recycled_second_stage`]; default off) and the dimension the
     /// first stage's solve ran on (the space is reused only on the same one).
     recycled_second_stage: bool,
     stage_one_dim: Option<usize>,
