@@ -915,14 +915,13 @@ mod tests {
     /// Without the confirming product: one product fewer, the returned residual is the estimate,
     /// and the true residual of the answer is within the tolerance too (to rounding), with and
     /// without restarts.
-    /// A second right-hand side with the same `A` and `M`: the start in the first solve's last
-    /// cycle's space meets the tolerance by the true residual, on fewer products when the new `b`
-    /// is close to that space; with no space kept (a fresh solver, another dimension) it is the
-    /// plain solve bit for bit.
-    #[test]
-    fn gmres_in_the_previous_space_meets_the_tolerance_on_fewer_products() {
-        let n = 80;
-        let mut a = matrix(n, 5);
+    /// The two previous-space tests' problem: `A` (the test matrix of size `n`), a diagonal
+    /// `M`, a first right-hand side `b₁`, a nearby one (as the second stage's) and an unrelated
+    /// one.
+    fn second_right_hand_side_problem(
+        n: usize,
+    ) -> (DenseMatrix, DenseMatrix, Vec<f64>, Vec<f64>, Vec<f64>) {
+        let a = matrix(n, 5);
         let diagonal: Vec<f64> = (0..n * n)
             .map(|l| {
                 if l % (n + 1) == 0 {
@@ -932,15 +931,25 @@ mod tests {
                 }
             })
             .collect();
-        let mut m = DenseMatrix::from_row_major(n, diagonal).unwrap();
+        let m = DenseMatrix::from_row_major(n, diagonal).unwrap();
         let b1: Vec<f64> = (0..n).map(|i| (i as f64 * 0.13).sin() + 0.2).collect();
-        // A nearby right-hand side (as the second stage's) and an unrelated one.
         let near: Vec<f64> = b1
             .iter()
             .enumerate()
             .map(|(i, v)| -1.3 * v + 1e-3 * (i as f64 * 0.7).cos())
             .collect();
         let far: Vec<f64> = (0..n).map(|i| ((i * i) as f64 * 0.37).cos()).collect();
+        (a, m, b1, near, far)
+    }
+
+    /// A second right-hand side with the same `A` and `M`: the start in the first solve's last
+    /// cycle's space meets the tolerance by the true residual, on fewer products when the new `b`
+    /// is close to that space; with no space kept (a fresh solver, another dimension) it is the
+    /// plain solve bit for bit.
+    #[test]
+    fn gmres_in_the_previous_space_meets_the_tolerance_on_fewer_products() {
+        let n = 80;
+        let (mut a, mut m, b1, near, far) = second_right_hand_side_problem(n);
         for confirm in [true, false] {
             for restart in [8, 80] {
                 let params = KrylovParams {
@@ -1035,24 +1044,7 @@ mod tests {
     #[test]
     fn gmres_continuing_the_previous_space_meets_the_tolerance_on_fewer_products() {
         let n = 80;
-        let mut a = matrix(n, 5);
-        let diagonal: Vec<f64> = (0..n * n)
-            .map(|l| {
-                if l % (n + 1) == 0 {
-                    1.0 / (1.0 + 0.01 * (l / n) as f64)
-                } else {
-                    0.0
-                }
-            })
-            .collect();
-        let mut m = DenseMatrix::from_row_major(n, diagonal).unwrap();
-        let b1: Vec<f64> = (0..n).map(|i| (i as f64 * 0.13).sin() + 0.2).collect();
-        let near: Vec<f64> = b1
-            .iter()
-            .enumerate()
-            .map(|(i, v)| -1.3 * v + 1e-3 * (i as f64 * 0.7).cos())
-            .collect();
-        let far: Vec<f64> = (0..n).map(|i| ((i * i) as f64 * 0.37).cos()).collect();
+        let (mut a, mut m, b1, near, far) = second_right_hand_side_problem(n);
         let true_residual = |a: &mut DenseMatrix, x: &[f64], b: &[f64]| {
             let mut r = vec![0.0; n];
             a.apply(x, &mut r).unwrap();
