@@ -9,6 +9,7 @@
 use serde::Deserialize;
 
 use crate::fatigue::Material;
+use crate::sam::contact::Alternation;
 use crate::sam::drivers::fretting_loop::LoopCase;
 use crate::sam::drivers::fretting_map::FrettingMap;
 use crate::sam::drivers::fretting_wear3d::{
@@ -72,6 +73,12 @@ crate::sam::fretting_loop_keys! {
             /// iteration; docs/theory-sam.md#solving-the-eim-equations; absent: the library's
             /// default, 5); refused without inhomogeneities and with the surface operator.
             eim_recycled_depth: Option<usize> = None,
+            /// The normal–tangential alternation of the contact solves: `"plain"` (the
+            /// Gauss–Seidel alternation) or `"gauged"` (its early solves gauged by the change
+            /// they meet; docs/theory-sam.md#normal-tangential-alternation; absent: the library's
+            /// default); for the composite loop and its homogeneous reference alike; refused for
+            /// an uncoupled pair (identical bodies: nothing alternates, it would be ignored).
+            alternation: Option<String> = None,
         }
     }
 }
@@ -698,6 +705,19 @@ impl Wear3dConfig {
     }
 }
 
+/// The `alternation` key's scheme: `"plain"` or `"gauged"`
+/// (docs/theory-sam.md#normal-tangential-alternation).
+fn alternation_of(name: &str) -> Result<Alternation, SpecError> {
+    match name {
+        "plain" => Ok(Alternation::Plain),
+        "gauged" => Ok(Alternation::Gauged),
+        other => Err(SpecError(format!(
+            "fretting loop config: alternation = \"{other}\": \"plain\" or \"gauged\" (the \
+             normal-tangential alternation scheme)"
+        ))),
+    }
+}
+
 /// [`LoopConfig::case`].
 fn loop_case(
     cfg: &LoopConfig,
@@ -834,6 +854,17 @@ fn loop_case(
         }
         case.eim_recycled_depth = Some(depth);
     }
+    if let Some(name) = cfg.alternation.as_deref() {
+        case.alternation = Some(alternation_of(name)?);
+        if !case.is_coupled() {
+            return Err(SpecError(format!(
+                "fretting loop config: alternation = \"{name}\" is read only by a coupled pair \
+                 (dissimilar bodies, e.g. a rigid sphere with nu < 0.5); these bodies have no \
+                 normal-tangential coupling and solve each increment without alternating, so \
+                 the key would be ignored"
+            )));
+        }
+    }
     case.validate()
         .map_err(|e| SpecError(format!("fretting loop config: {e}")))?;
     if cfg.subsurface_over_a > 0.0 {
@@ -944,7 +975,7 @@ mod tests {
              `indenter_e`, `indenter_nu`, `normal_steps`, `amplitude`, `shift_step`, `grid`, \
              `extent_over_a`, `inhomogeneity`, `layout`, `fibre_e_ratio`, `subsurface_over_a`, \
              `fatigue`, `inhomogeneous_body`, `surface_operator_radius_over_a`, \
-             `eim_change_factor`, `eim_recycled_depth`";
+             `eim_change_factor`, `eim_recycled_depth`, `alternation`";
         let e =
             from_toml::<LoopConfig>("radius = 1e-4\nfoo = 3\n", "--config unk.toml").unwrap_err();
         assert_eq!(
@@ -1140,6 +1171,66 @@ mod tests {
             let e = case(&format!("{extra}eim_change_factor = 1e-2\n{base}")).unwrap_err();
             assert!(e.0.contains("eim_change_factor is read only"), "{e}");
         }
+    }
+
+    /// `alternation = "plain" | "gauged"` reaches the loop's case (for the composite loop and its
+    /// homogeneous reference alike) and the wear run's; absent, the library's default; another
+    /// value is refused naming the key and the values; an uncoupled pair (identical bodies) would
+    /// ignore it and is refused.
+    #[test]
+    fn the_alternation_key_reaches_the_loops_and_is_refused_where_ignored() {
+        use crate::sam::contact::ContactParams;
+        let loop_case = |text: &str, preset: &str| {
+            from_toml::<LoopConfig>(text, "cfg")
+                .unwrap()
+                .case(preset, Some(16))
+        };
+        for (name, scheme) in [
+            ("plain", Alternation::Plain),
+            ("gauged", Alternation::Gauged),
+        ] {
+            for preset in ["homogeneous", "composite"] {
+                let c = loop_case(&format!("alternation = \"{name}\"\n"), preset).unwrap();
+                assert_eq!(c.alternation, Some(scheme));
+                assert_eq!(c.alternation_scheme(), scheme);
+                assert_eq!(c.homogeneous().alternation_scheme(), scheme);
+            }
+            let w = Wear3dConfig::from_toml(
+                &format!(
+                    "alternation = \"{name}\"\ngrid = 8\n[wear]\nlaw = \"archard\"\ncoefficient = 1e-15\ncycles = 10\n"
+                ),
+                "cfg",
+            )
+            .unwrap()
+            .case(None)
+            .unwrap();
+            assert_eq!(w.fretting.alternation, Some(scheme));
+        }
+        let c = loop_case("", "composite").unwrap();
+        assert_eq!(c.alternation, None);
+        assert_eq!(c.alternation_scheme(), ContactParams::default().alternation);
+        for bad in ["anderson", "Gauged", ""] {
+            let e = loop_case(&format!("alternation = \"{bad}\"\n"), "homogeneous").unwrap_err();
+            assert_eq!(
+                e.0,
+                format!(
+                    "fretting loop config: alternation = \"{bad}\": \"plain\" or \"gauged\" (the \
+                     normal-tangential alternation scheme)"
+                )
+            );
+        }
+        let e = from_toml::<LoopConfig>("alternation = 2\n", "cfg").unwrap_err();
+        assert!(e.0.contains("alternation = 2"), "{e}");
+        // Identical bodies do not alternate: the key would be ignored.
+        let e = loop_case(
+            "indenter_e = 210e9\nindenter_nu = 0.3\nalternation = \"gauged\"\n",
+            "homogeneous",
+        )
+        .unwrap_err();
+        assert!(
+            e.0.contains("alternation = \"gauged\" is read only by a coupled pair"),
+            "{e}"
+        );
     }
 
     #[test]

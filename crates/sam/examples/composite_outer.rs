@@ -9,8 +9,10 @@
 //! reference over every increment (in `p₀`) and a hash of the final state's bits (equal hashes
 //! from two binaries: bit for bit the same loop).
 //!
-//! Run: `cargo run --release -p halfspace-sam --example composite_outer -- N [increments] [m,η[,g][,t<tol>][,r<depth>] ...]`
+//! Run: `cargo run --release -p halfspace-sam --example composite_outer -- N [increments] [m,η[,g][,t<tol>][,r<depth>][,plain|,gauged] ...]`
 //! (`increments` 0: the whole loop; `g`: GMRES; `t<tol>`: the outer tolerance, default 1e-6;
+//! `plain`, `gauged`: the contact solves' alternation scheme, `LoopCase::alternation`, default the
+//! library's — the reference variant always runs the plain one;
 //! `r<depth>`: block Jacobi with Anderson mixing recycled across an increment's passes,
 //! `EimParams::recycled_depth`, default `DEFAULT_EIM_RECYCLED_DEPTH` = 5, `r0` the plain
 //! iteration; default variant `3,3e-3`, the library's defaults). The reference is the plain
@@ -25,7 +27,7 @@
 //! increment: per outer pass (`solve`) and alternation the changes `max|Δp|/max p` and
 //! `max|Δq|/(μ max p)` ([`halfspace_sam::contact::ContactProblem::alternation_trace`]).
 
-use halfspace_sam::contact::{NestedParams, REFERENCE_EIM_CHANGE_FACTOR};
+use halfspace_sam::contact::{Alternation, NestedParams, REFERENCE_EIM_CHANGE_FACTOR};
 use halfspace_sam::drivers::fretting_loop::{FrettingLoop, LoopCase};
 use halfspace_sam::eim::{EimMethod, EimParams, FibreLayout};
 
@@ -47,7 +49,7 @@ fn main() {
     // instead of the automatic EIM method (block Jacobi for these fibres), `t<tol>` for the outer
     // tolerance (default 1e-6), `r<depth>` for the EIM's recycled Anderson depth (default:
     // `NestedParams::default()`'s, 5; `r0` the plain block Jacobi).
-    let specs: Vec<(usize, f64, bool, f64, usize)> = args
+    let specs: Vec<(usize, f64, bool, f64, usize, Option<Alternation>)> = args
         .iter()
         .skip(2)
         .map(|v| {
@@ -68,6 +70,13 @@ fn main() {
                 f[2..].contains(&"g"),
                 tolerance,
                 recycled,
+                if f[2..].contains(&"gauged") {
+                    Some(Alternation::Gauged)
+                } else if f[2..].contains(&"plain") {
+                    Some(Alternation::Plain)
+                } else {
+                    None
+                },
             )
         })
         .collect();
@@ -79,6 +88,7 @@ fn main() {
             false,
             base.tolerance,
             base.eim.recycled_depth,
+            None,
         )]
     } else {
         specs
@@ -91,7 +101,10 @@ fn main() {
     let mut variants: Vec<(String, FrettingLoop)> = vec![(
         "reference (per-increment Anderson, depth 3, EIM factor 1e-3)".into(),
         FrettingLoop::with_params(
-            case.clone(),
+            LoopCase {
+                alternation: Some(Alternation::Plain),
+                ..case.clone()
+            },
             NestedParams {
                 eim_change_factor: REFERENCE_EIM_CHANGE_FACTOR,
                 eim: EimParams::default(),
@@ -100,7 +113,7 @@ fn main() {
         )
         .unwrap(),
     )];
-    for &(m, eta, gmres, tolerance, recycled) in &specs {
+    for &(m, eta, gmres, tolerance, recycled, alternation) in &specs {
         let base = NestedParams::default();
         let params = NestedParams {
             eim: EimParams {
@@ -119,9 +132,17 @@ fn main() {
         };
         variants.push((
             format!(
-                "depth {m}, EIM factor {eta:e}, GMRES {gmres}, outer tolerance {tolerance:e}, EIM recycled depth {recycled}"
+                "depth {m}, EIM factor {eta:e}, GMRES {gmres}, outer tolerance {tolerance:e}, EIM recycled depth {recycled}, alternation {:?}",
+                alternation.unwrap_or(case.alternation_scheme())
             ),
-            FrettingLoop::with_params(case.clone(), params).unwrap(),
+            FrettingLoop::with_params(
+                LoopCase {
+                    alternation,
+                    ..case.clone()
+                },
+                params,
+            )
+            .unwrap(),
         ));
     }
     // Optional dump of every increment's state (module docs).

@@ -12,7 +12,9 @@
 //! `REFERENCE_LOOP_TRACE=1` one line per increment; `=2` also every alternation's changes
 //! (`max|Δp|/max p`, `max|Δq|/(μ max p)`) and the ratio of the larger to the last alternation's
 //! (the contraction). With `REFERENCE_LOOP_DUMP=FILE` the state after every
-//! increment is appended to `FILE` (`p`, `q₁`, `q₂` as little-endian f64) and `p₀` printed.
+//! increment is appended to `FILE` (`p`, `q₁`, `q₂` as little-endian f64) and `p₀` printed. With
+//! `REFERENCE_LOOP_TOLERANCE=T` the alternation stops at `T` instead of 1e-7
+//! (`ContactParams::alternation_tolerance`: a tighter-converged reference path).
 
 use halfspace_sam::contact::{Alternation, ContactParams, ContactProblem};
 use halfspace_sam::drivers::fretting_loop::LoopCase;
@@ -53,6 +55,11 @@ fn main() {
         friction: case.friction,
         alternation,
         inexact_alternation: args.get(3).map(String::as_str) != Some("exact"),
+        alternation_tolerance: std::env::var("REFERENCE_LOOP_TOLERANCE")
+            .ok()
+            .map_or(ContactParams::default().alternation_tolerance, |t| {
+                t.parse().expect("REFERENCE_LOOP_TOLERANCE: a number")
+            }),
         ..ContactParams::default()
     };
     let trace = std::env::var("REFERENCE_LOOP_TRACE").unwrap_or_default();

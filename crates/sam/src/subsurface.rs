@@ -763,6 +763,47 @@ pub fn von_mises_fields(
     fields_in_groups(grid, (e, nu), depth, inclusions, states, FIELD_GROUP_BYTES)
 }
 
+/// Bytes [`von_mises_fields`] holds at once for `count` states on an `n1 × n2` grid, `layers`
+/// layers down, with eigenstrains on `source_layers` inclusion layers (0 without inclusions): the
+/// states' input spectra (`6 · source_layers + 3` each) and the strain spectra of a group of
+/// layers (at most `FIELD_GROUP_BYTES`), two depth keys' kernel blocks and their tables (36
+/// each; or a layer's 18 Love blocks), the eigenstrain fields, the outputs (`count · layers`
+/// fields) and the cells' materials. What the fretting loop's estimate counts for the fields at
+/// the points A–D ([`crate::drivers::fretting_loop::LoopCase::estimate`]).
+pub fn von_mises_fields_bytes(
+    (n1, n2): (usize, usize),
+    layers: usize,
+    source_layers: usize,
+    count: usize,
+) -> f64 {
+    fields_working_bytes((n1, n2), layers, source_layers, count, FIELD_GROUP_BYTES)
+}
+
+/// The layers of one group of [`von_mises_fields`]: as many as keep `count` states' strain
+/// spectra (6 per layer, `spectrum` bytes each) within `group_bytes`, at least 1.
+fn field_group(count: usize, layers: usize, spectrum: f64, group_bytes: f64) -> usize {
+    ((group_bytes / (count.max(1) as f64 * 6.0 * spectrum)) as usize).clamp(1, layers)
+}
+
+/// [`von_mises_fields_bytes`] with the groups held to `group_bytes`.
+fn fields_working_bytes(
+    (n1, n2): (usize, usize),
+    layers: usize,
+    source_layers: usize,
+    count: usize,
+    group_bytes: f64,
+) -> f64 {
+    let n = n1 * n2;
+    let spectrum = 2.0 * n1 as f64 * (n2 + 1) as f64 * 16.0;
+    let group = field_group(count, layers, spectrum, group_bytes);
+    let table = ((2 * n1 - 1) * (2 * n2 - 1)) as f64 * 8.0;
+    count as f64 * ((source_layers * 6 + 3) as f64 + (group * 6) as f64) * spectrum
+        + 2.0 * 36.0 * (spectrum + table)
+        + (source_layers * 6 * n) as f64 * 8.0
+        + (count * layers * n) as f64 * 8.0
+        + (layers * n) as f64 * 2.0
+}
+
 /// [`von_mises_fields`] with the strain spectra of a group of layers held to `group_bytes`.
 fn fields_in_groups(
     grid: &SurfaceGrid,
@@ -812,15 +853,8 @@ fn fields_in_groups(
     let sources: Vec<i64> = inclusions.map_or(Vec::new(), |set| {
         set.layers.iter().map(|k| (2 * k + 1) as i64).collect()
     });
-    let group = ((group_bytes / (count.max(1) as f64 * 6.0 * spectrum)) as usize).clamp(1, layers);
-    // Held at once: the states' input spectra and strain spectra of a group, two keys' blocks
-    // and their tables (or a layer's 18 Love blocks and tables), the eigenstrain fields, the
-    // outputs.
-    let table = ((2 * n1 - 1) * (2 * n2 - 1)) as f64 * 8.0;
-    let need = count as f64 * ((sources.len() * 6 + 3) as f64 + (group * 6) as f64) * spectrum
-        + 2.0 * 36.0 * (spectrum + table)
-        + (sources.len() * 6 * n) as f64 * 8.0
-        + (count * layers * n) as f64 * 8.0;
+    let group = field_group(count, layers, spectrum, group_bytes);
+    let need = fields_working_bytes((n1, n2), layers, sources.len(), count, group_bytes);
     if need > FIELD_LIMIT_BYTES {
         return Err(SamError::InvalidParameter {
             name: "memory for the subsurface stress fields (bytes)",

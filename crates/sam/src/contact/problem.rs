@@ -92,6 +92,10 @@ pub struct AlternationStep {
     pub normal_iterations: usize,
     /// Block products of the alternation's tangential solve.
     pub tangential_products: usize,
+    /// Whether both solves of the alternation ran to their full tolerances (the last alternation
+    /// of a solve; with [`Alternation::Gauged`] also the one after a loose alternation whose
+    /// change did not fall, the guard).
+    pub full_tolerance: bool,
 }
 
 /// The loosest KKT tolerance an early alternation's tangential solve uses.
@@ -779,6 +783,7 @@ impl<S: OperatorSet> ContactProblem<S> {
                 shear_change: dq / (mu * pmax),
                 normal_iterations: normal_info.iterations,
                 tangential_products: tangential_info.iterations,
+                full_tolerance: at_full_tolerance,
             };
             if self.trace.len() < TRACE_LIMIT {
                 self.trace.push(step);

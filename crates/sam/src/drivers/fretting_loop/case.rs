@@ -1,12 +1,13 @@
 //! The fretting-loop configuration and its load path.
 
-use crate::contact::{BodyResponse, NestedParams};
+use crate::contact::{Alternation, BodyResponse, ContactParams, NestedParams};
 use crate::eim::{
     composite_fibres, FibreLayout, Inhomogeneity, COMPOSITE_CELLS_PER_RADIUS,
     COMPOSITE_FIBRE_RADIUS,
 };
 use crate::kernels::surface::Body;
 use crate::normal::NormalLoad;
+use crate::subsurface::SubsurfacePlan;
 use crate::SamError;
 
 /// The labels of the points of \[LN11\] Figs. 5–7: A end of the normal loading, B `δx = +A`, C
@@ -173,9 +174,20 @@ fretting_loop_keys! {
             /// the default of [`NestedParams`] ([`crate::contact::DEFAULT_EIM_RECYCLED_DEPTH`], or
             /// the one passed to [`super::FrettingLoop::with_params`]). Used by the nested loop only.
             eim_recycled_depth: Option<usize> = None,
+            /// The normal–tangential alternation of the contact solves
+            /// (docs/theory-sam.md#normal-tangential-alternation): `None` — the library's default
+            /// ([`ContactParams::default`]'s [`ContactParams::alternation`]). Read by coupled
+            /// pairs only ([`LoopCase::is_coupled`]: an uncoupled increment is one normal and one
+            /// tangential solve whatever the scheme); the composite loop and its homogeneous
+            /// reference loop ([`LoopCase::homogeneous`]) both take it.
+            alternation: Option<Alternation> = None,
         }
     }
 }
+
+/// How a fingerprint (`{:?}` of [`LoopCase`]) spells the alternation scheme's field: absent
+/// from checkpoints written before it was recorded ([`LoopCase::check_fingerprint`]).
+const ALTERNATION_FIELD: &str = ", alternation: ";
 
 /// The EIM change factor meant by `eim_change_factor: None` in a checkpoint fingerprint written
 /// before fingerprints recorded the factor used (before commit `ce12b57`, when the library's
@@ -279,13 +291,30 @@ impl LoopCase {
         Ok(self)
     }
 
-    /// The case as it runs with the outer-loop parameters `nested`: with inhomogeneities and the
-    /// nested loop, [`LoopCase::eim_change_factor`] is the factor that loop uses (the case's, or
-    /// `nested`'s default); otherwise the case unchanged (the factor is not used). A checkpoint's
-    /// fingerprint is this case as `{:?}`, so it records the value used and a change of the
-    /// library's default is caught ([`LoopCase::check_fingerprint`]).
+    /// The alternation scheme of the loop's contact solves: [`LoopCase::alternation`], or the
+    /// library's default when `None` (what [`super::FrettingLoop`] and the wear run pass to
+    /// [`ContactParams::alternation`]).
+    pub fn alternation_scheme(&self) -> Alternation {
+        self.alternation
+            .unwrap_or(ContactParams::default().alternation)
+    }
+
+    /// The alternation scheme the loop's contact solves use ([`LoopCase::alternation_scheme`]),
+    /// `None` for an uncoupled pair, whose increments do not alternate (the scheme is not used;
+    /// docs/theory-sam.md#normal-tangential-alternation).
+    pub fn alternation_used(&self) -> Option<Alternation> {
+        self.is_coupled().then(|| self.alternation_scheme())
+    }
+
+    /// The case as it runs with the outer-loop parameters `nested`: the alternation scheme the
+    /// one used ([`LoopCase::alternation_used`]); with inhomogeneities and the nested loop,
+    /// [`LoopCase::eim_change_factor`] is the factor that loop uses (the case's, or `nested`'s
+    /// default); otherwise the case unchanged (the factor is not used). A checkpoint's
+    /// fingerprint is this case as `{:?}`, so it records the values used and a change of the
+    /// library's defaults is caught ([`LoopCase::check_fingerprint`]).
     pub fn as_run(&self, nested: NestedParams) -> LoopCase {
         let mut case = self.clone();
+        case.alternation = self.alternation_used();
         if !self.inhomogeneities.is_empty() && self.surface_operator_over_a.is_none() {
             let run = self.nested_params(nested);
             case.eim_change_factor = Some(run.eim_change_factor);
@@ -300,9 +329,48 @@ impl LoopCase {
     /// as given (`eim_change_factor: None` when defaulted), `given` — when equal to `given` while
     /// the run uses [`UNRECORDED_EIM_CHANGE_FACTOR`], the default then (given by the run's
     /// configuration or defaulted): the same loop, step for step. A checkpoint without the
-    /// recycled EIM depth is accepted only by a run with depth 0. Any other checkpoint is refused
-    /// ([`SamError::InvalidInput`], naming the keys when the depth is not recorded).
+    /// recycled EIM depth is accepted only by a run with depth 0, one without the alternation
+    /// scheme (written before it was recorded, with the plain alternation) only by a run whose
+    /// scheme is [`Alternation::Plain`] (or an uncoupled one, which does not alternate). Any other
+    /// checkpoint is refused ([`SamError::InvalidInput`], naming the keys when the depth or the
+    /// scheme is not recorded).
     pub fn check_fingerprint(
+        &self,
+        nested: NestedParams,
+        recorded: &str,
+        current: &str,
+        given: &str,
+    ) -> Result<(), SamError> {
+        if recorded.contains(ALTERNATION_FIELD) {
+            return self.check_recorded_fingerprint(nested, recorded, current, given);
+        }
+        // Written before fingerprints held the alternation scheme: the plain alternation (the
+        // only one the drivers ran then). The field is left out of this run's fingerprints and
+        // the rest compared; the run must then use the plain alternation to continue that loop.
+        let used = self.alternation_used();
+        let unrecorded = |s: &str| {
+            s.replacen(&format!("{ALTERNATION_FIELD}{:?}", self.alternation), "", 1)
+                .replacen(&format!("{ALTERNATION_FIELD}{used:?}"), "", 1)
+        };
+        self.check_recorded_fingerprint(
+            nested,
+            recorded,
+            &unrecorded(current),
+            &unrecorded(given),
+        )?;
+        if used == Some(Alternation::Gauged) {
+            return Err(SamError::InvalidInput(
+                "the checkpoint was written before the alternation scheme was recorded, with the \
+                 plain normal-tangential alternation: resume it with alternation = \"plain\""
+                    .into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// [`LoopCase::check_fingerprint`] of a fingerprint `recorded` that holds the alternation
+    /// scheme (or with it left out of `current` and `given`).
+    fn check_recorded_fingerprint(
         &self,
         nested: NestedParams,
         recorded: &str,
@@ -500,17 +568,23 @@ impl LoopCase {
     /// down to the deepest inhomogeneity (the layers of `InclusionSet::new`); 0 without
     /// inhomogeneities.
     pub fn eigenstrain_values_bound(&self) -> f64 {
-        if self.inhomogeneities.is_empty() {
-            return 0.0;
-        }
         let cells = (self.grid as f64).powi(2);
+        6.0 * cells * self.inclusion_layers_bound() as f64
+    }
+
+    /// The layers of cells down to the deepest inhomogeneity (`⌈deepest / 2Δ⌉ + 1`, a bound on
+    /// the inclusion layers of `InclusionSet::new`); 0 without inhomogeneities.
+    pub fn inclusion_layers_bound(&self) -> usize {
+        if self.inhomogeneities.is_empty() {
+            return 0;
+        }
         let cell = self.extent() / self.grid as f64;
         let deepest = self
             .inhomogeneities
             .iter()
             .map(|inh| inh.bounds().1)
             .fold(0.0f64, f64::max);
-        6.0 * cells * ((deepest / cell).ceil() + 1.0)
+        (deepest / cell).ceil() as usize + 1
     }
 
     /// The cost of this loop ([`LoopEstimate`]), from the configuration alone.
@@ -527,7 +601,7 @@ impl LoopCase {
         let frictional = crate::memory::problem_bytes_per_cell(true, self.is_coupled());
         let cell = self.extent() / self.grid as f64;
         let eigen_len = self.eigenstrain_values_bound();
-        // The points A–D: eight surface fields each (and the von Mises layers, when asked); with
+        // The points A–D: eight surface fields each (and the von Mises fields, when asked); with
         // inhomogeneities and a subsurface depth, the eigenstrains of the three points whose von
         // Mises fields wait for the fourth's (three copies: the loop's, a snapshot's and its
         // record's).
@@ -536,7 +610,19 @@ impl LoopCase {
         } else {
             0.0
         };
-        let points = 4.0 * cells * 8.0 * 8.0 + pending;
+        // The von Mises fields of the four points, computed at once when the last is reached
+        // (`subsurface::von_mises_fields`): their working set (the states' spectra, the strain
+        // spectra of a group of layers, the kernels' blocks) and the fields kept.
+        let von_mises = match self.subsurface_depth {
+            Some(depth) => crate::subsurface::von_mises_fields_bytes(
+                (self.grid, self.grid),
+                SubsurfacePlan::layers_for(depth, 0.5 * cell),
+                self.inclusion_layers_bound(),
+                POINT_LABELS.len(),
+            ),
+            None => 0.0,
+        };
+        let points = 4.0 * cells * 8.0 * 8.0 + pending + von_mises;
         // The nested loop's recycled EIM history (docs/theory-sam.md#solving-the-eim-equations):
         // `2 · depth + 7` vectors of the EIM system's size (the eigenstrains), capped at 2 GiB
         // like the solver's (`EimParams::recycled_depth`).

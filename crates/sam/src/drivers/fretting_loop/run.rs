@@ -125,6 +125,7 @@ impl FrettingLoop {
         let compliance = Compliance::pair(case.indenter, Body::elastic(case.e, case.nu)?)?;
         let params = ContactParams {
             friction: case.friction,
+            alternation: case.alternation_scheme(),
             ..ContactParams::default()
         };
         let problem = ContactProblem::new(grid, compliance, geometry, params)?;

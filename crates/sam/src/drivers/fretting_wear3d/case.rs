@@ -206,6 +206,7 @@ impl WearCase {
             surface_operator_over_a: None,
             eim_change_factor: None,
             eim_recycled_depth: None,
+            alternation: None,
         };
         debug_assert!((fretting.hertz_force() / f0 - 1.0).abs() < 1e-12);
         let cycles = (tau_end * n0).round() as u64;

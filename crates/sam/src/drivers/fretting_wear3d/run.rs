@@ -240,6 +240,7 @@ impl FrettingWear3d {
         }
         let params = ContactParams {
             friction: lc.friction,
+            alternation: lc.alternation_scheme(),
             ..ContactParams::default()
         };
         let problem = ContactProblem::new(grid, compliance, unworn.clone(), params)?;

@@ -1,0 +1,161 @@
+//! The normal–tangential alternation scheme of the fretting loop's contact solves
+//! (`LoopCase::alternation`, config key `alternation`; docs/theory-sam.md#normal-tangential-alternation):
+//! recorded in checkpoints (today's checkpoints, written without it, resume on the plain
+//! alternation only) and resumed bit for bit on the gauged one.
+
+use halfspace_sam::contact::{Alternation, ContactParams};
+use halfspace_sam::drivers::fretting_loop::{FrettingLoop, LoopCase, LoopSnapshot};
+use halfspace_sam::eim::{FibreLayout, Inhomogeneity, Shape};
+use halfspace_sam::Body;
+
+/// A small nested loop: one stiff sphere below the contact, 16², two normal steps (the outer
+/// passes re-solve every increment, where the gauged alternation gauges its first alternation).
+fn sphere_case() -> LoopCase {
+    let mut case = LoopCase {
+        grid: 16,
+        normal_steps: 2,
+        ..LoopCase::default()
+    };
+    let a = case.hertz_radius();
+    case.inhomogeneities.push(Inhomogeneity {
+        shape: Shape::Sphere {
+            x: 0.0,
+            y: 0.0,
+            z: 0.6 * a,
+            r: 0.4 * a,
+        },
+        e: 420e9,
+        nu: 0.3,
+    });
+    case
+}
+
+fn with(case: &LoopCase, alternation: Option<Alternation>) -> LoopCase {
+    LoopCase {
+        alternation,
+        ..case.clone()
+    }
+}
+
+/// A checkpoint's fingerprint records the scheme the loop uses (also when the case leaves it to
+/// the library); a checkpoint written before it did (today's: the plain alternation, the only one
+/// the drivers ran) resumes bit for bit under `alternation = "plain"` and is refused under
+/// `"gauged"`, naming the key; a recorded scheme resumes only under the same one. An uncoupled
+/// pair (identical bodies) does not alternate: the scheme is not used and recorded as `None`.
+#[test]
+fn a_checkpoint_records_the_alternation_scheme() {
+    let case = sphere_case();
+    let default = ContactParams::default().alternation;
+    assert_eq!(case.alternation_scheme(), default);
+    let defaulted = FrettingLoop::new(case.clone()).unwrap();
+    assert!(defaulted
+        .fingerprint()
+        .contains(&format!(", alternation: Some({default:?})")));
+    let plain = with(&case, Some(Alternation::Plain));
+    let gauged = with(&case, Some(Alternation::Gauged));
+    let mut whole = FrettingLoop::new(plain.clone()).unwrap();
+    whole.step().unwrap().unwrap();
+    let snap = whole.snapshot();
+    assert!(snap.fingerprint.contains(", alternation: Some(Plain)"));
+    // Today's checkpoint: the same fingerprint without the field.
+    let legacy = LoopSnapshot {
+        fingerprint: snap
+            .fingerprint
+            .replacen(", alternation: Some(Plain)", "", 1),
+        ..snap.clone()
+    };
+    assert!(!legacy.fingerprint.contains("alternation"));
+    let mut resumed = FrettingLoop::resume(plain.clone(), legacy.clone()).unwrap();
+    whole.step().unwrap().unwrap();
+    resumed.step().unwrap().unwrap();
+    assert_eq!(resumed.snapshot(), whole.snapshot());
+    let err = FrettingLoop::resume(gauged.clone(), legacy.clone())
+        .err()
+        .expect("refused");
+    assert!(
+        err.to_string()
+            .contains("resume it with alternation = \"plain\""),
+        "{err}"
+    );
+    // Left to the library: accepted while its default is the plain alternation.
+    let by_default = FrettingLoop::resume(case.clone(), legacy.clone());
+    assert_eq!(by_default.is_ok(), default == Alternation::Plain);
+    // Recorded: only the same scheme continues it.
+    let err = FrettingLoop::resume(gauged.clone(), snap.clone())
+        .err()
+        .expect("refused");
+    assert!(err.to_string().contains("another configuration"), "{err}");
+    let mut g = FrettingLoop::new(gauged.clone()).unwrap();
+    g.step().unwrap().unwrap();
+    let gsnap = g.snapshot();
+    assert!(gsnap.fingerprint.contains(", alternation: Some(Gauged)"));
+    let err = FrettingLoop::resume(plain.clone(), gsnap.clone())
+        .err()
+        .expect("refused");
+    assert!(err.to_string().contains("another configuration"), "{err}");
+    // A legacy checkpoint of another configuration is refused as such (not for the scheme).
+    let other = LoopCase {
+        friction: 0.25,
+        ..gauged.clone()
+    };
+    let err = FrettingLoop::resume(other, legacy.clone())
+        .err()
+        .expect("refused");
+    assert!(!err.to_string().contains("alternation"), "{err}");
+    // Identical bodies: uncoupled, nothing alternates; not recorded, so either key resumes
+    // today's checkpoints.
+    let uncoupled = LoopCase {
+        grid: 16,
+        normal_steps: 2,
+        indenter: Body::Elastic { e: 210e9, nu: 0.3 },
+        ..LoopCase::default()
+    };
+    assert!(!uncoupled.is_coupled());
+    let mut u = FrettingLoop::new(with(&uncoupled, Some(Alternation::Gauged))).unwrap();
+    u.step().unwrap().unwrap();
+    let usnap = u.snapshot();
+    assert!(usnap.fingerprint.contains(", alternation: None"));
+    let ulegacy = LoopSnapshot {
+        fingerprint: usnap.fingerprint.replacen(", alternation: None", "", 1),
+        ..usnap.clone()
+    };
+    for scheme in [None, Some(Alternation::Plain), Some(Alternation::Gauged)] {
+        let mut r = FrettingLoop::resume(with(&uncoupled, scheme), ulegacy.clone()).unwrap();
+        r.step().unwrap().unwrap();
+        let mut again = FrettingLoop::resume(with(&uncoupled, scheme), usnap.clone()).unwrap();
+        again.step().unwrap().unwrap();
+        assert_eq!(r.snapshot(), again.snapshot());
+    }
+}
+
+/// The composite loop on the gauged alternation snapshotted midway (past the point A, into the
+/// shift) and resumed repeats the uninterrupted loop bit for bit: a re-solve gauges itself only by
+/// the solves of its own increment since `ContactProblem::begin`, which a snapshot does not need.
+/// Its homogeneous reference loop likewise.
+#[test]
+fn a_resumed_gauged_loop_repeats_the_uninterrupted_one() {
+    let mut composite = LoopCase {
+        normal_steps: 4,
+        shift_step: 0.01e-6,
+        ..LoopCase::default()
+    }
+    .composite(FibreLayout::FibreCentred, 2.0)
+    .unwrap();
+    composite.grid = 32;
+    composite.subsurface_depth = Some(0.5 * composite.hertz_radius());
+    composite.alternation = Some(Alternation::Gauged);
+    for case in [composite.clone(), composite.homogeneous()] {
+        let mut whole = FrettingLoop::new(case.clone()).unwrap();
+        let mut part = FrettingLoop::new(case.clone()).unwrap();
+        for _ in 0..7 {
+            part.step().unwrap();
+        }
+        let snap = part.snapshot();
+        assert!(snap.fingerprint.contains(", alternation: Some(Gauged)"));
+        let mut resumed = FrettingLoop::resume(case, snap).unwrap();
+        while whole.step().unwrap().is_some() {}
+        while resumed.step().unwrap().is_some() {}
+        assert_eq!(whole.snapshot(), resumed.snapshot());
+        assert_eq!(whole.rows(), resumed.rows());
+    }
+}
