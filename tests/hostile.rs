@@ -833,14 +833,37 @@ fn loop_checkpoints_are_checked_for_sense_and_kept_when_refused() {
         |r| set_attr(r, "max_transverse_slip", AttrValue::Float(-1.0)),
         &["max_transverse_slip"],
     );
-    let o = run_in(&resume, &[]);
-    let checkpoint = out.join("checkpoint.npz");
-    write_record(&checkpoint, &original).unwrap();
+    // A checkpoint written before fingerprints recorded the alternation scheme (the plain
+    // alternation): refused under alternation = "gauged", naming the key; resumed under the
+    // plain one (the default), below.
+    let mut legacy = original.clone();
+    let slot = legacy
+        .attributes
+        .iter_mut()
+        .find(|(n, _)| n == "config")
+        .expect("the fingerprint");
+    match &mut slot.1 {
+        AttrValue::Text(t) => {
+            assert!(t.contains(", alternation: Some(Plain)"), "{t}");
+            *t = t.replacen(", alternation: Some(Plain)", "", 1);
+        }
+        other => panic!("config attribute {other:?}"),
+    }
+    let cfg = dir.path().join("loop.toml");
+    std::fs::write(&cfg, format!("{SMALL_LOOP}alternation = \"gauged\"\n")).unwrap();
+    tampered_resume(
+        fam,
+        &out,
+        &resume,
+        &legacy,
+        |_| {},
+        &["alternation = \"plain\""],
+    );
+    std::fs::write(&cfg, SMALL_LOOP).unwrap();
     let o2 = run_in(&resume, &[]);
     assert!(
         o2.status.success(),
-        "{} / {}",
-        String::from_utf8_lossy(&o.stderr),
+        "{}",
         String::from_utf8_lossy(&o2.stderr)
     );
 }
@@ -1403,6 +1426,21 @@ fn indenter_approach_fatigue_and_wear3d_keys_are_refused_in_one_line() {
             "eim_recycled_depth = 5\n".into(),
             vec!["eim_recycled_depth", "read only"],
         ),
+        (
+            "alternation scheme",
+            "alternation = \"anderson\"\n".into(),
+            vec!["alternation = \"anderson\"", "\"plain\" or \"gauged\""],
+        ),
+        (
+            "alternation scheme type",
+            "alternation = 1\n".into(),
+            vec!["alternation = 1", "invalid type"],
+        ),
+        (
+            "alternation of identical bodies",
+            "indenter_e = 210e9\nindenter_nu = 0.3\nalternation = \"gauged\"\n".into(),
+            vec!["alternation = \"gauged\"", "coupled pair", "ignored"],
+        ),
     ];
     for (name, text, needles) in &loop_cases {
         let cfg = write(
@@ -1459,6 +1497,11 @@ fn indenter_approach_fatigue_and_wear3d_keys_are_refused_in_one_line() {
             "negative EIM recycled depth",
             format!("layout = \"fibre-centred\"\neim_recycled_depth = -1\n{wear}"),
             vec!["eim_recycled_depth"],
+        ),
+        (
+            "alternation scheme",
+            format!("alternation = \"fast\"\n{wear}"),
+            vec!["alternation = \"fast\"", "\"plain\" or \"gauged\""],
         ),
     ];
     // A checkpoint interval beyond what a duration holds: refused, not a panic.

@@ -772,7 +772,10 @@ class FrettingLoop:
     nested loop's EIM solved to η × the last outer change, docs/theory-sam.md#outer-loop-tolerances;
     only with inhomogeneities on the nested loop), ``eim_recycled_depth`` (0 to 50, default 5: the
     Anderson differences the nested loop's EIM iteration keeps across an increment's outer passes,
-    0 the plain iteration, docs/theory-sam.md#solving-the-eim-equations; same restriction);
+    0 the plain iteration, docs/theory-sam.md#solving-the-eim-equations; same restriction),
+    ``alternation`` (``"plain"``, the default, or ``"gauged"``: the normal–tangential alternation
+    of the contact solves, docs/theory-sam.md#normal-tangential-alternation; for the composite loop
+    and its homogeneous reference alike; refused for identical bodies, which do not alternate);
     ``inhomogeneity``: a
     list of tables ``{"kind": "sphere", "x": .., "E": ..}`` — the keys of the spec, and with
     ``fatigue`` that inhomogeneity's own ``{"fatigue": {"f_minus1": .., ...}}`` (see

@@ -33,7 +33,8 @@ def fretting_wear(
 # `config` of fretting_wear3d and _FrettingLoop: the `--config` keys of `fretting-wear3d` /
 # `fretting-loop` (docs/sam.md, docs/wear3d.md), one spelling each, e.g. `eim_change_factor`
 # (η in (0, 1], default 3e-3) and `eim_recycled_depth` (0 to 50, default 5; both for the nested
-# loop with inhomogeneities only).
+# loop with inhomogeneities only), and `alternation` ("plain", the default, or "gauged": the
+# contact solves' normal–tangential alternation; coupled pairs only).
 def fretting_wear3d(config: dict[str, Any], grid: int | None = None) -> dict[str, Any]: ...
 def fretting_wear3d_estimate(config: dict[str, Any], grid: int | None = None) -> dict[str, Any]: ...
 def contact3d(

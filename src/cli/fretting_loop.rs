@@ -37,7 +37,8 @@ pub struct FrettingLoopArgs {
     /// inhomogeneous_body ("nested", the default, or "surface-operator") and
     /// surface_operator_radius_over_a (default 1.3), and for the nested loop eim_change_factor
     /// (in (0, 1]; default 3e-3) and eim_recycled_depth (0 to 50; default 5;
-    /// docs/theory-sam.md).
+    /// docs/theory-sam.md); alternation ("plain", the default, or "gauged": the contact solves'
+    /// normal–tangential alternation, docs/theory-sam.md#normal-tangential-alternation).
     #[arg(long)]
     config: Option<PathBuf>,
     /// Output directory (results.h5, the figures of [LN11] Figs. 6–9, checkpoint.npz while running).

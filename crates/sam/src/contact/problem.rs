@@ -40,8 +40,10 @@ pub enum Alternation {
     /// Gauss–Seidel (Panagiotopoulos 1975): the next normal solve reads the last tangential
     /// solve's shear, `q_in^{k+1} = T(N(q_in^k))`; at least two alternations, the first
     /// tangential solve (coupled, inexact) to [`INEXACT_CEILING`]. The default: the fretting
-    /// loop, map and wear run take it, and their checkpoint fingerprints do not record the
-    /// alternation (docs/performance.md "Fewer normal–tangential alternations").
+    /// loop, map and wear run take it unless their config key `alternation` says `"gauged"`
+    /// (`LoopCase::alternation`, recorded in their checkpoint fingerprints; docs/performance.md
+    /// "The gauged alternation on the command line (issue 21)": as accurate, not measurably
+    /// faster on the whole command).
     Plain,
     /// [`Alternation::Plain`] with its inexact solves gauged by the change they meet
     /// (docs/theory-sam.md#normal-tangential-alternation): the early tangential solves to
