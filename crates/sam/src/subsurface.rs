@@ -768,7 +768,8 @@ pub fn von_mises_fields(
 /// states' input spectra (`6 · source_layers + 3` each) and the strain spectra of a group of
 /// layers (at most `FIELD_GROUP_BYTES`), two depth keys' kernel blocks and their tables (36
 /// each; or a layer's 18 Love blocks), the eigenstrain fields, the outputs (`count · layers`
-/// fields) and the cells' materials. What the fretting loop's estimate counts for the fields at
+/// fields), the cells' materials, the states' corrected pressures and their surface spectra, one
+/// layer's strains and a second FFT plan. What the fretting loop's estimate counts for the fields at
 /// the points A–D ([`crate::drivers::fretting_loop::LoopCase::estimate`]).
 pub fn von_mises_fields_bytes(
     (n1, n2): (usize, usize),
@@ -802,6 +803,12 @@ fn fields_working_bytes(
         + (source_layers * 6 * n) as f64 * 8.0
         + (count * layers * n) as f64 * 8.0
         + (layers * n) as f64 * 2.0
+        // The states' pressures with the correction `p_c` and their surface spectra, `p_c`, one
+        // layer's six strains and a second FFT plan's scratch (two spectra).
+        + (count * n) as f64 * 8.0
+        + count as f64 * spectrum
+        + (7 * n) as f64 * 8.0
+        + 2.0 * spectrum
 }
 
 /// [`von_mises_fields`] with the strain spectra of a group of layers held to `group_bytes`.

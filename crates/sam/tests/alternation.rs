@@ -3,8 +3,11 @@
 //! recorded in checkpoints (today's checkpoints, written without it, resume on the plain
 //! alternation only) and resumed bit for bit on the gauged one.
 
-use halfspace_sam::contact::{Alternation, ContactParams};
+use halfspace_sam::contact::{
+    Alternation, ContactParams, NestedParams, REFERENCE_EIM_CHANGE_FACTOR,
+};
 use halfspace_sam::drivers::fretting_loop::{FrettingLoop, LoopCase, LoopSnapshot};
+use halfspace_sam::eim::EimParams;
 use halfspace_sam::eim::{FibreLayout, Inhomogeneity, Shape};
 use halfspace_sam::Body;
 
@@ -158,4 +161,66 @@ fn a_resumed_gauged_loop_repeats_the_uninterrupted_one() {
         assert_eq!(whole.snapshot(), resumed.snapshot());
         assert_eq!(whole.rows(), resumed.rows());
     }
+}
+
+/// The gauged loop through the driver (`LoopCase::alternation = Some(Gauged)`, the library's other
+/// defaults) against the reference path (the plain alternation, the EIM factor 10⁻³, the plain
+/// block Jacobi) increment by increment over the whole 32² composite loop, and its homogeneous
+/// loop against the plain one: p, q₁, q₂ within 1e-6 p₀ (measured 2.2e-8 / 5.5e-8 p₀ composite
+/// with `composite_outer 32`; the homogeneous loop 1.6e-8 / 7.1e-8 with `reference_loop 32`).
+#[test]
+fn the_gauged_loop_stays_on_the_reference_path() {
+    let mut composite = LoopCase::default()
+        .composite(FibreLayout::FibreCentred, 2.0)
+        .unwrap();
+    composite.grid = 32;
+    composite.subsurface_depth = None;
+    let reference_params = NestedParams {
+        eim_change_factor: REFERENCE_EIM_CHANGE_FACTOR,
+        eim: EimParams::default(),
+        ..NestedParams::default()
+    };
+    let cases = [
+        (composite.clone(), reference_params),
+        (composite.homogeneous(), NestedParams::default()),
+    ];
+    for (case, params) in cases {
+        let mut reference =
+            FrettingLoop::with_params(with(&case, Some(Alternation::Plain)), params).unwrap();
+        let mut gauged = FrettingLoop::new(with(&case, Some(Alternation::Gauged))).unwrap();
+        let p0 = case.hertz_pressure();
+        let (mut dp, mut dq) = (0.0f64, 0.0f64);
+        while reference.step().unwrap().is_some() {
+            gauged.step().unwrap().unwrap();
+            let (r, g) = (
+                reference.solver().problem().state(),
+                gauged.solver().problem().state(),
+            );
+            dp = dp.max(max_diff(&r.pressure, &g.pressure));
+            dq = dq
+                .max(max_diff(&r.shear[0], &g.shear[0]))
+                .max(max_diff(&r.shear[1], &g.shear[1]));
+        }
+        assert!(gauged.is_done());
+        eprintln!(
+            "{} inhomogeneities: gauged vs reference over {} increments: max |Δp| {:.2e} p0, \
+             |Δq| {:.2e} p0",
+            case.inhomogeneities.len(),
+            reference.rows().len(),
+            dp / p0,
+            dq / p0
+        );
+        assert!(
+            dp <= 1e-6 * p0 && dq <= 1e-6 * p0,
+            "{} {} p0",
+            dp / p0,
+            dq / p0
+        );
+    }
+}
+
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
 }

@@ -708,18 +708,18 @@ fn guard_fallbacks(trace: &[halfspace_sam::contact::AlternationStep]) -> usize {
     fallbacks
 }
 
-/// A nearly non-contracting alternation: a rigid sphere on an auxetic flat (`ν = −0.9`: Dundurs'
-/// `β = (1 − 2ν)/2(1 − ν) = 0.74`) with `μ = 1.2` (`μβ ≈ 0.88`), the path of [`coupled_path`]
-/// (32–70 alternations per solve against 7–9 on steel). There loose gauged alternations meet a
-/// change that did not fall (measured 1 such alternation solved once, 4 re-solved; steel and
-/// `μβ ≤ 0.75` have none) and the guard solves the next one to the full tolerances (asserted by
-/// [`guard_fallbacks`] on every increment's trace); the gauged path ends within 3e-7 of the
-/// plain one at every increment (measured 5.6e-9 / 3.1e-9 solved once, 1.1e-7 / 1.3e-7 in
-/// `p` / `q` re-solved): each stops where successive alternations differ by 1e-7, which at a
-/// contraction `ρ` leaves up to `ρ/(1 − ρ) · 1e-7` to the fixed point (`ρ ≈ 0.6` here: 32
-/// alternations per 10⁻⁷).
+/// A slowly contracting alternation: a rigid sphere on an auxetic flat (`ν = −0.9`, Dundurs'
+/// `β = (1 − 2ν)/2(1 − ν) = 0.74`) with `μ = 1.2`, the path of [`coupled_path`] (32–70
+/// alternations per solve against 7–9 on steel). There loose gauged alternations meet a change
+/// that did not fall (measured 1 such alternation solved once, 4 re-solved; steel and the other
+/// cases tried, `μβ ≤ 0.75`, have none) and the guard solves the next one to the full tolerances
+/// (asserted by [`guard_fallbacks`] on every increment's trace). The gauged path ends near the
+/// plain one at every increment: measured 5.6e-9 / 3.1e-9 solved once, 1.1e-7 / 1.3e-7 in `p` /
+/// `q` re-solved; each path stops where successive alternations differ by 1e-7, which at this
+/// slow contraction leaves several 1e-7 to the fixed point, so the bound is the measured worst
+/// × 2.3 (3e-7), not the alternation tolerance.
 #[test]
-fn the_gauged_guard_falls_back_on_a_non_contracting_alternation() {
+fn the_gauged_guard_falls_back_on_a_slowly_contracting_alternation() {
     let case = (-0.9, 1.2, 0.5);
     for passes in [1, 5] {
         let mut fallbacks = 0;

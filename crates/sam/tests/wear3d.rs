@@ -358,3 +358,70 @@ fn gross_slip_dissipates_the_mindlin_deresiewicz_energy() {
     );
     assert_eq!(row.stick_radius, 0.0);
 }
+
+/// The wear run with the coupled pair of [`twin_with_inhomogeneity`] (a rigid indenter on the
+/// `ν = 0` flat: the largest coupling), on the gauged alternation (`LoopCase::alternation`): a run
+/// stopped after three wear steps and resumed ends bit for bit where the uninterrupted one ends
+/// (the cycle predictor's store included); a snapshot of the plain run with the scheme left out of
+/// its fingerprint (a checkpoint written before the scheme was recorded) resumes under the plain
+/// alternation and ends bit for bit where the plain run ends, and is refused under the gauged one,
+/// naming the key.
+#[test]
+fn a_gauged_wear_run_resumes_bit_for_bit_and_old_checkpoints_only_on_plain() {
+    use halfspace_sam::contact::Alternation;
+    let mut base = twin_with_inhomogeneity();
+    base.fretting.indenter = Body::Rigid;
+    assert!(base.fretting.is_coupled());
+    let with = |alternation| {
+        let mut c = base.clone();
+        c.fretting.alternation = Some(alternation);
+        c
+    };
+    let stopped = |case: WearCase| {
+        let mut first = FrettingWear3d::new(case).expect("plan");
+        let mut steps = 0;
+        first
+            .run(|_| {
+                steps += 1;
+                if steps == 3 {
+                    ControlFlow::Break(())
+                } else {
+                    ControlFlow::Continue(())
+                }
+            })
+            .expect("run");
+        first.snapshot()
+    };
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let rows = |r: &[WearRow]| r.iter().flat_map(|w| bits(&w.values())).collect::<Vec<_>>();
+    let same = |a: &FrettingWear3d, b: &FrettingWear3d| {
+        assert_eq!(bits(a.wear_depth()), bits(b.wear_depth()));
+        assert_eq!(rows(a.history()), rows(b.history()));
+        assert_eq!(a.records(), b.records());
+    };
+    let gauged = with(Alternation::Gauged);
+    let full = run_to_end(gauged.clone());
+    let snapshot = stopped(gauged.clone());
+    assert!(snapshot.fingerprint.contains(", alternation: Some(Gauged)"));
+    let mut resumed = FrettingWear3d::resume(gauged.clone(), snapshot).expect("resume");
+    resumed.run(|_| ControlFlow::Continue(())).expect("run");
+    same(&resumed, &full);
+    let plain = with(Alternation::Plain);
+    let full = run_to_end(plain.clone());
+    let mut legacy = stopped(plain.clone());
+    assert!(legacy.fingerprint.contains(", alternation: Some(Plain)"));
+    legacy.fingerprint = legacy
+        .fingerprint
+        .replacen(", alternation: Some(Plain)", "", 1);
+    let err = FrettingWear3d::resume(gauged, legacy.clone())
+        .err()
+        .expect("refused");
+    assert!(
+        err.to_string()
+            .contains("resume it with alternation = \"plain\""),
+        "{err}"
+    );
+    let mut resumed = FrettingWear3d::resume(plain, legacy).expect("resume");
+    resumed.run(|_| ControlFlow::Continue(())).expect("run");
+    same(&resumed, &full);
+}
