@@ -538,6 +538,12 @@ def test_fretting_wear3d_estimate_equals_the_cli_and_runs_nothing(tmp_path):
         hs.fretting_wear3d_estimate(dict(TWIN3D, wear=dict(TWIN3D["wear"], law="hard")))
     with pytest.raises(hs.HalfspaceError, match="eim_change_factor"):
         hs.fretting_wear3d_estimate(dict(TWIN3D, eim_change_factor=0.5))
+    # The alternation scheme: another value is refused naming both; the twin's identical bodies
+    # do not alternate, so the key would be ignored there and is refused too.
+    with pytest.raises(hs.HalfspaceError, match=re.escape('alternation = "fast": "plain" or "gauged"')):
+        hs.fretting_wear3d_estimate(dict(TWIN3D, alternation="fast"))
+    with pytest.raises(hs.HalfspaceError, match="read only by a coupled pair"):
+        hs.fretting_wear3d_estimate(dict(TWIN3D, alternation="gauged"))
     with pytest.raises(TypeError, match="dict of the fretting-wear3d keys"):
         hs.fretting_wear3d_estimate("wear.toml")  # type: ignore[arg-type]
     with pytest.raises(TypeError, match="grid"):
