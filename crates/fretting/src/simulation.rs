@@ -1559,7 +1559,8 @@ fn hole_projection(first: usize, g2: &[f64], g1: &[f64]) -> f64 {
 /// [`PROBE_COLOURS`] colours each time the contact nodes enter another bucket. Measured GMRES
 /// iterations (default run / N = 8001 / graded k = −0.5, χ = 0.9): none 25 176 / 58 713 /
 /// 1 025 082; w = 3 (7 colours): 13 864 / 29 158 / 429 077. At N = 8001 to τ = 30 (one step
-/// sequence each, `step_trace 8001 0 0.5 1e-4 30`): w = 3 with 7 colours 34 895, with 14
+/// sequence each, `step_trace 8001 0 0.5 1e-4 30` with these constants edited and rebuilt): w = 3
+/// with 7 colours 34 895, with 14
 /// colours 33 040; w = 4 with 10 colours 52 007; w = 5 with 11 colours 28 173, with 12
 /// colours 25 164, with 14 colours 27 115; w = 7 with 16 colours 23 359 (docs/performance.md,
 /// "The N = 8001 wear run on two cores (issue 20)"). w = 1 is worse than none and even widths
@@ -1677,7 +1678,8 @@ mod tests {
                 }
             }
             // What the band misses (the preconditioner's approximation, not a test tolerance):
-            // measured 0.22 (k = 0) and 0.057 (k = −0.5) of the largest entry, at the edge rows,
+            // measured 0.14 (k = 0) and 0.020 (k = −0.5) of the largest entry at w = 5 with 12
+            // colours (0.22 and 0.057 at w = 3 with 7), at the edge rows,
             // mostly from column 0 (the slope at the centre enters every slope through the
             // parabolic split of the profile transform).
             eprintln!("k = {k}: probed band vs dense K: {worst:e} of {largest:e}");
