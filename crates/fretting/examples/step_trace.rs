@@ -63,21 +63,32 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // (experimental, off by default).
     sim.set_recycled_second_stage(std::env::var("RECYCLED_STAGE2").is_ok_and(|v| v == "on"));
     let sink = Arc::clone(&attempts);
-    sim.set_attempt_observer(Box::new(move |a| sink.lock().expect("lock").push(*a)));
     let start = std::time::Instant::now();
+    // The wall time since the run's start at each attempt's end (the time of a phase of the run
+    // is the difference across it).
+    let clock: Arc<Mutex<Vec<f64>>> = Arc::default();
+    let ticks = Arc::clone(&clock);
+    sim.set_attempt_observer(Box::new(move |a| {
+        sink.lock().expect("lock").push(*a);
+        ticks
+            .lock()
+            .expect("lock")
+            .push(start.elapsed().as_secs_f64());
+    }));
     // The attempts are written also when the run fails.
     let run = sim.run(|_| false);
     let seconds = start.elapsed().as_secs_f64();
     let attempts = attempts.lock().expect("lock");
+    let clock = clock.lock().expect("lock");
     let mut out = std::io::BufWriter::new(std::fs::File::create(&csv)?);
     writeln!(
         out,
-        "tau,dtau,ratio,accepted,worst,edge_start,edge_trial,edge_end,gmres1,gmres2,opened_holes,err_ros2,err_outside,err_hole,first_order,projection,edge_radius_start,edge_radius_end"
+        "tau,dtau,ratio,accepted,worst,edge_start,edge_trial,edge_end,gmres1,gmres2,opened_holes,err_ros2,err_outside,err_hole,first_order,projection,edge_radius_start,edge_radius_end,seconds"
     )?;
-    for a in attempts.iter() {
+    for (a, t) in attempts.iter().zip(clock.iter()) {
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             a.tau,
             a.dtau,
             a.error_ratio,
@@ -95,7 +106,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             u8::from(a.first_order),
             a.projection,
             a.edge_radius_start,
-            a.edge_radius_end
+            a.edge_radius_end,
+            t
         )?;
     }
     run?;
@@ -115,7 +127,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let cell = sim.grid().step() / (2.0 * r_star);
     let a = *state.contact_radius_history.last().unwrap_or(&0.0);
     println!(
-        "steps {} ({} rejected), attempts {}, GMRES {} ({:.3} an attempt), a/a0 {a:.6} ({:+.2} cells from r*), V {:.5e}, V/V∞ − 1 {:+.3e}, holes {holes}, {seconds:.2} s",
+        "steps {} ({} rejected), attempts {}, GMRES {} ({:.3} an attempt), a/a0 {a:.6} ({:+.2} cells from r*), V {:.5e}, V/V∞ − 1 {:+.3e}, holes {holes}, {seconds:.2} s, probes {}",
         state.step,
         state.rejected_steps,
         attempts.len(),
@@ -123,7 +135,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         sim.krylov_iterations() as f64 / attempts.len() as f64,
         (a - r_star) / cell,
         sim.wear_volume(),
-        sim.wear_volume() / sim.limit_wear_volume() - 1.0
+        sim.wear_volume() / sim.limit_wear_volume() - 1.0,
+        sim.band_probes()
     );
     Ok(())
 }

@@ -244,21 +244,23 @@ impl RosenbrockMatrix {
     }
 
     /// The band `|i − j| ≤ w` of `K` ([`RosenbrockMatrix::edge_node_response`]) for `m` contact
-    /// nodes, by probing (Curtis, Powell & Reid 1974): with `2w + 1` colours, `K e_c` for
-    /// `e_c = Σ_{j ≡ c} e_j` gives `K_ij` for `|i − j| ≤ w` up to the entries of the same colour
-    /// `2w + 1` and more columns away (`f ↦ p` is of order `1 − k`: its kernel decays like
-    /// `|i − j|^{k − 2}`). Row `i` holds `K_{i, i−w..=i+w}` at `band[i (2w+1) ..]` (columns
-    /// outside the grid 0). `2w + 1` profile and stress transforms.
+    /// nodes, by probing (Curtis, Powell & Reid 1974): with `C > 2w` colours (`colours`), `K e_c`
+    /// for `e_c = Σ_{j ≡ c mod C} e_j` gives `K_ij` for `|i − j| ≤ w` up to the entries of the
+    /// same colour, `C` and more columns from `j` (`|i − j'| ≥ C − w`; `f ↦ p` is of order
+    /// `1 − k`: its kernel decays like `|i − j|^{k − 2}`). Row `i` holds `K_{i, i−w..=i+w}` at
+    /// `band[i (2w+1) ..]` (columns outside the grid 0). `C` profile and stress transforms.
     pub(crate) fn probe_band(
         &mut self,
         m: usize,
         width: usize,
+        colours: usize,
         probe: &mut [f64],
         response: &mut [f64],
         band: &mut [f64],
     ) -> Result<(), MdrError> {
+        debug_assert!(colours > 2 * width);
         let n = self.grid.len();
-        let colours = 2 * width + 1;
+        let row_len = 2 * width + 1;
         band.fill(0.0);
         for c in 0..colours {
             probe.fill(0.0);
@@ -267,11 +269,11 @@ impl RosenbrockMatrix {
             }
             self.edge_node_response(m, probe, response)?;
             for (i, r) in response.iter().enumerate().take(m) {
-                // The column j ≡ c of the row's band.
+                // The column j ≡ c of the row's band (at most one: colours > 2w).
                 let lo = i.saturating_sub(width);
                 let j = lo + (c + colours - lo % colours) % colours;
                 if j < n && j <= i + width {
-                    band[i * colours + (j + width - i)] = *r;
+                    band[i * row_len + (j + width - i)] = *r;
                 }
             }
         }
@@ -413,37 +415,49 @@ impl BandPreconditioner {
             y[i] = s * self.inverse_pivot[i];
         }
     }
+}
 
-    /// The substitutions of [`LinearOperator::apply`] for the half bandwidth 3
-    /// ([`crate::simulation::PRECONDITIONER_WIDTH`]): the interior rows unrolled, the rows at the ends as in the
-    /// general loop; the same operations in the same order (the same bits). The three values a
-    /// row reads from the rows just solved are carried in locals (registers), not loaded back
-    /// from `y`: a (vector) load of the value stored on the previous row cannot be forwarded from
-    /// that store and waited for it on every row (docs/fretting-wear.md, "Cost per step").
-    fn substitute_width_3(&self, y: &mut [f64], active: usize) {
-        const W: usize = 3;
+impl BandPreconditioner {
+    /// The substitutions of [`LinearOperator::apply`] for the half bandwidth 5
+    /// ([`crate::simulation::PRECONDITIONER_WIDTH`]): the interior rows unrolled, the rows at the
+    /// ends as in the general loop; the same operations in the same order (the same bits as the
+    /// general loop, `BandPreconditioner::substitute`). The five values a row reads from the rows
+    /// just solved are carried in scalar locals (registers), not loaded back from `y`: a (vector)
+    /// load of the value stored on the previous row cannot be forwarded from that store and
+    /// waits for it on every row (docs/fretting-wear.md, "Cost per step"; an array window with
+    /// `copy_within` was tried and is kept on the stack by the compiler, the same stall: the
+    /// substitution's share of a perf profile of the N = 8001 run 21.6 % against 8.5 % with the
+    /// locals).
+    fn substitute_width_5(&self, y: &mut [f64], active: usize) {
+        const W: usize = 5;
         let n = y.len();
         let colours = 2 * W + 1;
-        // (y_{i−3}, y_{i−2}, y_{i−1}) on row i ≥ 3.
-        let (mut y3, mut y2, mut y1) = (0.0f64, 0.0f64, 0.0f64);
+        let (mut y5, mut y4, mut y3, mut y2, mut y1) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
         for i in 0..active {
             let row = &self.lu[i * colours..(i + 1) * colours];
             let mut s = y[i];
             if i >= W {
-                s -= row[0] * y3;
-                s -= row[1] * y2;
-                s -= row[2] * y1;
+                s -= row[0] * y5;
+                s -= row[1] * y4;
+                s -= row[2] * y3;
+                s -= row[3] * y2;
+                s -= row[4] * y1;
             } else {
                 for j in 0..i {
                     s -= row[j + W - i] * y[j];
                 }
             }
             y[i] = s;
-            (y3, y2, y1) = (y2, y1, s);
+            (y5, y4, y3, y2, y1) = (y4, y3, y2, y1, s);
         }
-        // (y_{i+1}, y_{i+2}, y_{i+3}) on row i with i + 3 < n.
         let at = |j: usize| y.get(j).copied().unwrap_or(0.0);
-        let (mut z1, mut z2, mut z3) = (at(active), at(active + 1), at(active + 2));
+        let (mut z1, mut z2, mut z3, mut z4, mut z5) = (
+            at(active),
+            at(active + 1),
+            at(active + 2),
+            at(active + 3),
+            at(active + 4),
+        );
         for i in (0..active).rev() {
             let row = &self.lu[i * colours..(i + 1) * colours];
             let mut s = y[i];
@@ -451,6 +465,8 @@ impl BandPreconditioner {
                 s -= row[W + 1] * z1;
                 s -= row[W + 2] * z2;
                 s -= row[W + 3] * z3;
+                s -= row[W + 4] * z4;
+                s -= row[W + 5] * z5;
             } else {
                 for j in i + 1..n {
                     s -= row[j + W - i] * y[j];
@@ -458,7 +474,7 @@ impl BandPreconditioner {
             }
             let yi = s * self.inverse_pivot[i];
             y[i] = yi;
-            (z1, z2, z3) = (yi, z1, z2);
+            (z5, z4, z3, z2, z1) = (z4, z3, z2, z1, yi);
         }
     }
 }
@@ -480,8 +496,8 @@ impl LinearOperator for BandPreconditioner {
         let (n, w) = (self.dim, self.width);
         // Rows from `active` on are those of the identity (`y_i = x_i`).
         let active = self.active.min(n);
-        if w == 3 {
-            self.substitute_width_3(y, active);
+        if w == 5 {
+            self.substitute_width_5(y, active);
         } else {
             self.substitute(y, active);
         }
@@ -518,55 +534,57 @@ mod tests {
     use super::*;
     use crate::simulation::PRECONDITIONER_WIDTH;
 
-    /// The unrolled substitutions of the preconditioner's width give the general loop's bits, on
+    /// The unrolled substitutions of the preconditioner's width (5) give the general loop's bits, on
     /// a diagonally dominant random band (fixed seed), with all rows active and with a part.
     #[test]
     fn fixed_width_substitution_is_the_general_one_bit_for_bit() {
-        let n = 53;
-        let w = PRECONDITIONER_WIDTH;
-        let mut p = BandPreconditioner::new(n, w);
-        let mut state = 12345u64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
-        for (i, row) in p.band.chunks_mut(2 * w + 1).enumerate() {
-            for (l, b) in row.iter_mut().enumerate() {
-                let j = (i + l).checked_sub(w).filter(|&j| j < n);
-                *b = if j.is_some() { next() } else { 0.0 };
+        {
+            let w = PRECONDITIONER_WIDTH;
+            let n = 53;
+            let mut p = BandPreconditioner::new(n, w);
+            let mut state = 12345u64;
+            let mut next = || {
+                state = state
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+            };
+            for (i, row) in p.band.chunks_mut(2 * w + 1).enumerate() {
+                for (l, b) in row.iter_mut().enumerate() {
+                    let j = (i + l).checked_sub(w).filter(|&j| j < n);
+                    *b = if j.is_some() { next() } else { 0.0 };
+                }
+                row[w] = -4.0 - next();
             }
-            row[w] = -4.0 - next();
-        }
-        let x: Vec<f64> = (0..n).map(|_| next()).collect();
-        for active in [n, n - 1, n - 2, 31, 3, 2] {
-            for row in p.band.chunks_mut(2 * w + 1).skip(active) {
-                row.fill(0.0);
+            let x: Vec<f64> = (0..n).map(|_| next()).collect();
+            for active in [n, n - 1, n - 2, 31, 3, 2] {
+                for row in p.band.chunks_mut(2 * w + 1).skip(active) {
+                    row.fill(0.0);
+                }
+                p.active = active;
+                p.factor(0.7);
+                assert!(p.factored);
+                let (mut fixed, mut general) = (x.clone(), x.clone());
+                p.substitute_width_5(&mut fixed, active);
+                p.substitute(&mut general, active);
+                assert!(fixed
+                    .iter()
+                    .zip(&general)
+                    .all(|(a, b)| a.to_bits() == b.to_bits()));
+                assert!(fixed.iter().zip(&x).any(|(a, b)| a != b));
+                // On the leading block of `active + w` nodes (the stages' support) with a zero tail:
+                // the block of the whole vector's answer.
+                let block = (active + w).min(n);
+                let mut tail_free = x.clone();
+                tail_free[block..].fill(0.0);
+                let mut short = tail_free[..block].to_vec();
+                p.substitute_width_5(&mut short, active);
+                p.substitute(&mut tail_free, active);
+                assert!(short
+                    .iter()
+                    .zip(&tail_free)
+                    .all(|(a, b)| a.to_bits() == b.to_bits()));
             }
-            p.active = active;
-            p.factor(0.7);
-            assert!(p.factored);
-            let (mut fixed, mut general) = (x.clone(), x.clone());
-            p.substitute_width_3(&mut fixed, active);
-            p.substitute(&mut general, active);
-            assert!(fixed
-                .iter()
-                .zip(&general)
-                .all(|(a, b)| a.to_bits() == b.to_bits()));
-            assert!(fixed.iter().zip(&x).any(|(a, b)| a != b));
-            // On the leading block of `active + w` nodes (the stages' support) with a zero tail:
-            // the block of the whole vector's answer.
-            let block = (active + w).min(n);
-            let mut tail_free = x.clone();
-            tail_free[block..].fill(0.0);
-            let mut short = tail_free[..block].to_vec();
-            p.substitute_width_3(&mut short, active);
-            p.substitute(&mut tail_free, active);
-            assert!(short
-                .iter()
-                .zip(&tail_free)
-                .all(|(a, b)| a.to_bits() == b.to_bits()));
         }
     }
 }

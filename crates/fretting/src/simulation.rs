@@ -172,17 +172,20 @@ struct StartRate {
 
 /// The name of the default adaptive scheme, which a checkpoint records (`fretting-wear`'s
 /// `adaptive_scheme`): a resume refuses a checkpoint of another scheme, whose steps it would not
-/// repeat bit for bit. `ros2-hole-projection-eta1e-3`: ROS2 with the frozen contact stages, the
+/// repeat bit for bit. `ros2-hole-projection-eta1e-3-band5x12`: ROS2 with the frozen contact stages, the
 /// outside-wear and opened-hole estimates, and the projection onto the closed set
 /// ([`FrettingSimulation::set_hole_projection`]) with the margin `η = 1e-3` (`HOLE_MARGIN`);
 /// checkpoints without the attribute were made by the scheme before the projection (the same
-/// path was first recorded as `ros2-hole-projection`, never on main). The name must change
+/// path was first recorded as `ros2-hole-projection`, never on main), and the stages' band
+/// preconditioner of half width 5 probed with 12 colours (`PRECONDITIONER_WIDTH`,
+/// `PROBE_COLOURS`: they change the stage solves' rounding, so the steps; `-eta1e-3` alone was the
+/// same scheme with width 3 and 7 colours). The name must change
 /// whenever the path does: `HOLE_MARGIN`, the default
 /// switches (`hole_estimate`, `freeze_contact`, `first_order_fallback`, `hole_projection`,
 /// `recycled_second_stage` in `FrettingSimulation::with_state`) or how an attempt's error is
 /// formed. A library run with a non-default switch records nothing of it: it must be set again
 /// to resume on the same path.
-pub const ADAPTIVE_SCHEME: &str = "ros2-hole-projection-eta1e-3";
+pub const ADAPTIVE_SCHEME: &str = "ros2-hole-projection-eta1e-3-band5x12";
 
 /// `γ = 1 + 1/√2` of ROS2.
 const ROS2_GAMMA: f64 = 1.0 + std::f64::consts::FRAC_1_SQRT_2;
@@ -255,6 +258,8 @@ pub struct FrettingSimulation {
     trial_edge_squared: f64,
     /// GMRES iterations so far (not part of the state: a diagnostic).
     krylov_iterations: u64,
+    /// Band probes of the preconditioner so far (a diagnostic, not state).
+    probes: u64,
     /// `π_j = σ_j/(a² − ξ_j)^γ` on the edge cells ([`FrettingSimulation::edge_cell_rates`]).
     edge_shape: Vec<f64>,
     /// `p̄_j` of the edge cells.
@@ -409,6 +414,7 @@ impl FrettingSimulation {
             outside_grid: false,
             trial_edge_squared: 0.0,
             krylov_iterations: 0,
+            probes: 0,
             edge_shape: vec![0.0; n],
             edge_mean: vec![0.0; n],
             edge_cells: 0,
@@ -567,6 +573,12 @@ impl FrettingSimulation {
     /// GMRES iterations of the implicit steps so far in this process (a diagnostic, not state).
     pub fn krylov_iterations(&self) -> u64 {
         self.krylov_iterations
+    }
+
+    /// Band probes of the preconditioner so far in this process (a diagnostic, not state): each
+    /// is `PROBE_COLOURS` (12) products of the profile and stress transforms.
+    pub fn band_probes(&self) -> u64 {
+        self.probes
     }
 
     /// `r*/a₀`, the limit of the contact radius.
@@ -1023,11 +1035,13 @@ impl FrettingSimulation {
                 self.matrix.probe_band(
                     target,
                     p.width(),
+                    PROBE_COLOURS,
                     &mut p.probe,
                     &mut p.response,
                     &mut p.stress_band,
                 )?;
                 p.probed_for = target;
+                self.probes += 1;
             }
             self.matrix
                 .scale_band(p.width(), &p.stress_band, &mut p.band);
@@ -1541,11 +1555,31 @@ fn hole_projection(first: usize, g2: &[f64], g1: &[f64]) -> f64 {
     }
 }
 
-/// The half bandwidth `w` of the band preconditioner ([`BandPreconditioner`]): `2w + 1` probes each
-/// time the contact nodes change. Measured GMRES iterations (default run / N = 8001 / graded
-/// k = −0.5, χ = 0.9): none 25 176 / 58 713 / 1 025 082; w = 3: 13 864 / 29 158 / 429 077;
-/// w = 1 is worse than none (the central difference spreads the stencil over ±1 before `P`).
-pub(crate) const PRECONDITIONER_WIDTH: usize = 3;
+/// The half bandwidth `w` of the band preconditioner ([`BandPreconditioner`]), probed with
+/// [`PROBE_COLOURS`] colours each time the contact nodes enter another bucket. Measured GMRES
+/// iterations (default run / N = 8001 / graded k = −0.5, χ = 0.9): none 25 176 / 58 713 /
+/// 1 025 082; w = 3 (7 colours): 13 864 / 29 158 / 429 077. At N = 8001 to τ = 30 (one step
+/// sequence each, `step_trace 8001 0 0.5 1e-4 30` with these constants edited and rebuilt): w = 3
+/// with 7 colours 34 895, with 14
+/// colours 33 040; w = 4 with 10 colours 52 007; w = 5 with 11 colours 28 173, with 12
+/// colours 25 164, with 14 colours 27 115; w = 7 with 16 colours 23 359 (docs/performance.md,
+/// "The N = 8001 wear run on two cores (issue 20)"). w = 1 is worse than none and even widths
+/// are worse than the odd width below them (the central-difference slope spreads the stencil
+/// over ±1 before `P`).
+pub(crate) const PRECONDITIONER_WIDTH: usize = 5;
+
+/// The colours of the band probe ([`RosenbrockMatrix::probe_band`], more than `2w`): the probed
+/// entry `(i, j)` also carries `K`'s entries of the same colour, `|i − j'| ≥ PROBE_COLOURS − w`
+/// columns away. `2w + 1` colours put those aliases 4 (w = 3) or 6 (w = 5) columns away, and the
+/// band they spoil preconditions worse: a dense study of one stage at N = 8001, τ = 5 (near
+/// grazing; `K` assembled column by column, GMRES to 1e-5 at Δτ = 0.1): w = 3 with 7 / 13 / 14
+/// colours 113 / 59 / 59 iterations, w = 5 with 11 / 12 / 13 colours 73 / 46 / 46 (the exact
+/// band of the masked `J` itself 44 at w = 3). The parity of the count does not matter (13 and
+/// 14 alike); the alias distance does.
+pub(crate) const PROBE_COLOURS: usize = 12;
+
+// Two columns of a row's band in one colour would be stored as their sum: refused at compile time.
+const _: () = assert!(PROBE_COLOURS > 2 * PRECONDITIONER_WIDTH);
 
 /// The contact nodes whose band of `K` the preconditioner uses for `m` contact nodes: `m`
 /// rounded up to the next multiple of [`PROBE_BUCKET`] (at most `n − 4`, so that the probe's
@@ -1606,7 +1640,7 @@ mod tests {
             sim.linearize(contact).unwrap();
             let n = sim.grid.len();
             let w = sim.precond.width();
-            let colours = 2 * w + 1;
+            let (row_len, colours) = (2 * w + 1, PROBE_COLOURS);
             // The band is K's for the contact nodes rounded up to the probe bucket.
             let m = sim.precond.probed_for;
             assert_eq!(m, probe_nodes(contact.edge, n));
@@ -1624,11 +1658,11 @@ mod tests {
             // Probing adds to K_ij the entries of the same colour outside the band, exactly.
             let (mut worst, mut largest) = (0.0f64, 0.0f64);
             for i in 0..m {
-                for l in 0..colours {
+                for l in 0..row_len {
                     let Some(j) = (i + l).checked_sub(w).filter(|&j| j < n) else {
                         continue;
                     };
-                    let probed = sim.precond.stress_band[i * colours + l];
+                    let probed = sim.precond.stress_band[i * row_len + l];
                     let same_colour =
                         (0..n).filter(|&c| c.abs_diff(i) > w && c % colours == j % colours);
                     let folded: f64 = same_colour.clone().map(|c| dense[i * n + c]).sum();
@@ -1644,7 +1678,8 @@ mod tests {
                 }
             }
             // What the band misses (the preconditioner's approximation, not a test tolerance):
-            // measured 0.22 (k = 0) and 0.057 (k = −0.5) of the largest entry, at the edge rows,
+            // measured 0.14 (k = 0) and 0.020 (k = −0.5) of the largest entry at w = 5 with 12
+            // colours (0.22 and 0.057 at w = 3 with 7), at the edge rows,
             // mostly from column 0 (the slope at the centre enters every slope through the
             // parabolic split of the profile transform).
             eprintln!("k = {k}: probed band vs dense K: {worst:e} of {largest:e}");
