@@ -41,16 +41,32 @@ impl Drop for Borrowed<'_> {
     }
 }
 
-/// Batches smaller than this many transforms per thread are transformed one after the other on
-/// the splitting core (a batch of one or two would leave a thread idle).
-const PER_THREAD: usize = 2;
+/// Batches of fewer transforms are transformed one after the other on the splitting core (one
+/// transform alone keeps its split over the threads).
+const MIN_BATCH: usize = 2;
 
 impl FftBatch {
-    /// Batches on `core`'s plans (the core is cloned: its work buffers are shared).
+    /// Batches on `core`'s plans (the core is cloned: its work buffers are shared). A core that
+    /// splits its transforms gets one sequential core per thread of the pool here, their work
+    /// buffers allocated by a first transform, so that batches do not allocate: a task finds a
+    /// core in stock unless more tasks run at once than the pool has threads (a task stolen into
+    /// a nested join), when it makes one more (kept for later batches).
     pub fn new(core: &Fft2d) -> Self {
+        let mut cores = Vec::new();
+        if core.is_parallel() {
+            let (n1, n2) = core.shape();
+            let zero = vec![0.0; n1 * n2];
+            let mut spectrum = core.new_spectrum();
+            for _ in 0..rayon::current_num_threads() {
+                let mut c = core.sequential();
+                // Allocates the work buffers (a zero field: no error on a valid core's shape).
+                let _ = c.forward(&zero, &mut spectrum);
+                cores.push(c);
+            }
+        }
         Self {
             core: core.clone(),
-            cores: Mutex::new(Vec::new()),
+            cores: Mutex::new(cores),
         }
     }
 
@@ -59,9 +75,17 @@ impl FftBatch {
         self.core.shape()
     }
 
-    /// Whether `count` transforms run one per task.
+    /// Whether `count` transforms run one per task: on a core that splits its transforms, from
+    /// two on (a 128² transform split over the threads does not pay even on two:
+    /// docs/performance.md, "One EIM application on two cores").
     fn batched(&self, count: usize) -> bool {
-        self.core.is_parallel() && count >= PER_THREAD * rayon::current_num_threads()
+        self.core.is_parallel() && count >= MIN_BATCH
+    }
+
+    /// Sequential cores in stock (tests: the batched path ran and returned them).
+    #[cfg(test)]
+    fn stock(&self) -> usize {
+        self.cores.lock().map_or(0, |c| c.len())
     }
 
     fn borrow(&self) -> Borrowed<'_> {
@@ -175,9 +199,22 @@ mod tests {
     /// grid that runs on threads (128²) and one that does not, with a row range.
     #[test]
     fn batched_transforms_equal_the_core_bit_for_bit() {
+        // In a pool of two threads (whatever the machine's), so that 128² cores split their
+        // transforms and the batch runs one per task.
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        pool.install(batched_transforms_check);
+    }
+
+    fn batched_transforms_check() {
         for (n, rows) in [(128usize, 0..128usize), (128, 17..90), (16, 3..11)] {
             let mut core = Fft2d::new(n, n).unwrap();
             let batch = FftBatch::new(&core);
+            // The 128² core splits (the batch has its sequential cores); the 16² one does not.
+            assert_eq!(core.is_parallel(), n == 128);
+            assert_eq!(batch.stock(), if n == 128 { 2 } else { 0 });
             let mut x = fields(n, 12, 7 + n as u64);
             for f in &mut x {
                 for (i, v) in f.iter_mut().enumerate() {
@@ -194,6 +231,8 @@ mod tests {
             let mut y = vec![vec![f64::NAN; n * n]; 12];
             let mut hat2 = hat.clone();
             batch.inverse(&mut hat2, rows.clone(), &mut y).unwrap();
+            // The batched path ran on the stock's cores and returned them.
+            assert_eq!(batch.stock(), if n == 128 { 2 } else { 0 });
             for v in 0..12 {
                 assert_eq!(skip[v], v % 5 == 3);
                 if skip[v] {

@@ -191,8 +191,18 @@ impl EimSystem {
     }
 
     /// `b = ΔC ε⁰` from the applied strain fields on the inclusion layers (cell by cell, in
-    /// tasks of [`CELLS_PER_TASK`] cells).
-    pub fn rhs(&self, applied: &[Vec<f64>], b: &mut [f64]) {
+    /// tasks of [`CELLS_PER_TASK`] cells). Errors: `b` not of [`LinearOperator::dim`] values,
+    /// `applied` not six window fields per layer.
+    pub fn rhs(&self, applied: &[Vec<f64>], b: &mut [f64]) -> Result<(), SamError> {
+        let wl = self.set.window.len();
+        if applied.len() != 6 * self.set.layers.len() || applied.iter().any(|f| f.len() != wl) {
+            return Err(SamError::Numerics(NumericsError::LengthMismatch {
+                what: "applied strain fields (6 per layer, window-sized)",
+                expected: 6 * self.set.layers.len(),
+                got: applied.len(),
+            }));
+        }
+        check_lengths(self.dim(), b, b)?;
         let cells = &self.set.cells;
         b.par_chunks_mut(6 * CELLS_PER_TASK)
             .zip(cells.par_chunks(CELLS_PER_TASK))
@@ -205,6 +215,7 @@ impl EimSystem {
                     bc.copy_from_slice(&mul6(&self.dc[cell.material], &e0));
                 }
             });
+        Ok(())
     }
 
     /// Scatters the cell eigenstrains into the layer fields.
@@ -227,10 +238,7 @@ impl EimSystem {
                     .zip(ranges.par_iter())
                     .for_each(|(fields, range)| {
                         for c in range.clone() {
-                            let local = cells[c].local;
-                            for (o, f) in fields.iter_mut().enumerate() {
-                                f[local] = x[c * 6 + o];
-                            }
+                            write_cell(fields, cells[c].local, &x[c * 6..c * 6 + 6]);
                         }
                     });
             }
@@ -258,7 +266,10 @@ impl EimSystem {
         check_lengths(n, eps_star, eps_star)?;
         let mut b = std::mem::take(&mut self.rhs);
         b.resize(n, 0.0);
-        self.rhs(applied, &mut b);
+        if let Err(e) = self.rhs(applied, &mut b) {
+            self.rhs = b;
+            return Err(e);
+        }
         let method = match params.method {
             EimMethod::Auto => {
                 // Shear-modulus ratio G_I/G_m (the matrix's 2G sits on the shear diagonal).
@@ -449,9 +460,16 @@ fn layer_ranges(set: &InclusionSet) -> Option<Vec<std::ops::Range<usize>>> {
 /// not written).
 fn scatter_cells(set: &InclusionSet, x: &[f64], fields: &mut [Vec<f64>]) {
     for (c, cell) in set.cells.iter().enumerate() {
-        for o in 0..6 {
-            fields[cell.layer * 6 + o][cell.local] = x[c * 6 + o];
-        }
+        let layer = &mut fields[cell.layer * 6..cell.layer * 6 + 6];
+        write_cell(layer, cell.local, &x[c * 6..c * 6 + 6]);
+    }
+}
+
+/// `fields[o][local] = xc[o]` for the six fields of one layer.
+#[inline(always)]
+fn write_cell(fields: &mut [Vec<f64>], local: usize, xc: &[f64]) {
+    for (f, v) in fields.iter_mut().zip(xc) {
+        f[local] = *v;
     }
 }
 
