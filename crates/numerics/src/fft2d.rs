@@ -465,6 +465,25 @@ impl<T: Precision> Fft2d<T> {
         })
     }
 
+    /// A core of this one's shape, mode and plans that transforms on the calling thread alone,
+    /// with work buffers of its own (not a clone: it shares none): for batches of transforms run
+    /// one per task on the pool (`crate::fft_batch`), where splitting each transform again would
+    /// only add hand-offs. Its results are this core's bit for bit (rows and columns are
+    /// transformed one by one either way).
+    pub fn sequential(&self) -> Self {
+        Self {
+            threads: 1,
+            plans: self.plans.clone(),
+            work: Arc::new(Mutex::new(None)),
+            ..*self
+        }
+    }
+
+    /// Whether this core splits its transforms over the pool's threads.
+    pub fn is_parallel(&self) -> bool {
+        self.threads > 1
+    }
+
     /// Grid shape `(N₁, N₂)`.
     pub fn shape(&self) -> (usize, usize) {
         (self.n1, self.n2)

@@ -162,6 +162,29 @@ struct Quarters {
     /// Per block, the largest dropped part (the imaginary part of `K̂ (−i)^c` and the mirrored
     /// rows' departure from `s K̂(r)`) over the largest kept `|R|`: the largest of these.
     discarded: f64,
+    /// The CPU's AVX2 level, detected once (`None`: the products run one value at a time;
+    /// [`real_times_complex`]).
+    level: Option<Avx2>,
+}
+
+/// pulp's AVX2 level (x86-64-v3) where the CPU has it.
+#[cfg(target_arch = "x86_64")]
+type Avx2 = pulp::x86::V3;
+/// No AVX2 level off x86-64.
+#[cfg(not(target_arch = "x86_64"))]
+#[derive(Clone, Copy, Debug)]
+enum Avx2 {}
+
+/// The CPU's AVX2 level, if any.
+fn avx2_level() -> Option<Avx2> {
+    #[cfg(target_arch = "x86_64")]
+    {
+        pulp::x86::V3::try_new()
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        None
+    }
 }
 
 impl Quarters {
@@ -203,7 +226,9 @@ const QUARTER_TOLERANCE: f64 = 1e-12;
 
 /// `acc[j] += K̂(start + j) x[j]` for a block stored by quarter ([`Quarters`]): `R` (`(N₂ + 1) ·
 /// (N₁ + 1)` values), odd in `m` (`s = −1` on the mirrored rows), imaginary (`K̂ = i R`).
+#[inline(always)]
 fn quarter_accumulate(
+    level: Option<Avx2>,
     acc: &mut [C64],
     start: usize,
     r_quarter: &[f64],
@@ -220,40 +245,122 @@ fn quarter_accumulate(
         let j = f - start;
         if r <= n1 {
             let run = (h - r).min(end - f);
-            let ks = r_quarter[base + r..base + r + run].iter().copied();
-            real_times_complex(&mut acc[j..j + run], ks, &x[j..j + run], imag);
+            let ks = &r_quarter[base + r..base + r + run];
+            let (a, xs) = (&mut acc[j..j + run], &x[j..j + run]);
+            real_times_complex(level, a, ks, (false, false, imag), xs);
             f += run;
         } else {
             // Rows r, r + 1, … read the stored rows 2N₁ − r, 2N₁ − r − 1, … (times s).
             let run = (p1 - r).min(end - f);
             let top = base + p1 - r;
-            let ks = r_quarter[top + 1 - run..=top].iter().rev();
+            let ks = &r_quarter[top + 1 - run..=top];
             let (a, xs) = (&mut acc[j..j + run], &x[j..j + run]);
-            if odd_m {
-                real_times_complex(a, ks.map(|k| -k), xs, imag);
-            } else {
-                real_times_complex(a, ks.copied(), xs, imag);
-            }
+            real_times_complex(level, a, ks, (true, odd_m, imag), xs);
             f += run;
         }
     }
 }
 
-/// `acc += k x` (`imag`: `acc += i k x`) per element, `k` real: `re += k x.re, im += k x.im`
-/// (turned: `re −= k x.im, im += k x.re`).
+/// `acc[j] += k_j x[j]` (`imag`: `acc[j] += i k_j x[j]`) with `k_j = ks[j]` (`reversed`:
+/// `ks[len − 1 − j]`), negated with `negate`: per value `re += k x.re, im += k x.im` (turned:
+/// `re += (−k) x.im, im += k x.re`, the bits of `re −= k x.im`). With AVX2, four values at a time
+/// on interleaved lanes (`k` duplicated per value and signed by multiplying with ±1, `x` swapped
+/// when turned; [`real_times_complex_avx2`]), the rest one by one: the same operations in the
+/// same order (no fused multiply-adds), so the same bits on either path.
 #[inline(always)]
-fn real_times_complex(acc: &mut [C64], ks: impl Iterator<Item = f64>, x: &[C64], imag: bool) {
-    if imag {
-        for ((a, k), xv) in acc.iter_mut().zip(ks).zip(x) {
-            a.re -= k * xv.im;
-            a.im += k * xv.re;
-        }
-    } else {
-        for ((a, k), xv) in acc.iter_mut().zip(ks).zip(x) {
-            a.re += k * xv.re;
-            a.im += k * xv.im;
+fn real_times_complex(
+    level: Option<Avx2>,
+    acc: &mut [C64],
+    ks: &[f64],
+    (reversed, negate, imag): (bool, bool, bool),
+    x: &[C64],
+) {
+    let len = acc.len();
+    #[cfg(target_arch = "x86_64")]
+    let done = match level {
+        Some(simd) => real_times_complex_avx2(simd, acc, ks, (reversed, negate, imag), x),
+        None => 0,
+    };
+    #[cfg(not(target_arch = "x86_64"))]
+    let done = {
+        let _ = level;
+        0
+    };
+    for j in done..len {
+        let v = if reversed { ks[len - 1 - j] } else { ks[j] };
+        let kj = if negate { -v } else { v };
+        let (a, xv) = (&mut acc[j], x[j]);
+        if imag {
+            a.re += -kj * xv.im;
+            a.im += kj * xv.re;
+        } else {
+            a.re += kj * xv.re;
+            a.im += kj * xv.im;
         }
     }
+}
+
+/// [`real_times_complex`] on the first `4⌊len/4⌋` values with AVX2 (returns that count): per four
+/// values, the four kernel values loaded at once, duplicated per complex value by a lane
+/// permutation (reversed runs by the reversed permutation), multiplied by the lane signs `±1`
+/// (exact), and `acc += k ⊙ x` on two vectors of two complex values each (`x` with re and im
+/// swapped when turned).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn real_times_complex_avx2(
+    simd: pulp::x86::V3,
+    acc: &mut [C64],
+    ks: &[f64],
+    (reversed, negate, imag): (bool, bool, bool),
+    x: &[C64],
+) -> usize {
+    use pulp::f64x4;
+    let len = acc.len().min(x.len()).min(ks.len());
+    let blocks = len / 4;
+    let sign_im = if negate { -1.0 } else { 1.0 };
+    let sign_re = if imag { -sign_im } else { sign_im };
+    let signs = f64x4(sign_re, sign_im, sign_re, sign_im);
+    let acc_f: &mut [f64] = pulp::bytemuck::cast_slice_mut(&mut acc[..4 * blocks]);
+    let x_f: &[f64] = pulp::bytemuck::cast_slice(&x[..4 * blocks]);
+    for b in 0..blocks {
+        let j = 4 * b;
+        let kv = if reversed {
+            let t = len - 4 - j;
+            f64x4(ks[t], ks[t + 1], ks[t + 2], ks[t + 3])
+        } else {
+            f64x4(ks[j], ks[j + 1], ks[j + 2], ks[j + 3])
+        };
+        let km: core::arch::x86_64::__m256d = pulp::cast(kv);
+        // Lanes (k₀ k₀ k₁ k₁), (k₂ k₂ k₃ k₃) of the values j … j + 3 (reversed: the loaded
+        // four from the last).
+        let (lo, hi) = if reversed {
+            (
+                simd.avx2._mm256_permute4x64_pd::<0b1010_1111>(km),
+                simd.avx2._mm256_permute4x64_pd::<0b0000_0101>(km),
+            )
+        } else {
+            (
+                simd.avx2._mm256_permute4x64_pd::<0b0101_0000>(km),
+                simd.avx2._mm256_permute4x64_pd::<0b1111_1010>(km),
+            )
+        };
+        let lo: f64x4 = simd.mul_f64x4(pulp::cast(lo), signs);
+        let hi: f64x4 = simd.mul_f64x4(pulp::cast(hi), signs);
+        let xs = &x_f[2 * j..2 * j + 8];
+        let mut x0 = f64x4(xs[0], xs[1], xs[2], xs[3]);
+        let mut x1 = f64x4(xs[4], xs[5], xs[6], xs[7]);
+        if imag {
+            x0 = pulp::cast(simd.avx._mm256_permute_pd::<0b0101>(pulp::cast(x0)));
+            x1 = pulp::cast(simd.avx._mm256_permute_pd::<0b0101>(pulp::cast(x1)));
+        }
+        let a = &mut acc_f[2 * j..2 * j + 8];
+        let a0 = simd.add_f64x4(f64x4(a[0], a[1], a[2], a[3]), simd.mul_f64x4(lo, x0));
+        let a1 = simd.add_f64x4(f64x4(a[4], a[5], a[6], a[7]), simd.mul_f64x4(hi, x1));
+        let (a0, a1): ([f64; 4], [f64; 4]) = (pulp::cast(a0), pulp::cast(a1));
+        a[..4].copy_from_slice(&a0);
+        a[4..].copy_from_slice(&a1);
+    }
+    4 * blocks
 }
 
 /// The layered operator on one contiguous stack of `L` layers (targets = sources, depth keys
@@ -1209,6 +1316,7 @@ impl LayeredSpectra {
                     kinds,
                     families,
                     discarded,
+                    level: avx2_level(),
                 })
             }
             _ => None,
@@ -1540,25 +1648,19 @@ impl LayeredSpectra {
     ) {
         let end = start + acc.len();
         if let Some(q) = &self.quarters {
-            for (family, map) in &q.families {
-                for (b, &zb) in self.sources.iter().enumerate() {
-                    let blocks = &map[&family.key(self.targets[a], zb)];
-                    for i in 0..self.n_in {
-                        if skip[b * self.n_in + i] {
-                            continue;
-                        }
-                        if let Some(k) = &blocks[o * self.n_in + i] {
-                            quarter_accumulate(
-                                acc,
-                                start,
-                                k,
-                                &inputs_hat[b * self.n_in + i][start..end],
-                                self.n1,
-                                q.kinds[o * self.n_in + i],
-                            );
-                        }
-                    }
-                }
+            let task = QuarterOutput {
+                spectra: self,
+                quarters: q,
+                output: (a, o),
+                start,
+                inputs_hat,
+                skip,
+                acc,
+            };
+            match q.level {
+                #[cfg(target_arch = "x86_64")]
+                Some(simd) => pulp::Simd::vectorize(simd, task),
+                _ => pulp::WithSimd::with_simd(task, pulp::Scalar::new()),
             }
             return;
         }
@@ -1574,6 +1676,60 @@ impl LayeredSpectra {
                             acc,
                             &k[start..end],
                             &inputs_hat[b * self.n_in + i][start..end],
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// One output's per-key products over a chunk of frequencies from spectra stored by quarter
+/// ([`LayeredSpectra::accumulate_one`]), compiled for AVX2 where the CPU has it (pulp's V3) and
+/// for the baseline (docs/performance.md, "One EIM application on two cores"): the
+/// contributions in the order of the complex storage (family, source, input), each
+/// [`quarter_accumulate`].
+struct QuarterOutput<'a> {
+    spectra: &'a LayeredSpectra,
+    quarters: &'a Quarters,
+    output: (usize, usize),
+    start: usize,
+    inputs_hat: &'a [Vec<C64>],
+    skip: &'a [bool],
+    acc: &'a mut [C64],
+}
+
+impl pulp::WithSimd for QuarterOutput<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _: S) {
+        let QuarterOutput {
+            spectra: sp,
+            quarters: q,
+            output: (a, o),
+            start,
+            inputs_hat,
+            skip,
+            acc,
+        } = self;
+        let end = start + acc.len();
+        for (family, map) in &q.families {
+            for (b, &zb) in sp.sources.iter().enumerate() {
+                let blocks = &map[&family.key(sp.targets[a], zb)];
+                for i in 0..sp.n_in {
+                    if skip[b * sp.n_in + i] {
+                        continue;
+                    }
+                    if let Some(k) = &blocks[o * sp.n_in + i] {
+                        quarter_accumulate(
+                            q.level,
+                            acc,
+                            start,
+                            k,
+                            &inputs_hat[b * sp.n_in + i][start..end],
+                            sp.n1,
+                            q.kinds[o * sp.n_in + i],
                         );
                     }
                 }
@@ -2306,6 +2462,17 @@ mod tests {
                     .zip(b.iter().flatten())
                     .fold(0.0f64, |m, (x, y)| m.max((x - y).norm()));
                 assert!(scale > 0.0 && err <= 1e-14 * scale, "{err:e} of {scale:e}");
+                // The same products on pulp's scalar level: the same bits as the dispatched
+                // SIMD level (the small and the frequency-chunked path).
+                let mut scalar =
+                    LayeredSpectra::new(&mut fft, &targets, &sources, &families).unwrap();
+                scalar.quarters.as_mut().expect("by quarter").level = None;
+                let mut c: Vec<Vec<C64>> = (0..outputs).map(|_| fft.new_spectrum()).collect();
+                scalar.accumulate(&hats, &skip, &mut c).unwrap();
+                for (x, y) in a.iter().flatten().zip(c.iter().flatten()) {
+                    assert_eq!(x.re.to_bits(), y.re.to_bits());
+                    assert_eq!(x.im.to_bits(), y.im.to_bits());
+                }
                 // Leading outputs (one per target) bit for bit.
                 let mut lead: Vec<Vec<C64>> =
                     (0..targets.len()).map(|_| fft.new_spectrum()).collect();

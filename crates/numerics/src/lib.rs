@@ -30,6 +30,7 @@ pub mod conv2d;
 pub mod diff;
 mod error;
 pub mod fft2d;
+pub mod fft_batch;
 pub mod grid;
 pub mod krylov;
 pub mod layered;

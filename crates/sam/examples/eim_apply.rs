@@ -77,6 +77,19 @@ fn main() {
         (h ^ v.to_bits()).wrapping_mul(0x100_0000_01b3)
     });
     println!("output bits {h:016x}");
+    // The same applications run on one of rayon's workers with a partner, as the nested loop
+    // runs its increments (`halfspace_numerics::parallel::on_pool`).
+    let (t, c) = (std::time::Instant::now(), cpu());
+    halfspace_numerics::parallel::on_pool(n * n, || {
+        for _ in 0..apply_reps {
+            system.apply(&x, &mut y).unwrap();
+        }
+    });
+    println!(
+        "apply on the pool {:.2} ms wall, {:.1} ms CPU",
+        t.elapsed().as_secs_f64() * 1e3 / apply_reps as f64,
+        (cpu() - c) * 1e3 / apply_reps as f64
+    );
     // Block-Jacobi solves (Anderson depth of the nested loop's default) under a pressure bump
     // on the grid: milliseconds per application of the whole iteration (the
     // application, the preconditioner, the residual and mixing vector operations), against the
@@ -105,6 +118,8 @@ fn main() {
     let mut eps = vec![0.0; dim];
     // A first solve plans the iteration's work arrays; the timed one is warm, under 1.05 × the
     // load (as the loop's next pass).
+    let start = eps.clone();
+    let first = applied.clone();
     system.solve(&applied, &mut eps, &params).unwrap();
     applied.iter_mut().flatten().for_each(|v| *v *= 1.05);
     let (t, c) = (std::time::Instant::now(), cpu());
@@ -120,6 +135,24 @@ fn main() {
         (h ^ v.to_bits()).wrapping_mul(0x100_0000_01b3)
     });
     println!("solution bits {h:016x}");
+    // The same warm solve again from the same start, on the pool (as the loop).
+    eps.copy_from_slice(&start);
+    system.forget_recycled();
+    system.solve(&first, &mut eps, &params).unwrap();
+    let (t, c) = (std::time::Instant::now(), cpu());
+    let info = halfspace_numerics::parallel::on_pool(n * n, || {
+        system.solve(&applied, &mut eps, &params).unwrap()
+    });
+    let its = info.iterations.max(1) as f64;
+    let h = eps.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, v| {
+        (h ^ v.to_bits()).wrapping_mul(0x100_0000_01b3)
+    });
+    println!(
+        "solve on the pool {} applications, {:.2} ms wall, {:.1} ms CPU per application, bits {h:016x}",
+        info.iterations,
+        t.elapsed().as_secs_f64() * 1e3 / its,
+        (cpu() - c) * 1e3 / its
+    );
     // The outer pass's other EIM-family work, per call: the applied strain of the tractions
     // (p and a shear q = 0.3 p: Love's strains at the inclusion layers) and the surface fields
     // of the solution with its eigen-displacements; and, for scale, the 2D transforms alone on

@@ -414,7 +414,13 @@ fn solvers_agree_on_the_fft_operator_its_dense_twin_and_a_direct_lu() {
             let a = DenseMatrix::assemble(&mut sys).unwrap();
             let dim = sys.dim();
             let mut b = vec![0.0; dim];
-            sys.rhs(&applied, &mut b);
+            sys.rhs(&applied, &mut b).unwrap();
+            // Mis-sized right-hand sides or applied fields are refused (typed errors).
+            assert!(sys.rhs(&applied, &mut b[..dim - 1]).is_err());
+            assert!(sys.rhs(&applied[..applied.len() - 1], &mut b).is_err());
+            let mut short = applied.clone();
+            short[0].pop();
+            assert!(sys.rhs(&short, &mut b).is_err());
             let m = Mat::<f64>::from_fn(dim, dim, |i, j| a.a[i * dim + j]);
             let rhs = Mat::<f64>::from_fn(dim, 1, |i, _| b[i]);
             let x = m.partial_piv_lu().solve(&rhs);

@@ -17,6 +17,7 @@
 //! same sums directly (the control of the tests).
 
 use halfspace_numerics::fft2d::{Fft2d, C64};
+use halfspace_numerics::fft_batch::FftBatch;
 use halfspace_numerics::layered::{DenseLayered, Family, LayerKernel, LayeredSpectra};
 
 use std::ops::Range;
@@ -191,9 +192,9 @@ impl Layered {
     /// output rows are left stale). `y` may hold only the first outputs of an operator with one
     /// target (the surface fields: `p_c` alone); those are the same, bit for bit.
     #[allow(clippy::too_many_arguments)]
-    fn apply<X: AsRef<[f64]>, Y: AsMut<[f64]>>(
+    fn apply<X: AsRef<[f64]> + Sync, Y: AsMut<[f64]> + Send>(
         &self,
-        fft: &mut Fft2d,
+        batch: &FftBatch,
         x: &[X],
         x_hat: &mut [Vec<C64>],
         skip: &mut [bool],
@@ -203,16 +204,11 @@ impl Layered {
     ) -> Result<(), SamError> {
         match self {
             Layered::Fast(spectra) => {
-                let n1 = fft.shape().0;
+                let n1 = batch.shape().0;
                 let rows_in = rows.0.start.min(n1)..rows.0.end.min(n1);
                 let rows_out = rows.1.start.min(n1)..rows.1.end.min(n1);
-                for ((xi, hat), sk) in x.iter().zip(x_hat.iter_mut()).zip(skip.iter_mut()) {
-                    let xi = xi.as_ref();
-                    *sk = xi.iter().all(|v| *v == 0.0);
-                    if !*sk {
-                        fft.forward_rows(xi, rows_in.clone(), hat)?;
-                    }
-                }
+                // The zero checks and the transforms, one field per task (batched).
+                batch.forward(x, rows_in, &mut x_hat[..x.len()], &mut skip[..x.len()])?;
                 let outputs = match spectra.targets().len() {
                     0 => spectra.blocks().0,
                     nt => y.len() / nt,
@@ -229,9 +225,7 @@ impl Layered {
                 }
                 let y_hat = &mut y_hat[..y.len()];
                 spectra.assign_leading(x_hat, skip, outputs, y_hat)?;
-                for (hat, yo) in y_hat.iter_mut().zip(y.iter_mut()) {
-                    fft.inverse_rows(hat, rows_out.clone(), yo.as_mut())?;
-                }
+                batch.inverse(y_hat, rows_out, y)?;
             }
             Layered::Dense(dense) => {
                 let x: Vec<&[f64]> = x.iter().map(AsRef::as_ref).collect();
@@ -247,7 +241,7 @@ impl Layered {
 /// at the target layers, only the window's rows transformed back, added to the window fields.
 fn love_into_window(
     love: &Layered,
-    fft: &mut Fft2d,
+    batch: &FftBatch,
     work: &mut Work,
     love_full: &mut [Vec<f64>],
     (window, grid): (&Window, &SurfaceGrid),
@@ -256,7 +250,7 @@ fn love_into_window(
 ) -> Result<(), SamError> {
     let rows = window.i0..window.i0 + window.n1;
     love.apply(
-        fft,
+        batch,
         x,
         &mut work.x_hat,
         &mut work.skip,
@@ -299,17 +293,8 @@ impl Work {
     /// The spectra of the eigenstrain components `eigen` on the whole grid into `x_hat`; `skip`
     /// marks the components zero everywhere (not transformed; [`LayeredSpectra::accumulate`]
     /// passes over them).
-    fn transform_inputs(&mut self, fft: &mut Fft2d, eigen: &[Vec<f64>]) -> Result<(), SamError> {
-        for ((f, hat), sk) in eigen
-            .iter()
-            .zip(self.x_hat.iter_mut())
-            .zip(self.skip.iter_mut())
-        {
-            *sk = f.iter().all(|v| *v == 0.0);
-            if !*sk {
-                fft.forward(f, hat)?;
-            }
-        }
+    fn transform_inputs(&mut self, batch: &FftBatch, eigen: &[Vec<f64>]) -> Result<(), SamError> {
+        batch.forward(eigen, 0..batch.shape().0, &mut self.x_hat, &mut self.skip)?;
         Ok(())
     }
 
@@ -319,16 +304,14 @@ impl Work {
     /// the three (`p_c` alone).
     fn surface_fields(
         &mut self,
-        fft: &mut Fft2d,
+        batch: &FftBatch,
         spectra: &LayeredSpectra,
         inputs: &Work,
         fields: &mut [Vec<f64>],
     ) -> Result<(), SamError> {
         let y_hat = &mut self.y_hat[..fields.len()];
         spectra.assign_leading(&inputs.x_hat, &inputs.skip, fields.len(), y_hat)?;
-        for (hat, field) in y_hat.iter_mut().zip(fields.iter_mut()) {
-            fft.inverse(hat, field)?;
-        }
+        batch.inverse(y_hat, 0..batch.shape().0, fields)?;
         Ok(())
     }
 }
@@ -341,8 +324,11 @@ pub struct EimFields {
     space: Space,
     /// Plan of the whole surface grid (surface fields, Love strains).
     fft: Fft2d,
-    /// Plan of the window (volume fields).
-    wfft: Fft2d,
+    /// Batched transforms on `fft`'s plan (one transform per task: docs/performance.md, "One EIM
+    /// application on two cores").
+    batch: FftBatch,
+    /// Batched transforms on the window's plan (volume fields).
+    wbatch: FftBatch,
     sources: Vec<i64>,
     targets: Vec<i64>,
     volume: Layered,
@@ -525,8 +511,9 @@ impl EimFields {
             grid,
             window,
             space,
+            batch: FftBatch::new(&fft),
+            wbatch: FftBatch::new(&wfft),
             fft,
-            wfft,
             sources,
             targets,
             volume,
@@ -654,7 +641,7 @@ impl EimFields {
         {
             let w = &mut self.volume_work;
             self.volume.apply(
-                &mut self.wfft,
+                &self.wbatch,
                 eigen,
                 &mut w.x_hat,
                 &mut w.skip,
@@ -671,7 +658,7 @@ impl EimFields {
         let x: [&[f64]; 3] = [&self.surface_fields[0], &self.zero, &self.zero];
         love_into_window(
             &self.love,
-            &mut self.fft,
+            &self.batch,
             &mut self.love_work,
             &mut self.love_full,
             (&self.window, &self.grid),
@@ -710,10 +697,10 @@ impl EimFields {
             let Layered::Fast(surface) = surface else {
                 unreachable!("matched above")
             };
-            self.volume_work.transform_inputs(&mut self.fft, eigen)?;
+            self.volume_work.transform_inputs(&self.batch, eigen)?;
             self.displacements_current = true;
             return self.surface_work.surface_fields(
-                &mut self.fft,
+                &self.batch,
                 surface,
                 &self.volume_work,
                 &mut self.surface_fields,
@@ -742,7 +729,7 @@ impl EimFields {
         let w = &mut self.surface_work;
         let rows = self.window.i0..self.window.i0 + self.window.n1;
         surface.apply(
-            &mut self.fft,
+            &self.batch,
             &self.scattered,
             &mut w.x_hat,
             &mut w.skip,
@@ -767,13 +754,13 @@ impl EimFields {
         else {
             unreachable!("checked by the caller")
         };
-        self.volume_work.transform_inputs(&mut self.fft, eigen)?;
+        self.volume_work.transform_inputs(&self.batch, eigen)?;
         let vw = &mut self.volume_work;
         let outputs = volume.blocks().0;
         volume.assign_leading(&vw.x_hat, &vw.skip, outputs, &mut vw.y_hat)?;
         self.displacements_current = surface_count == 3;
         self.surface_work.surface_fields(
-            &mut self.fft,
+            &self.batch,
             surface,
             &self.volume_work,
             &mut self.surface_fields[..surface_count],
@@ -783,9 +770,7 @@ impl EimFields {
             .forward(&self.surface_fields[0], &mut lw.x_hat[0])?;
         let vw = &mut self.volume_work;
         love.accumulate(&lw.x_hat, &[false, true, true], &mut vw.y_hat)?;
-        for (hat, field) in vw.y_hat.iter_mut().zip(strain.iter_mut()) {
-            self.fft.inverse(hat, field)?;
-        }
+        self.batch.inverse(&mut vw.y_hat, 0..self.grid.n1, strain)?;
         Ok(())
     }
 
@@ -868,7 +853,7 @@ impl EimFields {
             // (no whole-grid copy to clear, crop and add).
             let w = &mut self.love_work;
             return self.love.apply(
-                &mut self.fft,
+                &self.batch,
                 &x,
                 &mut w.x_hat,
                 &mut w.skip,
@@ -880,7 +865,7 @@ impl EimFields {
         strain.iter_mut().for_each(|f| f.fill(0.0));
         love_into_window(
             &self.love,
-            &mut self.fft,
+            &self.batch,
             &mut self.love_work,
             &mut self.love_full,
             (&self.window, &self.grid),
