@@ -191,7 +191,7 @@ impl EimSystem {
     }
 
     /// `b = ΔC ε⁰` from the applied strain fields on the inclusion layers (cell by cell, in
-    /// tasks of [`CELLS_PER_TASK`] cells). Errors: `b` not of [`LinearOperator::dim`] values,
+    /// tasks of `CELLS_PER_TASK` (2048) cells). Errors: `b` not of [`LinearOperator::dim`] values,
     /// `applied` not six window fields per layer.
     pub fn rhs(&self, applied: &[Vec<f64>], b: &mut [f64]) -> Result<(), SamError> {
         let wl = self.set.window.len();
