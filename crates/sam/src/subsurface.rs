@@ -783,7 +783,9 @@ pub fn von_mises_fields_bytes(
 /// The layers of one group of [`von_mises_fields`]: as many as keep `count` states' strain
 /// spectra (6 per layer, `spectrum` bytes each) within `group_bytes`, at least 1.
 fn field_group(count: usize, layers: usize, spectrum: f64, group_bytes: f64) -> usize {
-    ((group_bytes / (count.max(1) as f64 * 6.0 * spectrum)) as usize).clamp(1, layers)
+    ((group_bytes / (count.max(1) as f64 * 6.0 * spectrum)) as usize)
+        .min(layers)
+        .max(1)
 }
 
 /// [`von_mises_fields_bytes`] with the groups held to `group_bytes`.
@@ -794,20 +796,24 @@ fn fields_working_bytes(
     count: usize,
     group_bytes: f64,
 ) -> f64 {
+    // In floating point throughout: a hostile depth or grid must give a large estimate (and a
+    // refusal), never an integer overflow.
+    let (n1, n2) = (n1 as f64, n2 as f64);
+    let (layers, source_layers, count) = (layers as f64, source_layers as f64, count as f64);
     let n = n1 * n2;
-    let spectrum = 2.0 * n1 as f64 * (n2 + 1) as f64 * 16.0;
-    let group = field_group(count, layers, spectrum, group_bytes);
-    let table = ((2 * n1 - 1) * (2 * n2 - 1)) as f64 * 8.0;
-    count as f64 * ((source_layers * 6 + 3) as f64 + (group * 6) as f64) * spectrum
+    let spectrum = 2.0 * n1 * (n2 + 1.0) * 16.0;
+    let group = field_group(count as usize, layers as usize, spectrum, group_bytes) as f64;
+    let table = (2.0 * n1 - 1.0) * (2.0 * n2 - 1.0) * 8.0;
+    count * ((source_layers * 6.0 + 3.0) + group * 6.0) * spectrum
         + 2.0 * 36.0 * (spectrum + table)
-        + (source_layers * 6 * n) as f64 * 8.0
-        + (count * layers * n) as f64 * 8.0
-        + (layers * n) as f64 * 2.0
+        + source_layers * 6.0 * n * 8.0
+        + count * layers * n * 8.0
+        + layers * n * 2.0
         // The states' pressures with the correction `p_c` and their surface spectra, `p_c`, one
         // layer's six strains and a second FFT plan's scratch (two spectra).
-        + (count * n) as f64 * 8.0
-        + count as f64 * spectrum
-        + (7 * n) as f64 * 8.0
+        + count * n * 8.0
+        + count * spectrum
+        + 7.0 * n * 8.0
         + 2.0 * spectrum
 }
 
