@@ -16,6 +16,7 @@
 use crate::anderson::Anderson;
 use crate::linop::LinearOperator;
 use crate::NumericsError;
+use rayon::prelude::*;
 
 /// Stopping rule and restart length.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -690,6 +691,27 @@ pub struct RichardsonRecycle {
     rhs: Vec<f64>,
     result: Vec<f64>,
     valid: bool,
+    /// The iteration's work vectors `r`, `M⁻¹r` and `x_k` (kept: a solve allocates none).
+    work: RichardsonWork,
+}
+
+/// [`richardson_mixed`]'s work vectors: the residual, the preconditioned step and the iterate
+/// before the step.
+#[derive(Debug, Clone, Default)]
+struct RichardsonWork {
+    r: Vec<f64>,
+    dx: Vec<f64>,
+    before: Vec<f64>,
+}
+
+impl RichardsonWork {
+    fn new(len: usize) -> Self {
+        Self {
+            r: vec![0.0; len],
+            dx: vec![0.0; len],
+            before: vec![0.0; len],
+        }
+    }
 }
 
 impl RichardsonRecycle {
@@ -702,6 +724,7 @@ impl RichardsonRecycle {
             rhs: vec![0.0; len],
             result: vec![0.0; len],
             valid: false,
+            work: RichardsonWork::new(len),
         }
     }
 
@@ -744,12 +767,7 @@ pub fn richardson_mixed(
     params.validate()?;
     let n = a.dim();
     crate::linop::check_lengths(n, b, x)?;
-    let mut r = vec![0.0; n];
-    let mut dx = vec![0.0; n];
-    let mut before = Vec::new();
-    // Whether the first residual is known (the warm start is the last result).
-    let mut known = false;
-    if let Some(rc) = recycle.as_deref_mut() {
+    if let Some(rc) = recycle.as_deref() {
         if rc.shape().0 != n {
             return Err(NumericsError::LengthMismatch {
                 what: "recycled Richardson state",
@@ -757,8 +775,38 @@ pub fn richardson_mixed(
                 got: rc.shape().0,
             });
         }
+    }
+    // The work vectors: the recycled state's (no allocation per solve), or new ones.
+    let mut work = match recycle.as_deref_mut() {
+        Some(rc) => std::mem::take(&mut rc.work),
+        None => RichardsonWork::new(n),
+    };
+    let result = richardson_iterate(a, precond, b, x, params, recycle.as_deref_mut(), &mut work);
+    if let Some(rc) = recycle {
+        rc.work = work;
+    }
+    result
+}
+
+/// Elements per task of [`richardson_mixed`]'s element passes (each element's arithmetic is the
+/// same on any chunking).
+const RICHARDSON_CHUNK: usize = 1 << 14;
+
+/// [`richardson_mixed`]'s iteration on given work vectors (of length `n`).
+fn richardson_iterate(
+    a: &mut dyn LinearOperator,
+    precond: &mut dyn LinearOperator,
+    b: &[f64],
+    x: &mut [f64],
+    params: &KrylovParams,
+    mut recycle: Option<&mut RichardsonRecycle>,
+    work: &mut RichardsonWork,
+) -> Result<KrylovInfo, NumericsError> {
+    let RichardsonWork { r, dx, before } = work;
+    // Whether the first residual is known (the warm start is the last result).
+    let mut known = false;
+    if let Some(rc) = recycle.as_deref_mut() {
         rc.mixing.forget_previous();
-        before = vec![0.0; n];
         known = rc.valid
             && x.iter()
                 .zip(&rc.result)
@@ -771,29 +819,47 @@ pub fn richardson_mixed(
         }
         rc.valid = false;
     }
+    let mixed = recycle.is_some();
     let mut applications = 0;
     let mut best = f64::INFINITY;
     for it in 1..=params.max_iterations {
         if it > 1 || !known {
-            a.apply(x, &mut r)?;
+            a.apply(x, r)?;
             applications += 1;
-            for (ri, bi) in r.iter_mut().zip(b) {
-                *ri = bi - *ri;
-            }
+            r.par_chunks_mut(RICHARDSON_CHUNK)
+                .zip(b.par_chunks(RICHARDSON_CHUNK))
+                .for_each(|(r, b)| {
+                    for (ri, bi) in r.iter_mut().zip(b) {
+                        *ri = bi - *ri;
+                    }
+                });
         }
-        precond.apply(&r, &mut dx)?;
-        if recycle.is_some() {
-            before.copy_from_slice(x);
-        }
-        let mut change: f64 = 0.0;
-        let mut size: f64 = 0.0;
-        let mut finite = true;
-        for (xi, d) in x.iter_mut().zip(&dx) {
-            *xi += d;
-            finite &= xi.is_finite();
-            change = change.max(d.abs());
-            size = size.max(xi.abs());
-        }
+        precond.apply(r, dx)?;
+        // One element pass on the pool: `x_k` kept (mixing only), `x ← x + M⁻¹r`, and the
+        // maxima of the step and the iterate (a maximum has the same bits in any order).
+        let (change, size, finite) = x
+            .par_chunks_mut(RICHARDSON_CHUNK)
+            .zip(dx.par_chunks(RICHARDSON_CHUNK))
+            .zip(before.par_chunks_mut(RICHARDSON_CHUNK))
+            .map(|((x, dx), before)| {
+                if mixed {
+                    before.copy_from_slice(x);
+                }
+                let mut change: f64 = 0.0;
+                let mut size: f64 = 0.0;
+                let mut finite = true;
+                for (xi, d) in x.iter_mut().zip(dx) {
+                    *xi += d;
+                    finite &= xi.is_finite();
+                    change = change.max(d.abs());
+                    size = size.max(xi.abs());
+                }
+                (change, size, finite)
+            })
+            .reduce(
+                || (0.0, 0.0, true),
+                |(c0, s0, f0), (c1, s1, f1)| (c0.max(c1), s0.max(s1), f0 && f1),
+            );
         // f64::max skips NaN: check finiteness of the iterate itself.
         let rel = if !finite {
             f64::NAN
@@ -807,8 +873,8 @@ pub fn richardson_mixed(
         }
         if rel < params.tolerance {
             if let Some(rc) = recycle.as_deref_mut() {
-                rc.start.copy_from_slice(&before);
-                rc.residual.copy_from_slice(&r);
+                rc.start.copy_from_slice(before);
+                rc.residual.copy_from_slice(r);
                 rc.rhs.copy_from_slice(b);
                 rc.result.copy_from_slice(x);
                 rc.valid = true;
@@ -827,9 +893,8 @@ pub fn richardson_mixed(
             return Err(no_convergence("block Jacobi", it, rel));
         }
         if let Some(rc) = recycle.as_deref_mut() {
-            // `x` holds G(x_k), `before` x_k: the mixed iterate into `x`.
-            rc.mixing.step(&mut before, x, 1.0)?;
-            x.copy_from_slice(&before);
+            // `x` holds G(x_k), `before` x_k: the mixed iterate written over `x`.
+            rc.mixing.step_onto(before, x, 1.0)?;
         }
     }
     Err(no_convergence(

@@ -122,9 +122,10 @@ pub struct EimSystem {
     /// layer by layer: then they are scattered on one thread).
     layer_cells: Option<Vec<std::ops::Range<usize>>>,
     strain: Vec<Vec<f64>>,
-    /// The right-hand side `ΔC ε⁰` of the last solve (kept: a solve allocates no right-hand side;
-    /// the block preconditioner is still copied per solve).
+    /// The right-hand side `ΔC ε⁰` of the last solve (kept: a solve allocates no right-hand side).
     rhs: Vec<f64>,
+    /// The block preconditioner as an operator (built once; `None` only while a solve holds it).
+    pre: Option<BlockPreconditioner>,
     /// GMRES work arrays, kept between solves (warm outer loops do not reallocate).
     gmres: Option<Gmres>,
     /// The block-Jacobi iteration's Anderson history ([`EimParams::recycled_depth`]), kept
@@ -175,6 +176,10 @@ impl EimSystem {
         }
         let layers = set.layers.len();
         let layer_cells = layer_ranges(&set);
+        let pre = Some(BlockPreconditioner {
+            blocks: set.cells.iter().map(|c| c.material).collect(),
+            inverse: precond.clone(),
+        });
         Ok(Self {
             layer_cells,
             fields,
@@ -185,6 +190,7 @@ impl EimSystem {
             eigen: vec![vec![0.0; n]; layers * 6],
             strain: vec![vec![0.0; n]; layers * 6],
             rhs: Vec::new(),
+            pre,
             gmres: None,
             mixing: None,
         })
@@ -294,7 +300,11 @@ impl EimSystem {
             max_iterations: params.max_iterations,
             restart,
         };
-        let mut pre = self.preconditioner();
+        // The kept preconditioner, out of the system while the system is the operator.
+        let mut pre = match self.pre.take() {
+            Some(p) => p,
+            None => self.preconditioner(),
+        };
         let result = match method {
             EimMethod::Gmres => {
                 let mut gmres = match self.gmres.take() {
@@ -322,6 +332,7 @@ impl EimSystem {
             }
         };
         self.rhs = b;
+        self.pre = Some(pre);
         let info: KrylovInfo = result.map_err(|e| match e {
             NumericsError::NoConvergence {
                 solver,
