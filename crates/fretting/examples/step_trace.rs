@@ -7,6 +7,8 @@
 //! summary on stdout (with the holes at the end).
 //!
 //! `cargo run --release -p halfspace-fretting --example step_trace -- N K CHI [TOL] [TAU_END] [CSV]`
+//! (switches by environment: `PERTURB=SEED`, `HOLE_ESTIMATE=off`, `FIRST_ORDER_FALLBACK=on`,
+//! `HOLE_PROJECTION=off`, `RECYCLED_STAGE2=on`, `PREFIX_RATE=on`)
 
 use std::io::Write;
 use std::sync::{Arc, Mutex};
@@ -62,6 +64,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // `RECYCLED_STAGE2=on`: the second stage's GMRES continues the first stage's Krylov space
     // (experimental, off by default).
     sim.set_recycled_second_stage(std::env::var("RECYCLED_STAGE2").is_ok_and(|v| v == "on"));
+    // `PREFIX_RATE=on`: the rate's `g` on a prefix of the grid (experimental, off by default).
+    sim.set_prefix_rate(std::env::var("PREFIX_RATE").is_ok_and(|v| v == "on"));
     let sink = Arc::clone(&attempts);
     let start = std::time::Instant::now();
     // The wall time since the run's start at each attempt's end (the time of a phase of the run
@@ -119,6 +123,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .iter()
         .position(|&r| r > stick)
         .unwrap_or(0);
+    let evaluations = sim.rate_evaluations();
     let g = sim.equivalent_profile()?;
     let last = g.iter().rposition(|&x| x < 1.0).unwrap_or(0);
     let holes = (first..last).filter(|&i| g[i] >= 1.0).count();
@@ -127,7 +132,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let cell = sim.grid().step() / (2.0 * r_star);
     let a = *state.contact_radius_history.last().unwrap_or(&0.0);
     println!(
-        "steps {} ({} rejected), attempts {}, GMRES {} ({:.3} an attempt), a/a0 {a:.6} ({:+.2} cells from r*), V {:.5e}, V/V∞ − 1 {:+.3e}, holes {holes}, {seconds:.2} s, probes {}",
+        "steps {} ({} rejected), attempts {}, GMRES {} ({:.3} an attempt), a/a0 {a:.6} ({:+.2} cells from r*), V {:.5e}, V/V∞ − 1 {:+.3e}, holes {holes}, {seconds:.2} s, probes {}, rate evaluations {} ({} on a prefix)",
         state.step,
         state.rejected_steps,
         attempts.len(),
@@ -136,7 +141,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         (a - r_star) / cell,
         sim.wear_volume(),
         sim.wear_volume() / sim.limit_wear_volume() - 1.0,
-        sim.band_probes()
+        sim.band_probes(),
+        evaluations.0,
+        evaluations.1
     );
     Ok(())
 }

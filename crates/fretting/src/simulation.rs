@@ -172,20 +172,22 @@ struct StartRate {
 
 /// The name of the default adaptive scheme, which a checkpoint records (`fretting-wear`'s
 /// `adaptive_scheme`): a resume refuses a checkpoint of another scheme, whose steps it would not
-/// repeat bit for bit. `ros2-hole-projection-eta1e-3-band5x12`: ROS2 with the frozen contact stages, the
+/// repeat bit for bit. `ros2-hole-projection-eta1e-3-band5x12-rate-plans`: ROS2 with the frozen contact stages, the
 /// outside-wear and opened-hole estimates, and the projection onto the closed set
 /// ([`FrettingSimulation::set_hole_projection`]) with the margin `η = 1e-3` (`HOLE_MARGIN`);
 /// checkpoints without the attribute were made by the scheme before the projection (the same
 /// path was first recorded as `ros2-hole-projection`, never on main), and the stages' band
 /// preconditioner of half width 5 probed with 12 colours (`PRECONDITIONER_WIDTH`,
 /// `PROBE_COLOURS`: they change the stage solves' rounding, so the steps; `-eta1e-3` alone was the
-/// same scheme with width 3 and 7 colours). The name must change
+/// same scheme with width 3 and 7 colours), and the rate's stress transform on the contact nodes
+/// with the shorter plans (`-band5x12` alone was the same scheme with the whole grid's plan
+/// there: other rounding, so other steps). The name must change
 /// whenever the path does: `HOLE_MARGIN`, the default
 /// switches (`hole_estimate`, `freeze_contact`, `first_order_fallback`, `hole_projection`,
 /// `recycled_second_stage` in `FrettingSimulation::with_state`) or how an attempt's error is
 /// formed. A library run with a non-default switch records nothing of it: it must be set again
 /// to resume on the same path.
-pub const ADAPTIVE_SCHEME: &str = "ros2-hole-projection-eta1e-3-band5x12";
+pub const ADAPTIVE_SCHEME: &str = "ros2-hole-projection-eta1e-3-band5x12-rate-plans";
 
 /// `γ = 1 + 1/√2` of ROS2.
 const ROS2_GAMMA: f64 = 1.0 + std::f64::consts::FRAC_1_SQRT_2;
@@ -210,6 +212,19 @@ pub struct FrettingSimulation {
     sigma: Vec<f64>,
     p: Vec<f64>,
     slip: Vec<f64>,
+    /// The initial profile `f̃₀` on the nodes (the worn extent of [`FrettingSimulation::rate_prefix`]).
+    initial: Vec<f64>,
+    /// The nodes `0..L` of the prefix rate evaluations ([`rate_prefix_nodes`],
+    /// [`FrettingSimulation::set_prefix_rate`]; `N`: every evaluation on the whole grid, the
+    /// default).
+    prefix_nodes: usize,
+    /// The nodes `0..V` on which the last rate evaluation's `g` is the transform's (`V = N` for a
+    /// whole-grid evaluation, `L − 2` for a prefix one, beyond which `g` holds the lower bound
+    /// `g_{V−1}`), and the whole grid's `g` for [`FrettingSimulation::equivalent_profile`].
+    gap_valid: usize,
+    full_gap: Vec<f64>,
+    /// Rate evaluations so far and those on a prefix (diagnostics, not state).
+    rate_evaluations: (u64, u64),
     state: FrettingState,
     snapshot_times: Vec<f64>,
     /// The contact of the current profile when g, p and the slip are up to date with it.
@@ -356,16 +371,39 @@ impl FrettingSimulation {
             normalized_modulus(params.k),
             params.chi,
         )?;
-        // The rate keeps the full-length plans: the explicit reference runs of the tests keep their
-        // bits (their grazing-phase a/a₀ at τ = 3 moves by 3e-4 with the rounding of shorter
-        // plans, docs/fretting-wear.md, "Cost per step").
+        // Explicit Euler's rate keeps the full-length plans: the explicit reference runs of the
+        // tests keep their bits (their grazing-phase a/a₀ at τ = 3 moves by 3e-4 with the
+        // rounding of shorter plans, docs/fretting-wear.md, "Cost per step"). The implicit runs'
+        // stress transform of the rate, on the `m` contact nodes, takes the shorter plans
+        // (`2m − 1` padded instead of `2N − 1`); their profile transform keeps the whole grid
+        // unless `FrettingSimulation::set_prefix_rate` is on.
+        let explicit = matches!(params.stepping, TimeStepping::ExplicitEuler { .. });
+        let mut profile_tf = ProfileTransform::new(n, &material, params.backend)?;
+        let mut stress_tf = CellStressTransform::new(n, &material, params.backend)?;
+        let r_star = limit_contact_radius(params.chi, params.k);
+        if !explicit {
+            // At the whole grid's length the ladder's last plan is the full one (the same bits):
+            // the profile transform changes only for the prefix evaluations.
+            profile_tf.plan_shorter_lengths();
+            stress_tf.plan_shorter_lengths();
+        }
+        let initial = grid
+            .coordinates()
+            .iter()
+            .map(|&r| initial_profile(r, params.k))
+            .collect();
         Ok(Self {
-            profile_tf: ProfileTransform::new(n, &material, params.backend)?,
-            stress_tf: CellStressTransform::new(n, &material, params.backend)?,
+            profile_tf,
+            stress_tf,
+            initial,
+            prefix_nodes: n,
+            gap_valid: n,
+            full_gap: vec![0.0; n],
+            rate_evaluations: (0, 0),
             limit,
             annulus,
             stick,
-            r_star: limit_contact_radius(params.chi, params.k),
+            r_star,
             slope: vec![0.0; n],
             g: vec![0.0; n],
             q: vec![0.0; n],
@@ -462,6 +500,26 @@ impl FrettingSimulation {
     /// part of the checkpointed state: a resumed run must set it again. Set before the first step.
     pub fn set_edge_cell_rates(&mut self, on: bool) {
         self.edge_cells = if on { EDGE_CELLS } else { 0 };
+        self.current = None;
+    }
+
+    /// Experimental, off by default: implicit runs evaluate `g` of the rate on the prefix `0..L`
+    /// of the grid ([`rate_prefix_nodes`]: the node of `r*` and `N/16` more) with a shorter plan
+    /// when the worn part of the profile ends inside it and `g` at its end is above
+    /// `d + ε + 0.02` (else on the whole grid; `FrettingSimulation::equivalent_on_prefix`). At
+    /// N = 8001 `g`'s FFT is 9 000 points long instead of 16 200. Measured, not the default:
+    /// its rounding moves the default run's grazing-phase a/a₀ at τ = 3 by 1.1e-3 (the stepping
+    /// tests' limit 2e-4; main's scheme misses it on one of eight perturbed starts too,
+    /// docs/performance.md, "The N = 8001 wear run: the masked band and the second core
+    /// (issue 20)"). Not part of the checkpointed state: set it again to resume on the same
+    /// path. No effect on explicit Euler. Set before the first step.
+    pub fn set_prefix_rate(&mut self, on: bool) {
+        let explicit = matches!(self.params.stepping, TimeStepping::ExplicitEuler { .. });
+        self.prefix_nodes = if on && !explicit {
+            rate_prefix_nodes(&self.grid, self.r_star)
+        } else {
+            self.grid.len()
+        };
         self.current = None;
     }
 
@@ -640,7 +698,24 @@ impl FrettingSimulation {
     /// The equivalent profile `g̃` of the current profile (Eq. 7 / 23), over `d`.
     pub fn equivalent_profile(&mut self) -> Result<&[f64], FrettingError> {
         self.contact()?;
-        Ok(&self.g)
+        let valid = self.gap_valid;
+        if valid == self.grid.len() {
+            return Ok(&self.g);
+        }
+        // A prefix evaluation: the nodes it computed as the step used them, the rest from the
+        // whole grid's transform (not kept for the steps: their bits do not depend on who asks).
+        derivative_uniform(&self.state.profile, self.grid.step(), &mut self.slope)
+            .map_err(MdrError::from)?;
+        self.profile_tf
+            .slope_to_equivalent(&self.grid, &mut self.slope, &mut self.full_gap)?;
+        self.full_gap[..valid].copy_from_slice(&self.g[..valid]);
+        Ok(&self.full_gap)
+    }
+
+    /// Rate evaluations so far and how many of them ran on a prefix of the grid
+    /// ([`rate_prefix_nodes`]; a diagnostic, not state).
+    pub fn rate_evaluations(&self) -> (u64, u64) {
+        self.rate_evaluations
     }
 
     /// The radii of the current profile.
@@ -1261,11 +1336,11 @@ impl FrettingSimulation {
     fn contact_state_with(&mut self, frozen: Option<usize>) -> Result<Contact, FrettingError> {
         let n = self.grid.len();
         let h = self.grid.step();
-        derivative_uniform(&self.state.profile, h, &mut self.slope).map_err(MdrError::from)?;
-        self.profile_tf
-            .slope_to_equivalent(&self.grid, &mut self.slope, &mut self.g)?;
+        // `g` on the nodes `0..valid`; beyond them (a prefix evaluation) the lower bound
+        // `g_{valid−1} ≥ d + ε` of the nodes outside.
+        let valid = self.equivalent_on_prefix()?;
         let outermost =
-            frozen.unwrap_or_else(|| self.g.iter().rposition(|&g| g < 1.0).unwrap_or(0));
+            frozen.unwrap_or_else(|| self.g[..valid].iter().rposition(|&g| g < 1.0).unwrap_or(0));
         let edge = outermost + 1;
         if edge >= n - 1 {
             return Err(FrettingError::ContactOutsideGrid {
@@ -1295,13 +1370,15 @@ impl FrettingSimulation {
             &mut self.sigma[..m],
         )?;
         self.sigma[m..].fill(0.0);
-        for (p, s) in self.p.iter_mut().zip(&self.sigma) {
+        for (p, s) in self.p[..m].iter_mut().zip(&self.sigma) {
             *p = s.max(0.0);
         }
+        self.p[m..].fill(0.0);
         let chi = self.params.chi;
-        for i in 0..n {
+        // The slip vanishes from the edge on (`edge = m`), and with it the rate.
+        for i in 0..edge {
             let r = self.grid.coordinate(i);
-            self.slip[i] = if i < edge && r > self.stick {
+            self.slip[i] = if r > self.stick {
                 // slip_per_cycle with the stored f̃∞ and J (same operations).
                 let s = 4.0 * ((self.state.profile[i] - self.limit[i]) / chi + self.annulus[i]);
                 s.max(0.0)
@@ -1310,6 +1387,8 @@ impl FrettingSimulation {
             };
             self.rate[i] = self.p[i] * self.slip[i];
         }
+        self.slip[edge..].fill(0.0);
+        self.rate[edge..].fill(0.0);
         self.edge_cell_rates(last, theta);
         // The touching region: nodes with g < 1 + ε, ε = GAP_TOLERANCE · h. Its radius is the
         // edge where g reaches d unless nodes beyond the first one outside are within ε (the
@@ -1317,8 +1396,7 @@ impl FrettingSimulation {
         // reaches 1 + ε.
         let edge_radius = (self.grid.squared(last) + theta * h).sqrt();
         let closed = 1.0 + GAP_TOLERANCE * h;
-        let touching_last = self
-            .g
+        let touching_last = self.g[..valid]
             .iter()
             .rposition(|&g| g < closed)
             .unwrap_or(0)
@@ -1330,9 +1408,8 @@ impl FrettingSimulation {
             let t = ((closed - g0) / (g1 - g0)).clamp(0.0, 1.0);
             (self.grid.squared(touching_last) + t * h).sqrt()
         };
-        let p_max = self.p.iter().copied().fold(0.0, f64::max);
-        let loaded = self
-            .p
+        let p_max = self.p[..m].iter().copied().fold(0.0, f64::max);
+        let loaded = self.p[..m]
             .iter()
             .rposition(|&p| p > LOAD_THRESHOLD * p_max)
             .map_or(0.0, |i| self.grid.coordinate(i));
@@ -1342,6 +1419,56 @@ impl FrettingSimulation {
             edge_radius,
             radii: ContactRadii { touching, loaded },
         })
+    }
+
+    /// `g = P[D f]` (Eq. 7 / 23) of the current profile into `g`; returns the nodes `0..V` on
+    /// which it is the transform's. With [`FrettingSimulation::set_prefix_rate`] on, implicit
+    /// runs first try the prefix `0..L` of [`rate_prefix_nodes`] with a shorter plan: `P` is causal and `D` reaches one node, so `g`
+    /// on `0..L − 2` is the whole grid's to rounding (as the Jacobian's `m + 3` nodes,
+    /// `RosenbrockMatrix::equivalent_near_contact`). Kept only when the worn part of the profile
+    /// (`f̃ ≠ f̃₀`) ends before the node `V − 1 = L − 3` and `g_{V−1} ≥ d + ε + PREFIX_GAP_MARGIN`:
+    /// beyond the worn part `g` increases (with `w = f − f₀ ≥ 0` vanishing there and at the
+    /// centre, `g_w = −C ξ^{1−γ} ∫ w(ρ)(ξ − ρ)^{γ−2} dρ`, `γ = (1+k)/2`, increases with `ξ`,
+    /// and so does `g₀`; docs/fretting-wear.md, "Cost per step"), so no node beyond is touching
+    /// and `g_{V−1}` is a lower bound for them, which the nodes `V..N` of `g` then hold.
+    /// Otherwise (and by default) the whole grid.
+    fn equivalent_on_prefix(&mut self) -> Result<usize, FrettingError> {
+        let n = self.grid.len();
+        let h = self.grid.step();
+        let len = self.prefix_nodes;
+        self.rate_evaluations.0 += 1;
+        if len < n {
+            let valid = len - 2;
+            let worn = self
+                .state
+                .profile
+                .iter()
+                .zip(&self.initial)
+                .rposition(|(f, f0)| (f - f0).abs() > PREFIX_WORN_TOLERANCE * f0.abs())
+                .map_or(0, |i| i + 1);
+            if worn + 1 < valid {
+                let prefix = SquaredGrid::with_step(len, h).map_err(MdrError::from)?;
+                derivative_uniform(&self.state.profile[..len], h, &mut self.slope[..len])
+                    .map_err(MdrError::from)?;
+                self.profile_tf.slope_to_equivalent(
+                    &prefix,
+                    &mut self.slope[..len],
+                    &mut self.g[..len],
+                )?;
+                let bound = self.g[valid - 1];
+                if bound >= 1.0 + GAP_TOLERANCE * h + PREFIX_GAP_MARGIN {
+                    self.g[valid..].fill(bound);
+                    self.gap_valid = valid;
+                    self.rate_evaluations.1 += 1;
+                    return Ok(valid);
+                }
+            }
+        }
+        derivative_uniform(&self.state.profile, h, &mut self.slope).map_err(MdrError::from)?;
+        self.profile_tf
+            .slope_to_equivalent(&self.grid, &mut self.slope, &mut self.g)?;
+        self.gap_valid = n;
+        Ok(n)
     }
 
     /// The wear rate of the cells at the contact edge as the cell mean of `p Δu`
@@ -1589,6 +1716,27 @@ fn probe_nodes(m: usize, n: usize) -> usize {
     (m.div_ceil(PROBE_BUCKET) * PROBE_BUCKET).clamp(m, n.saturating_sub(4).max(m))
 }
 
+/// The prefix `0..L` of the grid on which the implicit runs evaluate the rate with
+/// [`FrettingSimulation::set_prefix_rate`] (`FrettingSimulation::equivalent_on_prefix`): the node of `r*` (the touching radius's limit,
+/// approached from below) and `N/16` more, at most `N`. The outside nodes' `g` then needs
+/// `g ≥ d + ε + PREFIX_GAP_MARGIN` at the prefix's last computed node, else the evaluation takes
+/// the whole grid.
+fn rate_prefix_nodes(grid: &SquaredGrid, r_star: f64) -> usize {
+    let n = grid.len();
+    let star = grid.fractional_index(r_star).ceil() as usize;
+    (star + (n / 16).max(32)).min(n)
+}
+
+/// How far above `d + ε` the last computed node of a prefix rate evaluation must be
+/// (`FrettingSimulation::equivalent_on_prefix`): a margin over the transform's rounding and the
+/// discretization of the monotonicity argument there.
+const PREFIX_GAP_MARGIN: f64 = 0.02;
+
+/// `|f̃ − f̃₀| ≤ PREFIX_WORN_TOLERANCE |f̃₀|` counts as unworn in
+/// `FrettingSimulation::equivalent_on_prefix` (rounding-level perturbations of the start do not
+/// count as wear).
+const PREFIX_WORN_TOLERANCE: f64 = 1e-12;
+
 /// The bucket of [`probe_nodes`] (nodes).
 const PROBE_BUCKET: usize = 16;
 
@@ -1729,6 +1877,59 @@ mod tests {
                 assert!(diff < 1e-9 * scale, "k = {k}: {diff:e} of {scale:e}");
                 assert!(info.iterations < plain_info.iterations);
             }
+        }
+    }
+
+    /// The prefix rate evaluation ([`FrettingSimulation::set_prefix_rate`]) against the whole
+    /// grid's on a worn profile (k = 0 and −0.5, χ = 0.5, N = 401, to τ = 1): `g` on the prefix's
+    /// computed nodes, the contact, the pressure and the rate equal to rounding, `g` beyond them
+    /// a lower bound of the whole grid's and above `d + ε` (no node beyond touches), the whole
+    /// grid's `g` from [`FrettingSimulation::equivalent_profile`]; a prefix too short for the
+    /// gap's margin falls back to the whole grid.
+    #[test]
+    fn prefix_rate_matches_the_whole_grid() {
+        for k in [0.0, -0.5] {
+            let mut sim = FrettingSimulation::new(FrettingParams {
+                nodes: 401,
+                k,
+                length: FrettingParams::default_length(0.5, k),
+                tau_end: 1.0,
+                snapshots: vec![1.0],
+                ..FrettingParams::default()
+            })
+            .unwrap();
+            sim.run(|_| false).unwrap();
+            let n = sim.grid.len();
+            let full = sim.contact_state_with(None).unwrap();
+            let (g, p, rate) = (sim.g.clone(), sim.p.clone(), sim.rate.clone());
+            sim.set_prefix_rate(true);
+            let prefix = sim.contact_state_with(None).unwrap();
+            let valid = sim.gap_valid;
+            assert!(valid < n - 10, "k = {k}: prefix {valid} of {n}");
+            assert_eq!(sim.rate_evaluations().1, 1);
+            assert!(max_abs(&sim.g[..valid], &g[..valid]) < 1e-12);
+            let closed = 1.0 + GAP_TOLERANCE * sim.grid.step();
+            for (i, (bound, whole)) in sim.g.iter().zip(&g).enumerate().skip(valid) {
+                assert!(
+                    *bound <= whole + 1e-12 && *bound > closed,
+                    "k = {k}, node {i}"
+                );
+            }
+            assert_eq!(prefix.edge, full.edge);
+            assert!((prefix.theta - full.theta).abs() < 1e-9);
+            assert!((prefix.radii.touching - full.radii.touching).abs() < 1e-12);
+            let p_max = p.iter().copied().fold(0.0, f64::max);
+            assert!(max_abs(&sim.p, &p) < 1e-11 * p_max);
+            assert!(max_abs(&sim.rate, &rate) < 1e-11 * p_max);
+            sim.current = Some(prefix);
+            let whole = sim.equivalent_profile().unwrap().to_vec();
+            assert!(max_abs(&whole, &g) < 1e-12);
+            // The prefix's computed nodes ending at the contact edge: refused (the worn part and
+            // g < d + ε + 0.02 reach its end).
+            sim.prefix_nodes = full.edge + 2;
+            sim.contact_state_with(None).unwrap();
+            assert_eq!(sim.gap_valid, n);
+            assert_eq!(sim.rate_evaluations().1, 1);
         }
     }
 
