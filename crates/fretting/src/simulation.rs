@@ -885,7 +885,8 @@ impl FrettingSimulation {
             // (the near-grazing annulus, where g ≈ d) wait for the next step's contact.
             let outermost = self.g.iter().rposition(|&g| g < 1.0).unwrap_or(0);
             if outermost > last && self.g[last + 1..=outermost].iter().all(|&g| g < 1.0) {
-                let trial = self.contact_state_with(None)?;
+                // The same profile: its g is the frozen evaluation's.
+                let trial = self.contact_from_gap(None)?;
                 self.current = Some(trial);
                 self.attempt.edge_trial = trial.edge;
                 self.trial_edge_squared =
@@ -1334,11 +1335,21 @@ impl FrettingSimulation {
     /// integration"): then `θ = (1 − g_L)/(g_E − g_L)` is clamped to `(0, 1]` in that cell
     /// (`θ → 0` when `g_L ≥ d`, `θ = 1` when `g_E < d`, the nodes beyond stay open).
     fn contact_state_with(&mut self, frozen: Option<usize>) -> Result<Contact, FrettingError> {
-        let n = self.grid.len();
-        let h = self.grid.step();
         // `g` on the nodes `0..valid`; beyond them (a prefix evaluation) the lower bound
         // `g_{valid−1} ≥ d + ε` of the nodes outside.
-        let valid = self.equivalent_on_prefix()?;
+        self.equivalent_on_prefix()?;
+        self.contact_from_gap(frozen)
+    }
+
+    /// The rest of [`FrettingSimulation::contact_state_with`] from `g` of the current profile
+    /// as it stands (the last evaluation's, on its nodes `0..gap_valid`): the contact, `p`, the
+    /// slip, the rate and the radii. The second stage's trial takes its own contact with the
+    /// `g` of its frozen-contact evaluation (the same profile: the same `g` bit for bit, one
+    /// profile transform saved).
+    fn contact_from_gap(&mut self, frozen: Option<usize>) -> Result<Contact, FrettingError> {
+        let n = self.grid.len();
+        let h = self.grid.step();
+        let valid = self.gap_valid;
         let outermost =
             frozen.unwrap_or_else(|| self.g[..valid].iter().rposition(|&g| g < 1.0).unwrap_or(0));
         let edge = outermost + 1;
