@@ -504,7 +504,7 @@ impl FrettingSimulation {
     }
 
     /// Experimental, off by default: implicit runs evaluate `g` of the rate on the prefix `0..L`
-    /// of the grid ([`rate_prefix_nodes`]: the node of `r*` and `N/16` more) with a shorter plan
+    /// of the grid (`rate_prefix_nodes`: the node of `r*` and `N/16` more) with a shorter plan
     /// when the worn part of the profile ends inside it and `g` at its end is above
     /// `d + ε + 0.02` (else on the whole grid; `FrettingSimulation::equivalent_on_prefix`). At
     /// N = 8001 `g`'s FFT is 9 000 points long instead of 16 200. Measured, not the default:
@@ -713,7 +713,7 @@ impl FrettingSimulation {
     }
 
     /// Rate evaluations so far and how many of them ran on a prefix of the grid
-    /// ([`rate_prefix_nodes`]; a diagnostic, not state).
+    /// (`rate_prefix_nodes`; a diagnostic, not state).
     pub fn rate_evaluations(&self) -> (u64, u64) {
         self.rate_evaluations
     }
