@@ -168,6 +168,8 @@ struct StartRate {
     slip: Vec<f64>,
     rate: Vec<f64>,
     contact: Option<Contact>,
+    /// The nodes on which `g` is the transform's (`FrettingSimulation::gap_valid`).
+    gap_valid: usize,
 }
 
 /// The name of the default adaptive scheme, which a checkpoint records (`fretting-wear`'s
@@ -445,6 +447,7 @@ impl FrettingSimulation {
                 slip: vec![0.0; n],
                 rate: vec![0.0; n],
                 contact: None,
+                gap_valid: n,
             },
             start_edge_squared: 0.0,
             entered: vec![0.0; n],
@@ -1092,6 +1095,7 @@ impl FrettingSimulation {
         kept.slip.copy_from_slice(&self.slip);
         kept.rate.copy_from_slice(&self.rate);
         kept.contact = Some(contact);
+        kept.gap_valid = self.gap_valid;
         self.start_edge_squared = contact.edge_radius * contact.edge_radius;
         self.matrix.freeze(
             &self.slip,
@@ -1137,6 +1141,7 @@ impl FrettingSimulation {
         self.slip.copy_from_slice(&kept.slip);
         self.rate.copy_from_slice(&kept.rate);
         self.current = kept.contact;
+        self.gap_valid = kept.gap_valid;
         self.contact()?;
         Ok(())
     }
