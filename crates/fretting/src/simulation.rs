@@ -510,7 +510,7 @@ impl FrettingSimulation {
     /// of the grid (`rate_prefix_nodes`: the node of `r*` and `N/16` more) with a shorter plan
     /// when the worn part of the profile ends inside it and `g` at its end is above
     /// `d + ε + 0.02` (else on the whole grid; `FrettingSimulation::equivalent_on_prefix`). At
-    /// N = 8001 `g`'s FFT is 9 000 points long instead of 16 200. Measured, not the default:
+    /// N = 8001 `g`'s FFT is 10 240 points long instead of 16 200. Measured, not the default:
     /// its rounding moves the default run's grazing-phase a/a₀ at τ = 3 by 1.1e-3 (the stepping
     /// tests' limit 2e-4; main's scheme misses it on one of eight perturbed starts too,
     /// docs/performance.md, "The N = 8001 wear run: the masked band and the second core
