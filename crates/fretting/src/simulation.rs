@@ -1393,8 +1393,8 @@ impl FrettingSimulation {
         let chi = self.params.chi;
         // The slip vanishes from the edge on (`edge = m`), and with it the rate.
         for i in 0..edge {
-            let r = self.grid.coordinate(i);
-            self.slip[i] = if r > self.stick {
+            // `r̃_i > c̃` (the coordinates increase: the nodes from the first annulus node on).
+            self.slip[i] = if i >= self.first_annulus_node {
                 // slip_per_cycle with the stored f̃∞ and J (same operations).
                 let s = 4.0 * ((self.state.profile[i] - self.limit[i]) / chi + self.annulus[i]);
                 s.max(0.0)
