@@ -380,13 +380,10 @@ impl FrettingSimulation {
         // (`2m − 1` padded instead of `2N − 1`); their profile transform keeps the whole grid
         // unless `FrettingSimulation::set_prefix_rate` is on.
         let explicit = matches!(params.stepping, TimeStepping::ExplicitEuler { .. });
-        let mut profile_tf = ProfileTransform::new(n, &material, params.backend)?;
+        let profile_tf = ProfileTransform::new(n, &material, params.backend)?;
         let mut stress_tf = CellStressTransform::new(n, &material, params.backend)?;
         let r_star = limit_contact_radius(params.chi, params.k);
         if !explicit {
-            // At the whole grid's length the ladder's last plan is the full one (the same bits):
-            // the profile transform changes only for the prefix evaluations.
-            profile_tf.plan_shorter_lengths();
             stress_tf.plan_shorter_lengths();
         }
         let initial = grid
@@ -519,6 +516,8 @@ impl FrettingSimulation {
     pub fn set_prefix_rate(&mut self, on: bool) {
         let explicit = matches!(self.params.stepping, TimeStepping::ExplicitEuler { .. });
         self.prefix_nodes = if on && !explicit {
+            // At the whole grid's length the ladder's last plan is the full one (the same bits).
+            self.profile_tf.plan_shorter_lengths();
             rate_prefix_nodes(&self.grid, self.r_star)
         } else {
             self.grid.len()
@@ -707,10 +706,10 @@ impl FrettingSimulation {
         }
         // A prefix evaluation: the nodes it computed as the step used them, the rest from the
         // whole grid's transform (not kept for the steps: their bits do not depend on who asks).
-        derivative_uniform(&self.state.profile, self.grid.step(), &mut self.slope)
-            .map_err(MdrError::from)?;
-        self.profile_tf
-            .slope_to_equivalent(&self.grid, &mut self.slope, &mut self.full_gap)?;
+        std::mem::swap(&mut self.g, &mut self.full_gap);
+        let whole = self.equivalent_into(self.grid.len());
+        std::mem::swap(&mut self.g, &mut self.full_gap);
+        whole?;
         self.full_gap[..valid].copy_from_slice(&self.g[..valid]);
         Ok(&self.full_gap)
     }
@@ -1390,17 +1389,9 @@ impl FrettingSimulation {
             *p = s.max(0.0);
         }
         self.p[m..].fill(0.0);
-        let chi = self.params.chi;
         // The slip vanishes from the edge on (`edge = m`), and with it the rate.
         for i in 0..edge {
-            // `r̃_i > c̃` (the coordinates increase: the nodes from the first annulus node on).
-            self.slip[i] = if i >= self.first_annulus_node {
-                // slip_per_cycle with the stored f̃∞ and J (same operations).
-                let s = 4.0 * ((self.state.profile[i] - self.limit[i]) / chi + self.annulus[i]);
-                s.max(0.0)
-            } else {
-                0.0
-            };
+            self.slip[i] = self.slip_at(i);
             self.rate[i] = self.p[i] * self.slip[i];
         }
         self.slip[edge..].fill(0.0);
@@ -1439,15 +1430,18 @@ impl FrettingSimulation {
 
     /// `g = P[D f]` (Eq. 7 / 23) of the current profile into `g`; returns the nodes `0..V` on
     /// which it is the transform's. With [`FrettingSimulation::set_prefix_rate`] on, implicit
-    /// runs first try the prefix `0..L` of [`rate_prefix_nodes`] with a shorter plan: `P` is causal and `D` reaches one node, so `g`
-    /// on `0..L − 2` is the whole grid's to rounding (as the Jacobian's `m + 3` nodes,
+    /// runs first try the prefix `0..L` of [`rate_prefix_nodes`] with a shorter plan: `P` is a
+    /// causal sum followed by a central difference, and `D` is a central difference, so `g_k`
+    /// reads `f` up to node `k + 2` (and the columns 0–2 through the split `c₀ = f̂'_0`); `g` on
+    /// `0..L − 2` is the whole grid's to rounding (as the Jacobian's `m + 3` nodes,
     /// `RosenbrockMatrix::equivalent_near_contact`). Kept only when the worn part of the profile
-    /// (`f̃ ≠ f̃₀`) ends before the node `V − 1 = L − 3` and `g_{V−1} ≥ d + ε + PREFIX_GAP_MARGIN`:
-    /// beyond the worn part `g` increases (with `w = f − f₀ ≥ 0` vanishing there and at the
-    /// centre, `g_w = −C ξ^{1−γ} ∫ w(ρ)(ξ − ρ)^{γ−2} dρ`, `γ = (1+k)/2`, increases with `ξ`,
-    /// and so does `g₀`; docs/fretting-wear.md, "Cost per step"), so no node beyond is touching
-    /// and `g_{V−1}` is a lower bound for them, which the nodes `V..N` of `g` then hold.
-    /// Otherwise (and by default) the whole grid.
+    /// (`f̃ ≠ f̃₀`) ends before the node `V − 1 = L − 3`, `w = f̃ − f̃₀ ≥ 0` on it, and
+    /// `g_{V−1} ≥ max(d + ε + PREFIX_GAP_MARGIN, g_{V−2})`: beyond the worn part `g` increases
+    /// (with `w ≥ 0` vanishing there and at the centre, `g_w = −C ξ^{1−γ} ∫ w(ρ)(ξ − ρ)^{γ−2} dρ`,
+    /// `γ = (1+k)/2`, increases with `ξ`, and so does `g₀`; docs/fretting-wear.md, "The rate
+    /// evaluations of the implicit runs"), so no node beyond is touching and `g_{V−1}` is a lower
+    /// bound for them, which the nodes `V..N` of `g` then hold. Otherwise (and by default) the
+    /// whole grid.
     fn equivalent_on_prefix(&mut self) -> Result<usize, FrettingError> {
         let n = self.grid.len();
         let h = self.grid.step();
@@ -1462,17 +1456,18 @@ impl FrettingSimulation {
                 .zip(&self.initial)
                 .rposition(|(f, f0)| (f - f0).abs() > PREFIX_WORN_TOLERANCE * f0.abs())
                 .map_or(0, |i| i + 1);
-            if worn + 1 < valid {
-                let prefix = SquaredGrid::with_step(len, h).map_err(MdrError::from)?;
-                derivative_uniform(&self.state.profile[..len], h, &mut self.slope[..len])
-                    .map_err(MdrError::from)?;
-                self.profile_tf.slope_to_equivalent(
-                    &prefix,
-                    &mut self.slope[..len],
-                    &mut self.g[..len],
-                )?;
+            // The argument needs w = f − f₀ ≥ 0 (the ROS2 stages do not constrain its sign).
+            let nonnegative = self.state.profile[..worn]
+                .iter()
+                .zip(&self.initial)
+                .all(|(f, f0)| f - f0 >= -PREFIX_WORN_TOLERANCE * f0.abs());
+            if worn + 1 < valid && nonnegative {
+                self.equivalent_into(len)?;
                 let bound = self.g[valid - 1];
-                if bound >= 1.0 + GAP_TOLERANCE * h + PREFIX_GAP_MARGIN {
+                // And the discrete g rising at the prefix's end.
+                if bound >= 1.0 + GAP_TOLERANCE * h + PREFIX_GAP_MARGIN
+                    && bound >= self.g[valid - 2]
+                {
                     self.g[valid..].fill(bound);
                     self.gap_valid = valid;
                     self.rate_evaluations.1 += 1;
@@ -1480,11 +1475,34 @@ impl FrettingSimulation {
                 }
             }
         }
-        derivative_uniform(&self.state.profile, h, &mut self.slope).map_err(MdrError::from)?;
-        self.profile_tf
-            .slope_to_equivalent(&self.grid, &mut self.slope, &mut self.g)?;
+        self.equivalent_into(n)?;
         self.gap_valid = n;
         Ok(n)
+    }
+
+    /// `g = P[D f]` of the current profile on the first `len` nodes (the whole grid's for
+    /// `len = N`) into `g[..len]`, with the plan for `len` (Eq. 7 / 23; `slope` is scratch).
+    fn equivalent_into(&mut self, len: usize) -> Result<(), FrettingError> {
+        let h = self.grid.step();
+        let prefix = SquaredGrid::with_step(len, h).map_err(MdrError::from)?;
+        derivative_uniform(&self.state.profile[..len], h, &mut self.slope[..len])
+            .map_err(MdrError::from)?;
+        self.profile_tf
+            .slope_to_equivalent(&prefix, &mut self.slope[..len], &mut self.g[..len])?;
+        Ok(())
+    }
+
+    /// `Δũ_i` on a node inside the contact: `4[(f̃_i − f̃∞_i)/χ + J(r̃_i)]` clipped ≥ 0 on the slip
+    /// annulus (`r̃_i > c̃`: from the first annulus node on, the coordinates increase), 0 inside
+    /// the stick radius (slip_per_cycle with the stored f̃∞ and J, the same operations).
+    fn slip_at(&self, i: usize) -> f64 {
+        if i >= self.first_annulus_node {
+            let s =
+                4.0 * ((self.state.profile[i] - self.limit[i]) / self.params.chi + self.annulus[i]);
+            s.max(0.0)
+        } else {
+            0.0
+        }
     }
 
     /// The wear rate of the cells at the contact edge as the cell mean of `p Δu`
@@ -1506,15 +1524,8 @@ impl FrettingSimulation {
             &mut self.edge_shape,
             &mut self.edge_mean,
         );
-        let chi = self.params.chi;
         for j in range {
-            let r = self.grid.coordinate(j);
-            let slip = if r > self.stick {
-                (4.0 * ((self.state.profile[j] - self.limit[j]) / chi + self.annulus[j])).max(0.0)
-            } else {
-                0.0
-            };
-            self.rate[j] = self.edge_mean[j] * slip;
+            self.rate[j] = self.edge_mean[j] * self.slip_at(j);
         }
     }
 
@@ -1946,6 +1957,64 @@ mod tests {
             sim.contact_state_with(None).unwrap();
             assert_eq!(sim.gap_valid, n);
             assert_eq!(sim.rate_evaluations().1, 1);
+        }
+    }
+
+    /// [`prefix_rate_matches_the_whole_grid`] in the grazing end phase (τ = 30, k = 0 and −0.5,
+    /// N = 401): the contact and the touching radius equal to rounding. (At N = 401 and 2001 the
+    /// touching region ends at the edge's last node there, and the node two beyond the worn part
+    /// has `g` 0.09 / 0.037 above `d` at k = 0: the worn-part condition, not the margin, bounds
+    /// the prefix.)
+    /// The margin on the unworn start (`w = 0`, `g = ξ`): a prefix whose last computed `g` lies
+    /// within `PREFIX_GAP_MARGIN` of `d + ε` falls back to the whole grid, one beyond it does not.
+    #[test]
+    fn prefix_rate_matches_the_whole_grid_when_grazing() {
+        for k in [0.0, -0.5] {
+            let params = FrettingParams {
+                nodes: 401,
+                k,
+                length: FrettingParams::default_length(0.5, k),
+                tau_end: 30.0,
+                snapshots: vec![30.0],
+                ..FrettingParams::default()
+            };
+            let mut sim = FrettingSimulation::new(params.clone()).unwrap();
+            sim.run(|_| false).unwrap();
+            let n = sim.grid.len();
+            let full = sim.contact_state_with(None).unwrap();
+            let g = sim.g.clone();
+            sim.set_prefix_rate(true);
+            let prefix = sim.contact_state_with(None).unwrap();
+            assert!(sim.gap_valid < n, "k = {k}: no prefix");
+            assert!(max_abs(&sim.g[..sim.gap_valid], &g[..sim.gap_valid]) < 1e-12);
+            assert_eq!(prefix.edge, full.edge);
+            assert!((prefix.theta - full.theta).abs() < 1e-9);
+            assert!(
+                (prefix.radii.touching - full.radii.touching).abs() < 1e-12,
+                "k = {k}: touching {} vs {}",
+                prefix.radii.touching,
+                full.radii.touching
+            );
+            // The unworn start: g = ξ (over d), so g_{V−1} = (L − 3) h.
+            let mut start = FrettingSimulation::new(params).unwrap();
+            start.set_prefix_rate(true);
+            let h = start.grid.step();
+            let closed = 1.0 + GAP_TOLERANCE * h;
+            let inside = (0..n)
+                .find(|&i| start.grid.squared(i) > closed + 0.25 * PREFIX_GAP_MARGIN)
+                .unwrap();
+            let beyond = (0..n)
+                .find(|&i| start.grid.squared(i) > closed + 1.5 * PREFIX_GAP_MARGIN)
+                .unwrap();
+            for (last, kept) in [(inside, false), (beyond, true)] {
+                start.prefix_nodes = last + 3;
+                start.contact_state_with(None).unwrap();
+                assert_eq!(
+                    start.gap_valid < n,
+                    kept,
+                    "k = {k}, last computed node {last}"
+                );
+            }
         }
     }
 
