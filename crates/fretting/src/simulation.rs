@@ -1161,9 +1161,9 @@ impl FrettingSimulation {
     }
 
     /// The step's sliding candidate ([`FrettingSimulation::set_sliding_edge`]): the last contact
-    /// node `s` (slip annulus, wearing, its inner neighbour closed) when `0 < F*_s < θ_max^γ F¹_s`, with the time its gap
-    /// takes to reach `g*`. One profile transform (`G F`) a step, and one per column of `G` not
-    /// computed before.
+    /// node `s` (slip annulus, wearing, its inner neighbour closed) when
+    /// `0 < F*_s < θ_max^γ F¹_s`, with its surface `g*` and the time its gap takes to reach it.
+    /// One profile transform (`G F`) a step, and one per column of `G` not computed before.
     fn sliding_node(&mut self, contact: Contact) -> Result<Option<SlidingNode>, FrettingError> {
         if !matches!(self.params.stepping, TimeStepping::Adaptive { .. }) {
             return Ok(None);
@@ -1798,8 +1798,8 @@ const SLIDING_THETA: f64 = 0.5;
 /// the jump onto the surface plus `F* Δτ` either way (to first order).
 const SLIDING_REACH: f64 = 0.1;
 
-/// The least depth of the sliding node's surface below `d` ([`FrettingSimulation::set_sliding_edge`]):
-/// it is held at `g* = d − max(θ*(g_E − g_s), SLIDING_MARGIN)`, inside the contact, so the next
+/// The least depth of the sliding node's surface below `d`
+/// ([`FrettingSimulation::set_sliding_edge`]): it is held at `g* = d − max(θ*(g_E − g_s), SLIDING_MARGIN)`, inside the contact, so the next
 /// step sees it as a contact node again (the stage solves leave `c` at ≈ `0.01 tol G_ss`; 1e-4 in
 /// `g` is 1e-6–2e-6 in `f` at N = 401–2001, `G_ss` = 50–200). The surface `max(g_s, d − 1e-4)`
 /// instead of the equilibrium edge, and a margin `0.1 tol G_ss`, were measured too
