@@ -364,6 +364,11 @@ impl BandPreconditioner {
         self.width
     }
 
+    /// Whether the last [`BandPreconditioner::factor`] kept every pivot (else `M⁻¹ = I`).
+    pub(crate) fn is_factored(&self) -> bool {
+        self.factored
+    }
+
     /// Factors `M = I − β J_w`. A pivot that is not positive and finite (`M` far from `I`) leaves
     /// the preconditioner off (`M⁻¹ = I`) for this `β`.
     pub(crate) fn factor(&mut self, beta: f64) {

@@ -191,8 +191,11 @@ struct StartRate {
 pub const ADAPTIVE_SCHEME: &str = if SLIDING_EDGE_DEFAULT {
     SLIDING_EDGE_SCHEME
 } else {
-    "ros2-hole-projection-eta1e-3-band5x12"
+    MAIN_SCHEME
 };
+
+/// The default scheme's name without the sliding mode ([`ADAPTIVE_SCHEME`]).
+const MAIN_SCHEME: &str = "ros2-hole-projection-eta1e-3-band5x12";
 
 /// The name of the adaptive scheme with the sliding mode of the contact edge's last node
 /// ([`FrettingSimulation::set_sliding_edge`]; not the default): what [`ADAPTIVE_SCHEME`] records
@@ -620,6 +623,17 @@ impl FrettingSimulation {
         self.sliding_edge = on;
     }
 
+    /// The name of the adaptive scheme this run takes, for checkpoints: [`SLIDING_EDGE_SCHEME`]
+    /// with the sliding mode on ([`FrettingSimulation::set_sliding_edge`]), else main's
+    /// `ros2-hole-projection-eta1e-3-band5x12` ([`ADAPTIVE_SCHEME`] when the default is off).
+    pub fn adaptive_scheme(&self) -> &'static str {
+        if self.sliding_edge {
+            SLIDING_EDGE_SCHEME
+        } else {
+            MAIN_SCHEME
+        }
+    }
+
     /// Calls `observer` after every attempt of an error-controlled step ([`StepAttempt`]: the step,
     /// its error ratio, where the error was largest, the contact edge at the start, the trial and
     /// the end). A diagnostic: it changes nothing in the run.
@@ -851,6 +865,12 @@ impl FrettingSimulation {
         self.set_sliding_for(dtau);
         if self.precondition {
             self.precond.factor(self.matrix.beta);
+            if !self.precond.is_factored() && self.sliding.is_some() {
+                // The constraint row cost a pivot (not seen in the graded run: 0 of 4423 held
+                // attempts to τ = 3): the band without it, GMRES keeps the row.
+                self.precond.clear_constraint_row();
+                self.precond.factor(self.matrix.beta);
+            }
         }
         // W k₁ = F(f), warm-started from F (a function of the profile alone: resumable). A start
         // from M⁻¹F (the band preconditioner's solve) saves 15 % of the GMRES iterations on the
@@ -911,7 +931,7 @@ impl FrettingSimulation {
         }
         if let Some(slide) = self.sliding {
             // (G k₂)_s/G_ss = −c(f + Δτ k₁)/(γΔτ G_ss): the constraint's row has no mass, so no
-            // −2k₁ (ROS2 for index-1 problems in the form M y' = F, Hairer & Wanner II, VI.3).
+            // −2k₁ (ROS2 for index-1 problems in the form M y' = F, Hairer & Wanner II, VI.4).
             let c = self.trial_gap[slide.node] - slide.target;
             self.rhs[slide.node] = -c / (self.matrix.beta * slide.self_gap);
         }
@@ -1784,8 +1804,9 @@ fn probe_nodes(m: usize, n: usize) -> usize {
 const PROBE_BUCKET: usize = 16;
 
 /// Whether the adaptive steps use the sliding mode of the contact edge's last node by default
-/// ([`FrettingSimulation::set_sliding_edge`]).
-const SLIDING_EDGE_DEFAULT: bool = false;
+/// ([`FrettingSimulation::set_sliding_edge`]): off, unless the crate is built with the feature
+/// `sliding-edge-default` (for measuring the tests with it).
+const SLIDING_EDGE_DEFAULT: bool = cfg!(feature = "sliding-edge-default");
 
 /// `θ_max` of [`FrettingSimulation::set_sliding_edge`]: a node slides when the edge position at
 /// which its own wear would balance its neighbours', `θ* = (F*/F¹)^{1/γ}`, lies within `θ_max`
@@ -2379,6 +2400,20 @@ mod tests {
             "{} vs {row}",
             y[s]
         );
+        // The preconditioner's row s is G's band over G_ss (the dense twin: the band checked
+        // above): for y = M⁻¹x, Σ_j M_sj y_j = x_s.
+        sim.precond.factor(sim.matrix.beta);
+        assert!(sim.precond.is_factored());
+        let mut z = vec![0.0; n];
+        sim.precond.apply(&x, &mut z).unwrap();
+        let row_dot: f64 = (s - w..=s + w)
+            .map(|j| sim.gap_band[s * (2 * w + 1) + (j + w - s)] / slide.self_gap * z[j])
+            .sum();
+        println!(
+            "preconditioner row s: Σ M_sj (M⁻¹x)_j {row_dot:.12e}, x_s {:.12e}",
+            x[s]
+        );
+        assert!((row_dot - x[s]).abs() < 1e-10 * x[s].abs().max(1.0));
         // An attempt lands on the surface: the first one, from here on, that holds its node and
         // is neither projected onto the closed set nor failed (at the shortest step that holds
         // the node, `approach/SLIDING_REACH`).
@@ -2398,10 +2433,11 @@ mod tests {
                     println!(
                         "attempt Δτ {dtau:.3e} at τ {:.4}: c(f) {c0:.3e} → {c:.3e} (bound {:.3e})",
                         sim.tau(),
-                        0.1 * tolerance * slide.self_gap
+                        0.01 * tolerance * slide.self_gap
                     );
-                    // Measured c(f) −2.7e-3 → −8.9e-7 at τ = 0.504.
-                    assert!(c.abs() < 0.1 * tolerance * slide.self_gap, "c = {c:e}");
+                    // Measured c(f) −2.7e-3 → −8.9e-7 at τ = 0.504; the bound is the stage
+                    // solves' tolerance (0.01 tol in f) in g.
+                    assert!(c.abs() < 0.01 * tolerance * slide.self_gap, "c = {c:e}");
                     assert!(c.abs() < 0.05 * c0.abs(), "c = {c:e} from {c0:e}");
                     checked = true;
                     break;
