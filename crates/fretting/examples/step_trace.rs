@@ -66,6 +66,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     sim.set_recycled_second_stage(std::env::var("RECYCLED_STAGE2").is_ok_and(|v| v == "on"));
     // `PREFIX_RATE=on`: the rate's `g` on a prefix of the grid (experimental, off by default).
     sim.set_prefix_rate(std::env::var("PREFIX_RATE").is_ok_and(|v| v == "on"));
+    // `SLIDING=on|off`: the sliding mode of the contact edge's last node in the stages
+    // (`FrettingSimulation::set_sliding_edge`; unset: the library's default).
+    if let Ok(v) = std::env::var("SLIDING") {
+        sim.set_sliding_edge(v == "on");
+    }
     let sink = Arc::clone(&attempts);
     let start = std::time::Instant::now();
     // The wall time since the run's start at each attempt's end (the time of a phase of the run
@@ -87,12 +92,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut out = std::io::BufWriter::new(std::fs::File::create(&csv)?);
     writeln!(
         out,
-        "tau,dtau,ratio,accepted,worst,edge_start,edge_trial,edge_end,gmres1,gmres2,opened_holes,err_ros2,err_outside,err_hole,first_order,projection,edge_radius_start,edge_radius_end,seconds"
+        "tau,dtau,ratio,accepted,worst,edge_start,edge_trial,edge_end,gmres1,gmres2,opened_holes,err_ros2,err_outside,err_hole,first_order,projection,edge_radius_start,edge_radius_end,seconds,sliding_node"
     )?;
     for (a, t) in attempts.iter().zip(clock.iter()) {
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             a.tau,
             a.dtau,
             a.error_ratio,
@@ -111,7 +116,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             a.projection,
             a.edge_radius_start,
             a.edge_radius_end,
-            t
+            t,
+            a.sliding_node.map_or(-1, |s| s as i64)
         )?;
     }
     run?;

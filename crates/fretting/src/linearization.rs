@@ -47,6 +47,9 @@ pub(crate) struct RosenbrockMatrix {
     gap_edge: f64,
     /// `β = γ Δτ`.
     pub(crate) beta: f64,
+    /// The sliding node's constraint row `(s, 1/G_ss)`: row `s` of the operator is
+    /// `(G x)_s/G_ss` instead of `(x − βJx)_s` ([`RosenbrockMatrix::apply_constraint_row`]).
+    pub(crate) constraint: Option<(usize, f64)>,
     /// The dimension the operator presents ([`RosenbrockMatrix::set_dim`]): `N`, or the
     /// leading block of [`RosenbrockMatrix::support`] nodes.
     dim: usize,
@@ -87,6 +90,7 @@ impl RosenbrockMatrix {
             gap_last: 0.0,
             gap_edge: 1.0,
             beta: 0.0,
+            constraint: None,
             dim: n,
             slope: vec![0.0; n],
             g: vec![0.0; n],
@@ -325,6 +329,10 @@ pub(crate) struct BandPreconditioner {
     pub(crate) active: usize,
     pub(crate) probe: Vec<f64>,
     pub(crate) response: Vec<f64>,
+    /// The sliding node's row of `M` (`2w + 1` entries) and its node, if any
+    /// ([`BandPreconditioner::set_constraint_row`]).
+    constraint_row: Vec<f64>,
+    constraint_node: Option<usize>,
     /// The dimension the operator presents (as [`RosenbrockMatrix::set_dim`]; `active + w` and
     /// more: the rows `0..active` reach `w` columns beyond).
     pub(crate) dim: usize,
@@ -345,6 +353,8 @@ impl BandPreconditioner {
             active: n,
             probe: vec![0.0; n],
             response: vec![0.0; n],
+            constraint_row: vec![0.0; colours],
+            constraint_node: None,
             dim: n,
         }
     }
@@ -352,6 +362,11 @@ impl BandPreconditioner {
     /// The half bandwidth `w`.
     pub(crate) fn width(&self) -> usize {
         self.width
+    }
+
+    /// Whether the last [`BandPreconditioner::factor`] kept every pivot (else `M⁻¹ = I`).
+    pub(crate) fn is_factored(&self) -> bool {
+        self.factored
     }
 
     /// Factors `M = I − β J_w`. A pivot that is not positive and finite (`M` far from `I`) leaves
@@ -365,6 +380,7 @@ impl BandPreconditioner {
         for i in 0..n {
             self.lu[i * colours + w] += 1.0;
         }
+        self.put_constraint_row();
         self.factored = true;
         let active = self.active.min(n);
         for k in 0..active {
@@ -392,6 +408,30 @@ impl BandPreconditioner {
 }
 
 impl BandPreconditioner {
+    /// The sliding node's row of `M`: the band of `G = P D`'s row `s` (`gap_row`, `2w + 1`
+    /// entries, columns `s − w ..= s + w`) times `scale = 1/G_ss`, as in the stages' operator
+    /// ([`RosenbrockMatrix::apply_constraint_row`]; docs/fretting-wear.md, "The sliding mode in
+    /// the stages"). Taken by the next [`BandPreconditioner::factor`].
+    pub(crate) fn set_constraint_row(&mut self, s: usize, gap_row: &[f64], scale: f64) {
+        for (r, g) in self.constraint_row.iter_mut().zip(gap_row) {
+            *r = g * scale;
+        }
+        self.constraint_node = Some(s);
+    }
+
+    /// No constraint row ([`BandPreconditioner::set_constraint_row`]).
+    pub(crate) fn clear_constraint_row(&mut self) {
+        self.constraint_node = None;
+    }
+
+    /// Writes the constraint row into the factors before the elimination.
+    fn put_constraint_row(&mut self) {
+        let colours = 2 * self.width + 1;
+        if let Some(s) = self.constraint_node {
+            self.lu[s * colours..(s + 1) * colours].copy_from_slice(&self.constraint_row);
+        }
+    }
+
     /// The forward and back substitutions of [`LinearOperator::apply`] on the rows `0..active`.
     fn substitute(&self, y: &mut [f64], active: usize) {
         let (n, w) = (y.len(), self.width);
@@ -525,7 +565,20 @@ impl LinearOperator for RosenbrockMatrix {
         for (yi, xi) in y.iter_mut().zip(x) {
             *yi = xi - beta * *yi;
         }
+        self.apply_constraint_row(y);
         Ok(())
+    }
+}
+
+impl RosenbrockMatrix {
+    /// The sliding node's row of the stages (docs/fretting-wear.md, "The sliding mode in the
+    /// stages"): `y_s = (G x)_s/G_ss`, the ROS2 form `−γΔτ (∂c/∂f) k = c` of the index-1
+    /// constraint `c = g_s − g*` scaled to a unit diagonal. `δg = G x` is the one the product
+    /// has just computed ([`RosenbrockMatrix::equivalent_near_contact`], `s` < the contact nodes).
+    fn apply_constraint_row(&self, y: &mut [f64]) {
+        if let Some((s, inverse)) = self.constraint {
+            y[s] = self.g[s] * inverse;
+        }
     }
 }
 

@@ -837,6 +837,7 @@ fn graded_near_grazing_against_explicit_euler(nodes: usize) {
 #[test]
 #[ignore = "a measurement: about a minute"]
 fn global_error_is_a_multiple_of_the_tolerance() {
+    let mut failures = Vec::new();
     for k in [0.0, -0.5] {
         let params = |tolerance: f64| FrettingParams {
             nodes: 401,
@@ -872,13 +873,14 @@ fn global_error_is_a_multiple_of_the_tolerance() {
             // (docs/fretting-wear.md, "The grazing-phase stepping tests over perturbed step
             // sequences").
             for (tau, e) in ratios {
-                assert!(
-                    e < GLOBAL_ERROR,
-                    "k = {k}, tol {tolerance:e}, τ = {tau}: {e:.2} tol"
-                );
+                if e >= GLOBAL_ERROR {
+                    failures.push(format!("k = {k}, tol {tolerance:e}, τ = {tau}: {e:.2} tol"));
+                }
             }
         }
     }
+    // Every case is measured (and printed) before the bound is asserted on all of them.
+    assert!(failures.is_empty(), "{failures:?}");
 }
 
 /// The graded run's phase with holes (k = −0.5, χ = 0.9, N = 501 to τ = 1) with `baseline` set
