@@ -3,6 +3,8 @@
 //! recorded in checkpoints (today's checkpoints, written without it, resume on the plain
 //! alternation only) and resumed bit for bit on the gauged one.
 
+mod support;
+
 use halfspace_sam::contact::{
     Alternation, ContactParams, ContactProblem, InhomogeneousContact, NestedParams,
     REFERENCE_EIM_CHANGE_FACTOR,
@@ -150,18 +152,8 @@ fn a_resumed_gauged_loop_repeats_the_uninterrupted_one() {
     composite.subsurface_depth = Some(0.5 * composite.hertz_radius());
     composite.alternation = Some(Alternation::Gauged);
     for case in [composite.clone(), composite.homogeneous()] {
-        let mut whole = FrettingLoop::new(case.clone()).unwrap();
-        let mut part = FrettingLoop::new(case.clone()).unwrap();
-        for _ in 0..7 {
-            part.step().unwrap();
-        }
-        let snap = part.snapshot();
+        let (_, snap) = support::assert_resumes_bit_for_bit::<FrettingLoop>(&case, 7);
         assert!(snap.fingerprint.contains(", alternation: Some(Gauged)"));
-        let mut resumed = FrettingLoop::resume(case, snap).unwrap();
-        while whole.step().unwrap().is_some() {}
-        while resumed.step().unwrap().is_some() {}
-        assert_eq!(whole.snapshot(), resumed.snapshot());
-        assert_eq!(whole.rows(), resumed.rows());
     }
 }
 
