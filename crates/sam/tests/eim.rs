@@ -741,3 +741,124 @@ fn the_eim_operators_store_real_and_quarter_spectra() {
     assert!(real < 1e-11, "{real:e}");
     assert!(quarter < 1e-13, "{quarter:e}");
 }
+
+/// `(apply(x), rhs(applied), P⁻¹ x)` of `sys`.
+fn per_cell_outputs(sys: &mut EimSystem, x: &[f64], applied: &[Vec<f64>]) -> [Vec<f64>; 3] {
+    let n = sys.dim();
+    let (mut y, mut b, mut z) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    sys.apply(x, &mut y).unwrap();
+    sys.rhs(applied, &mut b).unwrap();
+    sys.preconditioner().apply(x, &mut z).unwrap();
+    [y, b, z]
+}
+
+fn bits(v: &[f64]) -> Vec<u64> {
+    v.iter().map(|x| x.to_bits()).collect()
+}
+
+/// The per-cell loops of the EIM (the right-hand side, the restriction of `A`, the block
+/// preconditioner: tasks of 2048 cells on the pool) and the scatter of the eigenstrains (layer by
+/// layer on the pool, or on one thread when the cells are not listed layer by layer), on two
+/// thread: a stiff and a soft sphere of 2 × 2145 = 4290 cells (three tasks at the default size)
+/// give the same bits split into tasks of 7 cells, of 2048 (the default) and as one task; the
+/// restriction and the right-hand side are the cell-by-cell formulas `C^m x − ΔC ε(x)` (`ε` the
+/// disturbance strain of [`EimSystem::disturbance`]) and `ΔC ε⁰`; the same cells listed in
+/// reverse (every layer's cells apart: the scatter on one thread) give the same values, cell for
+/// cell.
+#[test]
+fn per_cell_tasks_and_the_serial_scatter_give_the_same_bits() {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    pool.install(per_cell_tasks_check);
+}
+
+fn per_cell_tasks_check() {
+    let r = 8.0;
+    let grid = SurfaceGrid::square(40, 40.0).unwrap();
+    let sphere = |x: f64, ratio: f64| Inhomogeneity {
+        shape: Shape::Sphere {
+            x,
+            y: 0.0,
+            z: r + 2.0,
+            r,
+        },
+        e: ratio * E,
+        nu: 0.25,
+    };
+    let set = InclusionSet::new(&grid, &[sphere(-r - 1.0, 3.0), sphere(r + 1.0, 0.4)]).unwrap();
+    assert!(set.len() > 2 * 2048, "{} cells", set.len());
+    assert_eq!(set.materials.len(), 2);
+    let system = |set: &InclusionSet| {
+        let fields = EimFields::for_inclusions(grid, E, NU, set).unwrap();
+        EimSystem::new(fields, set.clone(), E, NU).unwrap()
+    };
+    let mut sys = system(&set);
+    assert!(sys.scatters_by_layer());
+    let x = lcg(31, sys.dim());
+    let applied: Vec<Vec<f64>> = (0..6 * set.layers.len())
+        .map(|k| lcg(100 + k as u64, set.window.len()))
+        .collect();
+    sys.set_cells_per_task(usize::MAX);
+    let whole = per_cell_outputs(&mut sys, &x, &applied);
+    for task in [7, 2048] {
+        sys.set_cells_per_task(task);
+        let split = per_cell_outputs(&mut sys, &x, &applied);
+        for (a, b) in split.iter().zip(&whole) {
+            assert_eq!(bits(a), bits(b), "tasks of {task} cells");
+        }
+    }
+    // The formulas, cell by cell.
+    let cm = stiffness(E, NU);
+    let dc: Vec<[[f64; 6]; 6]> = set
+        .materials
+        .iter()
+        .map(|&(e, nu)| {
+            let ci = stiffness(e, nu);
+            let mut d = [[0.0; 6]; 6];
+            for i in 0..6 {
+                for j in 0..6 {
+                    d[i][j] = cm[i][j] - ci[i][j];
+                }
+            }
+            d
+        })
+        .collect();
+    let strain = sys.disturbance(&x).unwrap().to_vec();
+    for (c, cell) in set.cells.iter().enumerate() {
+        let at = |fields: &[Vec<f64>]| {
+            let mut v = [0.0; 6];
+            for o in 0..6 {
+                v[o] = fields[cell.layer * 6 + o][cell.local];
+            }
+            v
+        };
+        let xc: [f64; 6] = x[6 * c..6 * c + 6].try_into().unwrap();
+        let (a, d) = (mul6(&cm, &xc), mul6(&dc[cell.material], &at(&strain)));
+        let b = mul6(&dc[cell.material], &at(&applied));
+        for o in 0..6 {
+            assert_eq!((a[o] - d[o]).to_bits(), whole[0][6 * c + o].to_bits());
+            assert_eq!(b[o].to_bits(), whole[1][6 * c + o].to_bits());
+        }
+    }
+    // The cells in reverse: the scatter on one thread, the same values per cell.
+    let mut reversed = set.clone();
+    reversed.cells.reverse();
+    let mut serial = system(&reversed);
+    assert!(!serial.scatters_by_layer());
+    let m = set.len();
+    let flip = |v: &[f64]| -> Vec<f64> {
+        (0..m)
+            .rev()
+            .flat_map(|c| v[6 * c..6 * c + 6].to_vec())
+            .collect()
+    };
+    for task in [7, 2048] {
+        serial.set_cells_per_task(task);
+        let out = per_cell_outputs(&mut serial, &flip(&x), &applied);
+        for (a, b) in out.iter().zip(&whole) {
+            assert_eq!(bits(a), bits(&flip(b)), "reversed cells, tasks of {task}");
+        }
+    }
+}

@@ -121,6 +121,8 @@ pub struct EimSystem {
     /// Per layer, the range of its cells in `set.cells` (`None` when the cells are not listed
     /// layer by layer: then they are scattered on one thread).
     layer_cells: Option<Vec<std::ops::Range<usize>>>,
+    /// Cells per task of the per-cell loops (`CELLS_PER_TASK`; tests lower it).
+    cells_per_task: usize,
     strain: Vec<Vec<f64>>,
     /// The right-hand side `ΔC ε⁰` of the last solve (kept: a solve allocates no right-hand side).
     rhs: Vec<f64>,
@@ -179,9 +181,11 @@ impl EimSystem {
         let pre = Some(BlockPreconditioner {
             blocks: set.cells.iter().map(|c| c.material).collect(),
             inverse: precond.clone(),
+            cells_per_task: CELLS_PER_TASK,
         });
         Ok(Self {
             layer_cells,
+            cells_per_task: CELLS_PER_TASK,
             fields,
             set,
             cm,
@@ -209,9 +213,9 @@ impl EimSystem {
             }));
         }
         check_lengths(self.dim(), b, b)?;
-        let cells = &self.set.cells;
-        b.par_chunks_mut(6 * CELLS_PER_TASK)
-            .zip(cells.par_chunks(CELLS_PER_TASK))
+        let (cells, task) = (&self.set.cells, self.cells_per_task);
+        b.par_chunks_mut(6 * task)
+            .zip(cells.par_chunks(task))
             .for_each(|(b, cells)| {
                 for (bc, cell) in b.chunks_exact_mut(6).zip(cells) {
                     let mut e0 = [0.0; 6];
@@ -257,7 +261,27 @@ impl EimSystem {
         BlockPreconditioner {
             blocks: self.set.cells.iter().map(|c| c.material).collect(),
             inverse: self.precond.clone(),
+            cells_per_task: self.cells_per_task,
         }
+    }
+
+    /// Sets the cells per task of the per-cell loops (the right-hand side, the restriction of
+    /// [`LinearOperator::apply`], the block preconditioner; `CELLS_PER_TASK` (2048) by default,
+    /// clamped to `[1, cells]`): every cell's arithmetic is the same on any split, so the results
+    /// are the same bits (tests lower it to cross task boundaries on small sets).
+    #[doc(hidden)]
+    pub fn set_cells_per_task(&mut self, cells: usize) {
+        self.cells_per_task = cells.clamp(1, self.set.len().max(1));
+        if let Some(pre) = self.pre.as_mut() {
+            pre.cells_per_task = self.cells_per_task;
+        }
+    }
+
+    /// Whether the eigenstrains are scattered into the layer fields layer by layer on the pool
+    /// (the cells listed layer by layer), not on one thread (tests: both paths run).
+    #[doc(hidden)]
+    pub fn scatters_by_layer(&self) -> bool {
+        self.layer_cells.is_some()
     }
 
     /// Solves for `ε*` (warm start and result, 6 per cell) given the applied strain on the
@@ -425,11 +449,12 @@ impl LinearOperator for EimSystem {
                 allowed: "consistent field shapes",
             },
         })?;
-        // The restriction `C^m x − ΔC ε` cell by cell, in tasks of `CELLS_PER_TASK` cells.
+        // The restriction `C^m x − ΔC ε` cell by cell, in tasks of `cells_per_task` cells.
         let (cm, dc, strain) = (&self.cm, &self.dc, &self.strain);
-        y.par_chunks_mut(6 * CELLS_PER_TASK)
-            .zip(x.par_chunks(6 * CELLS_PER_TASK))
-            .zip(self.set.cells.par_chunks(CELLS_PER_TASK))
+        let task = self.cells_per_task;
+        y.par_chunks_mut(6 * task)
+            .zip(x.par_chunks(6 * task))
+            .zip(self.set.cells.par_chunks(task))
             .for_each(|((y, x), cells)| {
                 for ((yc, xs), cell) in y.chunks_exact_mut(6).zip(x.chunks_exact(6)).zip(cells) {
                     let mut eps = [0.0; 6];
@@ -488,6 +513,8 @@ fn write_cell(fields: &mut [Vec<f64>], local: usize, xc: &[f64]) {
 pub struct BlockPreconditioner {
     blocks: Vec<usize>,
     inverse: Vec<[[f64; 6]; 6]>,
+    /// Cells per task ([`EimSystem::set_cells_per_task`]).
+    cells_per_task: usize,
 }
 
 impl LinearOperator for BlockPreconditioner {
@@ -496,10 +523,10 @@ impl LinearOperator for BlockPreconditioner {
     }
     fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), NumericsError> {
         check_lengths(self.dim(), x, y)?;
-        let inverse = &self.inverse;
-        y.par_chunks_mut(6 * CELLS_PER_TASK)
-            .zip(x.par_chunks(6 * CELLS_PER_TASK))
-            .zip(self.blocks.par_chunks(CELLS_PER_TASK))
+        let (inverse, task) = (&self.inverse, self.cells_per_task);
+        y.par_chunks_mut(6 * task)
+            .zip(x.par_chunks(6 * task))
+            .zip(self.blocks.par_chunks(task))
             .for_each(|((y, x), blocks)| {
                 for ((yc, xc), &m) in y.chunks_exact_mut(6).zip(x.chunks_exact(6)).zip(blocks) {
                     yc.copy_from_slice(&mul6(&inverse[m], xc));
