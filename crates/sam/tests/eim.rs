@@ -359,8 +359,8 @@ fn eshelby_sphere_by_cuboids_matches_spec_and_converges() {
     );
 }
 
-#[test]
-fn solvers_agree_on_the_fft_operator_its_dense_twin_and_a_direct_lu() {
+/// A sphere of radius 1.6 cells, `E_I = 3E`, `ν_I = 0.25`, on 8² cells of size 1.
+fn small_sphere() -> (SurfaceGrid, InclusionSet) {
     let grid = SurfaceGrid::square(8, 8.0).unwrap();
     let inh = Inhomogeneity {
         shape: Shape::Sphere {
@@ -373,6 +373,12 @@ fn solvers_agree_on_the_fft_operator_its_dense_twin_and_a_direct_lu() {
         nu: 0.25,
     };
     let set = InclusionSet::new(&grid, &[inh]).unwrap();
+    (grid, set)
+}
+
+#[test]
+fn solvers_agree_on_the_fft_operator_its_dense_twin_and_a_direct_lu() {
+    let (grid, set) = small_sphere();
     let applied: Vec<Vec<f64>> = (0..set.layers.len() * 6)
         .map(|k| {
             lcg(k as u64 + 40, set.window.len())
@@ -446,18 +452,7 @@ fn solvers_agree_on_the_fft_operator_its_dense_twin_and_a_direct_lu() {
 /// `forget_recycled` the next solve applies the operator for its first residual again.
 #[test]
 fn recycled_block_jacobi_matches_the_plain_iteration_in_fewer_applications() {
-    let grid = SurfaceGrid::square(8, 8.0).unwrap();
-    let inh = Inhomogeneity {
-        shape: Shape::Sphere {
-            x: 0.0,
-            y: 0.0,
-            z: 3.0,
-            r: 1.6,
-        },
-        e: 3.0,
-        nu: 0.25,
-    };
-    let set = InclusionSet::new(&grid, &[inh]).unwrap();
+    let (grid, set) = small_sphere();
     // Right-hand sides drifting as an outer loop's tractions do: a base field plus 1e-2, 1e-3,
     // 1e-4 of a second one.
     let base = |k: usize, seed: u64, scale: f64| -> Vec<f64> {
@@ -860,5 +855,46 @@ fn per_cell_tasks_check() {
         for (a, b) in out.iter().zip(&whole) {
             assert_eq!(bits(a), bits(&flip(b)), "reversed cells, tasks of {task}");
         }
+    }
+}
+
+/// Plain block Jacobi (`EimParams::recycled_depth = 0`) on the work vectors the system keeps
+/// between solves is the iteration on vectors allocated per solve (`richardson_mixed` without a
+/// recycled state, the path before the system kept them) bit for bit: the first solve, and a
+/// second one from the same start on the now dirty vectors, each with its count.
+#[test]
+fn plain_block_jacobi_on_kept_work_vectors_is_the_allocating_iteration_bit_for_bit() {
+    use halfspace_numerics::krylov::{richardson_mixed, KrylovParams};
+    let (grid, set) = small_sphere();
+    let fields = EimFields::for_inclusions(grid, E, NU, &set).unwrap();
+    let mut sys = EimSystem::new(fields, set.clone(), E, NU).unwrap();
+    let applied: Vec<Vec<f64>> = (0..set.layers.len() * 6)
+        .map(|k| lcg(300 + k as u64, set.window.len()))
+        .collect();
+    let params = EimParams {
+        method: EimMethod::BlockJacobi,
+        tolerance: 1e-10,
+        recycled_depth: 0,
+        ..EimParams::default()
+    };
+    let n = sys.dim();
+    let mut b = vec![0.0; n];
+    sys.rhs(&applied, &mut b).unwrap();
+    let mut control = vec![0.0; n];
+    let kp = KrylovParams {
+        tolerance: params.tolerance,
+        max_iterations: params.max_iterations,
+        restart: params.restart,
+    };
+    let mut pre = sys.preconditioner();
+    let k = richardson_mixed(&mut sys, &mut pre, &b, &mut control, &kp, None)
+        .unwrap()
+        .iterations;
+    assert!(k > 3, "{k} applications");
+    for _ in 0..2 {
+        let mut x = vec![0.0; n];
+        let info = sys.solve(&applied, &mut x, &params).unwrap();
+        assert_eq!(info.iterations, k);
+        assert_eq!(bits(&x), bits(&control));
     }
 }

@@ -14,7 +14,8 @@
 use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
 use halfspace_numerics::krylov::{
-    richardson_mixed, Gmres, KrylovInfo, KrylovParams, RichardsonRecycle,
+    richardson, richardson_mixed, Gmres, KrylovInfo, KrylovParams, RichardsonRecycle,
+    RichardsonWork,
 };
 use halfspace_numerics::linop::{check_lengths, LinearOperator};
 use halfspace_numerics::NumericsError;
@@ -133,6 +134,8 @@ pub struct EimSystem {
     /// The block-Jacobi iteration's Anderson history ([`EimParams::recycled_depth`]), kept
     /// between solves.
     mixing: Option<RichardsonRecycle>,
+    /// The plain block-Jacobi iteration's work vectors (recycled depth 0), kept between solves.
+    jacobi: RichardsonWork,
 }
 
 impl EimSystem {
@@ -197,6 +200,7 @@ impl EimSystem {
             pre,
             gmres: None,
             mixing: None,
+            jacobi: RichardsonWork::default(),
         })
     }
 
@@ -345,14 +349,23 @@ impl EimSystem {
                 // `MAX_EIM_RECYCLED_DEPTH` up front).
                 let vectors = (2usize << 30) / (8 * n.max(1));
                 let depth = params.recycled_depth.min(vectors.saturating_sub(7) / 2);
-                let mut mixing = match self.mixing.take() {
-                    _ if depth == 0 => None,
-                    Some(m) if m.shape() == (n, depth) => Some(m),
-                    _ => Some(RichardsonRecycle::new(n, depth)),
-                };
-                let r = richardson_mixed(self, &mut pre, &b, eps_star, &kp, mixing.as_mut());
-                self.mixing = mixing;
-                r
+                if depth == 0 {
+                    // Plain block Jacobi on the kept work vectors (a kept history is dropped:
+                    // a later recycled solve starts a fresh one).
+                    self.mixing = None;
+                    let mut work = std::mem::take(&mut self.jacobi);
+                    let r = richardson(self, &mut pre, &b, eps_star, &kp, &mut work);
+                    self.jacobi = work;
+                    r
+                } else {
+                    let mut mixing = match self.mixing.take() {
+                        Some(m) if m.shape() == (n, depth) => m,
+                        _ => RichardsonRecycle::new(n, depth),
+                    };
+                    let r = richardson_mixed(self, &mut pre, &b, eps_star, &kp, Some(&mut mixing));
+                    self.mixing = Some(mixing);
+                    r
+                }
             }
         };
         self.rhs = b;
