@@ -52,7 +52,7 @@ fn layered_operators_equal_their_dense_twin_and_the_window_equals_the_full_grid(
         .iter()
         .map(|f| {
             let mut g = vec![0.0; n];
-            sub.scatter(&grid, f, &mut g);
+            sub.scatter(&grid, f, &mut g).unwrap();
             g
         })
         .collect();
@@ -102,7 +102,7 @@ fn layered_operators_equal_their_dense_twin_and_the_window_equals_the_full_grid(
             .iter()
             .map(|f| {
                 let mut l = vec![0.0; sub.len()];
-                sub.gather_add(&grid, f, &mut l);
+                sub.gather_add(&grid, f, &mut l).unwrap();
                 l
             })
             .collect()
@@ -897,4 +897,60 @@ fn plain_block_jacobi_on_kept_work_vectors_is_the_allocating_iteration_bit_for_b
         assert_eq!(info.iterations, k);
         assert_eq!(bits(&x), bits(&control));
     }
+}
+
+/// Public inputs that indexed out of bounds are refused with typed errors: an inclusion set
+/// edited by hand (its fields are public) whose cell names a layer, window position, material or
+/// grid index it does not have; eigenstrains or layer fields of the wrong size for
+/// `EimSystem::disturbance`, `surface_disturbance` and `scatter`; a window field, grid field or
+/// window outside the grid for `Window::scatter` and `gather_add`.
+#[test]
+fn hand_made_sets_and_mis_sized_fields_are_refused() {
+    let (grid, set) = small_sphere();
+    let fields = || EimFields::for_inclusions(grid, E, NU, &set).unwrap();
+    set.check(&grid).unwrap();
+    let last = set.len() - 1;
+    for edit in [
+        |c: &mut halfspace_sam::eim::Cell| c.layer += 100,
+        |c: &mut halfspace_sam::eim::Cell| c.local += 10_000,
+        |c: &mut halfspace_sam::eim::Cell| c.material += 1,
+        |c: &mut halfspace_sam::eim::Cell| c.flat += 1,
+    ] {
+        let mut bad = set.clone();
+        edit(&mut bad.cells[last]);
+        let err = EimSystem::new(fields(), bad, E, NU).err().expect("refused");
+        assert!(err.to_string().contains("inclusion set cell"), "{err}");
+    }
+    let mut sys = EimSystem::new(fields(), set.clone(), E, NU).unwrap();
+    let n = sys.dim();
+    let short = vec![0.0; n - 6];
+    for err in [
+        sys.disturbance(&short).expect_err("refused"),
+        sys.surface_disturbance(&short).expect_err("refused"),
+    ] {
+        assert!(matches!(err, SamError::Numerics(_)), "{err}");
+    }
+    let wl = set.window.len();
+    let mut layer_fields = vec![vec![0.0; wl]; 6 * set.layers.len()];
+    assert!(sys.scatter(&short, &mut layer_fields).is_err());
+    assert!(sys.scatter(&vec![0.0; n], &mut layer_fields[1..]).is_err());
+    layer_fields[0].pop();
+    assert!(sys.scatter(&vec![0.0; n], &mut layer_fields).is_err());
+    layer_fields[0].push(0.0);
+    sys.scatter(&lcg(3, n), &mut layer_fields).unwrap();
+    // Window fields.
+    let w = set.window;
+    let mut full = vec![0.0; grid.len()];
+    let mut local = vec![0.0; wl];
+    assert!(w.scatter(&grid, &local[1..], &mut full).is_err());
+    assert!(w.scatter(&grid, &local, &mut full[1..]).is_err());
+    assert!(w.gather_add(&grid, &full, &mut local[1..]).is_err());
+    let outside = Window {
+        i0: grid.n1 - 1,
+        ..w
+    };
+    assert!(outside.scatter(&grid, &local, &mut full).is_err());
+    assert!(outside.gather_add(&grid, &full, &mut local).is_err());
+    w.scatter(&grid, &local, &mut full).unwrap();
+    w.gather_add(&grid, &full, &mut local).unwrap();
 }

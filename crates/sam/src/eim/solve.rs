@@ -139,8 +139,11 @@ pub struct EimSystem {
 }
 
 impl EimSystem {
-    /// Builds the blocks for the matrix `(E, ν)`.
+    /// Builds the blocks for the matrix `(E, ν)`. Errors: a set whose cells do not fit its own
+    /// layers, window and materials ([`InclusionSet::check`]) or whose layers and window are not
+    /// the operators'.
     pub fn new(fields: EimFields, set: InclusionSet, e: f64, nu: f64) -> Result<Self, SamError> {
+        set.check(fields.grid())?;
         let (ns, nt) = fields.layer_counts();
         if ns != set.layers.len() || nt != set.layers.len() {
             return Err(SamError::InvalidParameter {
@@ -208,14 +211,7 @@ impl EimSystem {
     /// tasks of `CELLS_PER_TASK` (2048) cells). Errors: `b` not of [`LinearOperator::dim`] values,
     /// `applied` not six window fields per layer.
     pub fn rhs(&self, applied: &[Vec<f64>], b: &mut [f64]) -> Result<(), SamError> {
-        let wl = self.set.window.len();
-        if applied.len() != 6 * self.set.layers.len() || applied.iter().any(|f| f.len() != wl) {
-            return Err(SamError::Numerics(NumericsError::LengthMismatch {
-                what: "applied strain fields (6 per layer, window-sized)",
-                expected: 6 * self.set.layers.len(),
-                got: applied.len(),
-            }));
-        }
+        self.check_layer_fields(applied, "applied strain fields (6 per layer, window-sized)")?;
         check_lengths(self.dim(), b, b)?;
         let (cells, task) = (&self.set.cells, self.cells_per_task);
         b.par_chunks_mut(6 * task)
@@ -232,10 +228,30 @@ impl EimSystem {
         Ok(())
     }
 
-    /// Scatters the cell eigenstrains into the layer fields.
-    pub fn scatter(&self, x: &[f64], fields: &mut [Vec<f64>]) {
+    /// Scatters the cell eigenstrains `x` (6 per cell) into the layer fields (6 per layer,
+    /// window-sized), zero elsewhere. Errors: `x` or `fields` of other sizes.
+    pub fn scatter(&self, x: &[f64], fields: &mut [Vec<f64>]) -> Result<(), SamError> {
+        check_lengths(self.dim(), x, x)?;
+        self.check_layer_fields(
+            fields,
+            "eigenstrain layer fields (6 per layer, window-sized)",
+        )?;
         fields.iter_mut().for_each(|f| f.fill(0.0));
         scatter_cells(&self.set, x, fields);
+        Ok(())
+    }
+
+    /// Six window-sized fields per layer of the set, else the typed error naming `what`.
+    fn check_layer_fields(&self, fields: &[Vec<f64>], what: &'static str) -> Result<(), SamError> {
+        let wl = self.set.window.len();
+        if fields.len() != 6 * self.set.layers.len() || fields.iter().any(|f| f.len() != wl) {
+            return Err(SamError::Numerics(NumericsError::LengthMismatch {
+                what,
+                expected: 6 * self.set.layers.len(),
+                got: fields.len(),
+            }));
+        }
+        Ok(())
     }
 
     /// [`EimSystem::scatter`] into the system's own layer fields, which are zero outside the
@@ -406,7 +422,9 @@ impl EimSystem {
 
     /// The disturbance strain of `eps_star` at the inclusion layers (the fields are kept for
     /// eigen-displacements).
+    /// Errors: `eps_star` not of [`LinearOperator::dim`] values.
     pub fn disturbance(&mut self, eps_star: &[f64]) -> Result<&[Vec<f64>], SamError> {
+        check_lengths(self.dim(), eps_star, eps_star)?;
         self.scatter_own(eps_star);
         self.fields.disturbance(&self.eigen, &mut self.strain)?;
         Ok(&self.strain)
@@ -415,7 +433,9 @@ impl EimSystem {
     /// Only the surface fields of the disturbance of `eps_star` ([`EimFields::surface_disturbance`]:
     /// bit for bit those of [`EimSystem::disturbance`], without the strain at the inclusion
     /// layers), for [`EimFields::eigen_displacements`].
+    /// Errors: `eps_star` not of [`LinearOperator::dim`] values.
     pub fn surface_disturbance(&mut self, eps_star: &[f64]) -> Result<(), SamError> {
+        check_lengths(self.dim(), eps_star, eps_star)?;
         self.scatter_own(eps_star);
         self.fields.surface_disturbance(&self.eigen)
     }
