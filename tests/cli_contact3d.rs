@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{arrays_equal, bad, ok_json, run};
+use common::{bad, ok_json, run, stopped_and_resumed};
 
 const BASE: [&str; 6] = [
     "contact3d",
@@ -603,33 +603,28 @@ fn composite_loop_resumes_bit_for_bit() {
         v.extend(extra.iter().map(|s| s.to_string()));
         v
     };
-    let go = |v: Vec<String>| run(&v.iter().map(|s| s.as_str()).collect::<Vec<_>>());
-    let full = ok_json(&go(args(&a, &["--json"])));
+    // Stopped during the normal ramp (3), then during the cycle (9); in between, a resume with
+    // another configuration (grid 34) is refused.
+    let another = |b: &std::path::Path| {
+        bad(
+            &[
+                "fretting-loop",
+                "--case",
+                "composite",
+                "--grid",
+                "34",
+                "--config",
+                cfg.to_str().unwrap(),
+                "--out",
+                b.to_str().unwrap(),
+                "--resume",
+            ],
+            "another configuration",
+        )
+    };
+    let (full, resumed) =
+        stopped_and_resumed(args, (&a, &b), &["3", "9"], Some("checkpoint.npz"), another);
     assert!(!a.join("checkpoint.npz").exists());
-    assert!(go(args(&b, &["--stop-after", "3"])).status.success());
-    assert!(b.join("checkpoint.npz").is_file() && !b.join("results.h5").exists());
-    let refused = go(args(&b, &[]));
-    assert_eq!(refused.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&refused.stderr).contains("--resume"));
-    let other = go(vec![
-        "fretting-loop".into(),
-        "--case".into(),
-        "composite".into(),
-        "--grid".into(),
-        "34".into(),
-        "--config".into(),
-        cfg.to_str().unwrap().into(),
-        "--out".into(),
-        b.to_str().unwrap().into(),
-        "--resume".into(),
-    ]);
-    assert_eq!(other.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&other.stderr).contains("another configuration"));
-    assert!(go(args(&b, &["--resume", "--stop-after", "9"]))
-        .status
-        .success());
-    let resumed = ok_json(&go(args(&b, &["--resume", "--json"])));
-    arrays_equal(&a.join("results.h5"), &b.join("results.h5"));
     for key in [
         "dissipated_energy",
         "ratchet",

@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{arrays_equal, bad, ok_json, run, svg_with_labels};
+use common::{arrays_equal, bad, ok_json, run, stopped_and_resumed, svg_with_labels};
 
 /// The MDR twin of docs/wear3d.md (identical bodies, ν = 0, fixed approach, χ = 0.5) on 16²,
 /// N₀ = 1000 cycles, to τ = 1.
@@ -34,8 +34,10 @@ fn wear3d_runs_and_resumes_bit_for_bit() {
     std::fs::write(&cfg, TWIN).unwrap();
     let (a, b) = (dir.path().join("a"), dir.path().join("b"));
     let args = |out: &std::path::Path, extra: &[&str]| wear3d_args(&cfg, out, extra);
-    let go = |v: Vec<String>| run(&v.iter().map(|s| s.as_str()).collect::<Vec<_>>());
-    let full = ok_json(&go(args(&a, &["--json"])));
+    // Stopped after two wear steps, then after three: the resumed run ends bit for bit where the
+    // uninterrupted one ends.
+    let (full, resumed) =
+        stopped_and_resumed(args, (&a, &b), &["2", "3"], Some("checkpoint.npz"), |_| {});
     for key in [
         "cycles",
         "wear_steps",
@@ -72,15 +74,6 @@ fn wear3d_runs_and_resumes_bit_for_bit() {
     ] {
         svg_with_labels(&a.join(name), labels);
     }
-    assert!(go(args(&b, &["--stop-after", "2"])).status.success());
-    assert!(b.join("checkpoint.npz").is_file() && !b.join("results.h5").exists());
-    let refused = go(args(&b, &[]));
-    assert_eq!(refused.status.code(), Some(2));
-    assert!(go(args(&b, &["--resume", "--stop-after", "3"]))
-        .status
-        .success());
-    let resumed = ok_json(&go(args(&b, &["--resume", "--json"])));
-    arrays_equal(&a.join("results.h5"), &b.join("results.h5"));
     assert_eq!(full["wear_volume"], resumed["wear_volume"]);
     assert!(!b.join("checkpoint.npz").exists());
 }
@@ -104,15 +97,11 @@ fn wear3d_with_an_inhomogeneity_resumes_bit_for_bit() {
     let args = |out: &std::path::Path, extra: &[&str]| {
         wear3d_args(&cfg, out, &[&["--no-animation"], extra].concat())
     };
-    let go = |v: Vec<String>| run(&v.iter().map(|s| s.as_str()).collect::<Vec<_>>());
-    let full = ok_json(&go(args(&a, &["--json"])));
+    let (full, resumed) =
+        stopped_and_resumed(args, (&a, &b), &["4"], Some("checkpoint.npz"), |_| {});
     assert!(full["wear_steps"].as_u64().unwrap() >= 6, "{full}");
     assert!(full["outer_passes"].as_u64().unwrap() > 0, "{full}");
     assert!(full["eim_applications"].as_u64().unwrap() > 0, "{full}");
-    assert!(go(args(&b, &["--stop-after", "4"])).status.success());
-    assert!(b.join("checkpoint.npz").is_file());
-    let resumed = ok_json(&go(args(&b, &["--resume", "--json"])));
-    arrays_equal(&a.join("results.h5"), &b.join("results.h5"));
     assert_eq!(full["wear_volume"], resumed["wear_volume"]);
 }
 

@@ -30,6 +30,59 @@ pub fn bad(args: &[&str], needle: &str) {
     assert!(err.contains(needle), "{args:?}: {err:?} lacks {needle:?}");
 }
 
+/// `halfspace ARGS` from owned arguments.
+pub fn run_owned(args: &[String]) -> Output {
+    run(&args.iter().map(String::as_str).collect::<Vec<_>>())
+}
+
+/// The resume check of a command: `command(out, extra)` is its arguments writing to `out` with
+/// the flags `extra`. The run into `whole` (`--json`) uninterrupted; the run into `parts` stopped
+/// after `stops[0]` steps (`--stop-after`), leaving no results (and the file `checkpoint`, when
+/// given); a re-run into `parts` without `--resume` refused (exit 2, naming `--resume`); then
+/// `between(parts)`; resumed and stopped after each further count of `stops`; resumed to its end
+/// (`--resume --json`): every array of the two `results.h5` bit for bit. Returns the JSON of the
+/// uninterrupted and of the resumed run.
+pub fn stopped_and_resumed(
+    command: impl Fn(&std::path::Path, &[&str]) -> Vec<String>,
+    (whole, parts): (&std::path::Path, &std::path::Path),
+    stops: &[&str],
+    checkpoint: Option<&str>,
+    between: impl FnOnce(&std::path::Path),
+) -> (serde_json::Value, serde_json::Value) {
+    let full = ok_json(&run_owned(&command(whole, &["--json"])));
+    let mut between = Some(between);
+    for (k, stop) in stops.iter().enumerate() {
+        let flags: &[&str] = if k == 0 {
+            &["--stop-after", stop]
+        } else {
+            &["--resume", "--stop-after", stop]
+        };
+        let out = run_owned(&command(parts, flags));
+        assert!(
+            out.status.success(),
+            "stopped after {stop}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(!parts.join("results.h5").exists());
+        if let Some(name) = checkpoint {
+            assert!(parts.join(name).is_file(), "no {name} after {stop} steps");
+        }
+        if k == 0 {
+            let again = command(parts, &[]);
+            bad(
+                &again.iter().map(String::as_str).collect::<Vec<_>>(),
+                "--resume continues it",
+            );
+            if let Some(between) = between.take() {
+                between(parts);
+            }
+        }
+    }
+    let resumed = ok_json(&run_owned(&command(parts, &["--resume", "--json"])));
+    arrays_equal(&whole.join("results.h5"), &parts.join("results.h5"));
+    (full, resumed)
+}
+
 /// Every array of two results files equal bit for bit (a resumed run against an uninterrupted one).
 pub fn arrays_equal(a: &std::path::Path, b: &std::path::Path) {
     let (ra, rb) = (

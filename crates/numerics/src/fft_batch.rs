@@ -208,6 +208,59 @@ mod tests {
         pool.install(batched_transforms_check);
     }
 
+    /// A task that finds the stock empty (more tasks at once than the pool has threads: a task
+    /// stolen into a nested join) makes a sequential core of its own, which transforms as the
+    /// splitting core does, bit for bit, and is kept for later batches; a batch of one transform
+    /// runs on the splitting core and leaves the stock alone.
+    #[test]
+    fn a_core_made_past_the_stock_transforms_alike_and_is_kept() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let n = 128;
+            let mut core = Fft2d::new(n, n).unwrap();
+            let batch = FftBatch::new(&core);
+            assert_eq!(batch.stock(), 2);
+            let x = fields(n, 2, 11);
+            let mut expected = core.new_spectrum();
+            core.forward_rows(&x[0], 0..n, &mut expected).unwrap();
+            let mut back = vec![0.0; n * n];
+            core.inverse_rows(&mut expected.clone(), 0..n, &mut back)
+                .unwrap();
+            let same = |a: &[C64], b: &[C64]| {
+                a.iter().zip(b).all(|(a, b)| {
+                    a.re.to_bits() == b.re.to_bits() && a.im.to_bits() == b.im.to_bits()
+                })
+            };
+            {
+                let held = [batch.borrow(), batch.borrow()];
+                assert_eq!(batch.stock(), 0);
+                let mut extra = batch.borrow();
+                let made = extra.core.as_mut().expect("a core");
+                assert!(!made.is_parallel());
+                let mut hat = made.new_spectrum();
+                made.forward_rows(&x[0], 0..n, &mut hat).unwrap();
+                assert!(same(&hat, &expected));
+                let mut y = vec![f64::NAN; n * n];
+                made.inverse_rows(&mut hat, 0..n, &mut y).unwrap();
+                assert_eq!(
+                    y.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                    back.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+                );
+                drop(held);
+            }
+            assert_eq!(batch.stock(), 3);
+            // One transform: on the splitting core, the stock untouched.
+            let mut hat = vec![core.new_spectrum()];
+            let mut skip = [true];
+            batch.forward(&x[..1], 0..n, &mut hat, &mut skip).unwrap();
+            assert!(!skip[0] && same(&hat[0], &expected));
+            assert_eq!(batch.stock(), 3);
+        });
+    }
+
     fn batched_transforms_check() {
         for (n, rows) in [(128usize, 0..128usize), (128, 17..90), (16, 3..11)] {
             let mut core = Fft2d::new(n, n).unwrap();

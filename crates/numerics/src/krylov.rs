@@ -667,15 +667,22 @@ fn rotate(cs: &[f64], sn: &[f64], v: &mut [f64]) {
 /// Preconditioned Richardson iteration `x ← x + M⁻¹(b − A x)` (block Jacobi when `M` is the
 /// block diagonal), warm-started from `x`. Stops when `max|Δx| / max|x| < tol`; a step `max|Δx|` that
 /// grows a thousandfold over its smallest value, or a non-finite iterate, is reported as divergence
-/// ([`NumericsError::NoConvergence`]).
+/// ([`NumericsError::NoConvergence`]). The work vectors are the caller's `work`, kept between
+/// solves (resized, i.e. allocated, only when its length is not `A`'s dimension; its values are
+/// overwritten before they are read: the result does not depend on them).
 pub fn richardson(
     a: &mut dyn LinearOperator,
     precond: &mut dyn LinearOperator,
     b: &[f64],
     x: &mut [f64],
     params: &KrylovParams,
+    work: &mut RichardsonWork,
 ) -> Result<KrylovInfo, NumericsError> {
-    richardson_mixed(a, precond, b, x, params, None)
+    params.validate()?;
+    let n = a.dim();
+    crate::linop::check_lengths(n, b, x)?;
+    work.resize(n);
+    richardson_iterate(a, precond, b, x, params, None, work)
 }
 
 /// What [`richardson_mixed`] keeps between solves with one operator `A` and preconditioner `M`
@@ -695,21 +702,39 @@ pub struct RichardsonRecycle {
     work: RichardsonWork,
 }
 
-/// [`richardson_mixed`]'s work vectors: the residual, the preconditioned step and the iterate
-/// before the step.
+/// The work vectors of [`richardson`] and [`richardson_mixed`]: the residual, the preconditioned
+/// step and the iterate before the step (three vectors of the system's length).
 #[derive(Debug, Clone, Default)]
-struct RichardsonWork {
+pub struct RichardsonWork {
     r: Vec<f64>,
     dx: Vec<f64>,
     before: Vec<f64>,
 }
 
 impl RichardsonWork {
-    fn new(len: usize) -> Self {
+    /// Work vectors for systems of `len` unknowns.
+    pub fn new(len: usize) -> Self {
         Self {
             r: vec![0.0; len],
             dx: vec![0.0; len],
             before: vec![0.0; len],
+        }
+    }
+
+    /// The length of the vectors.
+    pub fn len(&self) -> usize {
+        self.r.len()
+    }
+
+    /// Whether the vectors are empty.
+    pub fn is_empty(&self) -> bool {
+        self.r.is_empty()
+    }
+
+    /// Vectors of length `len` (allocates only when the length changes).
+    fn resize(&mut self, len: usize) {
+        if self.len() != len {
+            *self = Self::new(len);
         }
     }
 }
@@ -755,7 +780,8 @@ impl RichardsonRecycle {
 ///
 /// The stop is [`richardson`]'s, on the step `max|G(x_k) − x_k| / max|G(x_k)|`, and the result
 /// is the plain step `G(x_k)`; [`KrylovInfo::iterations`] counts applications of `A`. `None` is
-/// [`richardson`], bit for bit.
+/// [`richardson`], bit for bit, on work vectors allocated for the call (a caller solving
+/// repeatedly keeps a [`RichardsonWork`] and calls [`richardson`]).
 pub fn richardson_mixed(
     a: &mut dyn LinearOperator,
     precond: &mut dyn LinearOperator,
@@ -1288,6 +1314,7 @@ mod tests {
             &b,
             &mut x,
             &KrylovParams::default(),
+            &mut RichardsonWork::new(n),
         )
         .unwrap();
         assert!(info.iterations < 100);
@@ -1306,9 +1333,124 @@ mod tests {
             &b,
             &mut x,
             &KrylovParams::default(),
+            &mut RichardsonWork::new(n),
         )
         .unwrap_err();
         assert!(matches!(err, NumericsError::NoConvergence { .. }), "{err}");
+    }
+
+    /// A seeded tridiagonal, diagonally dominant, nonsymmetric operator (any length, no n² storage).
+    struct Tridiagonal {
+        lower: Vec<f64>,
+        diagonal: Vec<f64>,
+        upper: Vec<f64>,
+    }
+
+    impl Tridiagonal {
+        fn new(n: usize, seed: u64) -> Self {
+            let mut rng = crate::testkit::Lcg::new(seed);
+            let mut v = |base: f64| (0..n).map(|_| base + 0.4 * (rng.unit() - 0.5)).collect();
+            Self {
+                lower: v(-0.3),
+                diagonal: v(1.5),
+                upper: v(0.2),
+            }
+        }
+    }
+
+    impl LinearOperator for Tridiagonal {
+        fn dim(&self) -> usize {
+            self.diagonal.len()
+        }
+        fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), NumericsError> {
+            let n = x.len();
+            for i in 0..n {
+                let mut v = self.diagonal[i] * x[i];
+                if i > 0 {
+                    v += self.lower[i] * x[i - 1];
+                }
+                if i + 1 < n {
+                    v += self.upper[i] * x[i + 1];
+                }
+                y[i] = v;
+            }
+            Ok(())
+        }
+    }
+
+    /// `y = x / d`: the Jacobi preconditioner of a [`Tridiagonal`].
+    struct Jacobi(Vec<f64>);
+
+    impl LinearOperator for Jacobi {
+        fn dim(&self) -> usize {
+            self.0.len()
+        }
+        fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), NumericsError> {
+            for ((y, x), d) in y.iter_mut().zip(x).zip(&self.0) {
+                *y = x / d;
+            }
+            Ok(())
+        }
+    }
+
+    /// [`richardson`] on caller-owned work vectors is the iteration as first written — a loop of
+    /// `r = b − A x`, `Δx = M⁻¹ r`, `x += Δx`, stopped at `max|Δx| / max|x| < tol`, fresh vectors
+    /// per step — bit for bit (the iterate and the count), on seeded systems (tridiagonal,
+    /// nonsymmetric, Jacobi-preconditioned; 37 unknowns, and 2 chunks + 5 of the element passes):
+    /// with new work vectors, with those of an earlier solve of another system (dirty), and with
+    /// vectors of another length (resized).
+    #[test]
+    fn richardson_on_kept_work_vectors_is_the_plain_loop_bit_for_bit() {
+        let plain_loop = |a: &mut Tridiagonal, b: &[f64], x: &mut [f64], tol: f64| -> usize {
+            let n = b.len();
+            let mut m = Jacobi(a.diagonal.clone());
+            for it in 1..=500 {
+                let mut r = vec![0.0; n];
+                a.apply(x, &mut r).unwrap();
+                for (ri, bi) in r.iter_mut().zip(b) {
+                    *ri = bi - *ri;
+                }
+                let mut dx = vec![0.0; n];
+                m.apply(&r, &mut dx).unwrap();
+                let (mut change, mut size) = (0.0f64, 0.0f64);
+                for (xi, d) in x.iter_mut().zip(&dx) {
+                    *xi += d;
+                    change = change.max(d.abs());
+                    size = size.max(xi.abs());
+                }
+                if change / size < tol {
+                    return it;
+                }
+            }
+            panic!("the plain loop did not converge");
+        };
+        let params = KrylovParams {
+            tolerance: 1e-12,
+            max_iterations: 500,
+            restart: 1,
+        };
+        let mut work = RichardsonWork::new(3);
+        for (n, seed) in [(37usize, 11u64), (37, 12), (2 * RICHARDSON_CHUNK + 5, 13)] {
+            let mut a = Tridiagonal::new(n, seed);
+            let b = crate::testkit::lcg(seed + 100, n);
+            let start = crate::testkit::lcg(seed + 200, n);
+            let mut control = start.clone();
+            let k = plain_loop(&mut a, &b, &mut control, params.tolerance);
+            assert!(k > 5, "{k} steps");
+            for fresh in [false, true] {
+                let mut x = start.clone();
+                let mut own = RichardsonWork::new(n);
+                let w = if fresh { &mut own } else { &mut work };
+                let mut m = Jacobi(a.diagonal.clone());
+                let info = richardson(&mut a, &mut m, &b, &mut x, &params, w).unwrap();
+                assert_eq!(info.iterations, k);
+                assert!(x
+                    .iter()
+                    .zip(&control)
+                    .all(|(p, q)| p.to_bits() == q.to_bits()));
+            }
+            assert_eq!(work.len(), n);
+        }
     }
 
     /// Block Jacobi with Anderson mixing ([`richardson_mixed`]) against the plain iteration (the
@@ -1342,7 +1484,15 @@ mod tests {
         let b2: Vec<f64> = (0..n).map(|i| (0.2 * i as f64).cos() - 0.5).collect();
         let (plain1, k_plain1) = solve(&mut a, &b1, None);
         let mut control = vec![0.0; n];
-        richardson(&mut a, &mut Identity(n), &b1, &mut control, &params).unwrap();
+        richardson(
+            &mut a,
+            &mut Identity(n),
+            &b1,
+            &mut control,
+            &params,
+            &mut RichardsonWork::default(),
+        )
+        .unwrap();
         assert!(plain1
             .iter()
             .zip(&control)

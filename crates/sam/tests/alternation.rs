@@ -3,13 +3,17 @@
 //! recorded in checkpoints (today's checkpoints, written without it, resume on the plain
 //! alternation only) and resumed bit for bit on the gauged one.
 
+mod support;
+
 use halfspace_sam::contact::{
-    Alternation, ContactParams, NestedParams, REFERENCE_EIM_CHANGE_FACTOR,
+    Alternation, ContactParams, ContactProblem, InhomogeneousContact, NestedParams,
+    REFERENCE_EIM_CHANGE_FACTOR,
 };
 use halfspace_sam::drivers::fretting_loop::{FrettingLoop, LoopCase, LoopSnapshot};
 use halfspace_sam::eim::EimParams;
 use halfspace_sam::eim::{FibreLayout, Inhomogeneity, Shape};
-use halfspace_sam::Body;
+use halfspace_sam::normal::NormalLoad;
+use halfspace_sam::{Body, Compliance, SurfaceGrid};
 
 /// A small nested loop: one stiff sphere below the contact, 16², two normal steps (the outer
 /// passes re-solve every increment, where the gauged alternation gauges its first alternation).
@@ -148,18 +152,8 @@ fn a_resumed_gauged_loop_repeats_the_uninterrupted_one() {
     composite.subsurface_depth = Some(0.5 * composite.hertz_radius());
     composite.alternation = Some(Alternation::Gauged);
     for case in [composite.clone(), composite.homogeneous()] {
-        let mut whole = FrettingLoop::new(case.clone()).unwrap();
-        let mut part = FrettingLoop::new(case.clone()).unwrap();
-        for _ in 0..7 {
-            part.step().unwrap();
-        }
-        let snap = part.snapshot();
+        let (_, snap) = support::assert_resumes_bit_for_bit::<FrettingLoop>(&case, 7);
         assert!(snap.fingerprint.contains(", alternation: Some(Gauged)"));
-        let mut resumed = FrettingLoop::resume(case, snap).unwrap();
-        while whole.step().unwrap().is_some() {}
-        while resumed.step().unwrap().is_some() {}
-        assert_eq!(whole.snapshot(), resumed.snapshot());
-        assert_eq!(whole.rows(), resumed.rows());
     }
 }
 
@@ -223,4 +217,80 @@ fn max_diff(a: &[f64], b: &[f64]) -> f64 {
     a.iter()
         .zip(b)
         .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+}
+
+/// A nested contact (one stiff sphere under a rigid sphere on the `ν = 0.3` flat: coupled) on
+/// 16² cells, its contact solves on the alternation `alternation`, loaded to `W = 80 mN`.
+fn loaded_nested(alternation: Alternation, inexact_contact: bool) -> InhomogeneousContact {
+    let case = sphere_case();
+    let grid = SurfaceGrid::square(case.grid, case.extent()).unwrap();
+    let pair = Compliance::pair(Body::Rigid, Body::elastic(case.e, case.nu).unwrap()).unwrap();
+    assert!(pair.coupling != 0.0);
+    let geometry = (0..grid.len())
+        .map(|k| {
+            let (x, y) = grid.centre(k / grid.n2, k % grid.n2);
+            (x * x + y * y) / (2.0 * case.radius)
+        })
+        .collect();
+    let params = ContactParams {
+        friction: case.friction,
+        alternation,
+        ..ContactParams::default()
+    };
+    let problem = ContactProblem::new(grid, pair, geometry, params).unwrap();
+    let mut nested = InhomogeneousContact::new(
+        problem,
+        case.e,
+        case.nu,
+        &case.inhomogeneities,
+        NestedParams {
+            inexact_contact,
+            ..NestedParams::default()
+        },
+    )
+    .unwrap();
+    nested
+        .increment(NormalLoad::Force(case.force), [0.0; 2])
+        .unwrap();
+    nested
+}
+
+/// Every evaluation of the nested force control (`InhomogeneousContact::increment_with_force`:
+/// Brent's method on `D₁ ↦ Q₁(D₁)`, each evaluation the nested loop from the same warm start) is
+/// the first solve of its increment (docs/theory-sam.md#normal-tangential-alternation: a re-solve
+/// gauges its first alternation by the last solve's right-hand side, which for an evaluation
+/// would be the previous evaluation's, at another `D₁`). So the force-controlled increment is,
+/// bit for bit, the displacement-controlled increment at the shift it returns, whatever the
+/// evaluations before the last one, on either alternation, with two brackets (other evaluations
+/// before the last). With the nested loop's inexact contact solves (the default) the first pass's
+/// tolerances sit at their ceilings, gauged or not; with `inexact_contact = false` an evaluation
+/// gauged by the previous one's solves differed (before `ContactProblem::restore_state` started
+/// the solve count afresh: gauged, bracket 2e-9, 20 tangential products in the last solve where
+/// the displacement-controlled increment takes 22, other bits).
+#[test]
+fn every_evaluation_of_the_nested_force_control_is_a_first_solve() {
+    let case = sphere_case();
+    let q = 0.5 * case.friction * case.force;
+    for (alternation, inexact) in [
+        (Alternation::Plain, true),
+        (Alternation::Plain, false),
+        (Alternation::Gauged, true),
+        (Alternation::Gauged, false),
+    ] {
+        for bracket in [2e-9, 7e-9] {
+            let mut by_force = loaded_nested(alternation, inexact);
+            let (_, d) = by_force
+                .increment_with_force(NormalLoad::Force(case.force), q, bracket)
+                .unwrap();
+            let mut by_shift = loaded_nested(alternation, inexact);
+            by_shift
+                .increment(NormalLoad::Force(case.force), [d, 0.0])
+                .unwrap();
+            assert!(
+                by_force.problem().state() == by_shift.problem().state(),
+                "{alternation:?} (inexact contact solves: {inexact}), bracket {bracket:e}: the force-controlled increment at \
+                 D₁ = {d:e} is not the displacement-controlled one"
+            );
+        }
+    }
 }

@@ -52,7 +52,7 @@ fn layered_operators_equal_their_dense_twin_and_the_window_equals_the_full_grid(
         .iter()
         .map(|f| {
             let mut g = vec![0.0; n];
-            sub.scatter(&grid, f, &mut g);
+            sub.scatter(&grid, f, &mut g).unwrap();
             g
         })
         .collect();
@@ -102,7 +102,7 @@ fn layered_operators_equal_their_dense_twin_and_the_window_equals_the_full_grid(
             .iter()
             .map(|f| {
                 let mut l = vec![0.0; sub.len()];
-                sub.gather_add(&grid, f, &mut l);
+                sub.gather_add(&grid, f, &mut l).unwrap();
                 l
             })
             .collect()
@@ -359,8 +359,8 @@ fn eshelby_sphere_by_cuboids_matches_spec_and_converges() {
     );
 }
 
-#[test]
-fn solvers_agree_on_the_fft_operator_its_dense_twin_and_a_direct_lu() {
+/// A sphere of radius 1.6 cells, `E_I = 3E`, `ν_I = 0.25`, on 8² cells of size 1.
+fn small_sphere() -> (SurfaceGrid, InclusionSet) {
     let grid = SurfaceGrid::square(8, 8.0).unwrap();
     let inh = Inhomogeneity {
         shape: Shape::Sphere {
@@ -373,6 +373,12 @@ fn solvers_agree_on_the_fft_operator_its_dense_twin_and_a_direct_lu() {
         nu: 0.25,
     };
     let set = InclusionSet::new(&grid, &[inh]).unwrap();
+    (grid, set)
+}
+
+#[test]
+fn solvers_agree_on_the_fft_operator_its_dense_twin_and_a_direct_lu() {
+    let (grid, set) = small_sphere();
     let applied: Vec<Vec<f64>> = (0..set.layers.len() * 6)
         .map(|k| {
             lcg(k as u64 + 40, set.window.len())
@@ -446,18 +452,7 @@ fn solvers_agree_on_the_fft_operator_its_dense_twin_and_a_direct_lu() {
 /// `forget_recycled` the next solve applies the operator for its first residual again.
 #[test]
 fn recycled_block_jacobi_matches_the_plain_iteration_in_fewer_applications() {
-    let grid = SurfaceGrid::square(8, 8.0).unwrap();
-    let inh = Inhomogeneity {
-        shape: Shape::Sphere {
-            x: 0.0,
-            y: 0.0,
-            z: 3.0,
-            r: 1.6,
-        },
-        e: 3.0,
-        nu: 0.25,
-    };
-    let set = InclusionSet::new(&grid, &[inh]).unwrap();
+    let (grid, set) = small_sphere();
     // Right-hand sides drifting as an outer loop's tractions do: a base field plus 1e-2, 1e-3,
     // 1e-4 of a second one.
     let base = |k: usize, seed: u64, scale: f64| -> Vec<f64> {
@@ -740,4 +735,222 @@ fn the_eim_operators_store_real_and_quarter_spectra() {
         .expect("surface and Love by quarter");
     assert!(real < 1e-11, "{real:e}");
     assert!(quarter < 1e-13, "{quarter:e}");
+}
+
+/// `(apply(x), rhs(applied), P⁻¹ x)` of `sys`.
+fn per_cell_outputs(sys: &mut EimSystem, x: &[f64], applied: &[Vec<f64>]) -> [Vec<f64>; 3] {
+    let n = sys.dim();
+    let (mut y, mut b, mut z) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    sys.apply(x, &mut y).unwrap();
+    sys.rhs(applied, &mut b).unwrap();
+    sys.preconditioner().apply(x, &mut z).unwrap();
+    [y, b, z]
+}
+
+fn bits(v: &[f64]) -> Vec<u64> {
+    v.iter().map(|x| x.to_bits()).collect()
+}
+
+/// The per-cell loops of the EIM (the right-hand side, the restriction of `A`, the block
+/// preconditioner: tasks of 2048 cells on the pool) and the scatter of the eigenstrains (layer by
+/// layer on the pool, or on one thread when the cells are not listed layer by layer), on two
+/// thread: a stiff and a soft sphere of 2 × 2145 = 4290 cells (three tasks at the default size)
+/// give the same bits split into tasks of 7 cells, of 2048 (the default) and as one task; the
+/// restriction and the right-hand side are the cell-by-cell formulas `C^m x − ΔC ε(x)` (`ε` the
+/// disturbance strain of [`EimSystem::disturbance`]) and `ΔC ε⁰`; the same cells listed in
+/// reverse (every layer's cells apart: the scatter on one thread) give the same values, cell for
+/// cell.
+#[test]
+fn per_cell_tasks_and_the_serial_scatter_give_the_same_bits() {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    pool.install(per_cell_tasks_check);
+}
+
+fn per_cell_tasks_check() {
+    let r = 8.0;
+    let grid = SurfaceGrid::square(40, 40.0).unwrap();
+    let sphere = |x: f64, ratio: f64| Inhomogeneity {
+        shape: Shape::Sphere {
+            x,
+            y: 0.0,
+            z: r + 2.0,
+            r,
+        },
+        e: ratio * E,
+        nu: 0.25,
+    };
+    let set = InclusionSet::new(&grid, &[sphere(-r - 1.0, 3.0), sphere(r + 1.0, 0.4)]).unwrap();
+    assert!(set.len() > 2 * 2048, "{} cells", set.len());
+    assert_eq!(set.materials.len(), 2);
+    let system = |set: &InclusionSet| {
+        let fields = EimFields::for_inclusions(grid, E, NU, set).unwrap();
+        EimSystem::new(fields, set.clone(), E, NU).unwrap()
+    };
+    let mut sys = system(&set);
+    assert!(sys.scatters_by_layer());
+    let x = lcg(31, sys.dim());
+    let applied: Vec<Vec<f64>> = (0..6 * set.layers.len())
+        .map(|k| lcg(100 + k as u64, set.window.len()))
+        .collect();
+    sys.set_cells_per_task(usize::MAX);
+    let whole = per_cell_outputs(&mut sys, &x, &applied);
+    for task in [7, 2048] {
+        sys.set_cells_per_task(task);
+        let split = per_cell_outputs(&mut sys, &x, &applied);
+        for (a, b) in split.iter().zip(&whole) {
+            assert_eq!(bits(a), bits(b), "tasks of {task} cells");
+        }
+    }
+    // The formulas, cell by cell.
+    let cm = stiffness(E, NU);
+    let dc: Vec<[[f64; 6]; 6]> = set
+        .materials
+        .iter()
+        .map(|&(e, nu)| {
+            let ci = stiffness(e, nu);
+            let mut d = [[0.0; 6]; 6];
+            for i in 0..6 {
+                for j in 0..6 {
+                    d[i][j] = cm[i][j] - ci[i][j];
+                }
+            }
+            d
+        })
+        .collect();
+    let strain = sys.disturbance(&x).unwrap().to_vec();
+    for (c, cell) in set.cells.iter().enumerate() {
+        let at = |fields: &[Vec<f64>]| {
+            let mut v = [0.0; 6];
+            for o in 0..6 {
+                v[o] = fields[cell.layer * 6 + o][cell.local];
+            }
+            v
+        };
+        let xc: [f64; 6] = x[6 * c..6 * c + 6].try_into().unwrap();
+        let (a, d) = (mul6(&cm, &xc), mul6(&dc[cell.material], &at(&strain)));
+        let b = mul6(&dc[cell.material], &at(&applied));
+        for o in 0..6 {
+            assert_eq!((a[o] - d[o]).to_bits(), whole[0][6 * c + o].to_bits());
+            assert_eq!(b[o].to_bits(), whole[1][6 * c + o].to_bits());
+        }
+    }
+    // The cells in reverse: the scatter on one thread, the same values per cell.
+    let mut reversed = set.clone();
+    reversed.cells.reverse();
+    let mut serial = system(&reversed);
+    assert!(!serial.scatters_by_layer());
+    let m = set.len();
+    let flip = |v: &[f64]| -> Vec<f64> {
+        (0..m)
+            .rev()
+            .flat_map(|c| v[6 * c..6 * c + 6].to_vec())
+            .collect()
+    };
+    for task in [7, 2048] {
+        serial.set_cells_per_task(task);
+        let out = per_cell_outputs(&mut serial, &flip(&x), &applied);
+        for (a, b) in out.iter().zip(&whole) {
+            assert_eq!(bits(a), bits(&flip(b)), "reversed cells, tasks of {task}");
+        }
+    }
+}
+
+/// Plain block Jacobi (`EimParams::recycled_depth = 0`) on the work vectors the system keeps
+/// between solves is the iteration on vectors allocated per solve (`richardson_mixed` without a
+/// recycled state, the path before the system kept them) bit for bit: the first solve, and a
+/// second one from the same start on the now dirty vectors, each with its count.
+#[test]
+fn plain_block_jacobi_on_kept_work_vectors_is_the_allocating_iteration_bit_for_bit() {
+    use halfspace_numerics::krylov::{richardson_mixed, KrylovParams};
+    let (grid, set) = small_sphere();
+    let fields = EimFields::for_inclusions(grid, E, NU, &set).unwrap();
+    let mut sys = EimSystem::new(fields, set.clone(), E, NU).unwrap();
+    let applied: Vec<Vec<f64>> = (0..set.layers.len() * 6)
+        .map(|k| lcg(300 + k as u64, set.window.len()))
+        .collect();
+    let params = EimParams {
+        method: EimMethod::BlockJacobi,
+        tolerance: 1e-10,
+        recycled_depth: 0,
+        ..EimParams::default()
+    };
+    let n = sys.dim();
+    let mut b = vec![0.0; n];
+    sys.rhs(&applied, &mut b).unwrap();
+    let mut control = vec![0.0; n];
+    let kp = KrylovParams {
+        tolerance: params.tolerance,
+        max_iterations: params.max_iterations,
+        restart: params.restart,
+    };
+    let mut pre = sys.preconditioner();
+    let k = richardson_mixed(&mut sys, &mut pre, &b, &mut control, &kp, None)
+        .unwrap()
+        .iterations;
+    assert!(k > 3, "{k} applications");
+    for _ in 0..2 {
+        let mut x = vec![0.0; n];
+        let info = sys.solve(&applied, &mut x, &params).unwrap();
+        assert_eq!(info.iterations, k);
+        assert_eq!(bits(&x), bits(&control));
+    }
+}
+
+/// Public inputs that indexed out of bounds are refused with typed errors: an inclusion set
+/// edited by hand (its fields are public) whose cell names a layer, window position, material or
+/// grid index it does not have; eigenstrains or layer fields of the wrong size for
+/// `EimSystem::disturbance`, `surface_disturbance` and `scatter`; a window field, grid field or
+/// window outside the grid for `Window::scatter` and `gather_add`.
+#[test]
+fn hand_made_sets_and_mis_sized_fields_are_refused() {
+    let (grid, set) = small_sphere();
+    let fields = || EimFields::for_inclusions(grid, E, NU, &set).unwrap();
+    set.check(&grid).unwrap();
+    let last = set.len() - 1;
+    for edit in [
+        |c: &mut halfspace_sam::eim::Cell| c.layer += 100,
+        |c: &mut halfspace_sam::eim::Cell| c.local += 10_000,
+        |c: &mut halfspace_sam::eim::Cell| c.material += 1,
+        |c: &mut halfspace_sam::eim::Cell| c.flat += 1,
+    ] {
+        let mut bad = set.clone();
+        edit(&mut bad.cells[last]);
+        let err = EimSystem::new(fields(), bad, E, NU).err().expect("refused");
+        assert!(err.to_string().contains("inclusion set cell"), "{err}");
+    }
+    let mut sys = EimSystem::new(fields(), set.clone(), E, NU).unwrap();
+    let n = sys.dim();
+    let short = vec![0.0; n - 6];
+    for err in [
+        sys.disturbance(&short).expect_err("refused"),
+        sys.surface_disturbance(&short).expect_err("refused"),
+    ] {
+        assert!(matches!(err, SamError::Numerics(_)), "{err}");
+    }
+    let wl = set.window.len();
+    let mut layer_fields = vec![vec![0.0; wl]; 6 * set.layers.len()];
+    assert!(sys.scatter(&short, &mut layer_fields).is_err());
+    assert!(sys.scatter(&vec![0.0; n], &mut layer_fields[1..]).is_err());
+    layer_fields[0].pop();
+    assert!(sys.scatter(&vec![0.0; n], &mut layer_fields).is_err());
+    layer_fields[0].push(0.0);
+    sys.scatter(&lcg(3, n), &mut layer_fields).unwrap();
+    // Window fields.
+    let w = set.window;
+    let mut full = vec![0.0; grid.len()];
+    let mut local = vec![0.0; wl];
+    assert!(w.scatter(&grid, &local[1..], &mut full).is_err());
+    assert!(w.scatter(&grid, &local, &mut full[1..]).is_err());
+    assert!(w.gather_add(&grid, &full, &mut local[1..]).is_err());
+    let outside = Window {
+        i0: grid.n1 - 1,
+        ..w
+    };
+    assert!(outside.scatter(&grid, &local, &mut full).is_err());
+    assert!(outside.gather_add(&grid, &full, &mut local).is_err());
+    w.scatter(&grid, &local, &mut full).unwrap();
+    w.gather_add(&grid, &full, &mut local).unwrap();
 }

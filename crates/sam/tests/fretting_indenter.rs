@@ -2,6 +2,8 @@
 //! identical bodies against Mindlin–Deresiewicz (docs/theory-sam.md#mindlin-deresiewicz-reference),
 //! dissimilar bodies against Hertz with the combined `E*`, the approach against Hertz's `W(δ)`.
 
+mod support;
+
 use halfspace_sam::analytic::mindlin;
 use halfspace_sam::drivers::fretting_loop::{CycleStress, FrettingLoop, LoopCase};
 use halfspace_sam::{Body, Compliance};
@@ -238,12 +240,11 @@ fn with_history() -> LoopCase {
 fn the_cycle_stress_history_is_the_field_at_each_increment_and_resumes_bit_for_bit() {
     use halfspace_sam::subsurface::{subsurface_stress, SubsurfacePlan};
     let case = with_history();
-    let mut lp = FrettingLoop::new(case.clone()).unwrap();
-    let start = lp.path().cycle_start();
+    let start = case.path().cycle_start();
     let mut direct = Vec::new();
     let mut surface_tractions = Vec::new();
-    let mut snapshot = None;
-    while lp.step().unwrap().is_some() {
+    // The loop to its end, snapshotted four increments into the cycle.
+    let (lp, snapshot) = support::run_with_snapshot(&case, start + 4, |lp: &FrettingLoop| {
         let k = lp.rows().len() - 1;
         if k >= start {
             let st = lp.solver().problem().state();
@@ -260,10 +261,7 @@ fn the_cycle_stress_history_is_the_field_at_each_increment_and_resumes_bit_for_b
             direct.push(f);
             surface_tractions.push((st.pressure.clone(), st.shear.clone()));
         }
-        if k == start + 3 {
-            snapshot = Some(lp.snapshot());
-        }
-    }
+    });
     let h = lp.cycle_stress().unwrap().unwrap();
     assert_eq!(h.increments, lp.path().len() - start);
     assert_eq!(h.recorded, h.increments);
@@ -314,12 +312,10 @@ fn the_cycle_stress_history_is_the_field_at_each_increment_and_resumes_bit_for_b
         ..case.clone()
     };
     assert!(case.estimate().bytes - without.estimate().bytes >= bytes);
-    // Resumed mid-cycle: the same history bit for bit.
-    let mut resumed = FrettingLoop::resume(case.clone(), snapshot.unwrap()).unwrap();
-    resumed
-        .run(|_| std::ops::ControlFlow::Continue(()))
-        .unwrap();
+    // Resumed mid-cycle: the same history bit for bit (and the same end).
+    let resumed: FrettingLoop = support::resumed(&case, snapshot);
     assert_eq!(resumed.cycle_stress().unwrap(), lp.cycle_stress().unwrap());
+    support::Resumable::assert_same_end(&resumed, &lp);
     // A snapshot without the history, of a loop past the cycle's start, is refused.
     let mut bare = lp.snapshot();
     let sources = bare.cycle_sources.take().unwrap();

@@ -3,6 +3,8 @@
 //! loop on it against the nested contact ↔ EIM loop (the reference path), including the
 //! subsurface stresses at the points A–D and a resumed loop.
 
+mod support;
+
 use halfspace_sam::contact::{BodyResponse, ContactParams, ContactProblem};
 use halfspace_sam::contact::{
     InhomogeneousContact, NestedParams, DEFAULT_EIM_CHANGE_FACTOR, DEFAULT_EIM_RECYCLED_DEPTH,
@@ -234,18 +236,8 @@ fn the_loop_on_the_operator_reproduces_the_nested_loop() {
 /// deterministic) repeats the uninterrupted loop bit for bit.
 #[test]
 fn a_resumed_loop_on_the_operator_repeats_the_uninterrupted_one() {
-    let case = composite(2.0, Some(1.3));
-    let mut whole = FrettingLoop::new(case.clone()).unwrap();
-    let mut part = FrettingLoop::new(case.clone()).unwrap();
     // Past the point A (an EIM sync) and into the shift.
-    for _ in 0..7 {
-        part.step().unwrap();
-    }
-    let mut resumed = FrettingLoop::resume(case, part.snapshot()).unwrap();
-    while whole.step().unwrap().is_some() {}
-    while resumed.step().unwrap().is_some() {}
-    assert_eq!(whole.snapshot(), resumed.snapshot());
-    assert_eq!(whole.rows(), resumed.rows());
+    support::assert_resumes_bit_for_bit::<FrettingLoop>(&composite(2.0, Some(1.3)), 7);
 }
 
 /// A loop with the nested path's defaults (the recycled EIM iterations,
@@ -259,21 +251,11 @@ fn a_resumed_loop_with_recycled_eim_iterations_repeats_the_uninterrupted_one() {
         DEFAULT_EIM_RECYCLED_DEPTH
     );
     const { assert!(DEFAULT_EIM_RECYCLED_DEPTH > 0) };
-    let mut whole = FrettingLoop::new(case.clone()).unwrap();
-    let mut part = FrettingLoop::new(case.clone()).unwrap();
     // Past the point A and into the shift.
-    for _ in 0..7 {
-        part.step().unwrap();
-    }
-    let snap = part.snapshot();
+    let (_, snap) = support::assert_resumes_bit_for_bit::<FrettingLoop>(&case, 7);
     assert!(snap.fingerprint.contains(&format!(
         "eim_recycled_depth: Some({DEFAULT_EIM_RECYCLED_DEPTH})"
     )));
-    let mut resumed = FrettingLoop::resume(case, snap).unwrap();
-    while whole.step().unwrap().is_some() {}
-    while resumed.step().unwrap().is_some() {}
-    assert_eq!(whole.snapshot(), resumed.snapshot());
-    assert_eq!(whole.rows(), resumed.rows());
 }
 
 /// The nested loop with its defaults (the EIM change factor `NestedParams::eim_change_factor` =

@@ -2,14 +2,17 @@
 //! contact radii of the first cycle against Mindlin, the stability bound's compliance against the
 //! dense influence matrix, the stop over inhomogeneities, and bad input.
 
+mod support;
+
 use std::ops::ControlFlow;
 
 use halfspace_sam::contact::NestedParams;
 use halfspace_sam::drivers::fretting_wear3d::{
-    checkerboard_compliance, FrettingWear3d, WearCase, WearLaw, WearRow, WornBody,
+    checkerboard_compliance, FrettingWear3d, WearCase, WearLaw, WornBody,
 };
 use halfspace_sam::eim::{Inhomogeneity, Shape};
 use halfspace_sam::{Body, Compliance, SamError, SurfaceGrid};
+use support::Resumable;
 
 /// The MDR twin (identical bodies, ν = 0, fixed approach, χ = 0.5) on `grid²` cells, N₀ = 1000
 /// cycles, to τ = `tau_end`.
@@ -18,9 +21,7 @@ fn twin(grid: usize, tau_end: f64) -> WearCase {
 }
 
 fn run_to_end(case: WearCase) -> FrettingWear3d {
-    let mut run = FrettingWear3d::new(case).expect("plan");
-    assert!(run.run(|_| ControlFlow::Continue(())).expect("run"));
-    run
+    support::run_to_end(&case)
 }
 
 /// Fouvry's law: every cell's depth is `α Σ_j ΔN_j Σ_k |q||S|`, so the worn volume is `α` times
@@ -56,20 +57,7 @@ fn energy_law_volume_is_alpha_times_dissipated_energy() {
 fn resume_is_bit_for_bit() {
     let mut case = twin(16, 1.0);
     case.record_cycles = vec![100, 500];
-    let full = run_to_end(case.clone());
-    let mut first = FrettingWear3d::new(case.clone()).expect("plan");
-    let mut steps = 0;
-    first
-        .run(|_| {
-            steps += 1;
-            if steps == 3 {
-                ControlFlow::Break(())
-            } else {
-                ControlFlow::Continue(())
-            }
-        })
-        .expect("run");
-    let snapshot = first.snapshot();
+    let (full, snapshot) = support::run_with_snapshot(&case, 3, |_: &FrettingWear3d| {});
     let mut other = case.clone();
     other.step_fraction *= 0.5;
     assert!(FrettingWear3d::resume(other, snapshot.clone()).is_err());
@@ -79,13 +67,8 @@ fn resume_is_bit_for_bit() {
         .err()
         .expect("refused");
     assert!(err.to_string().contains("wear_depth"), "{err}");
-    let mut resumed = FrettingWear3d::resume(case, snapshot).expect("resume");
-    resumed.run(|_| ControlFlow::Continue(())).expect("run");
-    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-    assert_eq!(bits(resumed.wear_depth()), bits(full.wear_depth()));
-    let rows = |r: &[WearRow]| r.iter().flat_map(|w| bits(&w.values())).collect::<Vec<_>>();
-    assert_eq!(rows(resumed.history()), rows(full.history()));
-    assert_eq!(resumed.records(), full.records());
+    let resumed: FrettingWear3d = support::resumed(&case, snapshot);
+    resumed.assert_same_end(&full);
     assert_eq!(
         full.records().iter().map(|r| r.cycles).collect::<Vec<_>>(),
         vec![100, 500, 1000]
@@ -124,21 +107,8 @@ fn twin_with_inhomogeneity() -> WearCase {
 #[test]
 fn cycle_predictor_resumes_bit_for_bit_and_keeps_the_results() {
     let case = twin_with_inhomogeneity();
-    let full = run_to_end(case.clone());
+    let (full, snapshot) = support::run_with_snapshot(&case, 4, |_: &FrettingWear3d| {});
     assert!(full.history().len() >= 6, "{} rows", full.history().len());
-    let mut first = FrettingWear3d::new(case.clone()).expect("plan");
-    let mut steps = 0;
-    first
-        .run(|_| {
-            steps += 1;
-            if steps == 4 {
-                ControlFlow::Break(())
-            } else {
-                ControlFlow::Continue(())
-            }
-        })
-        .expect("run");
-    let snapshot = first.snapshot();
     assert!(snapshot
         .cycle_eigen
         .iter()
@@ -162,14 +132,9 @@ fn cycle_predictor_resumes_bit_for_bit_and_keeps_the_results() {
     // next cycle starts from the secant prediction, the one after from the last cycle alone.
     let mut old = snapshot.clone();
     old.cycle_eigen = Default::default();
-    let mut from_old = FrettingWear3d::resume(case.clone(), old).expect("resume");
-    from_old.run(|_| ControlFlow::Continue(())).expect("run");
-    let mut resumed = FrettingWear3d::resume(case.clone(), snapshot).expect("resume");
-    resumed.run(|_| ControlFlow::Continue(())).expect("run");
-    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-    assert_eq!(bits(resumed.wear_depth()), bits(full.wear_depth()));
-    let rows = |r: &[WearRow]| r.iter().flat_map(|w| bits(&w.values())).collect::<Vec<_>>();
-    assert_eq!(rows(resumed.history()), rows(full.history()));
+    let from_old: FrettingWear3d = support::resumed(&case, old);
+    let resumed: FrettingWear3d = support::resumed(&case, snapshot);
+    resumed.assert_same_end(&full);
     let largest = full.wear_depth().iter().cloned().fold(0.0, f64::max);
     let apart = |run: &FrettingWear3d| {
         full.wear_depth()
@@ -377,38 +342,11 @@ fn a_gauged_wear_run_resumes_bit_for_bit_and_old_checkpoints_only_on_plain() {
         c.fretting.alternation = Some(alternation);
         c
     };
-    let stopped = |case: WearCase| {
-        let mut first = FrettingWear3d::new(case).expect("plan");
-        let mut steps = 0;
-        first
-            .run(|_| {
-                steps += 1;
-                if steps == 3 {
-                    ControlFlow::Break(())
-                } else {
-                    ControlFlow::Continue(())
-                }
-            })
-            .expect("run");
-        first.snapshot()
-    };
-    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-    let rows = |r: &[WearRow]| r.iter().flat_map(|w| bits(&w.values())).collect::<Vec<_>>();
-    let same = |a: &FrettingWear3d, b: &FrettingWear3d| {
-        assert_eq!(bits(a.wear_depth()), bits(b.wear_depth()));
-        assert_eq!(rows(a.history()), rows(b.history()));
-        assert_eq!(a.records(), b.records());
-    };
     let gauged = with(Alternation::Gauged);
-    let full = run_to_end(gauged.clone());
-    let snapshot = stopped(gauged.clone());
+    let (_, snapshot) = support::assert_resumes_bit_for_bit::<FrettingWear3d>(&gauged, 3);
     assert!(snapshot.fingerprint.contains(", alternation: Some(Gauged)"));
-    let mut resumed = FrettingWear3d::resume(gauged.clone(), snapshot).expect("resume");
-    resumed.run(|_| ControlFlow::Continue(())).expect("run");
-    same(&resumed, &full);
     let plain = with(Alternation::Plain);
-    let full = run_to_end(plain.clone());
-    let mut legacy = stopped(plain.clone());
+    let (full, mut legacy) = support::run_with_snapshot(&plain, 3, |_: &FrettingWear3d| {});
     assert!(legacy.fingerprint.contains(", alternation: Some(Plain)"));
     legacy.fingerprint = legacy
         .fingerprint
@@ -421,7 +359,6 @@ fn a_gauged_wear_run_resumes_bit_for_bit_and_old_checkpoints_only_on_plain() {
             .contains("resume it with alternation = \"plain\""),
         "{err}"
     );
-    let mut resumed = FrettingWear3d::resume(plain, legacy).expect("resume");
-    resumed.run(|_| ControlFlow::Continue(())).expect("run");
-    same(&resumed, &full);
+    let resumed: FrettingWear3d = support::resumed(&plain, legacy);
+    resumed.assert_same_end(&full);
 }

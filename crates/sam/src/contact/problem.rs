@@ -434,7 +434,12 @@ impl<S: OperatorSet> ContactProblem<S> {
 
     /// Restores a converged state (a checkpoint's): every field must have this problem's length
     /// (empty tangential fields for a frictionless problem) and be finite. The next increment then
-    /// starts from it exactly as it would have after the increment that produced it.
+    /// starts from it exactly as it would have after the increment that produced it. The next
+    /// solve is a first solve of its increment, as after [`ContactProblem::begin`] (the gauged
+    /// alternation gauges only re-solves from the same start, docs/theory-sam.md#normal-tangential-alternation):
+    /// a nested force control restores its warm start before every evaluation
+    /// ([`super::InhomogeneousContact::increment_with_force`]), and each evaluation is a function
+    /// of its shift alone.
     pub fn restore_state(&mut self, state: &ContactState) -> Result<(), SamError> {
         let fields = |s: &ContactState| {
             [
@@ -479,6 +484,7 @@ impl<S: OperatorSet> ContactProblem<S> {
             });
         }
         self.state.clone_from(state);
+        self.solves = 0;
         Ok(())
     }
 

@@ -2,6 +2,8 @@
 //! lattice: cubes of the surface cell size `2Δ` under every surface cell, layer `k` centred at depth
 //! `(2k + 1)Δ` (docs/theory-sam.md#conventions, docs/theory-sam.md#layered-operators). A cell belongs to an inhomogeneity when its centre lies inside.
 
+use halfspace_numerics::NumericsError;
+
 use crate::{SamError, SurfaceGrid};
 
 /// The axis of a cylinder (it runs through the whole domain along that axis).
@@ -347,17 +349,31 @@ impl Window {
         *self == Self::full(grid)
     }
 
-    /// Copies a window field into a zeroed full-grid field.
-    pub fn scatter(&self, grid: &SurfaceGrid, local: &[f64], full: &mut [f64]) {
+    /// Copies a window field into a zeroed full-grid field. Errors: the window not inside `grid`,
+    /// `local` not of the window's length or `full` not of the grid's.
+    pub fn scatter(
+        &self,
+        grid: &SurfaceGrid,
+        local: &[f64],
+        full: &mut [f64],
+    ) -> Result<(), SamError> {
+        self.check_fields(grid, local.len(), full.len())?;
         full.fill(0.0);
         for a in 0..self.n1 {
             let row = (self.i0 + a) * grid.n2 + self.j0;
             full[row..row + self.n2].copy_from_slice(&local[a * self.n2..(a + 1) * self.n2]);
         }
+        Ok(())
     }
 
-    /// `local += full` restricted to the window.
-    pub fn gather_add(&self, grid: &SurfaceGrid, full: &[f64], local: &mut [f64]) {
+    /// `local += full` restricted to the window. Errors as [`Window::scatter`].
+    pub fn gather_add(
+        &self,
+        grid: &SurfaceGrid,
+        full: &[f64],
+        local: &mut [f64],
+    ) -> Result<(), SamError> {
+        self.check_fields(grid, local.len(), full.len())?;
         for a in 0..self.n1 {
             let row = (self.i0 + a) * grid.n2 + self.j0;
             for (l, f) in local[a * self.n2..(a + 1) * self.n2]
@@ -367,6 +383,37 @@ impl Window {
                 *l += f;
             }
         }
+        Ok(())
+    }
+
+    /// The window inside `grid`, else the typed error.
+    pub fn check_inside(&self, grid: &SurfaceGrid) -> Result<(), SamError> {
+        if self.i0 + self.n1 > grid.n1 || self.j0 + self.n2 > grid.n2 {
+            return Err(invalid(
+                "volume window rows/columns beyond the grid",
+                (self.i0 + self.n1).max(self.j0 + self.n2) as f64,
+                "inside the surface grid",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The window inside `grid`, a window field of `local` values and a grid field of `full`.
+    fn check_fields(&self, grid: &SurfaceGrid, local: usize, full: usize) -> Result<(), SamError> {
+        self.check_inside(grid)?;
+        for (what, expected, got) in [
+            ("window field", self.len(), local),
+            ("full-grid field", grid.len(), full),
+        ] {
+            if expected != got {
+                return Err(SamError::Numerics(NumericsError::LengthMismatch {
+                    what,
+                    expected,
+                    got,
+                }));
+            }
+        }
+        Ok(())
     }
 }
 
@@ -543,5 +590,32 @@ impl InclusionSet {
     /// Whether there is no cell.
     pub fn is_empty(&self) -> bool {
         self.cells.is_empty()
+    }
+
+    /// Checks a set built or edited by hand (its fields are public) before operators index with
+    /// it: every cell's layer, window position and material exist, its `flat` index is its
+    /// window position on `grid`, and the window lies inside `grid`.
+    pub fn check(&self, grid: &SurfaceGrid) -> Result<(), SamError> {
+        let w = &self.window;
+        w.check_inside(grid)?;
+        for (c, cell) in self.cells.iter().enumerate() {
+            let flat =
+                (w.i0 + cell.local / w.n2.max(1)) * grid.n2 + w.j0 + cell.local % w.n2.max(1);
+            if cell.layer >= self.layers.len()
+                || cell.local >= w.len()
+                || cell.material >= self.materials.len()
+                || cell.flat != flat
+            {
+                return Err(SamError::InvalidInput(format!(
+                    "inclusion set cell {c} ({cell:?}): its layer, window position, material or \
+                     grid index does not exist in the set ({} layers, {} window cells, {} \
+                     materials)",
+                    self.layers.len(),
+                    w.len(),
+                    self.materials.len()
+                )));
+            }
+        }
+        Ok(())
     }
 }

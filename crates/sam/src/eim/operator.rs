@@ -259,7 +259,7 @@ fn love_into_window(
         (0..usize::MAX, rows),
     )?;
     for (full, local) in love_full.iter().zip(strain.iter_mut()) {
-        window.gather_add(grid, full, local);
+        window.gather_add(grid, full, local)?;
     }
     Ok(())
 }
@@ -397,13 +397,7 @@ impl EimFields {
                 allowed: "in (−1, 0.5)",
             });
         }
-        if window.i0 + window.n1 > grid.n1 || window.j0 + window.n2 > grid.n2 {
-            return Err(SamError::InvalidParameter {
-                name: "volume window rows/columns beyond the grid",
-                value: (window.i0 + window.n1).max(window.j0 + window.n2) as f64,
-                allowed: "inside the surface grid",
-            });
-        }
+        window.check_inside(&grid)?;
         let key = |k: &usize| (2 * k + 1) as i64;
         let sources: Vec<i64> = source_layers.iter().map(key).collect();
         let targets: Vec<i64> = target_layers.iter().map(key).collect();
@@ -724,7 +718,7 @@ impl EimFields {
         };
         self.displacements_current = count == 3;
         for (local, full) in eigen.iter().zip(self.scattered.iter_mut()) {
-            self.window.scatter(&self.grid, local, full);
+            self.window.scatter(&self.grid, local, full)?;
         }
         let w = &mut self.surface_work;
         let rows = self.window.i0..self.window.i0 + self.window.n1;

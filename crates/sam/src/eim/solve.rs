@@ -14,7 +14,8 @@
 use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
 use halfspace_numerics::krylov::{
-    richardson_mixed, Gmres, KrylovInfo, KrylovParams, RichardsonRecycle,
+    richardson, richardson_mixed, Gmres, KrylovInfo, KrylovParams, RichardsonRecycle,
+    RichardsonWork,
 };
 use halfspace_numerics::linop::{check_lengths, LinearOperator};
 use halfspace_numerics::NumericsError;
@@ -121,6 +122,8 @@ pub struct EimSystem {
     /// Per layer, the range of its cells in `set.cells` (`None` when the cells are not listed
     /// layer by layer: then they are scattered on one thread).
     layer_cells: Option<Vec<std::ops::Range<usize>>>,
+    /// Cells per task of the per-cell loops (`CELLS_PER_TASK`; tests lower it).
+    cells_per_task: usize,
     strain: Vec<Vec<f64>>,
     /// The right-hand side `ΔC ε⁰` of the last solve (kept: a solve allocates no right-hand side).
     rhs: Vec<f64>,
@@ -131,11 +134,16 @@ pub struct EimSystem {
     /// The block-Jacobi iteration's Anderson history ([`EimParams::recycled_depth`]), kept
     /// between solves.
     mixing: Option<RichardsonRecycle>,
+    /// The plain block-Jacobi iteration's work vectors (recycled depth 0), kept between solves.
+    jacobi: RichardsonWork,
 }
 
 impl EimSystem {
-    /// Builds the blocks for the matrix `(E, ν)`.
+    /// Builds the blocks for the matrix `(E, ν)`. Errors: a set whose cells do not fit its own
+    /// layers, window and materials ([`InclusionSet::check`]) or whose layers and window are not
+    /// the operators'.
     pub fn new(fields: EimFields, set: InclusionSet, e: f64, nu: f64) -> Result<Self, SamError> {
+        set.check(fields.grid())?;
         let (ns, nt) = fields.layer_counts();
         if ns != set.layers.len() || nt != set.layers.len() {
             return Err(SamError::InvalidParameter {
@@ -179,9 +187,11 @@ impl EimSystem {
         let pre = Some(BlockPreconditioner {
             blocks: set.cells.iter().map(|c| c.material).collect(),
             inverse: precond.clone(),
+            cells_per_task: CELLS_PER_TASK,
         });
         Ok(Self {
             layer_cells,
+            cells_per_task: CELLS_PER_TASK,
             fields,
             set,
             cm,
@@ -193,6 +203,7 @@ impl EimSystem {
             pre,
             gmres: None,
             mixing: None,
+            jacobi: RichardsonWork::default(),
         })
     }
 
@@ -200,18 +211,11 @@ impl EimSystem {
     /// tasks of `CELLS_PER_TASK` (2048) cells). Errors: `b` not of [`LinearOperator::dim`] values,
     /// `applied` not six window fields per layer.
     pub fn rhs(&self, applied: &[Vec<f64>], b: &mut [f64]) -> Result<(), SamError> {
-        let wl = self.set.window.len();
-        if applied.len() != 6 * self.set.layers.len() || applied.iter().any(|f| f.len() != wl) {
-            return Err(SamError::Numerics(NumericsError::LengthMismatch {
-                what: "applied strain fields (6 per layer, window-sized)",
-                expected: 6 * self.set.layers.len(),
-                got: applied.len(),
-            }));
-        }
+        self.check_layer_fields(applied, "applied strain fields (6 per layer, window-sized)")?;
         check_lengths(self.dim(), b, b)?;
-        let cells = &self.set.cells;
-        b.par_chunks_mut(6 * CELLS_PER_TASK)
-            .zip(cells.par_chunks(CELLS_PER_TASK))
+        let (cells, task) = (&self.set.cells, self.cells_per_task);
+        b.par_chunks_mut(6 * task)
+            .zip(cells.par_chunks(task))
             .for_each(|(b, cells)| {
                 for (bc, cell) in b.chunks_exact_mut(6).zip(cells) {
                     let mut e0 = [0.0; 6];
@@ -224,10 +228,30 @@ impl EimSystem {
         Ok(())
     }
 
-    /// Scatters the cell eigenstrains into the layer fields.
-    pub fn scatter(&self, x: &[f64], fields: &mut [Vec<f64>]) {
+    /// Scatters the cell eigenstrains `x` (6 per cell) into the layer fields (6 per layer,
+    /// window-sized), zero elsewhere. Errors: `x` or `fields` of other sizes.
+    pub fn scatter(&self, x: &[f64], fields: &mut [Vec<f64>]) -> Result<(), SamError> {
+        check_lengths(self.dim(), x, x)?;
+        self.check_layer_fields(
+            fields,
+            "eigenstrain layer fields (6 per layer, window-sized)",
+        )?;
         fields.iter_mut().for_each(|f| f.fill(0.0));
         scatter_cells(&self.set, x, fields);
+        Ok(())
+    }
+
+    /// Six window-sized fields per layer of the set, else the typed error naming `what`.
+    fn check_layer_fields(&self, fields: &[Vec<f64>], what: &'static str) -> Result<(), SamError> {
+        let wl = self.set.window.len();
+        if fields.len() != 6 * self.set.layers.len() || fields.iter().any(|f| f.len() != wl) {
+            return Err(SamError::Numerics(NumericsError::LengthMismatch {
+                what,
+                expected: 6 * self.set.layers.len(),
+                got: fields.len(),
+            }));
+        }
+        Ok(())
     }
 
     /// [`EimSystem::scatter`] into the system's own layer fields, which are zero outside the
@@ -257,7 +281,27 @@ impl EimSystem {
         BlockPreconditioner {
             blocks: self.set.cells.iter().map(|c| c.material).collect(),
             inverse: self.precond.clone(),
+            cells_per_task: self.cells_per_task,
         }
+    }
+
+    /// Sets the cells per task of the per-cell loops (the right-hand side, the restriction of
+    /// [`LinearOperator::apply`], the block preconditioner; `CELLS_PER_TASK` (2048) by default,
+    /// clamped to `[1, cells]`): every cell's arithmetic is the same on any split, so the results
+    /// are the same bits (tests lower it to cross task boundaries on small sets).
+    #[doc(hidden)]
+    pub fn set_cells_per_task(&mut self, cells: usize) {
+        self.cells_per_task = cells.clamp(1, self.set.len().max(1));
+        if let Some(pre) = self.pre.as_mut() {
+            pre.cells_per_task = self.cells_per_task;
+        }
+    }
+
+    /// Whether the eigenstrains are scattered into the layer fields layer by layer on the pool
+    /// (the cells listed layer by layer), not on one thread (tests: both paths run).
+    #[doc(hidden)]
+    pub fn scatters_by_layer(&self) -> bool {
+        self.layer_cells.is_some()
     }
 
     /// Solves for `ε*` (warm start and result, 6 per cell) given the applied strain on the
@@ -321,14 +365,23 @@ impl EimSystem {
                 // `MAX_EIM_RECYCLED_DEPTH` up front).
                 let vectors = (2usize << 30) / (8 * n.max(1));
                 let depth = params.recycled_depth.min(vectors.saturating_sub(7) / 2);
-                let mut mixing = match self.mixing.take() {
-                    _ if depth == 0 => None,
-                    Some(m) if m.shape() == (n, depth) => Some(m),
-                    _ => Some(RichardsonRecycle::new(n, depth)),
-                };
-                let r = richardson_mixed(self, &mut pre, &b, eps_star, &kp, mixing.as_mut());
-                self.mixing = mixing;
-                r
+                if depth == 0 {
+                    // Plain block Jacobi on the kept work vectors (a kept history is dropped:
+                    // a later recycled solve starts a fresh one).
+                    self.mixing = None;
+                    let mut work = std::mem::take(&mut self.jacobi);
+                    let r = richardson(self, &mut pre, &b, eps_star, &kp, &mut work);
+                    self.jacobi = work;
+                    r
+                } else {
+                    let mut mixing = match self.mixing.take() {
+                        Some(m) if m.shape() == (n, depth) => m,
+                        _ => RichardsonRecycle::new(n, depth),
+                    };
+                    let r = richardson_mixed(self, &mut pre, &b, eps_star, &kp, Some(&mut mixing));
+                    self.mixing = Some(mixing);
+                    r
+                }
             }
         };
         self.rhs = b;
@@ -369,7 +422,9 @@ impl EimSystem {
 
     /// The disturbance strain of `eps_star` at the inclusion layers (the fields are kept for
     /// eigen-displacements).
+    /// Errors: `eps_star` not of [`LinearOperator::dim`] values.
     pub fn disturbance(&mut self, eps_star: &[f64]) -> Result<&[Vec<f64>], SamError> {
+        check_lengths(self.dim(), eps_star, eps_star)?;
         self.scatter_own(eps_star);
         self.fields.disturbance(&self.eigen, &mut self.strain)?;
         Ok(&self.strain)
@@ -378,7 +433,9 @@ impl EimSystem {
     /// Only the surface fields of the disturbance of `eps_star` ([`EimFields::surface_disturbance`]:
     /// bit for bit those of [`EimSystem::disturbance`], without the strain at the inclusion
     /// layers), for [`EimFields::eigen_displacements`].
+    /// Errors: `eps_star` not of [`LinearOperator::dim`] values.
     pub fn surface_disturbance(&mut self, eps_star: &[f64]) -> Result<(), SamError> {
+        check_lengths(self.dim(), eps_star, eps_star)?;
         self.scatter_own(eps_star);
         self.fields.surface_disturbance(&self.eigen)
     }
@@ -425,11 +482,12 @@ impl LinearOperator for EimSystem {
                 allowed: "consistent field shapes",
             },
         })?;
-        // The restriction `C^m x − ΔC ε` cell by cell, in tasks of `CELLS_PER_TASK` cells.
+        // The restriction `C^m x − ΔC ε` cell by cell, in tasks of `cells_per_task` cells.
         let (cm, dc, strain) = (&self.cm, &self.dc, &self.strain);
-        y.par_chunks_mut(6 * CELLS_PER_TASK)
-            .zip(x.par_chunks(6 * CELLS_PER_TASK))
-            .zip(self.set.cells.par_chunks(CELLS_PER_TASK))
+        let task = self.cells_per_task;
+        y.par_chunks_mut(6 * task)
+            .zip(x.par_chunks(6 * task))
+            .zip(self.set.cells.par_chunks(task))
             .for_each(|((y, x), cells)| {
                 for ((yc, xs), cell) in y.chunks_exact_mut(6).zip(x.chunks_exact(6)).zip(cells) {
                     let mut eps = [0.0; 6];
@@ -488,6 +546,8 @@ fn write_cell(fields: &mut [Vec<f64>], local: usize, xc: &[f64]) {
 pub struct BlockPreconditioner {
     blocks: Vec<usize>,
     inverse: Vec<[[f64; 6]; 6]>,
+    /// Cells per task ([`EimSystem::set_cells_per_task`]).
+    cells_per_task: usize,
 }
 
 impl LinearOperator for BlockPreconditioner {
@@ -496,10 +556,10 @@ impl LinearOperator for BlockPreconditioner {
     }
     fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), NumericsError> {
         check_lengths(self.dim(), x, y)?;
-        let inverse = &self.inverse;
-        y.par_chunks_mut(6 * CELLS_PER_TASK)
-            .zip(x.par_chunks(6 * CELLS_PER_TASK))
-            .zip(self.blocks.par_chunks(CELLS_PER_TASK))
+        let (inverse, task) = (&self.inverse, self.cells_per_task);
+        y.par_chunks_mut(6 * task)
+            .zip(x.par_chunks(6 * task))
+            .zip(self.blocks.par_chunks(task))
             .for_each(|((y, x), blocks)| {
                 for ((yc, xc), &m) in y.chunks_exact_mut(6).zip(x.chunks_exact(6)).zip(blocks) {
                     yc.copy_from_slice(&mul6(&inverse[m], xc));
