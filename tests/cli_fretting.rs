@@ -125,6 +125,33 @@ fn resume_after_a_kill_gives_the_same_results_bit_for_bit() {
     );
     let mut args = vec!["fretting-wear", "--out", b.to_str().unwrap(), "--resume"];
     args.extend(common);
+    // A fixed-step checkpoint records the fixed-step ROS2 path (`fixed_scheme`); one without it
+    // (made before the rate's shorter plans, whose rounding this build would not repeat) or of
+    // another path is refused, naming the attribute.
+    let checkpoint = b.join("checkpoint.npz");
+    let original = read_record(&checkpoint).unwrap();
+    assert_eq!(
+        original.get_attr("fixed_scheme"),
+        Some(&AttrValue::Text(
+            halfspace::fretting::FIXED_STEP_SCHEME.into()
+        ))
+    );
+    for other in [None, Some("ros2-fixed")] {
+        let mut rec = original.clone();
+        match other {
+            None => rec.attributes.retain(|(n, _)| n != "fixed_scheme"),
+            Some(name) => {
+                for (n, v) in rec.attributes.iter_mut() {
+                    if n == "fixed_scheme" {
+                        *v = AttrValue::Text(name.into());
+                    }
+                }
+            }
+        }
+        write_record(&checkpoint, &rec).unwrap();
+        bad(&args, "fixed_scheme");
+    }
+    write_record(&checkpoint, &original).unwrap();
     let v = ok_json(&run(&args));
     assert_eq!(v["steps"], 500);
     arrays_equal(&a.join("results.npz"), &b.join("results.npz"));

@@ -11,7 +11,7 @@ use crate::config::Names;
 use crate::data::{read_record, read_text_bounded, AttrValue, DataError, Record};
 use crate::fretting::{
     FrettingError, FrettingParams, FrettingSimulation, FrettingState, Snapshot, TimeStepping,
-    ADAPTIVE_SCHEME,
+    ADAPTIVE_SCHEME, FIXED_STEP_SCHEME,
 };
 use crate::run_files::MANIFEST;
 use crate::spec::{parse_wear_medium, SpecError, WearMedium};
@@ -163,8 +163,9 @@ pub enum ResumeError {
 }
 
 /// The run's parameters as a run directory's manifest, its checkpoints and its results record
-/// them (the adaptive scheme's name, [`ADAPTIVE_SCHEME`], with adaptive steps: a checkpoint of
-/// another scheme is refused, since its steps would not be repeated bit for bit).
+/// them (the adaptive scheme's name, [`ADAPTIVE_SCHEME`], with adaptive steps, and the fixed-step
+/// ROS2 path's, [`FIXED_STEP_SCHEME`], with fixed steps: a checkpoint of another scheme or of none
+/// recorded is refused, since its steps would not be repeated bit for bit).
 pub fn params_attrs(p: &FrettingParams) -> Vec<(&'static str, AttrValue)> {
     let mut attrs = vec![
         ("chi", AttrValue::Float(p.chi)),
@@ -186,8 +187,14 @@ pub fn params_attrs(p: &FrettingParams) -> Vec<(&'static str, AttrValue)> {
         ("method", AttrValue::Text(p.backend.name().into())),
         ("snapshots", AttrValue::Text(format!("{:?}", p.snapshots))),
     ];
-    if let TimeStepping::Adaptive { .. } = p.stepping {
-        attrs.push(("adaptive_scheme", AttrValue::Text(ADAPTIVE_SCHEME.into())));
+    match p.stepping {
+        TimeStepping::Adaptive { .. } => {
+            attrs.push(("adaptive_scheme", AttrValue::Text(ADAPTIVE_SCHEME.into())));
+        }
+        TimeStepping::Fixed { .. } => {
+            attrs.push(("fixed_scheme", AttrValue::Text(FIXED_STEP_SCHEME.into())));
+        }
+        TimeStepping::ExplicitEuler { .. } => {}
     }
     attrs
 }

@@ -22,5 +22,5 @@ pub use error::FrettingError;
 pub use params::{FrettingParams, TimeStepping};
 pub use simulation::{
     AttemptObserver, ContactRadii, FrettingSimulation, FrettingState, Snapshot, StepAttempt,
-    ADAPTIVE_SCHEME, GAP_TOLERANCE, LOAD_THRESHOLD, SLIDING_EDGE_SCHEME,
+    ADAPTIVE_SCHEME, FIXED_STEP_SCHEME, GAP_TOLERANCE, LOAD_THRESHOLD, SLIDING_EDGE_SCHEME,
 };

@@ -208,6 +208,16 @@ const MAIN_SCHEME: &str = "ros2-hole-projection-eta1e-3-band5x12-rate-plans";
 pub const SLIDING_EDGE_SCHEME: &str =
     "ros2-hole-projection-eta1e-3-band5x12-rate-plans-sliding-edge";
 
+/// The name of the fixed-step ROS2 path ([`crate::TimeStepping::Fixed`]), which checkpoints
+/// record as `fixed_scheme` so that a fixed-step run is resumed only by a build whose stages round
+/// the same way: `ros2-fixed-rate-plans` is ROS2 at the step `dtau` with the rate's stress
+/// transform on the contact nodes with the shorter plans (docs/performance.md, "The N = 8001 wear
+/// run: the masked band and the second core"); a checkpoint made before the name was recorded
+/// (the whole grid's plan there: other rounding) is refused. The name must change whenever the
+/// fixed-step path's rounding does. Explicit Euler, the reference path, records none (its bits have
+/// not changed).
+pub const FIXED_STEP_SCHEME: &str = "ros2-fixed-rate-plans";
+
 /// `γ = 1 + 1/√2` of ROS2.
 const ROS2_GAMMA: f64 = 1.0 + std::f64::consts::FRAC_1_SQRT_2;
 /// The first adaptive step.
