@@ -11,30 +11,14 @@ use halfspace_sam::contact::{
 };
 use halfspace_sam::drivers::fretting_loop::{FrettingLoop, LoopCase, LoopSnapshot};
 use halfspace_sam::eim::EimParams;
-use halfspace_sam::eim::{FibreLayout, Inhomogeneity, Shape};
+use halfspace_sam::eim::FibreLayout;
 use halfspace_sam::normal::NormalLoad;
 use halfspace_sam::{Body, Compliance, SurfaceGrid};
 
-/// A small nested loop: one stiff sphere below the contact, 16², two normal steps (the outer
-/// passes re-solve every increment, where the gauged alternation gauges its first alternation).
+/// The 16² stiff-sphere loop (the outer passes re-solve every increment, where the gauged
+/// alternation gauges its first alternation).
 fn sphere_case() -> LoopCase {
-    let mut case = LoopCase {
-        grid: 16,
-        normal_steps: 2,
-        ..LoopCase::default()
-    };
-    let a = case.hertz_radius();
-    case.inhomogeneities.push(Inhomogeneity {
-        shape: Shape::Sphere {
-            x: 0.0,
-            y: 0.0,
-            z: 0.6 * a,
-            r: 0.4 * a,
-        },
-        e: 420e9,
-        nu: 0.3,
-    });
-    case
+    support::stiff_sphere_loop()
 }
 
 fn with(case: &LoopCase, alternation: Option<Alternation>) -> LoopCase {

@@ -353,22 +353,7 @@ fn the_loop_with_looser_eim_solves_reproduces_the_reference() {
 /// under the default depth.
 #[test]
 fn a_checkpoint_records_the_eim_change_factor_used() {
-    let mut case = LoopCase {
-        grid: 16,
-        normal_steps: 2,
-        ..LoopCase::default()
-    };
-    let a = case.hertz_radius();
-    case.inhomogeneities.push(Inhomogeneity {
-        shape: Shape::Sphere {
-            x: 0.0,
-            y: 0.0,
-            z: 0.6 * a,
-            r: 0.4 * a,
-        },
-        e: 420e9,
-        nu: NU,
-    });
+    let case = support::stiff_sphere_loop();
     let used = LoopCase {
         eim_change_factor: Some(DEFAULT_EIM_CHANGE_FACTOR),
         eim_recycled_depth: Some(DEFAULT_EIM_RECYCLED_DEPTH),

@@ -8,6 +8,7 @@ use std::ops::ControlFlow;
 
 use halfspace_sam::drivers::fretting_loop::{FrettingLoop, LoopCase, LoopSnapshot};
 use halfspace_sam::drivers::fretting_wear3d::{FrettingWear3d, WearCase, WearRow, WearSnapshot};
+use halfspace_sam::eim::{Inhomogeneity, Shape};
 use halfspace_sam::SamError;
 
 /// A run of steps that snapshots and resumes from a snapshot.
@@ -135,4 +136,26 @@ pub fn assert_resumes_bit_for_bit<R: Resumable>(case: &R::Case, steps: usize) ->
     let (whole, snapshot) = run_with_snapshot(case, steps, |_: &R| {});
     resumed::<R>(case, snapshot.clone()).assert_same_end(&whole);
     (whole, snapshot)
+}
+
+/// A small nested loop: one stiff sphere (E = 420 GPa, ν = 0.3, radius 0.4 a at depth 0.6 a) below
+/// the contact, 16², two normal steps (the outer passes re-solve every increment).
+pub fn stiff_sphere_loop() -> LoopCase {
+    let mut case = LoopCase {
+        grid: 16,
+        normal_steps: 2,
+        ..LoopCase::default()
+    };
+    let a = case.hertz_radius();
+    case.inhomogeneities.push(Inhomogeneity {
+        shape: Shape::Sphere {
+            x: 0.0,
+            y: 0.0,
+            z: 0.6 * a,
+            r: 0.4 * a,
+        },
+        e: 420e9,
+        nu: 0.3,
+    });
+    case
 }
