@@ -267,43 +267,6 @@ pub struct InhomogeneousContact {
     /// Whether `eps_star` is the EIM solution of the current tractions (always on the nested
     /// path; on the operator path after [`InhomogeneousContact::sync_eigenstrain`]).
     eigenstrain_current: bool,
-    /// The relative change of every outer pass of the last increment.
-    pass_changes: Vec<f64>,
-    /// EXPERIMENT: predictor mode.
-    pub xp_mode: XpMode,
-    /// EXPERIMENT: guide tractions (p, q1, q2 flat) of increments, newest last.
-    pub xp_guide: std::collections::VecDeque<Vec<f64>>,
-    /// EXPERIMENT: converged (u flat, eps) of increments, newest last.
-    xp_hist: std::collections::VecDeque<(Vec<f64>, Vec<f64>)>,
-    /// EXPERIMENT: last fitted coefficients.
-    pub xp_coeffs: Vec<f64>,
-    /// EXPERIMENT: (first-pass gauge factor, contact slack factor).
-    pub xp_first: Option<f64>,
-    /// EXPERIMENT: contact slack factor (default 1e-2).
-    pub xp_slackf: f64,
-    xp_prev_first: f64,
-    xp_arg: usize,
-    /// EXPERIMENT: fit the guide's change by the composite's own past traction changes.
-    pub xp_own: bool,
-    xp_tr: std::collections::VecDeque<Vec<f64>>,
-    /// EXPERIMENT: joint scales (0 none, 1 tangential, 2 all).
-    pub xp_joint: u8,
-    xp_comp: [(f64, f64); 3],
-    /// EXPERIMENT: per pass the component that set the change, and (diff, scale) per component.
-    pub xp_pass_comp: Vec<(usize, [(f64, f64); 3])>,
-    /// EXPERIMENT: gauge only below this previous first change.
-    pub xp_threshold: f64,
-}
-
-/// EXPERIMENT: predictor modes.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum XpMode {
-    /// Secant (default).
-    Secant,
-    /// `x + r (x − prev)` with `r` set per increment.
-    Ratio(f64),
-    /// Least-squares combination of the last `m` changes, coefficients fitted on the guide.
-    Guided(usize),
 }
 
 impl InhomogeneousContact {
@@ -373,63 +336,7 @@ impl InhomogeneousContact {
             eps_prev: vec![0.0; 6 * cells],
             u_prev: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
             committed: 0,
-            pass_changes: Vec::with_capacity(params.max_outer),
-            xp_mode: XpMode::Secant,
-            xp_guide: Default::default(),
-            xp_hist: Default::default(),
-            xp_coeffs: Vec::new(),
-            xp_first: None,
-            xp_slackf: 1e-2,
-            xp_prev_first: 1.0,
-            xp_threshold: f64::INFINITY,
-            xp_arg: 0,
-            xp_own: false,
-            xp_tr: Default::default(),
-            xp_joint: 0,
-            xp_comp: [(0.0, 0.0); 3],
-            xp_pass_comp: Vec::new(),
         })
-    }
-
-    /// The relative change of every outer pass of the last increment (the first: the predictor's
-    /// error).
-    pub fn pass_changes(&self) -> &[f64] {
-        &self.pass_changes
-    }
-
-    fn xp_record(&mut self) {
-        let m = match self.xp_mode {
-            XpMode::Guided(m) => m,
-            _ => return,
-        };
-        if self.xp_hist.is_empty() {
-            self.xp_hist.push_back((
-                vec![0.0; 3 * self.u_eig[0].len()],
-                vec![0.0; self.eps_star.len()],
-            ));
-        }
-        let mut u = Vec::with_capacity(3 * self.u_eig[0].len());
-        for c in &self.u_eig {
-            u.extend_from_slice(c);
-        }
-        self.xp_hist.push_back((u, self.eps_star.clone()));
-        if self.xp_tr.is_empty() {
-            self.xp_tr.push_back(vec![0.0; 3 * self.u_eig[0].len()]);
-        }
-        let st = self.problem.state();
-        let mut t = st.pressure.clone();
-        t.extend_from_slice(&st.shear[0]);
-        t.extend_from_slice(&st.shear[1]);
-        self.xp_tr.push_back(t);
-        while self.xp_tr.len() > m + 1 {
-            self.xp_tr.pop_front();
-        }
-        while self.xp_hist.len() > m + 1 {
-            self.xp_hist.pop_front();
-        }
-        while self.xp_guide.len() > m + 2 {
-            self.xp_guide.pop_front();
-        }
     }
 
     /// One increment to normal load `load` and shift `shift` (docs/theory-sam.md#nested-loops), the friction history
@@ -440,7 +347,6 @@ impl InhomogeneousContact {
         let info = self.solve(load, shift)?;
         self.problem.commit();
         self.committed += 1;
-        self.xp_record();
         Ok(info)
     }
 
@@ -451,107 +357,6 @@ impl InhomogeneousContact {
             return;
         }
         let extrapolate = self.committed >= 2;
-        let mut r = 1.0;
-        match self.xp_mode {
-            XpMode::Secant => {}
-            XpMode::Ratio(v) => r = v,
-            XpMode::Guided(m) => {
-                // guide: t(n+1) newest; hist: x(n) newest.
-                let k = m
-                    .min(self.xp_hist.len().saturating_sub(1))
-                    .min(self.xp_guide.len().saturating_sub(2));
-                if k >= 1 {
-                    let g = &self.xp_guide;
-                    let gl = g.len();
-                    let b: Vec<f64> = g[gl - 1]
-                        .iter()
-                        .zip(&g[gl - 2])
-                        .map(|(a, b)| a - b)
-                        .collect();
-                    let src = if self.xp_own { &self.xp_tr } else { g };
-                    let sl = src.len();
-                    // own tractions: newest is t(n), so offsets shift by one.
-                    let off = if self.xp_own { 1 } else { 2 };
-                    let cols: Vec<Vec<f64>> = (0..k)
-                        .map(|j| {
-                            src[sl - off - j]
-                                .iter()
-                                .zip(&src[sl - off - 1 - j])
-                                .map(|(a, b)| a - b)
-                                .collect()
-                        })
-                        .collect();
-                    let mut a = vec![0.0; k * k];
-                    let mut rhs = vec![0.0; k];
-                    for i in 0..k {
-                        for j in 0..k {
-                            a[i * k + j] = cols[i].iter().zip(&cols[j]).map(|(x, y)| x * y).sum();
-                        }
-                        rhs[i] = cols[i].iter().zip(&b).map(|(x, y)| x * y).sum();
-                    }
-                    let tr: f64 = (0..k).map(|i| a[i * k + i]).sum::<f64>();
-                    let ridge: f64 = std::env::var("XP_RIDGE")
-                        .ok()
-                        .and_then(|v| v.parse().ok())
-                        .unwrap_or(1e-8);
-                    for i in 0..k {
-                        a[i * k + i] += ridge * tr / k as f64;
-                    }
-                    // Gaussian elimination, partial pivoting.
-                    for c in 0..k {
-                        let piv = (c..k)
-                            .max_by(|&x, &y| a[x * k + c].abs().total_cmp(&a[y * k + c].abs()))
-                            .unwrap();
-                        for j in 0..k {
-                            a.swap(c * k + j, piv * k + j);
-                        }
-                        rhs.swap(c, piv);
-                        for r2 in c + 1..k {
-                            let f = a[r2 * k + c] / a[c * k + c];
-                            for j in c..k {
-                                a[r2 * k + j] -= f * a[c * k + j];
-                            }
-                            rhs[r2] -= f * rhs[c];
-                        }
-                    }
-                    let mut coef = vec![0.0; k];
-                    for c in (0..k).rev() {
-                        let mut v = rhs[c];
-                        for j in c + 1..k {
-                            v -= a[c * k + j] * coef[j];
-                        }
-                        coef[c] = v / a[c * k + c];
-                    }
-                    self.xp_coeffs = coef.clone();
-                    let h = &self.xp_hist;
-                    let hl = h.len();
-                    let n = self.u_eig[0].len();
-                    let mut du = vec![0.0; 3 * n];
-                    let mut de = vec![0.0; self.eps_star.len()];
-                    for (j, cj) in coef.iter().enumerate() {
-                        let (un, en) = &h[hl - 1 - j];
-                        let (uo, eo) = &h[hl - 2 - j];
-                        for i in 0..3 * n {
-                            du[i] += cj * (un[i] - uo[i]);
-                        }
-                        for i in 0..de.len() {
-                            de[i] += cj * (en[i] - eo[i]);
-                        }
-                    }
-                    for (c, x) in self.u_eig.iter_mut().enumerate() {
-                        for (i, v) in x.iter_mut().enumerate() {
-                            *v += du[c * n + i];
-                        }
-                    }
-                    if self.response.is_none() {
-                        for (v, d) in self.eps_star.iter_mut().zip(&de) {
-                            *v += d;
-                        }
-                    }
-                    return;
-                }
-            }
-        }
         // The operator path solves no eigenstrains per increment: only u^eig is predicted.
         let eps = self
             .response
@@ -564,11 +369,7 @@ impl InhomogeneousContact {
             for (v, p) in x.iter_mut().zip(prev.iter_mut()) {
                 let current = *v;
                 if extrapolate {
-                    *v = if r == 1.0 {
-                        2.0 * current - *p
-                    } else {
-                        current + r * (current - *p)
-                    };
+                    *v = 2.0 * current - *p;
                 }
                 *p = current;
             }
@@ -692,14 +493,7 @@ impl InhomogeneousContact {
         // change (never looser than 1e-3, never tighter than its own tolerance), so early outer
         // passes are cheap and the last ones are converged well below the outer tolerance
         // (docs/theory-sam.md#outer-loop-tolerances).
-        let mut last_change: f64 = match self.xp_first {
-            Some(f) if self.committed >= 2 && self.xp_prev_first < self.xp_threshold => {
-                (f * self.xp_prev_first).clamp(self.params.tolerance, 1.0)
-            }
-            _ => 1.0,
-        };
-        self.pass_changes.clear();
-        self.xp_pass_comp.clear();
+        let mut last_change: f64 = 1.0;
         for outer in 1..=self.params.max_outer {
             self.problem.set_eigen_displacements(Some([
                 &self.u_eig[0],
@@ -709,8 +503,7 @@ impl InhomogeneousContact {
             let t = clock();
             let slack = if self.params.inexact_contact {
                 let tight = self.problem.params().alternation_tolerance;
-                (self.xp_slackf * last_change).clamp(tight, LOOSE_CONTACT_CEILING.max(tight))
-                    / tight
+                (1e-2 * last_change).clamp(tight, LOOSE_CONTACT_CEILING.max(tight)) / tight
             } else {
                 1.0
             };
@@ -767,26 +560,15 @@ impl InhomogeneousContact {
             };
             let components = if self.friction { 0..3 } else { 2..3 };
             let mut change: f64 = 0.0;
-            let scales: Vec<f64> = (0..3)
-                .map(|c| self.u_new[c].iter().fold(0.0f64, |m, v| m.max(v.abs())))
-                .collect();
             for c in components {
-                let scale = match self.xp_joint {
-                    1 if c < 2 => scales[0].max(scales[1]),
-                    2 => scales[0].max(scales[1]).max(scales[2]),
-                    _ => scales[c],
-                };
+                let scale = self.u_new[c].iter().fold(0.0f64, |m, v| m.max(v.abs()));
                 let diff = self.u_new[c]
                     .iter()
                     .zip(&self.u_eig[c])
                     .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
                 if scale > 0.0 {
-                    if diff / scale > change {
-                        self.xp_arg = c;
-                    }
                     change = change.max(diff / scale);
                 }
-                self.xp_comp[c] = (diff, scale);
             }
             // The next iterate: Anderson-mixed on the components that enter the contact (relaxed
             // Picard with depth 0), relaxed Picard on the others.
@@ -808,11 +590,6 @@ impl InhomogeneousContact {
                 }
             }
             last_change = change;
-            if self.pass_changes.is_empty() {
-                self.xp_prev_first = change;
-            }
-            self.pass_changes.push(change);
-            self.xp_pass_comp.push((self.xp_arg, self.xp_comp));
             if change < self.params.tolerance && slack == 1.0 {
                 // The state is the contact solve with the previous u_eig, which agrees with the
                 // new one to `tol`.

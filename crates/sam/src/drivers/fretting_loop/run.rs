@@ -435,11 +435,6 @@ impl FrettingLoop {
         &self.solver
     }
 
-    /// EXPERIMENT: the solver, mutable.
-    pub fn solver_mut(&mut self) -> &mut ContactSolver {
-        &mut self.solver
-    }
-
     /// The rows of the increments done.
     pub fn rows(&self) -> &[LoopRow] {
         &self.rows
