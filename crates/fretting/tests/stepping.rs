@@ -41,13 +41,13 @@ fn radius_and_depth(sim: &FrettingSimulation) -> Vec<(f64, f64)> {
 /// τ = 0.1, 1 and 3, and at the limit, over the unperturbed start and
 /// [`PERTURBED_STARTS_AT_THE_LIMIT`] perturbed ones (each another step sequence, as another
 /// rounding is; docs/fretting-wear.md, "The grazing-phase stepping tests over perturbed step
-/// sequences"): on every start at most 3000 steps (a tenth of explicit Euler's) and `|Δa/a₀|`,
-/// `|Δf(a₀)/d|` below 2e-4 at τ = 0.1 and 1; in the grazing phase the medians over the starts of
-/// the same at τ = 3 below 2e-4 and of the final contact radius's distance from `r*` below one
-/// cell. Medians there, because the grazing-phase radius follows the step sequence: one start in
-/// eight measured under an earlier arithmetic ended `a/a₀` 11.6e-4 from the reference at τ = 3
-/// (docs/fretting-wear.md, "The grazing-phase stepping tests over perturbed step sequences", where
-/// this test's own measurements are).
+/// sequences"): on every start at most 3000 steps (a tenth of explicit Euler's), `|Δf(a₀)/d|`
+/// below 2e-4 at τ = 0.1, 1 and 3, `|Δa/a₀|` below 2e-4 at τ = 0.1 and 1, and the final contact
+/// radius within one cell of `r*`; at τ = 3 (the grazing phase) the median over the starts of
+/// `|Δa/a₀|` below 2e-4. A median there because single starts miss it: start 13 (not among those
+/// run here) ends +4.4e-4 on this arithmetic, one of 24 measured, and under earlier arithmetic one
+/// start in eight ended 11.6e-4 off (docs/fretting-wear.md, "The grazing-phase stepping tests over
+/// perturbed step sequences", where this test's per-start numbers are).
 #[test]
 fn default_run_is_accurate_with_a_tenth_of_the_steps() {
     let euler = |dtau: f64| {
@@ -60,7 +60,7 @@ fn default_run_is_accurate_with_a_tenth_of_the_steps() {
     };
     let (coarse, fine) = (euler(5e-4), euler(2.5e-4));
     let taus = [0.1, 1.0, 3.0];
-    let (mut radii, mut depths, mut edges) = (Vec::new(), Vec::new(), Vec::new());
+    let mut radii = Vec::new();
     let params = FrettingParams::default();
     for seed in 0..=PERTURBED_STARTS_AT_THE_LIMIT {
         let sim = run_from(&params, seed, |_| {});
@@ -80,18 +80,17 @@ fn default_run_is_accurate_with_a_tenth_of_the_steps() {
                 adaptive[j].1,
                 fine[j].1 - f_ref
             );
+            assert!(
+                df.abs() < 2e-4,
+                "start {seed}, τ = {tau}: f(a0)/d off by {df:e}"
+            );
             if tau < 3.0 {
                 assert!(
                     da.abs() < 2e-4,
                     "start {seed}, τ = {tau}: a/a0 off by {da:e}"
                 );
-                assert!(
-                    df.abs() < 2e-4,
-                    "start {seed}, τ = {tau}: f(a0)/d off by {df:e}"
-                );
             } else {
                 radii.push(da.abs());
-                depths.push(df.abs());
             }
         }
         // At the limit the surfaces touch out to r* = 1.1397 (a grazing contact): the contact
@@ -109,19 +108,14 @@ fn default_run_is_accurate_with_a_tenth_of_the_steps() {
             state.loaded_radius_history.last().unwrap(),
             sim.wear_volume() / sim.limit_wear_volume() - 1.0
         );
-        edges.push((a - r_star).abs() / cell);
+        assert!(
+            (a - r_star).abs() < cell,
+            "start {seed}: a/a0 = {a} vs r* = {r_star}"
+        );
     }
-    let (da, df, edge) = (median(&mut radii), median(&mut depths), median(&mut edges));
-    println!(
-        "τ = 3: medians |Δa/a0| {da:.1e}, |Δf(a0)/d| {df:.1e}; the median final radius is \
-         {edge:.2} cells from r*"
-    );
+    let da = median(&mut radii);
+    println!("τ = 3: the median |Δa/a0| is {da:.1e}");
     assert!(da < 2e-4, "τ = 3: the median a/a0 is off by {da:e}");
-    assert!(df < 2e-4, "τ = 3: the median f(a0)/d is off by {df:e}");
-    assert!(
-        edge < 1.0,
-        "the median final radius is {edge} cells from r*"
-    );
 }
 
 /// `p` of a snapshot at `ξ = r²` by linear interpolation on the grid (uniform in `ξ`).
@@ -481,9 +475,11 @@ fn edge_cells_take_fewer_steps_and_match_explicit_euler() {
 /// `default_run_is_accurate_with_a_tenth_of_the_steps`; graded paths against explicit Euler in
 /// `adaptive_graded_runs_match_explicit_euler`). From the unperturbed start and
 /// [`PERTURBED_STARTS`] perturbed ones, both schemes from each: on every start fewer than 0.8 ×
-/// the steps; the medians over the starts of the two final radii's distance below 1.5 cells and
-/// of `|Δf(a₀)/d|` below 5e-4 (docs/fretting-wear.md, "The grazing-phase stepping tests over
-/// perturbed step sequences").
+/// the steps and `|Δf(a₀)/d|` below 5e-4; the median over the starts of the two final radii's
+/// distance below 1.5 cells. A median there because a single sequence misses it: a change of
+/// rounding alone (the prefix of the stress evaluation) ended the unperturbed start at k = −0.5
+/// 1.90 cells apart (docs/fretting-wear.md, "The grazing-phase stepping tests over perturbed step
+/// sequences", where this test's per-start numbers are).
 #[test]
 fn frozen_contact_stages_take_fewer_steps() {
     for (k, chi, nodes, tau_end) in [(0.0, 0.5, 2001, 1.0), (-0.5, 0.9, 501, 1.0)] {
@@ -496,7 +492,7 @@ fn frozen_contact_stages_take_fewer_steps() {
             snapshots: vec![tau_end],
             ..Default::default()
         };
-        let (mut radii, mut depths) = (Vec::new(), Vec::new());
+        let mut radii = Vec::new();
         for seed in 0..=PERTURBED_STARTS {
             let frozen = run_from(&params, seed, |s| s.set_frozen_contact_stages(true));
             let trial = run_from(&params, seed, |s| s.set_frozen_contact_stages(false));
@@ -523,18 +519,20 @@ fn frozen_contact_stages_take_fewer_steps() {
                 frozen.state().step,
                 trial.state().step
             );
+            // Two step sequences per start at the tolerance 1e-4 (as
+            // `preconditioned_runs_match_unpreconditioned`).
+            assert!(
+                (x[0].1 - y[0].1).abs() < 5e-4,
+                "k = {k}, start {seed}: f(a0) {} vs {}",
+                x[0].1,
+                y[0].1
+            );
             radii.push((x[0].0 - y[0].0).abs() / cell);
-            depths.push((x[0].1 - y[0].1).abs());
         }
-        let (radius, depth) = (median(&mut radii), median(&mut depths));
-        println!("k = {k}: medians |Δa| {radius:.2} cells, |Δf(a0)| {depth:.1e}");
-        // Two step sequences per start at the tolerance 1e-4 (as
-        // `preconditioned_runs_match_unpreconditioned`): medians over the starts, as the
-        // graded near-grazing radius follows the step sequence (a change of rounding alone
-        // measured −1.90 cells on the unperturbed start; docs/fretting-wear.md, "The
-        // grazing-phase stepping tests over perturbed step sequences").
+        // The graded near-grazing radius follows the step sequence: a median over the starts.
+        let radius = median(&mut radii);
+        println!("k = {k}: the median |Δa| is {radius:.2} cells");
         assert!(radius < 1.5, "k = {k}: the median |Δa| is {radius} cells");
-        assert!(depth < 5e-4, "k = {k}: the median |Δf(a0)| is {depth:e}");
     }
 }
 
