@@ -3,7 +3,9 @@
 
 mod common;
 
-use common::{arrays_equal, bad, ok_json, run};
+use std::path::Path;
+
+use common::{arrays_equal, bad, bad_owned, ok_json, run, stopped_and_resumed};
 
 use halfspace::data::{read_record, write_record, AttrValue};
 
@@ -80,82 +82,76 @@ fn default_run_is_the_reference_run_and_writes_everything() {
     assert_eq!(v["steps"], 200);
 }
 
-/// Runs `fretting-wear` with `common` into `a` to the end and into `b` stopped after `stop` steps
-/// (only the checkpoint is there).
-fn run_and_stop(a: &std::path::Path, b: &std::path::Path, common: &[&str], stop: &str) {
-    let mut args = vec!["fretting-wear", "--out", a.to_str().unwrap()];
-    args.extend(common);
-    ok_json(&run(&args));
-    let mut args = vec![
-        "fretting-wear",
-        "--out",
-        b.to_str().unwrap(),
-        "--stop-after",
-        stop,
-    ];
-    args.extend(common);
-    assert!(run(&args).status.success());
-    assert!(b.join("checkpoint.npz").is_file() && !b.join("results.h5").exists());
+/// `fretting-wear --out out` with the flags `common`, then `extra`.
+fn fretting_wear(out: &Path, common: &[&str], extra: &[&str]) -> Vec<String> {
+    let mut v = vec!["fretting-wear".to_string(), "--out".into()];
+    v.push(out.to_str().unwrap().into());
+    v.extend(common.iter().chain(extra).map(|s| s.to_string()));
+    v
 }
 
-#[test]
-fn resume_after_a_kill_gives_the_same_results_bit_for_bit() {
-    let dir = tempfile::tempdir().unwrap();
-    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
-    let common = ["--n", "401", "--dtau", "4e-3", "--tau-end", "2", "--json"];
-    // Killed after 137 steps: only the checkpoint is there.
-    run_and_stop(&a, &b, &common, "137");
-    // Resuming with other parameters is refused, naming the parameter.
-    bad(
-        &[
-            "fretting-wear",
-            "--out",
-            b.to_str().unwrap(),
-            "--resume",
-            "--n",
-            "401",
-            "--dtau",
-            "4e-3",
-            "--tau-end",
-            "2",
-            "--chi",
-            "0.4",
-        ],
-        "chi",
-    );
-    let mut args = vec!["fretting-wear", "--out", b.to_str().unwrap(), "--resume"];
-    args.extend(common);
-    // A fixed-step checkpoint records the fixed-step ROS2 path (`fixed_scheme`); one without it
-    // (made before the rate's shorter plans, whose rounding this build would not repeat) or of
-    // another path is refused, naming the attribute.
-    let checkpoint = b.join("checkpoint.npz");
-    let original = read_record(&checkpoint).unwrap();
+/// The checkpoint's text attribute `name` (the build's scheme, `recorded`) taken out, then set to
+/// `other`: each time `resume` is refused with every one of `needles`; then the intact checkpoint
+/// is put back.
+fn checkpoint_scheme_is_checked(
+    checkpoint: &Path,
+    (name, recorded, other): (&str, &str, &str),
+    resume: &[String],
+    needles: &[&str],
+) {
+    let original = read_record(checkpoint).unwrap();
     assert_eq!(
-        original.get_attr("fixed_scheme"),
-        Some(&AttrValue::Text(
-            halfspace::fretting::FIXED_STEP_SCHEME.into()
-        ))
+        original.get_attr(name),
+        Some(&AttrValue::Text(recorded.into()))
     );
-    for other in [None, Some("ros2-fixed")] {
+    for other in [None, Some(other)] {
         let mut rec = original.clone();
         match other {
-            None => rec.attributes.retain(|(n, _)| n != "fixed_scheme"),
-            Some(name) => {
+            None => rec.attributes.retain(|(n, _)| n != name),
+            Some(value) => {
                 for (n, v) in rec.attributes.iter_mut() {
-                    if n == "fixed_scheme" {
-                        *v = AttrValue::Text(name.into());
+                    if n == name {
+                        *v = AttrValue::Text(value.into());
                     }
                 }
             }
         }
-        write_record(&checkpoint, &rec).unwrap();
-        bad(&args, "fixed_scheme");
+        write_record(checkpoint, &rec).unwrap();
+        for needle in needles {
+            bad_owned(resume, needle);
+        }
     }
-    write_record(&checkpoint, &original).unwrap();
-    let v = ok_json(&run(&args));
+    write_record(checkpoint, &original).unwrap();
+}
+
+/// A fixed-step run stopped after 137 steps (only the checkpoint is there, as after a kill) and
+/// resumed gives the uninterrupted run's results bit for bit ([`stopped_and_resumed`]); in
+/// between, a resume with other parameters is refused naming the parameter, and one from a
+/// checkpoint without the fixed-step ROS2 path (`fixed_scheme`, made before the rate's shorter
+/// plans, whose rounding this build would not repeat) or of another path, naming the attribute;
+/// `--resume` without a checkpoint is refused.
+#[test]
+fn resume_after_a_kill_gives_the_same_results_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    let common = ["--n", "401", "--dtau", "4e-3", "--tau-end", "2"];
+    let command = |out: &Path, extra: &[&str]| fretting_wear(out, &common, extra);
+    let between = |b: &Path| {
+        bad_owned(&command(b, &["--resume", "--chi", "0.4"]), "chi");
+        checkpoint_scheme_is_checked(
+            &b.join("checkpoint.npz"),
+            (
+                "fixed_scheme",
+                halfspace::fretting::FIXED_STEP_SCHEME,
+                "ros2-fixed",
+            ),
+            &command(b, &["--resume", "--json"]),
+            &["fixed_scheme"],
+        );
+    };
+    let (_, v) = stopped_and_resumed(command, (&a, &b), &["137"], Some("checkpoint.npz"), between);
     assert_eq!(v["steps"], 500);
     arrays_equal(&a.join("results.npz"), &b.join("results.npz"));
-    arrays_equal(&a.join("results.h5"), &b.join("results.h5"));
     // --resume without a checkpoint.
     let empty = dir.path().join("empty");
     bad(
@@ -173,66 +169,53 @@ fn resume_after_a_kill_gives_the_same_results_bit_for_bit() {
 /// `halfspace_fretting::ADAPTIVE_SCHEME`): one without it (made by the scheme before the hole
 /// projection, whose steps this build would not repeat) or of another scheme is refused, naming
 /// the attribute and saying that only `--force` (starting over) helps, and so is a manifest
-/// (`run.json`) of another scheme; the intact one resumes to the uninterrupted run's results bit for bit.
+/// (`run.json`) of another scheme; the intact one resumes to the uninterrupted run's results bit
+/// for bit ([`stopped_and_resumed`], stopped after 30 steps).
 #[test]
 fn adaptive_checkpoints_record_the_scheme() {
     let dir = tempfile::tempdir().unwrap();
     let (a, b) = (dir.path().join("a"), dir.path().join("b"));
-    let common = ["--n", "401", "--tau-end", "0.5", "--json"];
-    run_and_stop(&a, &b, &common, "30");
-    let checkpoint = b.join("checkpoint.npz");
-    let original = read_record(&checkpoint).unwrap();
-    assert_eq!(
-        original.get_attr("adaptive_scheme"),
-        Some(&AttrValue::Text(
-            halfspace::fretting::ADAPTIVE_SCHEME.into()
-        ))
-    );
-    let mut resume = vec!["fretting-wear", "--out", b.to_str().unwrap(), "--resume"];
-    resume.extend(common);
-    for other in [None, Some("ros2")] {
-        let mut rec = original.clone();
-        match other {
-            None => rec.attributes.retain(|(n, _)| n != "adaptive_scheme"),
-            Some(name) => {
-                for (n, v) in rec.attributes.iter_mut() {
-                    if n == "adaptive_scheme" {
-                        *v = AttrValue::Text(name.into());
-                    }
+    let common = ["--n", "401", "--tau-end", "0.5"];
+    let command = |out: &Path, extra: &[&str]| fretting_wear(out, &common, extra);
+    let between = |b: &Path| {
+        let resume = command(b, &["--resume", "--json"]);
+        checkpoint_scheme_is_checked(
+            &b.join("checkpoint.npz"),
+            (
+                "adaptive_scheme",
+                halfspace::fretting::ADAPTIVE_SCHEME,
+                "ros2",
+            ),
+            &resume,
+            &[
+                "adaptive_scheme",
+                "another build's adaptive scheme",
+                "cannot resume it bit for bit: only starting the run over helps",
+                "(--force starts over)",
+            ],
+        );
+        // The manifest of a run of another scheme (or of none recorded) is refused the same
+        // way, before the run directory's check (which would ask for parameters no flag sets).
+        let manifest = b.join("run.json");
+        let intact = std::fs::read_to_string(&manifest).unwrap();
+        for other in [None, Some("ros2-hole-projection")] {
+            let mut m: serde_json::Value = serde_json::from_str(&intact).unwrap();
+            let parameters = m["parameters"].as_object_mut().unwrap();
+            match other {
+                None => {
+                    parameters.remove("adaptive_scheme");
+                }
+                Some(name) => {
+                    parameters.insert("adaptive_scheme".into(), serde_json::json!(name));
                 }
             }
+            std::fs::write(&manifest, m.to_string()).unwrap();
+            bad_owned(&resume, "another build's adaptive scheme");
+            bad_owned(&resume, "--force starts over");
         }
-        write_record(&checkpoint, &rec).unwrap();
-        bad(&resume, "adaptive_scheme");
-        bad(&resume, "another build's adaptive scheme");
-        bad(
-            &resume,
-            "cannot resume it bit for bit: only starting the run over helps",
-        );
-        bad(&resume, "(--force starts over)");
-    }
-    write_record(&checkpoint, &original).unwrap();
-    // The manifest of a run of another scheme (or of none recorded) is refused the same way,
-    // before the run directory's check (which would ask for parameters no flag sets).
-    let manifest = b.join("run.json");
-    let intact = std::fs::read_to_string(&manifest).unwrap();
-    for other in [None, Some("ros2-hole-projection")] {
-        let mut m: serde_json::Value = serde_json::from_str(&intact).unwrap();
-        let parameters = m["parameters"].as_object_mut().unwrap();
-        match other {
-            None => {
-                parameters.remove("adaptive_scheme");
-            }
-            Some(name) => {
-                parameters.insert("adaptive_scheme".into(), serde_json::json!(name));
-            }
-        }
-        std::fs::write(&manifest, m.to_string()).unwrap();
-        bad(&resume, "another build's adaptive scheme");
-        bad(&resume, "--force starts over");
-    }
-    std::fs::write(&manifest, intact).unwrap();
-    ok_json(&run(&resume));
+        std::fs::write(&manifest, intact).unwrap();
+    };
+    stopped_and_resumed(command, (&a, &b), &["30"], Some("checkpoint.npz"), between);
     arrays_equal(&a.join("results.npz"), &b.join("results.npz"));
 }
 

@@ -2,7 +2,10 @@
 
 mod common;
 
-use common::{arrays_equal, bad, ok_json, run, stopped_and_resumed, svg_with_labels};
+use common::{
+    arrays_equal, bad, ok_json, resumed_to_the_end, run, run_owned, stopped_and_resumed,
+    svg_with_labels,
+};
 
 /// The MDR twin of docs/wear3d.md (identical bodies, ν = 0, fixed approach, χ = 0.5) on 16²,
 /// N₀ = 1000 cycles, to τ = 1.
@@ -159,31 +162,16 @@ fn wear3d_killed_by_sigkill_resumes_bit_for_bit() {
         .replace("cycles = 1000", "cycles = 3000");
     std::fs::write(&cfg, text).unwrap();
     let (a, b) = (dir.path().join("a"), dir.path().join("b"));
-    let base = |out: &std::path::Path| {
-        vec![
-            "fretting-wear3d".to_string(),
-            "--config".into(),
-            cfg.to_str().unwrap().into(),
-            "--out".into(),
-            out.to_str().unwrap().into(),
-            "--json".into(),
-        ]
-    };
-    let full = ok_json(&run(&base(&a)
-        .iter()
-        .map(|s| s.as_str())
-        .collect::<Vec<_>>()));
+    let args = |out: &std::path::Path, extra: &[&str]| wear3d_args(&cfg, out, extra);
+    let full = ok_json(&run_owned(&args(&a, &["--json"])));
     let mut killed = 0;
     // Kill as soon as a checkpoint exists; retry with a resumed run until one is killed midway
     // (a fast machine may finish first: then the run is complete and nothing is to resume).
     for attempt in 0..20 {
-        let mut args = base(&b);
-        args.extend(["--checkpoint-seconds".into(), "0.05".into()]);
-        if attempt > 0 {
-            args.push("--resume".into());
-        }
+        let resume: &[&str] = if attempt > 0 { &["--resume"] } else { &[] };
+        let flags = [&["--json", "--checkpoint-seconds", "0.05"], resume].concat();
         let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_halfspace"))
-            .args(&args)
+            .args(args(&b, &flags))
             .stdout(std::process::Stdio::null())
             .stderr(std::process::Stdio::null())
             .spawn()
@@ -203,19 +191,14 @@ fn wear3d_killed_by_sigkill_resumes_bit_for_bit() {
         }
     }
     assert!(killed >= 1, "no run was killed midway");
-    if !b.join("results.h5").is_file() {
-        let resumed = ok_json(&run(&{
-            let mut v = base(&b);
-            v.push("--resume".into());
-            v
-        }
-        .iter()
-        .map(|s| s.as_str())
-        .collect::<Vec<_>>()));
+    if b.join("results.h5").is_file() {
+        // A resumed attempt ran to its end before its kill.
+        arrays_equal(&a.join("results.h5"), &b.join("results.h5"));
+    } else {
+        let resumed = resumed_to_the_end(args, (&a, &b));
         assert_eq!(full["wear_volume"], resumed["wear_volume"]);
         assert_eq!(full["wear_steps"], resumed["wear_steps"]);
     }
-    arrays_equal(&a.join("results.h5"), &b.join("results.h5"));
 }
 
 /// `--estimate` runs nothing and writes nothing; its numbers are the rule of

@@ -35,6 +35,11 @@ pub fn run_owned(args: &[String]) -> Output {
     run(&args.iter().map(String::as_str).collect::<Vec<_>>())
 }
 
+/// [`bad`] with owned arguments.
+pub fn bad_owned(args: &[String], needle: &str) {
+    bad(&args.iter().map(String::as_str).collect::<Vec<_>>(), needle);
+}
+
 /// The resume check of a command: `command(out, extra)` is its arguments writing to `out` with
 /// the flags `extra`. The run into `whole` (`--json`) uninterrupted; the run into `parts` stopped
 /// after `stops[0]` steps (`--stop-after`), leaving no results (and the file `checkpoint`, when
@@ -68,19 +73,26 @@ pub fn stopped_and_resumed(
             assert!(parts.join(name).is_file(), "no {name} after {stop} steps");
         }
         if k == 0 {
-            let again = command(parts, &[]);
-            bad(
-                &again.iter().map(String::as_str).collect::<Vec<_>>(),
-                "--resume continues it",
-            );
+            bad_owned(&command(parts, &[]), "--resume continues it");
             if let Some(between) = between.take() {
                 between(parts);
             }
         }
     }
+    let resumed = resumed_to_the_end(&command, (whole, parts));
+    (full, resumed)
+}
+
+/// The end of a resume check: the interrupted run in `parts` resumed to its end (`--resume
+/// --json`, `command` as in [`stopped_and_resumed`]) holds every array of the uninterrupted run's
+/// `results.h5` in `whole` bit for bit; returns the resumed run's JSON.
+pub fn resumed_to_the_end(
+    command: impl Fn(&std::path::Path, &[&str]) -> Vec<String>,
+    (whole, parts): (&std::path::Path, &std::path::Path),
+) -> serde_json::Value {
     let resumed = ok_json(&run_owned(&command(parts, &["--resume", "--json"])));
     arrays_equal(&whole.join("results.h5"), &parts.join("results.h5"));
-    (full, resumed)
+    resumed
 }
 
 /// Every array of two results files equal bit for bit (a resumed run against an uninterrupted one).

@@ -422,6 +422,38 @@ mod tests {
         FrettingMap::new(base, vec![0.04, 0.08], vec![0.01e-6, 0.06e-6]).unwrap()
     }
 
+    /// The resume check of a map of four points (with `fatigue`'s constants, when given):
+    /// "killed" after one point (only its checkpoint in `dir`, the map incomplete), then resumed
+    /// — that point reused, the three others run. Returns the resumed map's points.
+    fn stopped_after_one_point_and_resumed(
+        m: &FrettingMap,
+        fatigue: Option<&FatigueConfig>,
+        dir: &Path,
+    ) -> Vec<MapPoint> {
+        let first = run_map_with(m, fatigue, Some(dir), Some(1), |_, _| {}, &|| false).unwrap();
+        assert_eq!(first.points.iter().flatten().count(), 1);
+        assert!(first.complete().is_none() && has_checkpoints(dir));
+        let calls = Mutex::new(Vec::new());
+        let resumed = run_map_with(
+            m,
+            fatigue,
+            Some(dir),
+            None,
+            |n, _| calls.lock().unwrap().push(n),
+            &|| false,
+        )
+        .unwrap();
+        assert_eq!(resumed.resumed, 1);
+        assert_eq!(calls.into_inner().unwrap().len(), 3, "three points ran");
+        resumed.complete().unwrap()
+    }
+
+    /// A map run on checkpoints of another configuration is refused, saying so.
+    fn refused_as_another_configuration(result: Result<MapRun, MapError>) {
+        let e = result.unwrap_err();
+        assert!(e.to_string().contains("another configuration"), "{e}");
+    }
+
     #[test]
     fn a_resumed_map_equals_an_uninterrupted_one() {
         let m = map();
@@ -430,18 +462,8 @@ mod tests {
             .complete()
             .unwrap();
         let dir = tempfile::tempdir().unwrap();
-        // "Killed" after one point: only its checkpoint exists.
-        let first = run_map(&m, Some(dir.path()), Some(1), |_, _| {}).unwrap();
-        assert_eq!(first.points.iter().flatten().count(), 1);
-        assert!(first.complete().is_none() && has_checkpoints(dir.path()));
-        let calls = Mutex::new(Vec::new());
-        let resumed = run_map(&m, Some(dir.path()), None, |n, _| {
-            calls.lock().unwrap().push(n)
-        })
-        .unwrap();
-        assert_eq!(resumed.resumed, 1);
-        assert_eq!(calls.into_inner().unwrap().len(), 3, "three points ran");
-        for (a, b) in all.iter().zip(&resumed.complete().unwrap()) {
+        let resumed = stopped_after_one_point_and_resumed(&m, None, dir.path());
+        for (a, b) in all.iter().zip(&resumed) {
             assert_eq!(a.values()[..8], b.values()[..8]);
             assert!(b.crack_risk.is_nan());
         }
@@ -455,8 +477,7 @@ mod tests {
             m.amplitudes().to_vec(),
         )
         .unwrap();
-        let e = run_map(&other, Some(dir.path()), None, |_, _| {}).unwrap_err();
-        assert!(e.to_string().contains("another configuration"), "{e}");
+        refused_as_another_configuration(run_map(&other, Some(dir.path()), None, |_, _| {}));
     }
 
     #[test]
@@ -512,37 +533,22 @@ mod tests {
         // Killed after one point and resumed: the same risks; another set of constants does not
         // reuse the checkpoints.
         let dir = tempfile::tempdir().unwrap();
-        run_map_with(
-            &m,
-            Some(&fatigue),
-            Some(dir.path()),
-            Some(1),
-            |_, _| {},
-            &|| false,
-        )
-        .unwrap();
-        let resumed = run_map_with(
-            &m,
-            Some(&fatigue),
-            Some(dir.path()),
-            None,
-            |_, _| {},
-            &|| false,
-        )
-        .unwrap();
-        assert_eq!(resumed.resumed, 1);
-        for (a, b) in all.iter().zip(&resumed.complete().unwrap()) {
+        let resumed = stopped_after_one_point_and_resumed(&m, Some(&fatigue), dir.path());
+        for (a, b) in all.iter().zip(&resumed) {
             assert_eq!(a.crack_risk, b.crack_risk);
         }
         let other = FatigueConfig {
             t_minus1: 300e6,
             ..fatigue.clone()
         };
-        let e = run_map_with(&m, Some(&other), Some(dir.path()), None, |_, _| {}, &|| {
-            false
-        })
-        .unwrap_err();
-        assert!(e.to_string().contains("another configuration"), "{e}");
+        refused_as_another_configuration(run_map_with(
+            &m,
+            Some(&other),
+            Some(dir.path()),
+            None,
+            |_, _| {},
+            &|| false,
+        ));
         let rec = map_record(&m, &all);
         assert_eq!(rec.shape_of("crack_risk"), Some(vec![2, 2]));
         assert_eq!(rec.shape_of("material_response"), Some(vec![2, 2]));

@@ -743,7 +743,7 @@ fn per_cell_outputs(sys: &mut EimSystem, x: &[f64], applied: &[Vec<f64>]) -> [Ve
     let (mut y, mut b, mut z) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     sys.apply(x, &mut y).unwrap();
     sys.rhs(applied, &mut b).unwrap();
-    sys.preconditioner().apply(x, &mut z).unwrap();
+    sys.preconditioner().clone().apply(x, &mut z).unwrap();
     [y, b, z]
 }
 
@@ -858,6 +858,57 @@ fn per_cell_tasks_check() {
     }
 }
 
+/// The block preconditioner the system keeps (and lends by reference, no copy) is `P⁻¹`,
+/// `P_I = C^m − ΔC_I S₀` (`S₀` the cube's strain kernel at its centre, `ΔC = C^m − C^I`; module
+/// documentation of `eim::solve`): rebuilt here from the stiffnesses and the kernel, `P_I (P⁻¹ x)_I`
+/// is `x_I` in every cell to rounding (`|x| ≤ 0.5`; the LU's backward error plus the 6-term
+/// products, `~6 ε ‖P‖ ‖P⁻¹x‖` with both norms of order 1–10: ≲ 1e-14; measured 1.7e-16); and solves of either method,
+/// which move it out of the system and back, leave the same operator (the same bits of `P⁻¹ x`).
+#[test]
+fn the_kept_block_preconditioner_inverts_the_blocks_and_survives_solves() {
+    use halfspace_sam::kernels::cuboid::StrainPotentials;
+    let (grid, set) = small_sphere();
+    let fields = EimFields::for_inclusions(grid, E, NU, &set).unwrap();
+    let mut sys = EimSystem::new(fields, set.clone(), E, NU).unwrap();
+    let n = sys.dim();
+    let x = lcg(500, n);
+    let mut z = vec![0.0; n];
+    sys.preconditioner().clone().apply(&x, &mut z).unwrap();
+    let cm = stiffness(E, NU);
+    let s0 = StrainPotentials::new([0.0; 3], [set.half; 3]).voigt(NU);
+    let mut worst = 0.0f64;
+    for (c, cell) in set.cells.iter().enumerate() {
+        let (ei, nui) = set.materials[cell.material];
+        let ci = stiffness(ei, nui);
+        let mut p = [[0.0; 6]; 6];
+        for i in 0..6 {
+            for j in 0..6 {
+                let ds0: f64 = (0..6).map(|k| (cm[i][k] - ci[i][k]) * s0[k][j]).sum();
+                p[i][j] = cm[i][j] - ds0;
+            }
+        }
+        let back = mul6(&p, &z[6 * c..6 * c + 6]);
+        for (b, v) in back.iter().zip(&x[6 * c..6 * c + 6]) {
+            worst = worst.max((b - v).abs());
+        }
+    }
+    assert!(worst < 1e-14, "max |P (P⁻¹x) − x| = {worst:e}");
+    let applied: Vec<Vec<f64>> = (0..set.layers.len() * 6)
+        .map(|k| lcg(600 + k as u64, set.window.len()))
+        .collect();
+    for method in [EimMethod::BlockJacobi, EimMethod::Gmres] {
+        let params = EimParams {
+            method,
+            ..EimParams::default()
+        };
+        let mut eps = vec![0.0; n];
+        sys.solve(&applied, &mut eps, &params).unwrap();
+        let mut after = vec![0.0; n];
+        sys.preconditioner().clone().apply(&x, &mut after).unwrap();
+        assert_eq!(bits(&after), bits(&z), "{method:?}");
+    }
+}
+
 /// Plain block Jacobi (`EimParams::recycled_depth = 0`) on the work vectors the system keeps
 /// between solves is the iteration on vectors allocated per solve (`richardson_mixed` without a
 /// recycled state, the path before the system kept them) bit for bit: the first solve, and a
@@ -886,7 +937,7 @@ fn plain_block_jacobi_on_kept_work_vectors_is_the_allocating_iteration_bit_for_b
         max_iterations: params.max_iterations,
         restart: params.restart,
     };
-    let mut pre = sys.preconditioner();
+    let mut pre = sys.preconditioner().clone();
     let k = richardson_mixed(&mut sys, &mut pre, &b, &mut control, &kp, None)
         .unwrap()
         .iterations;

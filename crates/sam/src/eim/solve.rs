@@ -115,8 +115,6 @@ pub struct EimSystem {
     cm: [[f64; 6]; 6],
     /// `ΔC` per material.
     dc: Vec<[[f64; 6]; 6]>,
-    /// `(C^m − ΔC S₀)⁻¹` per material.
-    precond: Vec<[[f64; 6]; 6]>,
     /// The eigenstrain fields of the layers: zero outside the cells, written only at the cells.
     eigen: Vec<Vec<f64>>,
     /// Per layer, the range of its cells in `set.cells` (`None` when the cells are not listed
@@ -127,8 +125,9 @@ pub struct EimSystem {
     strain: Vec<Vec<f64>>,
     /// The right-hand side `ΔC ε⁰` of the last solve (kept: a solve allocates no right-hand side).
     rhs: Vec<f64>,
-    /// The block preconditioner as an operator (built once; `None` only while a solve holds it).
-    pre: Option<BlockPreconditioner>,
+    /// The block preconditioner `(C^m − ΔC S₀)⁻¹` per material as an operator (built once, the
+    /// only copy of the blocks; empty only while a solve holds it).
+    pre: BlockPreconditioner,
     /// GMRES work arrays, kept between solves (warm outer loops do not reallocate).
     gmres: Option<Gmres>,
     /// The block-Jacobi iteration's Anderson history ([`EimParams::recycled_depth`]), kept
@@ -184,11 +183,11 @@ impl EimSystem {
         }
         let layers = set.layers.len();
         let layer_cells = layer_ranges(&set);
-        let pre = Some(BlockPreconditioner {
+        let pre = BlockPreconditioner {
             blocks: set.cells.iter().map(|c| c.material).collect(),
-            inverse: precond.clone(),
+            inverse: precond,
             cells_per_task: CELLS_PER_TASK,
-        });
+        };
         Ok(Self {
             layer_cells,
             cells_per_task: CELLS_PER_TASK,
@@ -196,7 +195,6 @@ impl EimSystem {
             set,
             cm,
             dc,
-            precond,
             eigen: vec![vec![0.0; n]; layers * 6],
             strain: vec![vec![0.0; n]; layers * 6],
             rhs: Vec::new(),
@@ -276,13 +274,10 @@ impl EimSystem {
         }
     }
 
-    /// The block preconditioner `P⁻¹` as an operator.
-    pub fn preconditioner(&self) -> BlockPreconditioner {
-        BlockPreconditioner {
-            blocks: self.set.cells.iter().map(|c| c.material).collect(),
-            inverse: self.precond.clone(),
-            cells_per_task: self.cells_per_task,
-        }
+    /// The block preconditioner `P⁻¹`, `P_I = C^m − ΔC_I S₀` (module documentation; \[LN11\]),
+    /// the one the solves apply (no copy: clone it for an operator to use next to the system).
+    pub fn preconditioner(&self) -> &BlockPreconditioner {
+        &self.pre
     }
 
     /// Sets the cells per task of the per-cell loops (the right-hand side, the restriction of
@@ -292,9 +287,7 @@ impl EimSystem {
     #[doc(hidden)]
     pub fn set_cells_per_task(&mut self, cells: usize) {
         self.cells_per_task = cells.clamp(1, self.set.len().max(1));
-        if let Some(pre) = self.pre.as_mut() {
-            pre.cells_per_task = self.cells_per_task;
-        }
+        self.pre.cells_per_task = self.cells_per_task;
     }
 
     /// Whether the eigenstrains are scattered into the layer fields layer by layer on the pool
@@ -344,11 +337,9 @@ impl EimSystem {
             max_iterations: params.max_iterations,
             restart,
         };
-        // The kept preconditioner, out of the system while the system is the operator.
-        let mut pre = match self.pre.take() {
-            Some(p) => p,
-            None => self.preconditioner(),
-        };
+        // The kept preconditioner, out of the system while the system is the operator (moved,
+        // not copied: the empty stand-in allocates nothing).
+        let mut pre = std::mem::take(&mut self.pre);
         let result = match method {
             EimMethod::Gmres => {
                 let mut gmres = match self.gmres.take() {
@@ -385,7 +376,7 @@ impl EimSystem {
             }
         };
         self.rhs = b;
-        self.pre = Some(pre);
+        self.pre = pre;
         let info: KrylovInfo = result.map_err(|e| match e {
             NumericsError::NoConvergence {
                 solver,
@@ -543,6 +534,7 @@ fn write_cell(fields: &mut [Vec<f64>], local: usize, xc: &[f64]) {
 }
 
 /// `P⁻¹` applied cell by cell.
+#[derive(Debug, Clone, Default)]
 pub struct BlockPreconditioner {
     blocks: Vec<usize>,
     inverse: Vec<[[f64; 6]; 6]>,

@@ -17,7 +17,12 @@
 
 use std::f64::consts::PI;
 
-use super::VOIGT;
+use super::{Direction, VOIGT};
+
+// The public potentials and kernels take their tensor indices as [`Direction`]s; the private
+// helpers below work on positions `0..3` (a `Direction`'s index, or a loop over `0..3`) and on
+// multiplicity vectors whose entries sum to the derivative's order — invariants of this module,
+// never user input.
 
 /// `R`, `L_k`, `T_k` and `R + c_k` at one corner vector.
 struct Corner {
@@ -28,7 +33,7 @@ struct Corner {
     r_plus: [f64; 3],
 }
 
-/// The two indices other than `k`, in cyclic order.
+/// The two indices other than `k`, in cyclic order (`k < 3`).
 #[inline]
 fn others(k: usize) -> (usize, usize) {
     ((k + 1) % 3, (k + 2) % 3)
@@ -121,12 +126,12 @@ impl Corner {
     }
 }
 
-/// Multiplicities of the indices 0, 1, 2 in a multi-index.
+/// Multiplicities of the directions `x₁, x₂, x₃` in a multi-index.
 #[inline]
-fn counts(idx: &[usize]) -> [usize; 3] {
+fn counts(idx: &[Direction]) -> [usize; 3] {
     let mut n = [0; 3];
     for &i in idx {
-        n[i] += 1;
+        n[i.index()] += 1;
     }
     n
 }
@@ -220,6 +225,17 @@ const fn slot_const(n: [usize; 3], order: usize) -> usize {
     usize::MAX
 }
 
+/// [`VOIGT`] as pairs of [`Direction`]s.
+const VOIGT_DIRECTIONS: [(Direction, Direction); 6] = {
+    let mut t = [(Direction::X1, Direction::X1); 6];
+    let mut v = 0;
+    while v < 6 {
+        t[v] = (Direction::ALL[VOIGT[v].0], Direction::ALL[VOIGT[v].1]);
+        v += 1;
+    }
+    t
+};
+
 /// Second derivatives of `φ` and fourth of `ψ` at `x` for the box of half-sizes `a` (corner sums of
 /// the primitives), indexed by `slot`.
 pub struct StrainPotentials {
@@ -269,19 +285,20 @@ impl StrainPotentials {
 
     /// `φ,ij`.
     #[inline]
-    pub fn phi2(&self, i: usize, j: usize) -> f64 {
-        self.phi2[SLOT2[i][j]]
+    pub fn phi2(&self, i: Direction, j: Direction) -> f64 {
+        self.phi2[SLOT2[i.index()][j.index()]]
     }
 
     /// `ψ,ijkl`.
     #[inline]
-    pub fn psi4(&self, i: usize, j: usize, k: usize, l: usize) -> f64 {
-        self.psi4[SLOT4[i][j][k][l]]
+    pub fn psi4(&self, i: Direction, j: Direction, k: Direction, l: Direction) -> f64 {
+        self.psi4[SLOT4[i.index()][j.index()][k.index()][l.index()]]
     }
 
-    /// `D_ijkl` (the strain at `x` per unit `ε*_kl`, `ε*_lk` not included).
-    pub fn d(&self, nu: f64, i: usize, j: usize, k: usize, l: usize) -> f64 {
-        let delta = |p: usize, q: usize| if p == q { 1.0 } else { 0.0 };
+    /// `D_ijkl` (the strain at `x` per unit `ε*_kl`, `ε*_lk` not included; the formula of the
+    /// module documentation, \[LN11\] Eq. 9).
+    pub fn d(&self, nu: f64, i: Direction, j: Direction, k: Direction, l: Direction) -> f64 {
+        let delta = |p: Direction, q: Direction| if p == q { 1.0 } else { 0.0 };
         (self.psi4(k, l, i, j)
             - 2.0 * nu * delta(k, l) * self.phi2(i, j)
             - (1.0 - nu)
@@ -296,8 +313,8 @@ impl StrainPotentials {
     /// off-diagonal column is `D_ijkl + D_ijlk`).
     pub fn voigt(&self, nu: f64) -> [[f64; 6]; 6] {
         let mut m = [[0.0; 6]; 6];
-        for (row, &(i, j)) in m.iter_mut().zip(&VOIGT) {
-            for (v, &(k, l)) in row.iter_mut().zip(&VOIGT) {
+        for (row, &(i, j)) in m.iter_mut().zip(&VOIGT_DIRECTIONS) {
+            for (v, &(k, l)) in row.iter_mut().zip(&VOIGT_DIRECTIONS) {
                 *v = self.d(nu, i, j, k, l);
                 if k != l {
                     *v += self.d(nu, i, j, l, k);
@@ -336,18 +353,19 @@ impl DisplacementPotentials {
     }
 
     /// `φ,i`.
-    pub fn phi1(&self, i: usize) -> f64 {
-        self.phi1[i]
+    pub fn phi1(&self, i: Direction) -> f64 {
+        self.phi1[i.index()]
     }
 
     /// `ψ,ijk`.
-    pub fn psi3(&self, i: usize, j: usize, k: usize) -> f64 {
+    pub fn psi3(&self, i: Direction, j: Direction, k: Direction) -> f64 {
         self.psi3[slot(counts(&[i, j, k]), 3)]
     }
 
-    /// `Dˢ_ikl` (displacement `u_i` per unit `ε*_kl`).
-    pub fn ds(&self, nu: f64, i: usize, k: usize, l: usize) -> f64 {
-        let delta = |p: usize, q: usize| if p == q { 1.0 } else { 0.0 };
+    /// `Dˢ_ikl` (displacement `u_i` per unit `ε*_kl`; the formula of the module documentation,
+    /// \[LN11\] Eq. 16).
+    pub fn ds(&self, nu: f64, i: Direction, k: Direction, l: Direction) -> f64 {
+        let delta = |p: Direction, q: Direction| if p == q { 1.0 } else { 0.0 };
         (self.psi3(k, l, i)
             - 2.0 * nu * delta(k, l) * self.phi1(i)
             - 2.0 * (1.0 - nu) * (self.phi1(k) * delta(i, l) + self.phi1(l) * delta(i, k)))
@@ -357,8 +375,8 @@ impl DisplacementPotentials {
     /// The 3 × 6 matrix `u = Dˢ ε*_V` (off-diagonal columns `Dˢ_ikl + Dˢ_ilk`).
     pub fn voigt(&self, nu: f64) -> [[f64; 6]; 3] {
         let mut m = [[0.0; 6]; 3];
-        for (i, row) in m.iter_mut().enumerate() {
-            for (v, &(k, l)) in row.iter_mut().zip(&VOIGT) {
+        for (&i, row) in Direction::ALL.iter().zip(m.iter_mut()) {
+            for (v, &(k, l)) in row.iter_mut().zip(&VOIGT_DIRECTIONS) {
                 *v = self.ds(nu, i, k, l);
                 if k != l {
                     *v += self.ds(nu, i, l, k);

@@ -15,6 +15,31 @@ pub mod surface;
 /// Voigt order of symmetric tensors (docs/theory-sam.md#conventions): `(11, 22, 33, 23, 13, 12)`, tensor shear components.
 pub const VOIGT: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)];
 
+/// A tensor index: one of the coordinate directions `x₁, x₂, x₃` (`x₃` the depth;
+/// docs/theory-sam.md#conventions). The index arguments of the cuboid potentials and kernels
+/// ([`cuboid::StrainPotentials`], [`cuboid::DisplacementPotentials`]) are of this type, so an index
+/// out of `{1, 2, 3}` cannot be written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Direction {
+    /// `x₁`.
+    X1 = 0,
+    /// `x₂`.
+    X2 = 1,
+    /// `x₃` (depth).
+    X3 = 2,
+}
+
+impl Direction {
+    /// `x₁, x₂, x₃` in order (`ALL[i].index() == i`).
+    pub const ALL: [Direction; 3] = [Direction::X1, Direction::X2, Direction::X3];
+
+    /// The zero-based position (0, 1, 2) of the direction in a 3-vector.
+    #[inline]
+    pub const fn index(self) -> usize {
+        self as usize
+    }
+}
+
 /// Isotropic stiffness `C` as a 6 × 6 matrix on Voigt vectors with **tensor** shear components
 /// (`σ_ii = λ tr ε + 2G ε_ii`, `σ_ij = 2G ε_ij`), `λ = 2Gν/(1−2ν)`, `G = E/(2(1+ν))`.
 pub fn stiffness(e: f64, nu: f64) -> [[f64; 6]; 6] {
