@@ -308,7 +308,8 @@ pub struct FrettingSimulation {
     krylov_iterations: u64,
     /// Band probes of the preconditioner so far (a diagnostic, not state).
     probes: u64,
-    /// The exact band of the masked stress response (built at the first linearization that uses it).
+    /// The closed nodes' part of the preconditioner's band (built at the first linearization
+    /// with closed nodes).
     masked_band: Option<MaskedBand>,
     /// Whether the preconditioner's band takes out the closed nodes' part
     /// ([`FrettingSimulation::set_masked_band`]).
@@ -680,11 +681,12 @@ impl FrettingSimulation {
 
     /// The closed nodes (`g ≥ d` inside the contact) in the stages' band preconditioner (default
     /// on): at a linearization with closed nodes its band is the probed band of `K` (every
-    /// contact node open, [`RosenbrockMatrix::probe_band`]) less the exact band of the closed
-    /// nodes' part `S_θ[−c̃_N 1[g ≥ d] ⊙ P[D ·]]` (`MaskedBand`, closed forms of the two
-    /// transforms' matrices), so that it is the band of the stages' masked operator up to the
-    /// probe's folding and the edge. Off: the probed band of `K` alone (the path before). Measured
-    /// at N = 8001 over three starts: 25 373 → 21 953 GMRES iterations to τ = 30
+    /// contact node open, `RosenbrockMatrix::probe_band`) less the band of the closed nodes'
+    /// part `S_θ[−c̃_N 1[g ≥ d] ⊙ P[D ·]]` (`MaskedBand`, closed forms of the two transforms'
+    /// matrices, each closed node's column summed on the 64 rows above it), so that it is the band
+    /// of the stages' masked operator up to the probe's folding, the edge and that kernel's tail.
+    /// Off: the probed band of `K` alone (the path before). Measured at N = 8001 over three
+    /// starts: 25 373 → 21 542 GMRES iterations to τ = 30, −7.7 % CPU
     /// (docs/performance.md, "The N = 8001 wear run: the exact masked band"). Part of the scheme
     /// ([`ADAPTIVE_SCHEME`]): set before the first step; a library run with it off records nothing
     /// of it.
@@ -1270,10 +1272,10 @@ impl FrettingSimulation {
                 self.probes += 1;
             }
             if self.masked_band_on && self.matrix.has_closed_nodes() {
-                // The probed band of `K` (every node open) less the exact band of the closed
-                // nodes' part: the band of the stages' masked operator up to the probe's folding
-                // and the edge (docs/performance.md, "The N = 8001 wear run: the exact masked
-                // band").
+                // The probed band of `K` (every node open) less the band of the closed nodes'
+                // part: the band of the stages' masked operator up to the probe's folding, the
+                // edge and the closed part's tail (docs/performance.md, "The N = 8001 wear run:
+                // the exact masked band").
                 if self.masked_band.is_none() {
                     self.masked_band = Some(MaskedBand::new(
                         &self.grid,
