@@ -792,8 +792,10 @@ impl MaskedBand {
         let first = self.taken.first().map_or(len, |&k| k.saturating_sub(reach));
         if closed {
             // The closed nodes' columns summed directly, `c_σ ρ_k s_{k−i} τ_{k−i−l}` from the
-            // interleaved kernels on the rows `k − reach ..= k`, in the order of `k`.
-            self.core[first * row..m * row].fill(0.0);
+            // interleaved kernels on the rows `k − reach ..= k`, in the order of `k` (every row
+            // cleared when the edge column, below, reaches them all).
+            let cleared = if taken(len) { 0 } else { first };
+            self.core[cleared * row..m * row].fill(0.0);
             for &k in &self.taken {
                 let c = scale * self.rho[k];
                 for i in k.saturating_sub(reach)..=k {
@@ -991,8 +993,12 @@ mod tests {
                 (33, 0.05, vec![1, 3, 4, 20, 31]),
                 (2, 0.5, vec![]),
                 (7, 0.5, vec![0, 1, 2, 3, 4, 5]),
+                // The edge node closed (its column reaches every row).
+                (40, 0.5, vec![30, 39]),
                 // Closed nodes more than CLOSED_REACH rows above the first rows.
                 (110, 0.6, (2..40).chain(50..80).collect()),
+                // And the edge node closed with them.
+                (110, 0.6, vec![75, 76, 109]),
             ] {
                 let g: Vec<f64> = (0..n)
                     .map(|i| {
