@@ -234,27 +234,27 @@ impl RosenbrockMatrix {
     /// (docs/performance.md, "The N = 8001 wear run: the exact masked band"): not kept, the
     /// stages take the probed band less the closed part ([`RosenbrockMatrix::closed_band`]).
     #[cfg(test)]
-    pub(crate) fn masked_band(&self, bands: &mut MaskedBand) {
+    pub(crate) fn masked_band(&self, bands: &mut MaskedBand) -> Result<(), NumericsError> {
         bands.assemble(
             self.contact_nodes,
             self.theta,
             &self.open_gap,
             self.modulus,
             false,
-        );
+        )
     }
 
     /// The band of the closed nodes' part `S_θ[−c̃_N 1[g ≥ 1] ⊙ P[D ·]]` at the frozen state
     /// ([`MaskedBand::assemble`] with `closed`) into `bands.band`: the masked response is the
     /// all-open one less this part.
-    pub(crate) fn closed_band(&self, bands: &mut MaskedBand) {
+    pub(crate) fn closed_band(&self, bands: &mut MaskedBand) -> Result<(), NumericsError> {
         bands.assemble(
             self.contact_nodes,
             self.theta,
             &self.open_gap,
             self.modulus,
             true,
-        );
+        )
     }
 
     /// `δg = P[D v]` on the nodes `0..=m` (`m` contact nodes and the next), from `v` on the first
@@ -777,7 +777,7 @@ impl MaskedBand {
         open: &[bool],
         modulus: f64,
         closed: bool,
-    ) {
+    ) -> Result<(), NumericsError> {
         let (w, n) = (self.width, self.n);
         let row = 2 * w + 1;
         debug_assert!(m >= 2 && m <= n);
@@ -812,12 +812,11 @@ impl MaskedBand {
                 self.convolutions = (0..row)
                     .map(|c| {
                         let kernel = (0..n).map(|d| self.kernels[d * row + c]).collect();
-                        let mut conv =
-                            ToeplitzConvolution::new(kernel, Backend::Fft).expect("finite kernels");
+                        let mut conv = ToeplitzConvolution::new(kernel, Backend::Fft)?;
                         conv.plan_shorter_lengths();
-                        conv
+                        Ok(conv)
                     })
-                    .collect();
+                    .collect::<Result<_, NumericsError>>()?;
             }
             // From the last node summed on, the rows vanish (`S` is anti-causal).
             let span = self.taken.last().map_or(0, |&k| k + 1);
@@ -828,8 +827,7 @@ impl MaskedBand {
             self.core[..m * row].fill(0.0);
             if span > 0 {
                 for (c, conv) in self.convolutions.iter_mut().enumerate() {
-                    conv.apply(&self.x[..span], &mut self.out[..span])
-                        .expect("lengths within the capacity");
+                    conv.apply(&self.x[..span], &mut self.out[..span])?;
                     for i in 0..span {
                         self.core[i * row + c] = scale * self.out[span - 1 - i];
                     }
@@ -872,6 +870,7 @@ impl MaskedBand {
         }
         self.band[..first * row].fill(0.0);
         self.band[rows * row..m * row].fill(0.0);
+        Ok(())
     }
 
     /// `base − A` into [`MaskedBand::band`] on the rows `0..m` (`base` a band of the same layout,
@@ -959,14 +958,34 @@ mod tests {
     use super::*;
     use crate::simulation::PRECONDITIONER_WIDTH;
 
+    /// The band `|i − j| ≤ w` of the frozen state's masked stress response on its contact rows
+    /// (`2w + 1` entries a row), assembled column by column through the transforms (the dense
+    /// twin).
+    fn dense_band(matrix: &mut RosenbrockMatrix, w: usize) -> Vec<f64> {
+        let (n, m) = (matrix.grid.len(), matrix.contact_nodes);
+        let row = 2 * w + 1;
+        let mut dense = vec![0.0; m * row];
+        let mut v = vec![0.0; n];
+        for j in 0..n {
+            v.fill(0.0);
+            v[j] = 1.0;
+            matrix.masked_stress(&v).unwrap();
+            for i in j.saturating_sub(w)..(j + w + 1).min(m) {
+                dense[i * row + (j + w - i)] = matrix.sigma[i];
+            }
+        }
+        dense
+    }
+
     /// The closed-form band of the masked stress response ([`MaskedBand`]) against the band of the
     /// operator itself assembled column by column (`S_θ[−c̃_N 1[g < 1] ⊙ P[D e_j]]` by the
     /// transforms, the dense twin), homogeneous and graded, with closed nodes at the origin's
     /// split columns, inside and next to the edge, for several edges `θ` and contacts `m`; the
     /// kept convolutions are rebuilt when the mask or `m` change and reused otherwise. To
     /// rounding: `1e-12` of the band's largest entry (the FFT sums' rounding at `N = 121`; observed
-    /// ≤ 2.6e-13). The closed nodes' part (summed directly) and the masked band (by the
-    /// convolutions) add up to the all-open band; summed on [`CLOSED_REACH`] rows above each
+    /// ≤ 2.6e-13). The closed nodes' part (summed directly) against its own dense twin (the
+    /// operator with the mask inverted) to the same bound, and with the masked band (by the
+    /// convolutions) it adds up to the all-open band; summed on [`CLOSED_REACH`] rows above each
     /// closed node, the part differs from the exact one by at most the terms left out (their
     /// absolute sum; 8e-4 of the band's largest entry with 68 closed nodes at `N = 121`), and not
     /// at all when no closed node lies that far.
@@ -1011,25 +1030,16 @@ mod tests {
                     .collect();
                 matrix.freeze(&zeros, &zeros, &zeros, &g, m, theta).unwrap();
                 let before = bands.builds;
-                matrix.masked_band(&mut bands);
+                matrix.masked_band(&mut bands).unwrap();
                 // The convolutions are kept when only θ changed since they were built (the
                 // all-open band of the case before, below).
                 let kept = closed.is_empty() && last == Some(m);
                 assert_eq!(bands.builds - before, u64::from(!kept));
                 last = Some(m);
-                let mut dense = vec![0.0; n * row];
-                let mut v = vec![0.0; n];
-                for j in 0..n {
-                    v.fill(0.0);
-                    v[j] = 1.0;
-                    matrix.masked_stress(&v).unwrap();
-                    for i in j.saturating_sub(w)..(j + w + 1).min(m) {
-                        dense[i * row + (j + w - i)] = matrix.sigma[i];
-                    }
-                }
+                let dense = dense_band(&mut matrix, w);
                 let largest = dense.iter().fold(0.0f64, |a, b| a.max(b.abs()));
                 assert!(largest > 0.0);
-                let error = dense[..m * row]
+                let error = dense
                     .iter()
                     .zip(&bands.band)
                     .fold(0.0f64, |a, (d, b)| a.max((d - b).abs()));
@@ -1039,9 +1049,9 @@ mod tests {
                 );
                 // The closed nodes' part: the all-open band less the masked one.
                 let masked = bands.band.clone();
-                matrix.closed_band(&mut bands);
+                matrix.closed_band(&mut bands).unwrap();
                 let closed_part = bands.band.clone();
-                matrix.closed_band(&mut near);
+                matrix.closed_band(&mut near).unwrap();
                 let tail = near.band[..m * row]
                     .iter()
                     .zip(&closed_part)
@@ -1074,11 +1084,36 @@ mod tests {
                 } else {
                     assert!(tail > 0.0);
                 }
+                // The closed part against its own dense twin: the operator with the mask
+                // inverted on the contact nodes, column by column.
+                let inverted: Vec<f64> = (0..n)
+                    .map(|i| {
+                        if i < m && closed.contains(&i) {
+                            0.5
+                        } else {
+                            1.5
+                        }
+                    })
+                    .collect();
+                if !closed.is_empty() {
+                    matrix
+                        .freeze(&zeros, &zeros, &zeros, &inverted, m, theta)
+                        .unwrap();
+                    let twin = dense_band(&mut matrix, w);
+                    let twin_error = twin
+                        .iter()
+                        .zip(&closed_part)
+                        .fold(0.0f64, |a, (d, c)| a.max((d - c).abs()));
+                    assert!(
+                        twin_error <= 1e-12 * largest,
+                        "closed part: {twin_error:e} of {largest:e}"
+                    );
+                }
                 let open_g: Vec<f64> = (0..n).map(|i| if i < m { 0.5 } else { 1.5 }).collect();
                 matrix
                     .freeze(&zeros, &zeros, &zeros, &open_g, m, theta)
                     .unwrap();
-                matrix.masked_band(&mut bands);
+                matrix.masked_band(&mut bands).unwrap();
                 let sum_error = masked[..m * row]
                     .iter()
                     .zip(&closed_part)

@@ -685,7 +685,9 @@ impl FrettingSimulation {
     /// part `S_θ[−c̃_N 1[g ≥ d] ⊙ P[D ·]]` (`MaskedBand`, closed forms of the two transforms'
     /// matrices, each closed node's column summed on the 64 rows above it), so that it is the band
     /// of the stages' masked operator up to the probe's folding, the edge and that kernel's tail.
-    /// Off: the probed band of `K` alone (the path before). Measured at N = 8001 over three
+    /// When the edge node `m − 1` itself is closed, its column is subtracted with the edge's
+    /// partial cell (`θ`) while the probe has it as an interior node (`θ = 1` at the bucket's
+    /// end): an approximation in that column. Off: the probed band of `K` alone (the path before). Measured at N = 8001 over three
     /// starts: 25 373 → 21 542 GMRES iterations to τ = 30, −7.7 % CPU
     /// (docs/performance.md, "The N = 8001 wear run: the exact masked band"). Part of the scheme
     /// ([`ADAPTIVE_SCHEME`]): set before the first step; a library run with it off records nothing
@@ -1276,16 +1278,11 @@ impl FrettingSimulation {
                 // part: the band of the stages' masked operator up to the probe's folding, the
                 // edge and the closed part's tail (docs/performance.md, "The N = 8001 wear run:
                 // the exact masked band").
-                if self.masked_band.is_none() {
-                    self.masked_band = Some(MaskedBand::new(
-                        &self.grid,
-                        self.params.k,
-                        p.width(),
-                        CLOSED_REACH,
-                    ));
-                }
-                let bands = self.masked_band.as_mut().expect("built above");
-                self.matrix.closed_band(bands);
+                let (grid, k, width) = (&self.grid, self.params.k, p.width());
+                let bands = self
+                    .masked_band
+                    .get_or_insert_with(|| MaskedBand::new(grid, k, width, CLOSED_REACH));
+                self.matrix.closed_band(bands).map_err(MdrError::from)?;
                 bands.subtract_from(&p.stress_band, contact.edge);
                 self.matrix.scale_band(p.width(), &bands.band, &mut p.band);
             } else {
