@@ -8,7 +8,7 @@
 //!
 //! `cargo run --release -p halfspace-fretting --example step_trace -- N K CHI [TOL] [TAU_END] [CSV]`
 //! (switches by environment: `PERTURB=SEED`, `HOLE_ESTIMATE=off`, `FIRST_ORDER_FALLBACK=on`,
-//! `HOLE_PROJECTION=off`, `RECYCLED_STAGE2=on`, `PREFIX_RATE=on`)
+//! `HOLE_PROJECTION=off`, `RECYCLED_STAGE2=on`, `PREFIX_RATE=on`, `MASKED_BAND=off`)
 
 use std::io::Write;
 use std::sync::{Arc, Mutex};
@@ -64,6 +64,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // `RECYCLED_STAGE2=on`: the second stage's GMRES continues the first stage's Krylov space
     // (experimental, off by default).
     sim.set_recycled_second_stage(std::env::var("RECYCLED_STAGE2").is_ok_and(|v| v == "on"));
+    // `MASKED_BAND=off`: the preconditioner's band without the closed nodes' part taken out
+    // (the path before).
+    sim.set_masked_band(std::env::var("MASKED_BAND").map_or(true, |v| v != "off"));
     // `PREFIX_RATE=on`: the rate's `g` on a prefix of the grid (experimental, off by default).
     sim.set_prefix_rate(std::env::var("PREFIX_RATE").is_ok_and(|v| v == "on"));
     // `SLIDING=on|off`: the sliding mode of the contact edge's last node in the stages

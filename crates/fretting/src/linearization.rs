@@ -21,7 +21,9 @@
 
 use halfspace_mdr::{CellStressTransform, Material, MdrError, ProfileTransform};
 use halfspace_numerics::linop::LinearOperator;
-use halfspace_numerics::{diff::derivative_uniform, Backend, NumericsError, SquaredGrid};
+use halfspace_numerics::{
+    diff::derivative_uniform, pow_or_sqrt, Backend, NumericsError, SquaredGrid, ToeplitzConvolution,
+};
 
 /// `W = I − β J` (`β = γ Δτ`) at a frozen contact state, as a [`LinearOperator`] on all `N` nodes.
 pub(crate) struct RosenbrockMatrix {
@@ -143,6 +145,11 @@ impl RosenbrockMatrix {
         Ok(())
     }
 
+    /// Whether a contact node of the frozen state is closed (`g ≥ 1`: no load from its profile).
+    pub(crate) fn has_closed_nodes(&self) -> bool {
+        self.open_gap[..self.contact_nodes].iter().any(|&o| !o)
+    }
+
     /// The contact nodes `m` of the frozen state.
     pub(crate) fn contact_nodes(&self) -> usize {
         self.contact_nodes
@@ -181,20 +188,7 @@ impl RosenbrockMatrix {
     /// + ∂_θσ δθ)`.
     fn pressure_response(&mut self, v: &[f64], out: &mut [f64]) -> Result<(), MdrError> {
         let m = self.contact_nodes;
-        self.equivalent_near_contact(m, v)?;
-        for i in 0..m {
-            self.q[i] = if self.open_gap[i] {
-                -self.modulus * self.g[i]
-            } else {
-                0.0
-            };
-        }
-        self.stress_tf.line_load_to_stress(
-            &self.grid,
-            &self.q[..m],
-            self.theta,
-            &mut self.sigma[..m],
-        )?;
+        self.masked_stress(v)?;
         // δθ = −(δg_L + θ (δg_E − δg_L)) / (g_E − g_L), unless θ sits at its clamp.
         let d_theta = if self.theta < 1.0 && self.gap_edge > self.gap_last {
             -(self.g[m - 1] + self.theta * (self.g[m] - self.g[m - 1]))
@@ -210,6 +204,57 @@ impl RosenbrockMatrix {
             };
         }
         Ok(())
+    }
+
+    /// `S_θ[−c̃_N 1[g < 1] ⊙ P[D v]]` on the contact nodes `0..m` of the frozen state into
+    /// `self.sigma[..m]` (`δg = P[D v]` into `self.g`): the masked stress response, the stiff part
+    /// of `J` before its row scaling `Δu ⊙ 1[σ > 0]` (see the module docs).
+    fn masked_stress(&mut self, v: &[f64]) -> Result<(), MdrError> {
+        let m = self.contact_nodes;
+        self.equivalent_near_contact(m, v)?;
+        for i in 0..m {
+            self.q[i] = if self.open_gap[i] {
+                -self.modulus * self.g[i]
+            } else {
+                0.0
+            };
+        }
+        self.stress_tf.line_load_to_stress(
+            &self.grid,
+            &self.q[..m],
+            self.theta,
+            &mut self.sigma[..m],
+        )?;
+        Ok(())
+    }
+
+    /// The band `|i − j| ≤ w` of the masked stress response `S_θ[−c̃_N 1[g < 1] ⊙ P[D ·]]` at the
+    /// frozen state (its contact nodes, edge `θ` and closed nodes), in closed form
+    /// ([`MaskedBand::assemble`]) into `bands.band`. Measured as the preconditioner's band alone
+    /// (docs/performance.md, "The N = 8001 wear run: the exact masked band"): not kept, the
+    /// stages take the probed band less the closed part ([`RosenbrockMatrix::closed_band`]).
+    #[cfg(test)]
+    pub(crate) fn masked_band(&self, bands: &mut MaskedBand) -> Result<(), NumericsError> {
+        bands.assemble(
+            self.contact_nodes,
+            self.theta,
+            &self.open_gap,
+            self.modulus,
+            false,
+        )
+    }
+
+    /// The band of the closed nodes' part `S_θ[−c̃_N 1[g ≥ 1] ⊙ P[D ·]]` at the frozen state
+    /// ([`MaskedBand::assemble`] with `closed`) into `bands.band`: the masked response is the
+    /// all-open one less this part.
+    pub(crate) fn closed_band(&self, bands: &mut MaskedBand) -> Result<(), NumericsError> {
+        bands.assemble(
+            self.contact_nodes,
+            self.theta,
+            &self.open_gap,
+            self.modulus,
+            true,
+        )
     }
 
     /// `δg = P[D v]` on the nodes `0..=m` (`m` contact nodes and the next), from `v` on the first
@@ -519,6 +564,332 @@ impl BandPreconditioner {
     }
 }
 
+/// The band `|i − j| ≤ w` of the masked stress response `A = S_θ[−c̃_N 1[g < 1] ⊙ P[D ·]]` on the
+/// contact nodes `0..m` (rows `i < m`), exactly (to the rounding of its closed form), from the
+/// matrices of the two transforms (docs/performance.md, "The N = 8001 wear run: the exact masked
+/// band (issue 20)"):
+///
+/// - `S_θ` (the cell stress transform, `CellStressTransform`): `S_ik = c_σ s_{k−i}` for
+///   `i ≤ k < m − 1`, `s_0 = w_0`, `s_δ = w_δ − w_{δ−1}`, `w_δ = (δ+1)^γ − δ^γ`, and the edge column
+///   `S_{i,m−1} = c_σ [((m−1−i+θ)^γ − (m−1−i)^γ)/θ − w_{m−2−i}]` (`w_{−1} = 0`),
+///   `c_σ = h^{γ−1}/(πγ)`;
+/// - `G = P D` (the central difference and the profile transform with its parabolic split,
+///   `ProfileTransform::slope_to_equivalent`, Eq. 7 / 23): `G_kj = ρ_k τ_{k−j} + C_kj`,
+///   `ρ_k = k^{(1−k_g)/2}/(2(1+k_g))`, `τ_δ = β_{δ+1} − β_{δ−1}`, `β_δ = b_{δ+1} − b_{δ−1}`
+///   (`β_0 = 1`, `β_δ = 0` for `δ < 0`), `b_δ = δ^γ`, with the columns `0..=2` corrected by the split
+///   `c₀ = (D v)_0`: `C_k0 = −ρ_k β_{k+1} − 3e_k`, `C_k1 = −ρ_k β_k + 4e_k`, `C_k2 = −e_k`,
+///   `e_k = k/(1+k_g) − ρ_k (b_k + b_{k−1})`.
+///
+/// `A_{i,i+l} = −c̃_N Σ_{k=i}^{m−1} S_ik o_k G_{k,i+l}` (`o_k = 1[g_k < 1]`): for `k < m − 1` the
+/// Toeplitz part is the correlation `c_σ Σ_δ s_δ τ_{δ−l} x_{i+δ}` of `x_k = o_k ρ_k` with one kernel
+/// per diagonal `l` (`2w + 1` FFT convolutions), the columns `0..=2` add `C` directly (`O(w m)`),
+/// and the edge column `k = m − 1` (the only part that depends on `θ`) adds `S_{i,m−1} o_{m−1}
+/// G_{m−1,j}` (`O(w m)`). The convolutions depend on `m` and the mask alone and are kept until
+/// either changes (a function of them: a resumed run rebuilds the same band). The closed nodes'
+/// part (`1 − o_k` in place of `o_k`, what the stages' preconditioner takes) is summed directly,
+/// column by column, on the `reach` rows above each closed node ([`CLOSED_REACH`]).
+pub(crate) struct MaskedBand {
+    width: usize,
+    n: usize,
+    gamma: f64,
+    /// `c_σ = h^{γ−1}/(πγ)`.
+    stress_scale: f64,
+    /// `w_δ`, `δ = 0..n`.
+    weights: Vec<f64>,
+    /// `s_δ`, `δ = 0..n`.
+    stress_kernel: Vec<f64>,
+    /// `β_δ`, `δ = 0..n + w + 3`.
+    beta: Vec<f64>,
+    /// `τ_δ` at `δ + 1`, `δ = −1..n + w + 1`.
+    tau: Vec<f64>,
+    /// `ρ_k` and `e_k`, `k = 0..n`.
+    rho: Vec<f64>,
+    split: Vec<f64>,
+    /// The correlation kernels `s_δ τ_{δ−l}`, `l = −w..=w` (causal convolutions of the reversed
+    /// `x`), planned at the first band of the open nodes (the exact masked band).
+    convolutions: Vec<ToeplitzConvolution>,
+    /// The same kernels interleaved, `s_δ τ_{δ−l}` at `δ (2w + 1) + l + w` (the direct sum).
+    kernels: Vec<f64>,
+    /// The nodes summed (`k < m − 1`).
+    taken: Vec<usize>,
+    x: Vec<f64>,
+    out: Vec<f64>,
+    /// `c_σ Σ_{k<m−1} s_{k−i} o_k G_{k,i+l}` (no `−c̃_N`), `2w + 1` entries a row, and the `m` and
+    /// mask it holds (`nodes = 0`: none).
+    core: Vec<f64>,
+    nodes: usize,
+    closed: bool,
+    open: Vec<bool>,
+    /// The band of `A`, rows `0..m` (`2w + 1` entries a row, columns outside the grid 0), the
+    /// layout of [`BandPreconditioner::stress_band`]; rows from `rows` on are 0 (beyond `m`
+    /// not written).
+    pub(crate) band: Vec<f64>,
+    rows: std::ops::Range<usize>,
+    /// How far above a closed node its column is summed (`k − reach ≤ i ≤ k`; `usize::MAX`:
+    /// every row, the exact band).
+    reach: usize,
+    /// Convolution builds so far (a diagnostic).
+    pub(crate) builds: u64,
+}
+
+/// The rows above a closed node on which the preconditioner sums its column's part
+/// ([`MaskedBand::assemble`]): the kernel `s_δ τ_{δ−l}` falls like `δ^{2γ−4}` (`δ^{−3}` at
+/// `k_g = 0`), so the rows beyond it get ≈ `64^{−3}` of a diagonal entry from each node
+/// (docs/performance.md, "The N = 8001 wear run: the exact masked band").
+pub(crate) const CLOSED_REACH: usize = 64;
+
+impl MaskedBand {
+    /// The closed forms for the grid of `n` nodes and step `h`, grading exponent `k_g`
+    /// (`γ = (1 + k_g)/2`), half bandwidth `w`; a closed node's column is summed on the `reach`
+    /// rows above it (`usize::MAX`: all, the exact band; [`CLOSED_REACH`]).
+    pub(crate) fn new(grid: &SquaredGrid, grading: f64, width: usize, reach: usize) -> Self {
+        let (n, h, w) = (grid.len(), grid.step(), width);
+        let gamma = 0.5 * (1.0 + grading);
+        let alpha = 0.5 * (1.0 - grading);
+        let long = n + w + 4;
+        let b: Vec<f64> = (0..=long).map(|d| (d as f64).powf(gamma)).collect();
+        let weights: Vec<f64> = b.windows(2).take(n).map(|p| p[1] - p[0]).collect();
+        let stress_kernel: Vec<f64> = (0..n)
+            .map(|d| {
+                if d == 0 {
+                    weights[0]
+                } else {
+                    weights[d] - weights[d - 1]
+                }
+            })
+            .collect();
+        let beta: Vec<f64> = (0..long - 1)
+            .map(|d| if d == 0 { b[1] } else { b[d + 1] - b[d - 1] })
+            .collect();
+        let beta_at = |d: isize| if d < 0 { 0.0 } else { beta[d as usize] };
+        let tau: Vec<f64> = (-1..(n + w + 1) as isize)
+            .map(|d| beta_at(d + 1) - beta_at(d - 1))
+            .collect();
+        let rho: Vec<f64> = (0..n)
+            .map(|k| pow_or_sqrt(k as f64, alpha) / (2.0 * (1.0 + grading)))
+            .collect();
+        let split = (0..n)
+            .map(|k| {
+                let below = if k > 0 { b[k - 1] } else { 0.0 };
+                k as f64 / (1.0 + grading) - rho[k] * (b[k] + below)
+            })
+            .collect();
+        let tau_at = |d: isize| if d < -1 { 0.0 } else { tau[(d + 1) as usize] };
+        let row = 2 * w + 1;
+        let mut kernels = vec![0.0; n * row];
+        for (d, kernel) in kernels.chunks_exact_mut(row).enumerate() {
+            for (c, u) in kernel.iter_mut().enumerate() {
+                *u = stress_kernel[d] * tau_at(d as isize + w as isize - c as isize);
+            }
+        }
+        Self {
+            width: w,
+            n,
+            gamma,
+            stress_scale: h.powf(gamma - 1.0) / (std::f64::consts::PI * gamma),
+            weights,
+            stress_kernel,
+            beta,
+            tau,
+            rho,
+            split,
+            convolutions: Vec::new(),
+            kernels,
+            taken: Vec::with_capacity(n),
+            x: vec![0.0; n],
+            out: vec![0.0; n],
+            core: vec![0.0; n * row],
+            nodes: 0,
+            closed: false,
+            open: vec![false; n],
+            band: vec![0.0; n * row],
+            rows: 0..0,
+            reach,
+            builds: 0,
+        }
+    }
+
+    /// `τ_δ` (0 for `δ < −1`).
+    fn tau(&self, d: isize) -> f64 {
+        if d < -1 {
+            0.0
+        } else {
+            self.tau[(d + 1) as usize]
+        }
+    }
+
+    /// `G_kj = ρ_k τ_{k−j} + C_kj` (see the type's docs).
+    fn gap_entry(&self, k: usize, j: usize) -> f64 {
+        let toeplitz = self.rho[k] * self.tau(k as isize - j as isize);
+        let beta = |d: usize| self.beta[d];
+        toeplitz
+            + match j {
+                0 => -self.rho[k] * beta(k + 1) - 3.0 * self.split[k],
+                1 => -self.rho[k] * beta(k) + 4.0 * self.split[k],
+                2 => -self.split[k],
+                _ => 0.0,
+            }
+    }
+
+    /// The correction `C_kj` of the columns `j ≤ 2` (see the type's docs).
+    fn split_entry(&self, k: usize, j: usize) -> f64 {
+        self.gap_entry(k, j) - self.rho[k] * self.tau(k as isize - j as isize)
+    }
+
+    /// Adds the columns `j ≤ 2`' correction `c_σ Σ_k s_{k−i} C_kj` over the nodes summed
+    /// (`taken`, `k < m − 1`) to `core`.
+    fn add_split_columns(&mut self, m: usize) {
+        let (w, n) = (self.width, self.n);
+        let row = 2 * w + 1;
+        for j in 0..=2usize.min(n - 1) {
+            for i in j.saturating_sub(w)..(j + w + 1).min(m) {
+                let mut sum = 0.0;
+                for &k in self
+                    .taken
+                    .iter()
+                    .filter(|&&k| k >= i && k - i <= self.reach)
+                {
+                    sum += self.stress_kernel[k - i] * self.split_entry(k, j);
+                }
+                self.core[i * row + (j + w - i)] += self.stress_scale * sum;
+            }
+        }
+    }
+
+    /// `S_{i,m−1}` at the edge `θ` (see the type's docs).
+    fn edge_stress(&self, i: usize, m: usize, theta: f64) -> f64 {
+        let d = m - 1 - i;
+        let partial = ((d as f64 + theta).powf(self.gamma) - (d as f64).powf(self.gamma)) / theta;
+        let cell = if d >= 1 { self.weights[d - 1] } else { 0.0 };
+        self.stress_scale * (partial - cell)
+    }
+
+    /// The band of `A` for `m ≥ 2` contact nodes, the edge `θ ∈ (0, 1]` and the mask `open`
+    /// (`1[g < 1]`, at least `m` entries) into the rows `0..m` of [`MaskedBand::band`].
+    ///
+    /// With `closed`, the band of the closed nodes' part instead: `o_k` replaced by `1 − o_k`
+    /// (the masked band is the all-open one less this part), each column summed on the `reach`
+    /// rows above its node.
+    pub(crate) fn assemble(
+        &mut self,
+        m: usize,
+        theta: f64,
+        open: &[bool],
+        modulus: f64,
+        closed: bool,
+    ) -> Result<(), NumericsError> {
+        let (w, n) = (self.width, self.n);
+        let row = 2 * w + 1;
+        debug_assert!(m >= 2 && m <= n);
+        let len = m - 1;
+        // The nodes summed: the open ones, or with `closed` the closed ones.
+        let taken = |k: usize| open[k] != closed;
+        self.taken.clear();
+        self.taken.extend((0..len).filter(|&k| taken(k)));
+        let scale = self.stress_scale;
+        // The rows `first..` that the nodes summed reach (`S` is anti-causal).
+        let reach = self.reach;
+        let first = self.taken.first().map_or(len, |&k| k.saturating_sub(reach));
+        if closed {
+            // The closed nodes' columns summed directly, `c_σ ρ_k s_{k−i} τ_{k−i−l}` from the
+            // interleaved kernels on the rows `k − reach ..= k`, in the order of `k` (every row
+            // cleared when the edge column, below, reaches them all).
+            let cleared = if taken(len) { 0 } else { first };
+            self.core[cleared * row..m * row].fill(0.0);
+            for &k in &self.taken {
+                let c = scale * self.rho[k];
+                for i in k.saturating_sub(reach)..=k {
+                    let kernel = &self.kernels[(k - i) * row..(k - i + 1) * row];
+                    for (b, u) in self.core[i * row..(i + 1) * row].iter_mut().zip(kernel) {
+                        *b += c * u;
+                    }
+                }
+            }
+            self.add_split_columns(m);
+            self.nodes = 0;
+        } else if self.nodes != m || self.closed != closed || self.open[..len] != open[..len] {
+            if self.convolutions.is_empty() {
+                self.convolutions = (0..row)
+                    .map(|c| {
+                        let kernel = (0..n).map(|d| self.kernels[d * row + c]).collect();
+                        let mut conv = ToeplitzConvolution::new(kernel, Backend::Fft)?;
+                        conv.plan_shorter_lengths();
+                        Ok(conv)
+                    })
+                    .collect::<Result<_, NumericsError>>()?;
+            }
+            // From the last node summed on, the rows vanish (`S` is anti-causal).
+            let span = self.taken.last().map_or(0, |&k| k + 1);
+            for (p, x) in self.x[..span].iter_mut().enumerate() {
+                let k = span - 1 - p;
+                *x = if taken(k) { self.rho[k] } else { 0.0 };
+            }
+            self.core[..m * row].fill(0.0);
+            if span > 0 {
+                for (c, conv) in self.convolutions.iter_mut().enumerate() {
+                    conv.apply(&self.x[..span], &mut self.out[..span])?;
+                    for i in 0..span {
+                        self.core[i * row + c] = scale * self.out[span - 1 - i];
+                    }
+                }
+            }
+            self.add_split_columns(m);
+            self.nodes = m;
+            self.closed = closed;
+            self.open[..len].copy_from_slice(&open[..len]);
+            self.builds += 1;
+        }
+        let edge = m - 1;
+        let edge_taken = taken(edge);
+        // Beyond the last node summed the rows vanish; before `first` they are not summed.
+        let (first, rows) = if edge_taken {
+            (0, m)
+        } else if closed {
+            (first.min(len), self.taken.last().map_or(0, |&k| k + 1))
+        } else {
+            (0, self.taken.last().map_or(0, |&k| k + 1))
+        };
+        let first = first.min(rows);
+        self.rows = first..rows;
+        self.band[first * row..rows * row].copy_from_slice(&self.core[first * row..rows * row]);
+        for i in first..rows {
+            let s = if edge_taken {
+                self.edge_stress(i, m, theta)
+            } else {
+                0.0
+            };
+            for c in 0..row {
+                self.band[i * row + c] = match (i + c).checked_sub(w).filter(|&j| j < n) {
+                    Some(j) if edge_taken => {
+                        -modulus * (self.band[i * row + c] + s * self.gap_entry(edge, j))
+                    }
+                    Some(_) => -modulus * self.band[i * row + c],
+                    None => 0.0,
+                };
+            }
+        }
+        self.band[..first * row].fill(0.0);
+        self.band[rows * row..m * row].fill(0.0);
+        Ok(())
+    }
+
+    /// `base − A` into [`MaskedBand::band`] on the rows `0..m` (`base` a band of the same layout,
+    /// `A` the band of the last [`MaskedBand::assemble`]: outside its rows that may be nonzero,
+    /// `base`'s rows).
+    pub(crate) fn subtract_from(&mut self, base: &[f64], m: usize) {
+        let row = 2 * self.width + 1;
+        let (first, rows) = (self.rows.start.min(m), self.rows.end.min(m));
+        self.band[..first * row].copy_from_slice(&base[..first * row]);
+        for (b, k) in self.band[first * row..rows * row]
+            .iter_mut()
+            .zip(&base[first * row..])
+        {
+            *b = k - *b;
+        }
+        self.band[rows * row..m * row].copy_from_slice(&base[rows * row..m * row]);
+    }
+}
+
 impl LinearOperator for BandPreconditioner {
     fn dim(&self) -> usize {
         self.dim
@@ -586,6 +957,175 @@ impl RosenbrockMatrix {
 mod tests {
     use super::*;
     use crate::simulation::PRECONDITIONER_WIDTH;
+
+    /// The band `|i − j| ≤ w` of the frozen state's masked stress response on its contact rows
+    /// (`2w + 1` entries a row), assembled column by column through the transforms (the dense
+    /// twin).
+    fn dense_band(matrix: &mut RosenbrockMatrix, w: usize) -> Vec<f64> {
+        let (n, m) = (matrix.grid.len(), matrix.contact_nodes);
+        let row = 2 * w + 1;
+        let mut dense = vec![0.0; m * row];
+        let mut v = vec![0.0; n];
+        for j in 0..n {
+            v.fill(0.0);
+            v[j] = 1.0;
+            matrix.masked_stress(&v).unwrap();
+            for i in j.saturating_sub(w)..(j + w + 1).min(m) {
+                dense[i * row + (j + w - i)] = matrix.sigma[i];
+            }
+        }
+        dense
+    }
+
+    /// The closed-form band of the masked stress response ([`MaskedBand`]) against the band of the
+    /// operator itself assembled column by column (`S_θ[−c̃_N 1[g < 1] ⊙ P[D e_j]]` by the
+    /// transforms, the dense twin), homogeneous and graded, with closed nodes at the origin's
+    /// split columns, inside and next to the edge, for several edges `θ` and contacts `m`; the
+    /// kept convolutions are rebuilt when the mask or `m` change and reused otherwise. To
+    /// rounding: `1e-12` of the band's largest entry (the FFT sums' rounding at `N = 121`; observed
+    /// ≤ 2.6e-13). The closed nodes' part (summed directly) against its own dense twin (the
+    /// operator with the mask inverted) to the same bound, and with the masked band (by the
+    /// convolutions) it adds up to the all-open band; summed on [`CLOSED_REACH`] rows above each
+    /// closed node, the part differs from the exact one by at most the terms left out (their
+    /// absolute sum; 8e-4 of the band's largest entry with 68 closed nodes at `N = 121`), and not
+    /// at all when no closed node lies that far.
+    #[test]
+    fn masked_band_is_the_operators_band() {
+        let n = 121;
+        let w = PRECONDITIONER_WIDTH;
+        let row = 2 * w + 1;
+        let grid = SquaredGrid::new(n, 2.0).unwrap();
+        for grading in [0.0, -0.5, 0.3] {
+            let material = Material::power_law(1.0, 1.0, 0.3, grading).unwrap();
+            let modulus = 1.7;
+            let mut matrix =
+                RosenbrockMatrix::new(grid, &material, Backend::Fft, modulus, 0.5).unwrap();
+            let mut bands = MaskedBand::new(&grid, grading, w, usize::MAX);
+            let mut near = MaskedBand::new(&grid, grading, w, CLOSED_REACH);
+            let zeros = vec![0.0; n];
+            let mut last = None;
+            for (m, theta, closed) in [
+                (40usize, 1.0, vec![]),
+                (40, 0.37, vec![]),
+                (40, 0.37, vec![0usize, 2, 17, 18, 19, 37, 38]),
+                (40, 0.81, vec![0, 2, 17, 18, 19, 37, 38]),
+                (33, 0.05, vec![1, 3, 4, 20, 31]),
+                (2, 0.5, vec![]),
+                (7, 0.5, vec![0, 1, 2, 3, 4, 5]),
+                // The edge node closed (its column reaches every row).
+                (40, 0.5, vec![30, 39]),
+                // Closed nodes more than CLOSED_REACH rows above the first rows.
+                (110, 0.6, (2..40).chain(50..80).collect()),
+                // And the edge node closed with them.
+                (110, 0.6, vec![75, 76, 109]),
+            ] {
+                let g: Vec<f64> = (0..n)
+                    .map(|i| {
+                        if closed.contains(&i) || i >= m {
+                            1.5
+                        } else {
+                            0.5
+                        }
+                    })
+                    .collect();
+                matrix.freeze(&zeros, &zeros, &zeros, &g, m, theta).unwrap();
+                let before = bands.builds;
+                matrix.masked_band(&mut bands).unwrap();
+                // The convolutions are kept when only θ changed since they were built (the
+                // all-open band of the case before, below).
+                let kept = closed.is_empty() && last == Some(m);
+                assert_eq!(bands.builds - before, u64::from(!kept));
+                last = Some(m);
+                let dense = dense_band(&mut matrix, w);
+                let largest = dense.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+                assert!(largest > 0.0);
+                let error = dense
+                    .iter()
+                    .zip(&bands.band)
+                    .fold(0.0f64, |a, (d, b)| a.max((d - b).abs()));
+                assert!(
+                    error <= 1e-12 * largest,
+                    "k = {grading}, m = {m}, θ = {theta}: {error:e} of {largest:e}"
+                );
+                // The closed nodes' part: the all-open band less the masked one.
+                let masked = bands.band.clone();
+                matrix.closed_band(&mut bands).unwrap();
+                let closed_part = bands.band.clone();
+                matrix.closed_band(&mut near).unwrap();
+                let tail = near.band[..m * row]
+                    .iter()
+                    .zip(&closed_part)
+                    .fold(0.0f64, |a, (t, c)| a.max((t - c).abs()));
+                // The terms left out: `|c̃_N S_ik G_kj|` summed over the closed `k` more than
+                // CLOSED_REACH rows below the row `i` (a bound by the triangle inequality).
+                let mut bound = 0.0f64;
+                for i in 0..m {
+                    for j in i.saturating_sub(w)..(i + w + 1).min(n) {
+                        let left_out: f64 = closed
+                            .iter()
+                            .filter(|&&k| k < m - 1 && k > i + CLOSED_REACH)
+                            .map(|&k| {
+                                (modulus
+                                    * near.stress_scale
+                                    * near.stress_kernel[k - i]
+                                    * near.gap_entry(k, j))
+                                .abs()
+                            })
+                            .sum();
+                        bound = bound.max(left_out);
+                    }
+                }
+                assert!(
+                    tail <= bound + 1e-12 * largest,
+                    "tail {tail:e}, bound {bound:e}"
+                );
+                if m <= CLOSED_REACH {
+                    assert_eq!(tail, 0.0);
+                } else {
+                    assert!(tail > 0.0);
+                }
+                // The closed part against its own dense twin: the operator with the mask
+                // inverted on the contact nodes, column by column.
+                let inverted: Vec<f64> = (0..n)
+                    .map(|i| {
+                        if i < m && closed.contains(&i) {
+                            0.5
+                        } else {
+                            1.5
+                        }
+                    })
+                    .collect();
+                if !closed.is_empty() {
+                    matrix
+                        .freeze(&zeros, &zeros, &zeros, &inverted, m, theta)
+                        .unwrap();
+                    let twin = dense_band(&mut matrix, w);
+                    let twin_error = twin
+                        .iter()
+                        .zip(&closed_part)
+                        .fold(0.0f64, |a, (d, c)| a.max((d - c).abs()));
+                    assert!(
+                        twin_error <= 1e-12 * largest,
+                        "closed part: {twin_error:e} of {largest:e}"
+                    );
+                }
+                let open_g: Vec<f64> = (0..n).map(|i| if i < m { 0.5 } else { 1.5 }).collect();
+                matrix
+                    .freeze(&zeros, &zeros, &zeros, &open_g, m, theta)
+                    .unwrap();
+                matrix.masked_band(&mut bands).unwrap();
+                let sum_error = masked[..m * row]
+                    .iter()
+                    .zip(&closed_part)
+                    .zip(&bands.band)
+                    .fold(0.0f64, |a, ((o, c), all)| a.max((o + c - all).abs()));
+                assert!(sum_error <= 1e-12 * largest, "{sum_error:e} of {largest:e}");
+                if closed.is_empty() {
+                    assert!(closed_part[..m * row].iter().all(|&b| b == 0.0));
+                }
+            }
+        }
+    }
 
     /// The unrolled substitutions of the preconditioner's width (5) give the general loop's bits, on
     /// a diagonally dominant random band (fixed seed), with all rows active and with a part.

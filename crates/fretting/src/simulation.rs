@@ -7,7 +7,7 @@ use crate::limit::{
     annulus_response, initial_profile, limit_contact_radius, limit_wear_volume, limiting_profile,
     stick_radius,
 };
-use crate::linearization::{BandPreconditioner, RosenbrockMatrix};
+use crate::linearization::{BandPreconditioner, MaskedBand, RosenbrockMatrix, CLOSED_REACH};
 use crate::{FrettingError, FrettingParams, TimeStepping};
 
 /// `c_N` of the normalized problem: with `q̃ = c̃_N (1 − g̃)`, Eq. 29 (Eq. 17 at `k = 0`) gives
@@ -177,7 +177,7 @@ struct StartRate {
 
 /// The name of the default adaptive scheme, which a checkpoint records (`fretting-wear`'s
 /// `adaptive_scheme`): a resume refuses a checkpoint of another scheme, whose steps it would not
-/// repeat bit for bit. `ros2-hole-projection-eta1e-3-band5x12-rate-plans`: ROS2 with the frozen contact stages, the
+/// repeat bit for bit. `ros2-hole-projection-eta1e-3-band5x12-rate-plans-masked`: ROS2 with the frozen contact stages, the
 /// outside-wear and opened-hole estimates, and the projection onto the closed set
 /// ([`FrettingSimulation::set_hole_projection`]) with the margin `η = 1e-3` (`HOLE_MARGIN`);
 /// checkpoints without the attribute were made by the scheme before the projection (the same
@@ -186,10 +186,12 @@ struct StartRate {
 /// `PROBE_COLOURS`: they change the stage solves' rounding, so the steps; `-eta1e-3` alone was the
 /// same scheme with width 3 and 7 colours), and the rate's stress transform on the contact nodes
 /// with the shorter plans (`-band5x12` alone was the same scheme with the whole grid's plan
-/// there: other rounding, so other steps). The name must change
+/// there: other rounding, so other steps), and the closed nodes' part taken out of the probed band
+/// ([`FrettingSimulation::set_masked_band`]; `-rate-plans` alone was the same scheme without it).
+/// The name must change
 /// whenever the path does: `HOLE_MARGIN`, the default
 /// switches (`hole_estimate`, `freeze_contact`, `first_order_fallback`, `hole_projection`,
-/// `recycled_second_stage` in `FrettingSimulation::with_state`) or how an attempt's error is
+/// `recycled_second_stage`, `masked_band_on` in `FrettingSimulation::with_state`) or how an attempt's error is
 /// formed. A library run with a non-default switch records nothing of it: it must be set again
 /// to resume on the same path.
 pub const ADAPTIVE_SCHEME: &str = if SLIDING_EDGE_DEFAULT {
@@ -199,24 +201,26 @@ pub const ADAPTIVE_SCHEME: &str = if SLIDING_EDGE_DEFAULT {
 };
 
 /// The default scheme's name without the sliding mode ([`ADAPTIVE_SCHEME`]).
-const MAIN_SCHEME: &str = "ros2-hole-projection-eta1e-3-band5x12-rate-plans";
+const MAIN_SCHEME: &str = "ros2-hole-projection-eta1e-3-band5x12-rate-plans-masked";
 
 /// The name of the adaptive scheme with the sliding mode of the contact edge's last node
 /// ([`FrettingSimulation::set_sliding_edge`]; not the default): what [`ADAPTIVE_SCHEME`] records
 /// when a build makes it the default, so that a checkpoint of either scheme is refused by the
 /// other.
 pub const SLIDING_EDGE_SCHEME: &str =
-    "ros2-hole-projection-eta1e-3-band5x12-rate-plans-sliding-edge";
+    "ros2-hole-projection-eta1e-3-band5x12-rate-plans-masked-sliding-edge";
 
 /// The name of the fixed-step ROS2 path ([`crate::TimeStepping::Fixed`]), which checkpoints
 /// record as `fixed_scheme` so that a fixed-step run is resumed only by a build whose stages round
-/// the same way: `ros2-fixed-rate-plans` is ROS2 at the step `dtau` with the rate's stress
+/// the same way: `ros2-fixed-rate-plans-masked` is ROS2 at the step `dtau` with the rate's stress
 /// transform on the contact nodes with the shorter plans (docs/performance.md, "The N = 8001 wear
-/// run: the masked band and the second core"); a checkpoint made before the name was recorded
+/// run: the masked band and the second core") and the closed nodes' part taken out of the
+/// preconditioner's band ([`FrettingSimulation::set_masked_band`]; `ros2-fixed-rate-plans` was
+/// the path without it); a checkpoint made before the name was recorded
 /// (the whole grid's plan there: other rounding) is refused. The name must change whenever the
 /// fixed-step path's rounding does. Explicit Euler, the reference path, records none (its bits have
 /// not changed).
-pub const FIXED_STEP_SCHEME: &str = "ros2-fixed-rate-plans";
+pub const FIXED_STEP_SCHEME: &str = "ros2-fixed-rate-plans-masked";
 
 /// `γ = 1 + 1/√2` of ROS2.
 const ROS2_GAMMA: f64 = 1.0 + std::f64::consts::FRAC_1_SQRT_2;
@@ -304,6 +308,12 @@ pub struct FrettingSimulation {
     krylov_iterations: u64,
     /// Band probes of the preconditioner so far (a diagnostic, not state).
     probes: u64,
+    /// The closed nodes' part of the preconditioner's band (built at the first linearization
+    /// with closed nodes).
+    masked_band: Option<MaskedBand>,
+    /// Whether the preconditioner's band takes out the closed nodes' part
+    /// ([`FrettingSimulation::set_masked_band`]).
+    masked_band_on: bool,
     /// `π_j = σ_j/(a² − ξ_j)^γ` on the edge cells ([`FrettingSimulation::edge_cell_rates`]).
     edge_shape: Vec<f64>,
     /// `p̄_j` of the edge cells.
@@ -508,6 +518,9 @@ impl FrettingSimulation {
             trial_edge_squared: 0.0,
             krylov_iterations: 0,
             probes: 0,
+            masked_band: None,
+            // Part of ADAPTIVE_SCHEME (see `hole_estimate`): rename it when a default changes.
+            masked_band_on: true,
             edge_shape: vec![0.0; n],
             edge_mean: vec![0.0; n],
             edge_cells: 0,
@@ -666,6 +679,23 @@ impl FrettingSimulation {
         self.gmres.keep_solution(on);
     }
 
+    /// The closed nodes (`g ≥ d` inside the contact) in the stages' band preconditioner (default
+    /// on): at a linearization with closed nodes its band is the probed band of `K` (every
+    /// contact node open, `RosenbrockMatrix::probe_band`) less the band of the closed nodes'
+    /// part `S_θ[−c̃_N 1[g ≥ d] ⊙ P[D ·]]` (`MaskedBand`, closed forms of the two transforms'
+    /// matrices, each closed node's column summed on the 64 rows above it), so that it is the band
+    /// of the stages' masked operator up to the probe's folding, the edge and that kernel's tail.
+    /// When the edge node `m − 1` itself is closed, its column is subtracted with the edge's
+    /// partial cell (`θ`) while the probe has it as an interior node (`θ = 1` at the bucket's
+    /// end): an approximation in that column. Off: the probed band of `K` alone (the path before). Measured at N = 8001 over three
+    /// starts: 25 373 → 21 542 GMRES iterations to τ = 30, −7.7 % CPU
+    /// (docs/performance.md, "The N = 8001 wear run: the exact masked band"). Part of the scheme
+    /// ([`ADAPTIVE_SCHEME`]): set before the first step; a library run with it off records nothing
+    /// of it.
+    pub fn set_masked_band(&mut self, on: bool) {
+        self.masked_band_on = on;
+    }
+
     /// The sliding mode of the contact edge's last node in the adaptive steps
     /// (docs/fretting-wear.md, "The sliding mode in the stages"). Near grazing the last contact
     /// node `s` wears itself open within a step (its rate switches on like `(a² − ξ_s)^γ`,
@@ -696,7 +726,7 @@ impl FrettingSimulation {
 
     /// The name of the adaptive scheme this run takes, for checkpoints: [`SLIDING_EDGE_SCHEME`]
     /// with the sliding mode on ([`FrettingSimulation::set_sliding_edge`]), else main's
-    /// `ros2-hole-projection-eta1e-3-band5x12-rate-plans` ([`ADAPTIVE_SCHEME`] when the default is off).
+    /// `ros2-hole-projection-eta1e-3-band5x12-rate-plans-masked` ([`ADAPTIVE_SCHEME`] when the default is off).
     pub fn adaptive_scheme(&self) -> &'static str {
         if self.sliding_edge {
             SLIDING_EDGE_SCHEME
@@ -1243,8 +1273,22 @@ impl FrettingSimulation {
                 p.probed_for = target;
                 self.probes += 1;
             }
-            self.matrix
-                .scale_band(p.width(), &p.stress_band, &mut p.band);
+            if self.masked_band_on && self.matrix.has_closed_nodes() {
+                // The probed band of `K` (every node open) less the band of the closed nodes'
+                // part: the band of the stages' masked operator up to the probe's folding, the
+                // edge and the closed part's tail (docs/performance.md, "The N = 8001 wear run:
+                // the exact masked band").
+                let (grid, k, width) = (&self.grid, self.params.k, p.width());
+                let bands = self
+                    .masked_band
+                    .get_or_insert_with(|| MaskedBand::new(grid, k, width, CLOSED_REACH));
+                self.matrix.closed_band(bands).map_err(MdrError::from)?;
+                bands.subtract_from(&p.stress_band, contact.edge);
+                self.matrix.scale_band(p.width(), &bands.band, &mut p.band);
+            } else {
+                self.matrix
+                    .scale_band(p.width(), &p.stress_band, &mut p.band);
+            }
             p.active = contact.edge;
         }
         self.slide_candidate = self.sliding_node(contact)?;
