@@ -8,7 +8,7 @@
 //!
 //! `cargo run --release -p halfspace-fretting --example step_trace -- N K CHI [TOL] [TAU_END] [CSV]`
 //! (switches by environment: `PERTURB=SEED`, `HOLE_ESTIMATE=off`, `FIRST_ORDER_FALLBACK=on`,
-//! `HOLE_PROJECTION=off`, `RECYCLED_STAGE2=on`, `PREFIX_RATE=on`, `MASKED_BAND=off`)
+//! `HOLE_PROJECTION=off`, `RECYCLED_STAGE2=on`, `PREFIX_RATE=off`, `MASKED_BAND=off`)
 
 use std::io::Write;
 use std::sync::{Arc, Mutex};
@@ -67,8 +67,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // `MASKED_BAND=off`: the preconditioner's band without the closed nodes' part taken out
     // (the path before).
     sim.set_masked_band(std::env::var("MASKED_BAND").map_or(true, |v| v != "off"));
-    // `PREFIX_RATE=on`: the rate's `g` on a prefix of the grid (experimental, off by default).
-    sim.set_prefix_rate(std::env::var("PREFIX_RATE").is_ok_and(|v| v == "on"));
+    // `PREFIX_RATE=off`: the rate's `g` on the whole grid (the prefix is the default).
+    sim.set_prefix_rate(!std::env::var("PREFIX_RATE").is_ok_and(|v| v == "off"));
     // `SLIDING=on|off`: the sliding mode of the contact edge's last node in the stages
     // (`FrettingSimulation::set_sliding_edge`; unset: the library's default).
     if let Ok(v) = std::env::var("SLIDING") {

@@ -370,10 +370,16 @@ fn adaptive_fft_and_mvm_agree() {
     }
 }
 
+/// k = ±0.5, χ = 0.9, N = 501 to τ = 1: the adaptive run against explicit Euler at half its
+/// stability bound (a/a0, f(a0) and the profile), from the unperturbed start and
+/// [`PERTURBED_STARTS`] perturbed ones (other step sequences, as other roundings give: docs/fretting-wear.md,
+/// "The grazing-phase stepping tests over perturbed step sequences"). f(a0) and the profile per
+/// start; a/a0 within 1.5 cells per start at k = 0.5 and as the median over the starts at
+/// k = −0.5, whose chattering edge (docs/fretting-wear.md, "The contact edge going back and
+/// forth") puts single sequences up to 1.6 cells off (measured: docs/performance.md, "The
+/// N = 8001 wear run: the prefix rate by default (issue 20)").
 #[test]
 fn adaptive_graded_runs_match_explicit_euler() {
-    // k = ±0.5, χ = 0.9, N = 501 to τ = 1: the adaptive run against explicit Euler at half its
-    // stability bound (a/a0, f(a0) and the profile).
     for k in [-0.5, 0.5] {
         let length = FrettingParams::default_length(0.9, k);
         let base = FrettingParams {
@@ -385,39 +391,51 @@ fn adaptive_graded_runs_match_explicit_euler() {
             snapshots: vec![0.3, 1.0],
             ..Default::default()
         };
-        let adaptive = run(base.clone());
         let euler = run(FrettingParams {
             stepping: TimeStepping::ExplicitEuler {
                 dtau: 0.5 * FrettingParams::default_step(501, length, k),
             },
-            ..base
+            ..base.clone()
         });
-        let (x, y) = (radius_and_depth(&adaptive), radius_and_depth(&euler));
-        let diff = max_abs_diff(&adaptive.state().profile, &euler.state().profile);
-        println!(
-            "k = {k}: {} adaptive steps vs {}; a {:?} vs {:?}; max |Δf| {diff:.1e}",
-            adaptive.state().step,
-            euler.state().step,
-            x,
-            y
-        );
-        // a/a0 within one cell (h/(2a); k = −0.5 at τ = 1: measured 2.4e-3, one cell 2.4e-3).
-        let cell = adaptive.grid().step() / (2.0 * x[1].0);
-        for (p, q) in x.iter().zip(&y) {
-            assert!(
-                (p.0 - q.0).abs() < 1.5 * cell,
-                "k = {k}: a {} vs {}",
-                p.0,
-                q.0
+        let y = radius_and_depth(&euler);
+        let mut radius_cells = [vec![], vec![]];
+        for seed in 0..=PERTURBED_STARTS {
+            let adaptive = run_from(&base, seed, |_| {});
+            let x = radius_and_depth(&adaptive);
+            let diff = max_abs_diff(&adaptive.state().profile, &euler.state().profile);
+            // One cell: h/(2a) (k = −0.5 at τ = 1: 2.4e-3).
+            let cell = adaptive.grid().step() / (2.0 * x[1].0);
+            println!(
+                "k = {k}, start {seed}: {} adaptive steps vs {}; a {:?} vs {:?}; max |Δf| {diff:.1e}",
+                adaptive.state().step,
+                euler.state().step,
+                x,
+                y
             );
-            assert!(
-                (p.1 - q.1).abs() < 5e-4,
-                "k = {k}: f(a0) {} vs {}",
-                p.1,
-                q.1
-            );
+            for (i, (p, q)) in x.iter().zip(&y).enumerate() {
+                radius_cells[i].push((p.0 - q.0).abs() / cell);
+                if k > 0.0 {
+                    assert!(
+                        (p.0 - q.0).abs() < 1.5 * cell,
+                        "k = {k}, start {seed}: a {} vs {}",
+                        p.0,
+                        q.0
+                    );
+                }
+                assert!(
+                    (p.1 - q.1).abs() < 5e-4,
+                    "k = {k}, start {seed}: f(a0) {} vs {}",
+                    p.1,
+                    q.1
+                );
+            }
+            assert!(diff < 5e-3, "k = {k}, start {seed}: {diff:e}");
         }
-        assert!(diff < 5e-3, "k = {k}: {diff:e}");
+        for cells in &mut radius_cells {
+            println!("k = {k}: |Δa| {cells:.2?} cells");
+            let m = median(cells);
+            assert!(m < 1.5, "k = {k}: median |Δa| {m} cells");
+        }
     }
 }
 
