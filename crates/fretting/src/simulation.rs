@@ -2475,10 +2475,10 @@ mod tests {
                 })
                 .collect();
             let cell = reference.grid.step() / (2.0 * reference.r_star);
-            for i in 0..2 {
+            for (i, middle) in reference_radii.iter().enumerate() {
                 let spread: Vec<f64> = references
                     .iter()
-                    .map(|r| (r.state.snapshots[i].contact_radius - reference_radii[i]) / cell)
+                    .map(|r| (r.state.snapshots[i].contact_radius - middle) / cell)
                     .collect();
                 eprintln!(
                     "k = {k}, τ = {}: tol-1e-6 radii about their median {spread:.2?} cells",
