@@ -723,6 +723,7 @@ fn cattaneo_mindlin_surface_layer_matches_the_closed_form_surface_stresses() {
 fn surface_paths_at(lp: &FrettingLoop, points: &[[f64; 2]], shifted: bool) -> Vec<f64> {
     let mut weights: Vec<Vec<(usize, f64)>> = Vec::new();
     use halfspace::sam::kernels::subsurface::{pressure_stress, shear_stress};
+    use halfspace::sam::kernels::InPlane;
     let grid = *lp.solver().problem().grid();
     let nu = lp.case().nu;
     let src = lp.cycle_sources().unwrap();
@@ -769,8 +770,8 @@ fn surface_paths_at(lp: &FrettingLoop, points: &[[f64; 2]], shifted: bool) -> Ve
             let (dx, dy) = (pt[0] - shift[0] - xc, pt[1] - shift[1] - yc);
             let k = [
                 pressure_stress(dx, dy, 0.0, grid.half1, grid.half2, nu),
-                shear_stress(0, dx, dy, 0.0, grid.half1, grid.half2, nu),
-                shear_stress(1, dx, dy, 0.0, grid.half1, grid.half2, nu),
+                shear_stress(InPlane::X1, dx, dy, 0.0, grid.half1, grid.half2, nu),
+                shear_stress(InPlane::X2, dx, dy, 0.0, grid.half1, grid.half2, nu),
             ];
             for (j, kj) in k.iter().enumerate() {
                 infl[c * 18 + j * 6..c * 18 + j * 6 + 6].copy_from_slice(kj);
@@ -1188,6 +1189,7 @@ fn surface_paths_of(
     points: &[[f64; 2]],
 ) -> Vec<f64> {
     use halfspace::sam::kernels::subsurface::{pressure_stress, shear_stress};
+    use halfspace::sam::kernels::InPlane;
     let n = grid.len();
     let inc = tractions.len() / (3 * n);
     let mut out = vec![0.0; points.len() * inc * 6];
@@ -1198,8 +1200,8 @@ fn surface_paths_of(
             let (dx, dy) = (pt[0] - xc, pt[1] - yc);
             let k = [
                 pressure_stress(dx, dy, 0.0, grid.half1, grid.half2, nu),
-                shear_stress(0, dx, dy, 0.0, grid.half1, grid.half2, nu),
-                shear_stress(1, dx, dy, 0.0, grid.half1, grid.half2, nu),
+                shear_stress(InPlane::X1, dx, dy, 0.0, grid.half1, grid.half2, nu),
+                shear_stress(InPlane::X2, dx, dy, 0.0, grid.half1, grid.half2, nu),
             ];
             for (j, kj) in k.iter().enumerate() {
                 infl[c * 18 + j * 6..c * 18 + j * 6 + 6].copy_from_slice(kj);

@@ -21,7 +21,7 @@ use crate::eim::InclusionSet;
 use crate::error::check_lengths;
 use crate::kernels::cuboid::strain_kernel;
 use crate::kernels::subsurface::{pressure_stress, shear_stress, unit_traction_stresses};
-use crate::kernels::{compliance, mul6, stiffness};
+use crate::kernels::{compliance, mul6, stiffness, InPlane};
 use crate::{SamError, SurfaceGrid};
 
 /// The stress field on `layers` layers of `N₁ × N₂` cells (index `k N₁N₂ + i N₂ + j`, layer `k`
@@ -1214,10 +1214,10 @@ pub fn stress_at_points(
                 }
                 if let Some([q1, q2]) = q {
                     if q1[c] != 0.0 {
-                        add(q1[c], shear_stress(0, dx, dy, pt[2], d1, d2, nu));
+                        add(q1[c], shear_stress(InPlane::X1, dx, dy, pt[2], d1, d2, nu));
                     }
                     if q2[c] != 0.0 {
-                        add(q2[c], shear_stress(1, dx, dy, pt[2], d1, d2, nu));
+                        add(q2[c], shear_stress(InPlane::X2, dx, dy, pt[2], d1, d2, nu));
                     }
                 }
             }

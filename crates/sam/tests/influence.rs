@@ -2,6 +2,7 @@
 //! kernels against their dense O(N⁴) control (docs/theory-sam.md#dc-fft).
 
 use halfspace_numerics::conv2d::{DcFft2d, DenseConvolution2d, GridOperator, KernelFn};
+use halfspace_sam::kernels::InPlane;
 use halfspace_sam::{Body, Compliance, SurfaceGrid};
 use proptest::prelude::*;
 
@@ -26,15 +27,16 @@ proptest! {
         prop_assert!((k - c.normal_from_pressure(&g, -x1, -x2)).abs() <= 1e-12 * scale);
         prop_assert!((k - c.normal_from_pressure(&g, x2, x1)).abs() <= 1e-12 * scale);
         prop_assert!(k > 0.0 && k <= scale * (1.0 + 1e-12));
-        let t = c.tangential(&g, 0, 0, 0.0, 0.0);
-        for (a, b) in [(0, 1), (1, 0), (0, 0), (1, 1)] {
+        let (i1, i2) = (InPlane::X1, InPlane::X2);
+        let t = c.tangential(&g, i1, i1, 0.0, 0.0);
+        for (a, b) in [(i1, i2), (i2, i1), (i1, i1), (i2, i2)] {
             let v = c.tangential(&g, a, b, x1, x2);
             prop_assert!((v - c.tangential(&g, b, a, x1, x2)).abs() <= 1e-12 * t);
             prop_assert!((v - c.tangential(&g, a, b, -x1, -x2)).abs() <= 1e-12 * t);
         }
         // T₁₁ at (x₁, x₂) equals T₂₂ at (x₂, x₁).
-        prop_assert!((c.tangential(&g, 0, 0, x1, x2) - c.tangential(&g, 1, 1, x2, x1)).abs() <= 1e-12 * t);
-        for alpha in 0..2 {
+        prop_assert!((c.tangential(&g, i1, i1, x1, x2) - c.tangential(&g, i2, i2, x2, x1)).abs() <= 1e-12 * t);
+        for alpha in InPlane::ALL {
             let u3_from_q = c.coupling * c.coupling_shape(&g, alpha, x1, x2);
             let ua_from_p = -c.coupling * c.coupling_shape(&g, alpha, -x1, -x2);
             prop_assert!((u3_from_q - ua_from_p).abs() <= 1e-12 * scale.max(u3_from_q.abs()));
@@ -63,23 +65,23 @@ fn dcfft_of_the_contact_kernels_matches_the_dense_control() {
     };
     let t11 = |m: i64, n: i64| {
         let (x, y) = at(m, n);
-        c.tangential(&g, 0, 0, x, y)
+        c.tangential(&g, InPlane::X1, InPlane::X1, x, y)
     };
     let t12 = |m: i64, n: i64| {
         let (x, y) = at(m, n);
-        c.tangential(&g, 0, 1, x, y)
+        c.tangential(&g, InPlane::X1, InPlane::X2, x, y)
     };
     let t22 = |m: i64, n: i64| {
         let (x, y) = at(m, n);
-        c.tangential(&g, 1, 1, x, y)
+        c.tangential(&g, InPlane::X2, InPlane::X2, x, y)
     };
     let cp1 = |m: i64, n: i64| {
         let (x, y) = at(m, n);
-        c.coupling * c.coupling_shape(&g, 0, x, y)
+        c.coupling * c.coupling_shape(&g, InPlane::X1, x, y)
     };
     let cp2 = |m: i64, n: i64| {
         let (x, y) = at(m, n);
-        c.coupling * c.coupling_shape(&g, 1, x, y)
+        c.coupling * c.coupling_shape(&g, InPlane::X2, x, y)
     };
     let cm1 = |m: i64, n: i64| -cp1(m, n);
     let cm2 = |m: i64, n: i64| -cp2(m, n);

@@ -9,7 +9,7 @@ use halfspace_sam::kernels::cuboid::{
 };
 use halfspace_sam::kernels::subsurface::{pressure_stress, shear_stress};
 use halfspace_sam::kernels::Direction::{self, X1, X2, X3};
-use halfspace_sam::kernels::{compliance, mul6, VOIGT};
+use halfspace_sam::kernels::{compliance, mul6, InPlane, VOIGT};
 
 const CUBE: [f64; 3] = [0.5, 0.5, 0.5];
 const NU: f64 = 0.3;
@@ -160,7 +160,7 @@ fn love_rectangle_stresses_match_spec_values() {
     for (g, w) in p.iter().zip(want) {
         assert!((g - w).abs() < 1.5e-6, "pressure: {p:?}");
     }
-    let q = shear_stress(0, 0.2, 0.1, 0.3, 1.0, 0.6, NU);
+    let q = shear_stress(InPlane::X1, 0.2, 0.1, 0.3, 1.0, 0.6, NU);
     let want = [
         -0.135863, -0.003191, -0.014226, -0.002810, -0.552864, -0.053219,
     ];
@@ -169,14 +169,14 @@ fn love_rectangle_stresses_match_spec_values() {
     }
     // Σ₃₃[q₁] = Σ₁₃[p]; the q₂ field is q₁'s with 1 ↔ 2 swapped.
     assert!((q[2] - p[4]).abs() < 1e-14);
-    let q2 = shear_stress(1, 0.1, 0.2, 0.3, 0.6, 1.0, NU);
+    let q2 = shear_stress(InPlane::X2, 0.1, 0.2, 0.3, 0.6, 1.0, NU);
     for (a, b) in [(0, 1), (1, 0), (2, 2), (3, 4), (4, 3), (5, 5)] {
         assert!((q2[a] - q[b]).abs() < 1e-14);
     }
     // Surface limits: σ₃₃ → −1 under a pressure, σ₁₃ → −1 under a shear.
     let z = 1e-7;
     assert!((pressure_stress(0.1, 0.05, z, 1.0, 0.6, NU)[2] + 1.0).abs() < 1e-6);
-    assert!((shear_stress(0, 0.1, 0.05, z, 1.0, 0.6, NU)[4] + 1.0).abs() < 1e-6);
+    assert!((shear_stress(InPlane::X1, 0.1, 0.05, z, 1.0, 0.6, NU)[4] + 1.0).abs() < 1e-6);
 }
 
 #[test]
@@ -186,7 +186,7 @@ fn love_stresses_satisfy_equilibrium() {
     let (d1, d2) = (0.5, 0.3);
     let field = |k: usize, x: [f64; 3]| match k {
         0 => pressure_stress(x[0], x[1], x[2], d1, d2, NU),
-        a => shear_stress(a - 1, x[0], x[1], x[2], d1, d2, NU),
+        a => shear_stress(InPlane::ALL[a - 1], x[0], x[1], x[2], d1, d2, NU),
     };
     // Voigt index of (i, j).
     let v = |i: usize, j: usize| {

@@ -5,6 +5,7 @@
 //! `σ₃₃ = −p`, `σ₁₃ = −q₁`, `σ₂₃ = −q₂`, and the layers below bit for bit those without it.
 
 use halfspace_sam::kernels::subsurface::{pressure_stress, shear_stress};
+use halfspace_sam::kernels::InPlane;
 use halfspace_sam::subsurface::SubsurfacePlan;
 use halfspace_sam::SurfaceGrid;
 
@@ -140,8 +141,8 @@ fn the_surface_layer_is_the_direct_sum_of_loves_stresses_at_z0_and_keeps_the_lay
             let (dx, dy) = (x - xs, y - ys);
             let k = [
                 pressure_stress(dx, dy, 0.0, d, d, NU),
-                shear_stress(0, dx, dy, 0.0, d, d, NU),
-                shear_stress(1, dx, dy, 0.0, d, d, NU),
+                shear_stress(InPlane::X1, dx, dy, 0.0, d, d, NU),
+                shear_stress(InPlane::X2, dx, dy, 0.0, d, d, NU),
             ];
             for o in 0..6 {
                 want[o] += p[s] * k[0][o] + q1[s] * k[1][o] + q2[s] * k[2][o];
@@ -269,7 +270,7 @@ fn subsets_of_levels_equal_the_box_and_the_deviation_bounds_bound_the_paths() {
                     );
                     let kernel = match c {
                         0 => pressure_stress(x1, x2, z, half, half, NU),
-                        _ => shear_stress(c - 1, x1, x2, z, half, half, NU),
+                        _ => shear_stress(InPlane::ALL[c - 1], x1, x2, z, half, half, NU),
                     };
                     let sign = stress_functionals(&kernel)[f].signum();
                     reference[c][k] + sign * amp[c][k]

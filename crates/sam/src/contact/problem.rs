@@ -6,6 +6,7 @@ use halfspace_numerics::fft2d::{Fft2d, KernelFn};
 use halfspace_numerics::op::{BlockConvolution, FftOperators, GridOperator, OperatorSet};
 
 use super::force_control::shift_for_force;
+use crate::kernels::InPlane;
 use crate::normal::{NormalInfo, NormalLoad, NormalParams, NormalSolver};
 use crate::tangential::{is_stick, TangentialInfo, TangentialParams, TangentialSolver};
 use crate::{Compliance, SamError, SurfaceGrid};
@@ -247,12 +248,18 @@ impl<S: OperatorSet> ContactProblem<S> {
         crate::memory::check_problem(&grid, frictional, coupled)?;
         let (d1, d2) = (2.0 * grid.half1, 2.0 * grid.half2);
         let kappa = compliance.coupling;
-        let shape = |alpha: usize, sign: f64| {
+        let shape = |alpha: InPlane, sign: f64| {
             move |m: i64, n: i64| {
                 sign * kappa * compliance.coupling_shape(&grid, alpha, m as f64 * d1, n as f64 * d2)
             }
         };
-        let (c1p, c2p, c1m, c2m) = (shape(0, 1.0), shape(1, 1.0), shape(0, -1.0), shape(1, -1.0));
+        let (x1, x2) = (InPlane::X1, InPlane::X2);
+        let (c1p, c2p, c1m, c2m) = (
+            shape(x1, 1.0),
+            shape(x2, 1.0),
+            shape(x1, -1.0),
+            shape(x2, -1.0),
+        );
         // One padded and one periodic core for every operator of the problem.
         let fft = Fft2d::new(grid.n1, grid.n2)?;
         let periodic = Fft2d::periodic(grid.n1, grid.n2)?;

@@ -29,6 +29,38 @@ pub enum Direction {
     X3 = 2,
 }
 
+/// An in-plane direction of the surface: the shear traction `q_α` and the tangential
+/// displacement `u_α` (`α = 1, 2`) of the surface kernels ([`surface::Compliance::tangential`],
+/// [`surface::Compliance::coupling_shape`], [`subsurface::shear_stress`]). A type rather than an
+/// index, so that no third value can be passed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum InPlane {
+    /// `x₁`.
+    X1 = 0,
+    /// `x₂`.
+    X2 = 1,
+}
+
+impl InPlane {
+    /// `x₁, x₂` in order (`ALL[α].index() == α`).
+    pub const ALL: [InPlane; 2] = [InPlane::X1, InPlane::X2];
+
+    /// The zero-based position (0, 1) of the direction in a 2-vector `(q₁, q₂)`.
+    #[inline]
+    pub const fn index(self) -> usize {
+        self as usize
+    }
+}
+
+impl From<InPlane> for Direction {
+    fn from(d: InPlane) -> Self {
+        match d {
+            InPlane::X1 => Direction::X1,
+            InPlane::X2 => Direction::X2,
+        }
+    }
+}
+
 impl Direction {
     /// `x₁, x₂, x₃` in order (`ALL[i].index() == i`).
     pub const ALL: [Direction; 3] = [Direction::X1, Direction::X2, Direction::X3];

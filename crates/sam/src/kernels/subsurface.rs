@@ -19,6 +19,8 @@
 
 use std::f64::consts::PI;
 
+use super::InPlane;
+
 /// `ρ + c` without cancellation (`c < 0`: `(ρ² − c²)/(ρ − c)`).
 #[inline]
 fn rho_plus(rho: f64, c: f64, rest2: f64) -> f64 {
@@ -92,14 +94,22 @@ pub fn unit_traction_stresses(key: i64, m: i64, n: i64, half: f64, nu: f64) -> [
     let (x1, x2, z) = (2.0 * d * m as f64, 2.0 * d * n as f64, d * key as f64);
     [
         pressure_stress(x1, x2, z, d, d, nu),
-        shear_stress(0, x1, x2, z, d, d, nu),
-        shear_stress(1, x1, x2, z, d, d, nu),
+        shear_stress(InPlane::X1, x1, x2, z, d, d, nu),
+        shear_stress(InPlane::X2, x1, x2, z, d, d, nu),
     ]
 }
 
-/// Stress per unit shear along `+x_{α+1}` (`alpha = 0` for `q₁`, `1` for `q₂`). Voigt order.
-pub fn shear_stress(alpha: usize, x1: f64, x2: f64, z: f64, d1: f64, d2: f64, nu: f64) -> [f64; 6] {
-    if alpha == 0 {
+/// Stress per unit shear along `+x_α` (`InPlane::X1` for `q₁`, `InPlane::X2` for `q₂`). Voigt order.
+pub fn shear_stress(
+    alpha: InPlane,
+    x1: f64,
+    x2: f64,
+    z: f64,
+    d1: f64,
+    d2: f64,
+    nu: f64,
+) -> [f64; 6] {
+    if alpha == InPlane::X1 {
         corner_sum6(|c1, c2| shear1_primitive(c1, c2, z, nu), x1, x2, d1, d2)
     } else {
         // Swap 1 ↔ 2: Σ^{q₂}_{ij}(c₁, c₂) = Σ^{q₁}_{σ(i)σ(j)}(c₂, c₁); Voigt (11,22,33,23,13,12) maps

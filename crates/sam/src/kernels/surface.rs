@@ -5,6 +5,7 @@
 
 use std::f64::consts::PI;
 
+use super::InPlane;
 use crate::error::positive;
 use crate::{SamError, SurfaceGrid};
 
@@ -223,19 +224,25 @@ impl Compliance {
 
     /// `⟦P_B^{(α)}⟧`: the shape of the coupling terms (`Δu₃ ∋ κ⟦P_B^{(α)}⟧ q_α`,
     /// `Δu_α ∋ −κ⟦P_B^{(α)}⟧ p`).
-    pub fn coupling_shape(&self, g: &SurfaceGrid, alpha: usize, x1: f64, x2: f64) -> f64 {
-        if alpha == 0 {
-            corner_sum(primitive_b, x1, x2, g.half1, g.half2)
-        } else {
-            corner_sum(|a, b| primitive_b(b, a), x1, x2, g.half1, g.half2)
+    pub fn coupling_shape(&self, g: &SurfaceGrid, alpha: InPlane, x1: f64, x2: f64) -> f64 {
+        match alpha {
+            InPlane::X1 => corner_sum(primitive_b, x1, x2, g.half1, g.half2),
+            InPlane::X2 => corner_sum(|a, b| primitive_b(b, a), x1, x2, g.half1, g.half2),
         }
     }
 
     /// `K^{q_β}_α`: relative tangential displacement `α` per unit shear `β` (symmetric).
-    pub fn tangential(&self, g: &SurfaceGrid, alpha: usize, beta: usize, x1: f64, x2: f64) -> f64 {
+    pub fn tangential(
+        &self,
+        g: &SurfaceGrid,
+        alpha: InPlane,
+        beta: InPlane,
+        x1: f64,
+        x2: f64,
+    ) -> f64 {
         let (d1, d2) = (g.half1, g.half2);
         match (alpha, beta) {
-            (0, 0) => corner_sum(
+            (InPlane::X1, InPlane::X1) => corner_sum(
                 |a, b| {
                     self.tangential_a1 * primitive_a1(a, b)
                         + self.tangential_a2 * primitive_a1(b, a)
@@ -245,7 +252,7 @@ impl Compliance {
                 d1,
                 d2,
             ),
-            (1, 1) => corner_sum(
+            (InPlane::X2, InPlane::X2) => corner_sum(
                 |a, b| {
                     self.tangential_a1 * primitive_a1(b, a)
                         + self.tangential_a2 * primitive_a1(a, b)
@@ -255,7 +262,9 @@ impl Compliance {
                 d1,
                 d2,
             ),
-            _ => -self.tangential_cross * corner_sum(|a, b| (a * a + b * b).sqrt(), x1, x2, d1, d2),
+            (InPlane::X1, InPlane::X2) | (InPlane::X2, InPlane::X1) => {
+                -self.tangential_cross * corner_sum(|a, b| (a * a + b * b).sqrt(), x1, x2, d1, d2)
+            }
         }
     }
 }
@@ -331,13 +340,25 @@ mod tests {
         let want = [
             (one.normal_from_pressure(&g, x1, x2), 0.43606728),
             (
-                -one.coupling * one.coupling_shape(&g, 0, x1, x2),
+                -one.coupling * one.coupling_shape(&g, InPlane::X1, x1, x2),
                 -0.11680032,
             ),
-            (one.tangential(&g, 0, 0, x1, x2), 0.60150760),
-            (one.tangential(&g, 1, 1, x1, x2), 0.45751292),
-            (one.tangential(&g, 1, 0, x1, x2), -0.03982511),
-            (one.coupling * one.coupling_shape(&g, 0, x1, x2), 0.11680032),
+            (
+                one.tangential(&g, InPlane::X1, InPlane::X1, x1, x2),
+                0.60150760,
+            ),
+            (
+                one.tangential(&g, InPlane::X2, InPlane::X2, x1, x2),
+                0.45751292,
+            ),
+            (
+                one.tangential(&g, InPlane::X2, InPlane::X1, x1, x2),
+                -0.03982511,
+            ),
+            (
+                one.coupling * one.coupling_shape(&g, InPlane::X1, x1, x2),
+                0.11680032,
+            ),
         ];
         for (k, (got, want)) in want.iter().enumerate() {
             assert!((got - want).abs() < 5e-8, "#{k}: {got} vs {want}");
@@ -359,9 +380,9 @@ mod tests {
         );
         let gmod = 2.0 / 2.5;
         let want = (2.0 - 0.25) * 4.0 * 0.5 * asinh1 / (2.0 * PI * gmod);
-        assert!((c.tangential(&g, 0, 0, 0.0, 0.0) - want).abs() < 1e-14);
-        assert_eq!(c.coupling_shape(&g, 0, 0.0, 0.0), 0.0);
-        assert_eq!(c.tangential(&g, 0, 1, 0.0, 0.0), 0.0);
+        assert!((c.tangential(&g, InPlane::X1, InPlane::X1, 0.0, 0.0) - want).abs() < 1e-14);
+        assert_eq!(c.coupling_shape(&g, InPlane::X1, 0.0, 0.0), 0.0);
+        assert_eq!(c.tangential(&g, InPlane::X1, InPlane::X2, 0.0, 0.0), 0.0);
         for (x1, x2) in [(1.0, 2.0), (-3.0, 1.0), (2.0, -5.0)] {
             // Even kernels: K(x) = K(−x); the coupling shape is odd in x_α.
             assert!(
@@ -369,10 +390,16 @@ mod tests {
                     < 1e-15
             );
             assert!(
-                (c.coupling_shape(&g, 0, x1, x2) + c.coupling_shape(&g, 0, -x1, x2)).abs() < 1e-14
+                (c.coupling_shape(&g, InPlane::X1, x1, x2)
+                    + c.coupling_shape(&g, InPlane::X1, -x1, x2))
+                .abs()
+                    < 1e-14
             );
             assert!(
-                (c.tangential(&g, 0, 1, x1, x2) - c.tangential(&g, 1, 0, x1, x2)).abs() < 1e-15
+                (c.tangential(&g, InPlane::X1, InPlane::X2, x1, x2)
+                    - c.tangential(&g, InPlane::X2, InPlane::X1, x1, x2))
+                .abs()
+                    < 1e-15
             );
         }
     }

@@ -27,6 +27,7 @@ use halfspace_numerics::op::{BlockConvolution, FftOperators, GridOperator, Opera
 
 mod active_set;
 
+use crate::kernels::InPlane;
 use crate::normal::passes::Chunks;
 use crate::{Compliance, SamError, SurfaceGrid};
 
@@ -216,10 +217,11 @@ impl<S: OperatorSet> TangentialSolver<S> {
     ) -> Result<Self, SamError> {
         crate::grid::check_cores(&grid, fft, periodic)?;
         let (d1, d2) = (2.0 * grid.half1, 2.0 * grid.half2);
-        let k = |a: usize, b: usize| {
+        let k = |a: InPlane, b: InPlane| {
             move |m: i64, n: i64| compliance.tangential(&grid, a, b, m as f64 * d1, n as f64 * d2)
         };
-        let (k11, k12, k21, k22) = (k(0, 0), k(0, 1), k(1, 0), k(1, 1));
+        let (x1, x2) = (InPlane::X1, InPlane::X2);
+        let (k11, k12, k21, k22) = (k(x1, x1), k(x1, x2), k(x2, x1), k(x2, x2));
         let kernels: [Option<KernelFn>; 4] = [Some(&k11), Some(&k12), Some(&k21), Some(&k22)];
         let op = S::Blocks::build(fft, 2, 2, &kernels)?;
         // L ≥ λ_max(T): the largest eigenvalue of the 2 × 2 symbol over the padded frequencies.
@@ -246,7 +248,7 @@ impl<S: OperatorSet> TangentialSolver<S> {
             op,
             periodic: periodic.clone(),
             lipschitz,
-            self_term: compliance.tangential(&grid, 0, 0, 0.0, 0.0),
+            self_term: compliance.tangential(&grid, InPlane::X1, InPlane::X1, 0.0, 0.0),
             s: z(),
             y: z(),
             q_old: z(),
