@@ -909,6 +909,57 @@ fn the_kept_block_preconditioner_inverts_the_blocks_and_survives_solves() {
     }
 }
 
+/// A solve interrupted by a panic in an operator application (the test hook
+/// `EimSystem::panic_at_next_application`) leaves a system that solves again: the kept
+/// preconditioner is put back (before, it was left out of the system and the next solve failed
+/// with a length error), and the next solves on both methods give the bits of an uninterrupted
+/// system's.
+#[test]
+fn a_solve_interrupted_by_a_panic_leaves_a_system_that_solves() {
+    let (grid, set) = small_sphere();
+    let applied: Vec<Vec<f64>> = (0..set.layers.len() * 6)
+        .map(|k| lcg(700 + k as u64, set.window.len()))
+        .collect();
+    let system = || {
+        let fields = EimFields::for_inclusions(grid, E, NU, &set).unwrap();
+        EimSystem::new(fields, set.clone(), E, NU).unwrap()
+    };
+    let (mut interrupted, mut control) = (system(), system());
+    let n = control.dim();
+    let x = lcg(710, n);
+    let mut before = vec![0.0; n];
+    control
+        .preconditioner()
+        .clone()
+        .apply(&x, &mut before)
+        .unwrap();
+    for method in [EimMethod::BlockJacobi, EimMethod::Gmres] {
+        let params = EimParams {
+            method,
+            tolerance: 1e-10,
+            ..EimParams::default()
+        };
+        interrupted.panic_at_next_application();
+        let mut eps = vec![0.0; n];
+        let caught = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            interrupted.solve(&applied, &mut eps, &params)
+        }));
+        assert!(caught.is_err(), "{method:?}: the hook did not panic");
+        let mut kept = vec![0.0; n];
+        interrupted
+            .preconditioner()
+            .clone()
+            .apply(&x, &mut kept)
+            .unwrap();
+        assert_eq!(bits(&kept), bits(&before), "{method:?}");
+        let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
+        let ia = interrupted.solve(&applied, &mut a, &params).unwrap();
+        let ib = control.solve(&applied, &mut b, &params).unwrap();
+        assert_eq!(ia.iterations, ib.iterations, "{method:?}");
+        assert_eq!(bits(&a), bits(&b), "{method:?}");
+    }
+}
+
 /// Plain block Jacobi (`EimParams::recycled_depth = 0`) on the work vectors the system keeps
 /// between solves is the iteration on vectors allocated per solve (`richardson_mixed` without a
 /// recycled state, the path before the system kept them) bit for bit: the first solve, and a

@@ -135,6 +135,9 @@ pub struct EimSystem {
     mixing: Option<RichardsonRecycle>,
     /// The plain block-Jacobi iteration's work vectors (recycled depth 0), kept between solves.
     jacobi: RichardsonWork,
+    /// Test hook ([`EimSystem::panic_at_next_application`]): the next operator application
+    /// panics.
+    panic_at_next_application: bool,
 }
 
 impl EimSystem {
@@ -202,6 +205,7 @@ impl EimSystem {
             gmres: None,
             mixing: None,
             jacobi: RichardsonWork::default(),
+            panic_at_next_application: false,
         })
     }
 
@@ -280,6 +284,13 @@ impl EimSystem {
         &self.pre
     }
 
+    /// Test hook: the next [`LinearOperator::apply`] panics (once), to check that a solve
+    /// interrupted by a panic leaves the system whole.
+    #[doc(hidden)]
+    pub fn panic_at_next_application(&mut self) {
+        self.panic_at_next_application = true;
+    }
+
     /// Sets the cells per task of the per-cell loops (the right-hand side, the restriction of
     /// [`LinearOperator::apply`], the block preconditioner; `CELLS_PER_TASK` (2048) by default,
     /// clamped to `[1, cells]`): every cell's arithmetic is the same on any split, so the results
@@ -338,9 +349,12 @@ impl EimSystem {
             restart,
         };
         // The kept preconditioner, out of the system while the system is the operator (moved,
-        // not copied: the empty stand-in allocates nothing).
+        // not copied: the empty stand-in allocates nothing). A panic inside the iteration is
+        // caught to put it and the right-hand side's buffer back before it resumes unwinding: a
+        // caller that catches the panic keeps a system that solves again (test
+        // `a_solve_interrupted_by_a_panic_leaves_a_system_that_solves`).
         let mut pre = std::mem::take(&mut self.pre);
-        let result = match method {
+        let caught = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| match method {
             EimMethod::Gmres => {
                 let mut gmres = match self.gmres.take() {
                     Some(g) if g.shape() == (n, restart.max(1)) => g,
@@ -374,9 +388,13 @@ impl EimSystem {
                     r
                 }
             }
-        };
+        }));
         self.rhs = b;
         self.pre = pre;
+        let result = match caught {
+            Ok(result) => result,
+            Err(payload) => std::panic::resume_unwind(payload),
+        };
         let info: KrylovInfo = result.map_err(|e| match e {
             NumericsError::NoConvergence {
                 solver,
@@ -459,6 +477,9 @@ impl LinearOperator for EimSystem {
 
     fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), NumericsError> {
         check_lengths(self.dim(), x, y)?;
+        if std::mem::take(&mut self.panic_at_next_application) {
+            panic!("EimSystem::panic_at_next_application");
+        }
         self.scatter_own(x);
         // The strain alone (bit for bit the full disturbance's): the iteration reads no
         // surface displacement.
