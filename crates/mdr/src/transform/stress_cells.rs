@@ -34,8 +34,11 @@ pub struct CellStressTransform {
     edge_powers: Vec<f64>,
     edge_theta: f64,
     edge_cells: usize,
+    /// `(n + θ)^γ − n^γ` at one of the two edges of
+    /// [`CellStressTransform::line_load_to_stress_at_two_edges`] (work array).
+    two_edge_powers: Vec<f64>,
     /// The binomial series' factors `(γ − m)/(m + 1)`, `m = 0..SERIES_TERMS`
-    /// ([`CellStressTransform::partial_cell_power`]), divided once here instead of per node.
+    /// ([`partial_cell_powers`]), divided once here instead of per node.
     series_factors: [f64; SERIES_TERMS],
 }
 
@@ -43,6 +46,77 @@ pub struct CellStressTransform {
 const SERIES_FROM: usize = 64;
 /// Terms of that series (`(θ/n)^10 ≤ 64^{−10}`: below one ulp).
 const SERIES_TERMS: usize = 10;
+
+/// `out[i] = P(from + i) = (n + θ)^γ − n^γ`, `n = from + i`, for `θ ∈ (0, 1]` (`powers[n] = n^γ`):
+/// `n^γ [(1 + θ/n)^γ − 1]` by its binomial series when `n ≥ 64` (ten terms, `θ/n ≤ 1/64`: below
+/// one ulp), `powf` closer to the edge. The term `m + 1` is the term `m` times
+/// `((γ − m)/(m + 1)) · (θ/n)`, the factor's quotient taken from `series_factors` (the same value
+/// as dividing here, one division a node instead of eleven). The series runs on SIMD lanes,
+/// several nodes side by side (the same operations on each node in the same order as one node at
+/// a time: the same bits).
+fn partial_cell_powers(
+    powers: &[f64],
+    series_factors: &[f64; SERIES_TERMS],
+    gamma: f64,
+    from: usize,
+    theta: f64,
+    out: &mut [f64],
+) {
+    let split = SERIES_FROM.clamp(from, from + out.len());
+    let (near, far) = out.split_at_mut(split - from);
+    for (i, o) in near.iter_mut().enumerate() {
+        let n = from + i;
+        *o = (n as f64 + theta).powf(gamma) - powers[n];
+    }
+    // The widest SIMD level of this CPU (pulp's runtime dispatch: AVX2 on x86-64-v3). Each lane
+    // takes the scalar operations in the scalar order (separate multiplies and adds, no fused
+    // multiply-add, IEEE division), so every level gives the same bits.
+    pulp::Arch::new().dispatch(SeriesLanes {
+        powers,
+        series_factors,
+        first: split,
+        theta,
+        out: far,
+    });
+}
+
+/// The series part of [`partial_cell_powers`]: `out[i] = P(first + i)`, the SIMD level's lanes
+/// side by side.
+struct SeriesLanes<'a> {
+    powers: &'a [f64],
+    series_factors: &'a [f64; SERIES_TERMS],
+    first: usize,
+    theta: f64,
+    out: &'a mut [f64],
+}
+
+impl pulp::WithSimd for SeriesLanes<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, simd: S) {
+        let lanes = std::mem::size_of::<S::f64s>() / std::mem::size_of::<f64>();
+        let theta = simd.splat_f64s(self.theta);
+        let factors = self.series_factors.map(|f| simd.splat_f64s(f));
+        let mut nodes = [0.0f64; 16];
+        for (c, chunk) in self.out.chunks_mut(lanes).enumerate() {
+            let first = self.first + c * lanes;
+            for (l, node) in nodes[..chunk.len()].iter_mut().enumerate() {
+                *node = (first + l) as f64;
+            }
+            // Lanes beyond the chunk divide by 1 (their values are not stored).
+            nodes[chunk.len()..lanes].fill(1.0);
+            let x = simd.div_f64s(theta, simd.partial_load_f64s(&nodes[..lanes]));
+            let (mut term, mut sum) = (simd.splat_f64s(1.0), simd.splat_f64s(0.0));
+            for factor in factors {
+                term = simd.mul_f64s(term, simd.mul_f64s(factor, x));
+                sum = simd.add_f64s(sum, term);
+            }
+            let n_gamma = simd.partial_load_f64s(&self.powers[first..first + chunk.len()]);
+            simd.partial_store_f64s(chunk, simd.mul_f64s(n_gamma, sum));
+        }
+    }
+}
 
 impl CellStressTransform {
     /// Builds the transform for contacts of up to `capacity` nodes.
@@ -57,6 +131,7 @@ impl CellStressTransform {
             reversed: vec![0.0; capacity],
             sums: vec![0.0; capacity],
             edge_powers: vec![0.0; capacity + 1],
+            two_edge_powers: vec![0.0; capacity + 1],
             edge_theta: f64::NAN,
             edge_cells: 0,
             series_factors: std::array::from_fn(|m| (gamma - m as f64) / (m as f64 + 1.0)),
@@ -72,24 +147,6 @@ impl CellStressTransform {
     /// Largest contact accepted (nodes `0..M`).
     pub fn capacity(&self) -> usize {
         self.conv.capacity()
-    }
-
-    /// `(n + θ)^γ − n^γ` for `θ ∈ (0, 1]`: `n^γ [(1 + θ/n)^γ − 1]` by its binomial series when
-    /// `n ≥ 64` (ten terms, `θ/n ≤ 1/64`: below one ulp), `powf` closer to the edge. The term
-    /// `m + 1` is the term `m` times `((γ − m)/(m + 1)) · (θ/n)`, the factor's quotient taken
-    /// from [`CellStressTransform::series_factors`] (the same value as dividing here: the same
-    /// bits, one division a node instead of eleven).
-    fn partial_cell_power(&self, n: usize, theta: f64) -> f64 {
-        if n < SERIES_FROM {
-            return (n as f64 + theta).powf(self.gamma) - self.powers[n];
-        }
-        let x = theta / n as f64;
-        let (mut term, mut sum) = (1.0, 0.0);
-        for factor in &self.series_factors {
-            term *= factor * x;
-            sum += term;
-        }
-        self.powers[n] * sum
     }
 
     /// `σ` on the contact nodes `0..M` (`M = q.len() ≥ 2`) from `q` on the same nodes and the edge
@@ -112,9 +169,15 @@ impl CellStressTransform {
             self.edge_theta = theta;
             self.edge_cells = 0;
         }
-        for n in self.edge_cells..=cells {
-            let power = self.partial_cell_power(n, theta);
-            self.edge_powers[n] = power;
+        if self.edge_cells <= cells {
+            partial_cell_powers(
+                &self.powers,
+                &self.series_factors,
+                self.gamma,
+                self.edge_cells,
+                theta,
+                &mut self.edge_powers[self.edge_cells..=cells],
+            );
         }
         self.edge_cells = self.edge_cells.max(cells + 1);
         self.stress_from_sums(scale, edge_slope, |n| self.edge_powers[n], sigma);
@@ -140,12 +203,17 @@ impl CellStressTransform {
         let scale = h.powf(self.gamma - 1.0) / (std::f64::consts::PI * self.gamma);
         for (theta, sigma) in [(thetas.0, sigmas.0), (thetas.1, sigmas.1)] {
             let edge_slope = q[cells] / theta;
-            self.stress_from_sums(
-                scale,
-                edge_slope,
-                |n| self.partial_cell_power(n, theta),
-                sigma,
+            let mut powers = std::mem::take(&mut self.two_edge_powers);
+            partial_cell_powers(
+                &self.powers,
+                &self.series_factors,
+                self.gamma,
+                0,
+                theta,
+                &mut powers[..=cells],
             );
+            self.stress_from_sums(scale, edge_slope, |n| powers[n], sigma);
+            self.two_edge_powers = powers;
         }
         Ok(())
     }
@@ -215,5 +283,72 @@ impl CellStressTransform {
         self.conv
             .apply(&self.reversed[..cells], &mut self.sums[..cells])?;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One node at a time: the series as it was summed before the lanes (the control).
+    fn partial_cell_power(
+        powers: &[f64],
+        factors: &[f64],
+        gamma: f64,
+        n: usize,
+        theta: f64,
+    ) -> f64 {
+        if n < SERIES_FROM {
+            return (n as f64 + theta).powf(gamma) - powers[n];
+        }
+        let x = theta / n as f64;
+        let (mut term, mut sum) = (1.0, 0.0);
+        for factor in factors {
+            term *= factor * x;
+            sum += term;
+        }
+        powers[n] * sum
+    }
+
+    /// [`partial_cell_powers`] over lanes against the node-at-a-time control bit for bit, for
+    /// γ of k = −0.5, 0, 0.3 and seeded θ ∈ (0, 1] (and θ = 1), on ranges that start below,
+    /// at and beyond `SERIES_FROM` and end inside a chunk of lanes; and against `powf` directly
+    /// to 4e-16 relative (the series' truncation below one ulp).
+    #[test]
+    fn lanes_give_the_node_at_a_time_series_bit_for_bit() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut uniform = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for k in [-0.5, 0.0, 0.3] {
+            let gamma = 0.5 * (1.0 + k);
+            let powers: Vec<f64> = (0..=700).map(|m| (m as f64).powf(gamma)).collect();
+            let factors: [f64; SERIES_TERMS] =
+                std::array::from_fn(|m| (gamma - m as f64) / (m as f64 + 1.0));
+            for theta in [1.0, 1.0 - uniform(), 1.0 - uniform(), 1e-3] {
+                for (from, to) in [(0, 700), (5, 64), (63, 66), (64, 71), (64, 64), (100, 683)] {
+                    let mut out = vec![f64::NAN; to - from + 1];
+                    partial_cell_powers(&powers, &factors, gamma, from, theta, &mut out);
+                    for (i, v) in out.iter().enumerate() {
+                        let n = from + i;
+                        let control = partial_cell_power(&powers, &factors, gamma, n, theta);
+                        assert_eq!(
+                            v.to_bits(),
+                            control.to_bits(),
+                            "k = {k}, θ = {theta}, n = {n}"
+                        );
+                        let exact = (n as f64 + theta).powf(gamma) - powers[n];
+                        let scale = powers[n].max(1.0);
+                        assert!(
+                            (v - exact).abs() <= 4e-16 * scale,
+                            "k = {k}, θ = {theta}, n = {n}"
+                        );
+                    }
+                }
+            }
+        }
     }
 }
