@@ -282,15 +282,7 @@ mod tests {
             (8001, 0.5),
             (8001, 0.75),
         ] {
-            let mut seed = 7u64 + n as u64;
-            let a: Vec<f64> = (0..n)
-                .map(|_| {
-                    seed = seed
-                        .wrapping_mul(6364136223846793005)
-                        .wrapping_add(1442695040888963407);
-                    (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-                })
-                .collect();
+            let a = crate::testkit::lcg(7 + n as u64, n);
             let mut ps = PowerSum::new(n, gamma, Backend::Fft).unwrap();
             ps.plan_shorter_lengths();
             for m in [n, n / 3] {
