@@ -719,7 +719,7 @@ impl FrettingSimulation {
     /// in `f64`. On, plans the `f32` twins of the Jacobian's transforms here (the stages then
     /// switch precision without allocating). Measured (docs/performance.md, "The N = 8001 wear
     /// run: single-precision stage products (issue 20)"): one product 1.24–1.32× faster, the
-    /// graded run −7 % CPU at about the same steps (N = 8001 not at the 5 s target); other step
+    /// graded run −6 … −9 % CPU at about the same steps (N = 8001 not at the 5 s target); other step
     /// sequences, within the scatter of `f64` runs from perturbed starts, but on by default the
     /// tol-1e-6 reference of `recycled_second_stage_stays_within_the_error_bound_over_perturbed_starts`
     /// moved its touching radius at τ = 1 (k = −0.5) by about half a cell and the test failed:

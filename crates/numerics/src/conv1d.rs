@@ -427,10 +427,13 @@ impl ToeplitzConvolution {
 
     /// Padded FFT length used for an input of length `m ≤ capacity` (`None` for the MVM backend).
     pub fn padded_length_for(&self, m: usize) -> Option<usize> {
-        self.shapes()
-            .into_iter()
-            .find(|&(capacity, _)| capacity >= m)
-            .map(|(_, len)| len)
+        match &self.engine {
+            Engine::Fft(plans) => plans
+                .iter()
+                .find(|plan| plan.capacity >= m)
+                .map(|plan| plan.len),
+            Engine::Mvm => None,
+        }
     }
 
     /// Adds FFT plans for shorter inputs (no effect with the MVM backend): for `c = ⌊(4/5)^l n⌋ ≥ 256`
