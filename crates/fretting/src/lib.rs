@@ -22,5 +22,6 @@ pub use error::FrettingError;
 pub use params::{FrettingParams, TimeStepping};
 pub use simulation::{
     AttemptObserver, ContactRadii, FrettingSimulation, FrettingState, Snapshot, StepAttempt,
-    ADAPTIVE_SCHEME, FIXED_STEP_SCHEME, GAP_TOLERANCE, LOAD_THRESHOLD, SLIDING_EDGE_SCHEME,
+    ADAPTIVE_SCHEME, FIXED_STEP_SCHEME, GAP_TOLERANCE, LOAD_THRESHOLD, SINGLE_PRECISION_FROM,
+    SLIDING_EDGE_SCHEME,
 };

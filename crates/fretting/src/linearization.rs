@@ -22,7 +22,8 @@
 use halfspace_mdr::{CellStressTransform, Material, MdrError, ProfileTransform};
 use halfspace_numerics::linop::LinearOperator;
 use halfspace_numerics::{
-    diff::derivative_uniform, pow_or_sqrt, Backend, NumericsError, SquaredGrid, ToeplitzConvolution,
+    diff::derivative_uniform, pow_or_sqrt, Backend, NumericsError, Precision, SquaredGrid,
+    ToeplitzConvolution,
 };
 
 /// `W = I − β J` (`β = γ Δτ`) at a frozen contact state, as a [`LinearOperator`] on all `N` nodes.
@@ -142,6 +143,15 @@ impl RosenbrockMatrix {
         }
         self.contact_nodes = contact_nodes;
         self.theta = theta;
+        Ok(())
+    }
+
+    /// The precision of the product's FFT transforms (profile and stress; `Double` by default):
+    /// `Single` evaluates `W x` with `f32` transforms, for GMRES on the stages
+    /// (docs/performance.md, "The N = 8001 wear run: single-precision stage products (issue 20)").
+    pub(crate) fn set_precision(&mut self, precision: Precision) -> Result<(), MdrError> {
+        self.profile_tf.set_precision(precision)?;
+        self.stress_tf.set_precision(precision);
         Ok(())
     }
 

@@ -14,7 +14,7 @@
 
 use std::sync::Arc;
 
-use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
+use realfft::{ComplexToReal, FftNum, RealFftPlanner, RealToComplex};
 use rustfft::num_complex::Complex;
 
 use crate::NumericsError;
@@ -35,6 +35,44 @@ impl Backend {
             Backend::Fft => "fft",
             Backend::Mvm => "mvm",
         }
+    }
+}
+
+/// The floating-point type the FFT backend's transforms run in. Inputs and outputs are `f64`
+/// either way (converted where the samples are copied into and out of the transform buffers).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Precision {
+    /// `f64` transforms: the sum to `O(ε₆₄ log P)` of `‖x‖ ‖b‖` (the reference).
+    Double,
+    /// `f32` transforms on a kernel spectrum computed in `f64` and rounded once: the sum to
+    /// `O(ε₃₂ log P)` of `‖x‖ ‖b‖` (`ε₃₂ = 2^{−24}`), for products that feed an iteration solved
+    /// to a much looser tolerance (docs/performance.md, "The N = 8001 wear run: single-precision
+    /// stage products (issue 20)").
+    Single,
+}
+
+/// The sample type of a plan's transforms (`f64` or `f32`), with the conversions at the
+/// boundary of [`ToeplitzConvolution::apply`].
+trait Sample: FftNum {
+    fn of(v: f64) -> Self;
+    fn to_f64(self) -> f64;
+}
+
+impl Sample for f64 {
+    fn of(v: f64) -> Self {
+        v
+    }
+    fn to_f64(self) -> f64 {
+        self
+    }
+}
+
+impl Sample for f32 {
+    fn of(v: f64) -> Self {
+        v as f32
+    }
+    fn to_f64(self) -> f64 {
+        f64::from(self)
     }
 }
 
@@ -76,32 +114,33 @@ pub fn plan_length(min: usize) -> usize {
     }
 }
 
-struct FftPlan {
+struct FftPlan<T: Sample> {
     /// Longest input (the kernel entries it holds).
     capacity: usize,
     /// The padded length `P`.
     len: usize,
-    /// FFT(b) / P: the normalization of the inverse transform is folded in.
-    spectrum: Vec<Complex<f64>>,
-    transforms: Transforms,
+    /// FFT(b) / P: the normalization of the inverse transform is folded in (computed in `f64`,
+    /// rounded to `T`).
+    spectrum: Vec<Complex<T>>,
+    transforms: Transforms<T>,
 }
 
 /// How a plan evaluates its real FFTs of length `P`.
-enum Transforms {
+enum Transforms<T: Sample> {
     /// One transform of length `P` each way, with its buffers.
-    Whole(WholeFft),
+    Whole(WholeFft<T>),
     /// Split in halves (padded lengths from [`SPLIT_FROM`], multiples of 4): no length-`P`
     /// transforms or buffers kept.
-    Split(SplitFft),
+    Split(SplitFft<T>),
 }
 
 /// The length-`P` real FFTs of a plan that does not split, and their buffers.
-struct WholeFft {
-    forward: Arc<dyn RealToComplex<f64>>,
-    inverse: Arc<dyn ComplexToReal<f64>>,
-    time: Vec<f64>,
-    freq: Vec<Complex<f64>>,
-    scratch: Vec<Complex<f64>>,
+struct WholeFft<T: Sample> {
+    forward: Arc<dyn RealToComplex<T>>,
+    inverse: Arc<dyn ComplexToReal<T>>,
+    time: Vec<T>,
+    freq: Vec<Complex<T>>,
+    scratch: Vec<Complex<T>>,
 }
 
 /// The real FFTs of length `P = 2M` (`M` even) of a plan as two of length `M`, one on the even
@@ -118,45 +157,45 @@ struct WholeFft {
 /// they run on two threads of the pool (`rayon::join`) when called on a worker of a pool of two or
 /// more (docs/performance.md, "Two threads in the MDR wear run"); the arithmetic is the same on
 /// one thread, so the result is the same bit for bit on any number of threads.
-struct SplitFft {
+struct SplitFft<T: Sample> {
     /// `M = P/2`.
     half: usize,
-    forward: Arc<dyn RealToComplex<f64>>,
-    inverse: Arc<dyn ComplexToReal<f64>>,
-    /// `w^k`, `k = 0..=M/2`.
-    twiddles: Vec<Complex<f64>>,
+    forward: Arc<dyn RealToComplex<T>>,
+    inverse: Arc<dyn ComplexToReal<T>>,
+    /// `w^k`, `k = 0..=M/2` (computed in `f64`, rounded to `T`).
+    twiddles: Vec<Complex<T>>,
     /// The even samples' lane and the odd samples'.
-    lanes: [SplitLane; 2],
+    lanes: [SplitLane<T>; 2],
 }
 
 /// One half of a `SplitFft`: its samples, their spectrum and the scratch of its transforms.
-struct SplitLane {
-    time: Vec<f64>,
-    freq: Vec<Complex<f64>>,
-    scratch: Vec<Complex<f64>>,
+struct SplitLane<T: Sample> {
+    time: Vec<T>,
+    freq: Vec<Complex<T>>,
+    scratch: Vec<Complex<T>>,
 }
 
-impl SplitFft {
-    fn new(p: usize, planner: &mut RealFftPlanner<f64>) -> Self {
+impl<T: Sample> SplitFft<T> {
+    fn new(p: usize, planner: &mut RealFftPlanner<T>) -> Self {
         debug_assert!(p % 4 == 0);
         let half = p / 2;
         let forward = planner.plan_fft_forward(half);
         let inverse = planner.plan_fft_inverse(half);
         let scratch_len = forward.get_scratch_len().max(inverse.get_scratch_len());
         let lane = || SplitLane {
-            time: vec![0.0; half],
+            time: vec![T::zero(); half],
             freq: forward.make_output_vec(),
-            scratch: vec![Complex::new(0.0, 0.0); scratch_len],
+            scratch: vec![Complex::new(T::zero(), T::zero()); scratch_len],
         };
         let lanes = [lane(), lane()];
         let twiddles = (0..=half / 2)
             .map(|k| {
                 if 4 * k == p {
                     // w^{P/4} = −i exactly.
-                    Complex::new(0.0, -1.0)
+                    Complex::new(T::zero(), -T::one())
                 } else {
                     let angle = -2.0 * std::f64::consts::PI * k as f64 / p as f64;
-                    Complex::new(angle.cos(), angle.sin())
+                    Complex::new(T::of(angle.cos()), T::of(angle.sin()))
                 }
             })
             .collect();
@@ -171,7 +210,7 @@ impl SplitFft {
 
     /// `y = IDFT_P(DFT_P(x, zero-padded) ⊙ spectrum)[..m]` (`spectrum` the `P/2 + 1` bins of a
     /// real signal's transform, the normalization folded in), `m = x.len() = y.len()`.
-    fn convolve(&mut self, spectrum: &[Complex<f64>], x: &[f64], y: &mut [f64]) {
+    fn convolve(&mut self, spectrum: &[Complex<T>], x: &[f64], y: &mut [f64]) {
         let half = self.half;
         let [even, odd] = &mut self.lanes;
         let (forward, inverse) = (&self.forward, &self.inverse);
@@ -200,44 +239,44 @@ impl SplitFft {
         // inverse transforms accept them.
         for lane in [&mut *even, &mut *odd] {
             let last = lane.freq.len() - 1;
-            lane.freq[0].im = 0.0;
-            lane.freq[last].im = 0.0;
+            lane.freq[0].im = T::zero();
+            lane.freq[last].im = T::zero();
         }
         join_if_on_pool(|| even.inverse(inverse), || odd.inverse(inverse));
         let m = y.len();
         debug_assert!(m <= 2 * half);
         let mut pairs = y.chunks_exact_mut(2);
         for ((pair, e), o) in (&mut pairs).zip(&even.time).zip(&odd.time) {
-            pair[0] = *e;
-            pair[1] = *o;
+            pair[0] = e.to_f64();
+            pair[1] = o.to_f64();
         }
         if let [last] = pairs.into_remainder() {
-            *last = even.time[m / 2];
+            *last = even.time[m / 2].to_f64();
         }
     }
 }
 
-impl SplitLane {
+impl<T: Sample> SplitLane<T> {
     /// The spectrum of the samples `x_{2j + parity}` (zero beyond `x`).
-    fn forward(&mut self, plan: &Arc<dyn RealToComplex<f64>>, x: &[f64], parity: usize) {
+    fn forward(&mut self, plan: &Arc<dyn RealToComplex<T>>, x: &[f64], parity: usize) {
         // x_{2j + parity}, j < ⌈(m − parity)/2⌉.
         let filled = (x.len() + 1 - parity) / 2;
         let mut pairs = x.chunks_exact(2);
         for (t, pair) in self.time.iter_mut().zip(&mut pairs) {
-            *t = pair[parity];
+            *t = T::of(pair[parity]);
         }
         if let [last] = pairs.remainder() {
             if parity == 0 {
-                self.time[x.len() / 2] = *last;
+                self.time[x.len() / 2] = T::of(*last);
             }
         }
-        self.time[filled..].fill(0.0);
+        self.time[filled..].fill(T::zero());
         plan.process_with_scratch(&mut self.time, &mut self.freq, &mut self.scratch)
             .expect("buffer lengths come from the plan");
     }
 
     /// The samples of the spectrum `freq` (unnormalized inverse), into `time`.
-    fn inverse(&mut self, plan: &Arc<dyn ComplexToReal<f64>>) {
+    fn inverse(&mut self, plan: &Arc<dyn ComplexToReal<T>>) {
         plan.process_with_scratch(&mut self.freq, &mut self.time, &mut self.scratch)
             .expect("buffer lengths come from the plan");
     }
@@ -257,7 +296,7 @@ fn join_if_on_pool(a: impl FnOnce() + Send, b: impl FnOnce() + Send) {
 
 enum Engine {
     /// The plans by increasing length; the last one takes the whole capacity.
-    Fft(Vec<FftPlan>),
+    Fft(Vec<FftPlan<f64>>),
     Mvm,
 }
 
@@ -270,6 +309,11 @@ const SHORTEST_RUNG: usize = 256;
 pub struct ToeplitzConvolution {
     kernel: Vec<f64>,
     engine: Engine,
+    /// The FFT plans' twins with `f32` transforms (the same lengths), once
+    /// [`ToeplitzConvolution::set_precision`] asked for them.
+    single: Option<Vec<FftPlan<f32>>>,
+    /// The precision [`ToeplitzConvolution::apply`] takes.
+    precision: Precision,
 }
 
 impl ToeplitzConvolution {
@@ -296,7 +340,12 @@ impl ToeplitzConvolution {
                 Engine::Fft(vec![FftPlan::new(&kernel, p)])
             }
         };
-        Ok(Self { kernel, engine })
+        Ok(Self {
+            kernel,
+            engine,
+            single: None,
+            precision: Precision::Double,
+        })
     }
 
     /// The operator of [`ToeplitzConvolution::new`] with the FFT backend zero-padded to the given
@@ -316,6 +365,7 @@ impl ToeplitzConvolution {
             });
         }
         op.engine = Engine::Fft(vec![FftPlan::new(&op.kernel, p)]);
+        op.single = None;
         Ok(op)
     }
 
@@ -334,6 +384,39 @@ impl ToeplitzConvolution {
         match self.engine {
             Engine::Fft(_) => Backend::Fft,
             Engine::Mvm => Backend::Mvm,
+        }
+    }
+
+    /// The precision [`ToeplitzConvolution::apply`] takes (`Double` unless set).
+    pub fn precision(&self) -> Precision {
+        self.precision
+    }
+
+    /// Selects the precision of the FFT backend's transforms for the following applications (no
+    /// effect with the MVM backend). The first request for [`Precision::Single`] plans twins of
+    /// the FFT plans (the same padded lengths and capacities, the ladder of
+    /// [`ToeplitzConvolution::plan_shorter_lengths`] included, split from [`SPLIT_FROM`] alike)
+    /// with `f32` transforms on the `f64` kernel spectrum rounded once; later switches allocate
+    /// nothing. [`Precision::Double`] is the operator of `new`, bit for bit. Single precision
+    /// evaluates the same sum to `O(ε₃₂ log P) ‖x‖₂ ‖b‖₂` in the worst case (`ε₃₂ = 2^{−24}`;
+    /// Higham 2002, "Accuracy and Stability of Numerical Algorithms", chapter 24): about `10⁻⁷` of
+    /// the outputs' largest for the kernels of the MDR transforms (docs/performance.md, "The
+    /// N = 8001 wear run: single-precision stage products (issue 20)").
+    pub fn set_precision(&mut self, precision: Precision) {
+        if matches!(self.engine, Engine::Mvm) {
+            return;
+        }
+        if precision == Precision::Single && self.single.is_none() {
+            self.single = Some(build_plans(&self.kernel, &self.shapes()));
+        }
+        self.precision = precision;
+    }
+
+    /// `(capacity, P)` of the FFT plans, by increasing length (empty for the MVM backend).
+    fn shapes(&self) -> Vec<(usize, usize)> {
+        match &self.engine {
+            Engine::Fft(plans) => plans.iter().map(|p| (p.capacity, p.len)).collect(),
+            Engine::Mvm => Vec::new(),
         }
     }
 
@@ -360,17 +443,15 @@ impl ToeplitzConvolution {
     /// shortest plan with `c_l ≥ m`: the same sum, in `O(m log m)`; the result differs from the
     /// full-length plan's by rounding only. For callers whose inputs are much shorter than the
     /// capacity (the implicit wear steps' Jacobian on the contact nodes, docs/fretting-wear.md,
-    /// "Time integration").
+    /// "Time integration"). The rungs take the plans' precision.
     pub fn plan_shorter_lengths(&mut self) {
-        let Engine::Fft(plans) = &mut self.engine else {
-            return;
-        };
-        if plans.len() > 1 {
+        let shapes = self.shapes();
+        if shapes.len() != 1 {
             return;
         }
         let mut rungs = Vec::new();
         let mut c = self.kernel.len();
-        let mut longest = plans[0].len;
+        let mut longest = shapes[0].1;
         loop {
             c = c * 4 / 5;
             if c < SHORTEST_RUNG {
@@ -380,13 +461,19 @@ impl ToeplitzConvolution {
             if p < longest {
                 // The plan holds every input its padding allows: c = ⌈P/2⌉.
                 let capacity = p.div_ceil(2).min(self.kernel.len());
-                rungs.push(FftPlan::new(&self.kernel[..capacity], p));
+                rungs.push((capacity, p));
                 longest = p;
             }
         }
         rungs.reverse();
-        rungs.append(plans);
-        *plans = rungs;
+        if let Engine::Fft(plans) = &mut self.engine {
+            let mut longer = std::mem::take(plans);
+            *plans = build_plans(&self.kernel, &rungs);
+            plans.append(&mut longer);
+        }
+        if self.single.is_some() {
+            self.single = Some(build_plans(&self.kernel, &self.shapes()));
+        }
     }
 
     /// `y_i = Σ_{j=0}^{i} x_j b_{i−j}`, `i = 0..m−1`, with `m = x.len() = y.len() ≤ capacity`.
@@ -408,51 +495,71 @@ impl ToeplitzConvolution {
         }
         match &mut self.engine {
             Engine::Mvm => toeplitz_lower_mvm(&self.kernel, x, y),
-            Engine::Fft(plans) => plans
-                .iter_mut()
-                .find(|plan| plan.capacity >= m)
-                .expect("the last plan takes the whole capacity")
-                .apply(x, y),
+            Engine::Fft(plans) => match (&mut self.single, self.precision) {
+                (Some(single), Precision::Single) => shortest_fitting(single, m).apply(x, y),
+                _ => shortest_fitting(plans, m).apply(x, y),
+            },
         }
         Ok(())
     }
 }
 
-impl FftPlan {
+/// The plans of the given `(capacity, P)` for the kernel (each holds `b_0 … b_{capacity−1}`).
+fn build_plans<T: Sample>(kernel: &[f64], shapes: &[(usize, usize)]) -> Vec<FftPlan<T>> {
+    shapes
+        .iter()
+        .map(|&(capacity, p)| FftPlan::new(&kernel[..capacity], p))
+        .collect()
+}
+
+/// The shortest plan that takes an input of length `m`.
+fn shortest_fitting<T: Sample>(plans: &mut [FftPlan<T>], m: usize) -> &mut FftPlan<T> {
+    plans
+        .iter_mut()
+        .find(|plan| plan.capacity >= m)
+        .expect("the last plan takes the whole capacity")
+}
+
+impl<T: Sample> FftPlan<T> {
     /// The plan of length `p ≥ 2 kernel.len() − 1` for inputs up to `kernel.len()`. The kernel's
-    /// spectrum comes from one length-`p` transform, planned here and dropped when the plan
-    /// splits.
+    /// spectrum comes from one length-`p` transform in `f64` (rounded to `T` once), planned here
+    /// and dropped; the plan's own transforms are planned in `T`.
     fn new(kernel: &[f64], p: usize) -> Self {
         let n = kernel.len();
         debug_assert!(p + 1 >= 2 * n);
-        let mut planner = RealFftPlanner::<f64>::new();
-        let forward = planner.plan_fft_forward(p);
-        let mut time = vec![0.0; p];
-        time[..n].copy_from_slice(kernel);
-        let mut spectrum = forward.make_output_vec();
+        let spectrum = {
+            let forward = RealFftPlanner::<f64>::new().plan_fft_forward(p);
+            let mut time = vec![0.0; p];
+            time[..n].copy_from_slice(kernel);
+            let mut spectrum = forward.make_output_vec();
+            let mut scratch = vec![Complex::new(0.0, 0.0); forward.get_scratch_len()];
+            forward
+                .process_with_scratch(&mut time, &mut spectrum, &mut scratch)
+                .expect("buffer lengths come from the plan");
+            let scale = 1.0 / p as f64;
+            spectrum
+                .iter()
+                .map(|s| {
+                    let s = *s * scale;
+                    Complex::new(T::of(s.re), T::of(s.im))
+                })
+                .collect()
+        };
+        let mut planner = RealFftPlanner::<T>::new();
         let split = p >= SPLIT_FROM && p % 4 == 0;
-        let inverse = (!split).then(|| planner.plan_fft_inverse(p));
-        let scratch_len = inverse
-            .as_ref()
-            .map_or(0, |inverse| inverse.get_scratch_len())
-            .max(forward.get_scratch_len());
-        let mut scratch = vec![Complex::new(0.0, 0.0); scratch_len];
-        forward
-            .process_with_scratch(&mut time, &mut spectrum, &mut scratch)
-            .expect("buffer lengths come from the plan");
-        let scale = 1.0 / p as f64;
-        for s in &mut spectrum {
-            *s *= scale;
-        }
-        let transforms = match inverse {
-            None => Transforms::Split(SplitFft::new(p, &mut planner)),
-            Some(inverse) => Transforms::Whole(WholeFft {
+        let transforms = if split {
+            Transforms::Split(SplitFft::new(p, &mut planner))
+        } else {
+            let forward = planner.plan_fft_forward(p);
+            let inverse = planner.plan_fft_inverse(p);
+            let scratch_len = inverse.get_scratch_len().max(forward.get_scratch_len());
+            Transforms::Whole(WholeFft {
                 freq: forward.make_output_vec(),
+                time: vec![T::zero(); p],
+                scratch: vec![Complex::new(T::zero(), T::zero()); scratch_len],
                 forward,
                 inverse,
-                time,
-                scratch,
-            }),
+            })
         };
         Self {
             capacity: n,
@@ -470,29 +577,33 @@ impl FftPlan {
     }
 }
 
-impl WholeFft {
+impl<T: Sample> WholeFft<T> {
     /// `y = IDFT_P(DFT_P(x, zero-padded) ⊙ spectrum)[..m]`, `m = x.len() = y.len()`.
-    fn convolve(&mut self, spectrum: &[Complex<f64>], x: &[f64], y: &mut [f64]) {
+    fn convolve(&mut self, spectrum: &[Complex<T>], x: &[f64], y: &mut [f64]) {
         let m = x.len();
-        self.time[..m].copy_from_slice(x);
-        self.time[m..].fill(0.0);
+        for (t, v) in self.time.iter_mut().zip(x) {
+            *t = T::of(*v);
+        }
+        self.time[m..].fill(T::zero());
         self.forward
             .process_with_scratch(&mut self.time, &mut self.freq, &mut self.scratch)
             .expect("buffer lengths come from the plan");
         for (f, s) in self.freq.iter_mut().zip(spectrum) {
-            *f *= *s;
+            *f = *f * *s;
         }
         // The spectrum of a real signal has real DC (and Nyquist) bins; clear the rounding noise
         // there so the inverse transform accepts it.
-        self.freq[0].im = 0.0;
+        self.freq[0].im = T::zero();
         if self.time.len() % 2 == 0 {
             let last = self.freq.len() - 1;
-            self.freq[last].im = 0.0;
+            self.freq[last].im = T::zero();
         }
         self.inverse
             .process_with_scratch(&mut self.freq, &mut self.time, &mut self.scratch)
             .expect("buffer lengths come from the plan");
-        y.copy_from_slice(&self.time[..m]);
+        for (v, t) in y.iter_mut().zip(&self.time) {
+            *v = t.to_f64();
+        }
     }
 }
 
@@ -644,50 +755,160 @@ mod tests {
         let want = naive(&b, &x);
         let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1.0);
         let (b, x) = (&b, &x);
-        // `Some(t)`: inside a pool of `t` threads; `Some(0)`: from a spawned thread through the
-        // global pool; `None`: on this thread, no pool involved.
-        let run = |threads: Option<usize>| -> Vec<Vec<f64>> {
-            let mut op = ToeplitzConvolution::new(b.clone(), Backend::Fft).unwrap();
-            op.plan_shorter_lengths();
-            let mut go = move || {
-                [n, n - 1, 5001, 4800, 4097, 3000, 700]
-                    .iter()
-                    .map(|&m| {
-                        let mut y = vec![0.0; m];
-                        op.apply(&x[..m], &mut y).unwrap();
-                        y
-                    })
-                    .collect::<Vec<_>>()
-            };
-            match threads {
-                None => go(),
-                Some(0) => std::thread::scope(|s| {
-                    s.spawn(|| crate::parallel::on_pool_with_partner(go))
-                        .join()
+        for precision in [Precision::Double, Precision::Single] {
+            // `Some(t)`: inside a pool of `t` threads; `Some(0)`: from a spawned thread through the
+            // global pool; `None`: on this thread, no pool involved.
+            let run = |threads: Option<usize>| -> Vec<Vec<f64>> {
+                let mut op = ToeplitzConvolution::new(b.clone(), Backend::Fft).unwrap();
+                op.plan_shorter_lengths();
+                op.set_precision(precision);
+                let mut go = move || {
+                    [n, n - 1, 5001, 4800, 4097, 3000, 700]
+                        .iter()
+                        .map(|&m| {
+                            let mut y = vec![0.0; m];
+                            op.apply(&x[..m], &mut y).unwrap();
+                            y
+                        })
+                        .collect::<Vec<_>>()
+                };
+                match threads {
+                    None => go(),
+                    Some(0) => std::thread::scope(|s| {
+                        s.spawn(|| crate::parallel::on_pool_with_partner(go))
+                            .join()
+                            .unwrap()
+                    }),
+                    Some(t) => rayon::ThreadPoolBuilder::new()
+                        .num_threads(t)
+                        .build()
                         .unwrap()
-                }),
-                Some(t) => rayon::ThreadPoolBuilder::new()
-                    .num_threads(t)
-                    .build()
-                    .unwrap()
-                    .install(|| crate::parallel::on_pool_with_partner(go)),
+                        .install(|| crate::parallel::on_pool_with_partner(go)),
+                }
+            };
+            let one = run(Some(1));
+            // Single precision: the bound of `single_precision_matches_double_and_the_naive_sum`
+            // taken entrywise (‖·‖∞ ≤ ‖·‖₂).
+            let bound = match precision {
+                Precision::Double => 1e-13 * scale * (n as f64).sqrt(),
+                Precision::Single => single_bound(&b[..], &x[..], 2 * n),
+            };
+            for y in &one {
+                for (i, (a, w)) in y.iter().zip(&want).enumerate() {
+                    assert!(
+                        (a - w).abs() <= bound,
+                        "{precision:?}, m = {}, i = {i}: {a} vs {w}",
+                        y.len()
+                    );
+                }
             }
-        };
-        let one = run(Some(1));
-        for y in &one {
-            for (i, (a, w)) in y.iter().zip(&want).enumerate() {
-                assert!(
-                    (a - w).abs() <= 1e-13 * scale * (n as f64).sqrt(),
-                    "m = {}, i = {i}: {a} vs {w}",
-                    y.len()
-                );
+            for other in [run(Some(2)), run(Some(0)), run(None)] {
+                for (a, c) in one.iter().zip(&other) {
+                    assert!(a.iter().zip(c).all(|(u, v)| u.to_bits() == v.to_bits()));
+                }
             }
         }
-        for other in [run(Some(2)), run(Some(0)), run(None)] {
-            for (a, c) in one.iter().zip(&other) {
-                assert!(a.iter().zip(c).all(|(u, v)| u.to_bits() == v.to_bits()));
+    }
+
+    /// `ε₃₂ log₂ P ‖x‖₂ ‖b‖₁`, `ε₃₂ = 2^{−24}`: the normwise bound of an FFT convolution in single
+    /// precision, `‖ŷ − y‖₂ ≲ c ε log₂ P ‖x‖₂ ‖b‖₁` (the transforms' error `O(ε log₂ P)` of
+    /// `‖X‖₂ = √P ‖x‖₂`, Higham 2002, "Accuracy and Stability of Numerical Algorithms", Theorem 24.2;
+    /// the spectrum `|B_k| ≤ ‖b‖₁`; the inverse divides by `√P`), with `c = 1`.
+    fn single_bound(b: &[f64], x: &[f64], p: usize) -> f64 {
+        let x2 = x.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let b1 = b.iter().map(|v| v.abs()).sum::<f64>();
+        f64::from(f32::EPSILON) * 0.5 * (p as f64).log2() * x2 * b1
+    }
+
+    /// Single-precision plans ([`ToeplitzConvolution::set_precision`]) against the `f64` plans
+    /// and the naive sum (fixed seeds, `N = 121 … 8001`, the ladder of shorter plans and the split
+    /// lengths included): within [`single_bound`] in the 2-norm (measured: at most 0.042 of it;
+    /// relative to `‖y‖₂` at most 2.1e-7), and not the `f64` result
+    /// (the `f32` path is taken: the difference is above `f64` rounding). Switching back to
+    /// `Double` gives the `f64` plans' bits.
+    #[test]
+    fn single_precision_matches_double_and_the_naive_sum() {
+        let mut worst_ratio = 0.0f64;
+        let mut worst_relative = 0.0f64;
+        for (seed, n) in [
+            (41u64, 121usize),
+            (42, 1000),
+            (43, 2001),
+            (44, 4097),
+            (45, 8001),
+        ] {
+            let x = lcg(seed + 100, n);
+            // A seeded kernel and the two kernels of the MDR transforms (γ = 1/2): the cells'
+            // weights (m + 1)^γ − m^γ and the power sum's increments m^γ − (m − 1)^γ.
+            let kernels = [
+                lcg(seed, n),
+                (0..n)
+                    .map(|m| ((m + 1) as f64).sqrt() - (m as f64).sqrt())
+                    .collect::<Vec<_>>(),
+                (0..n)
+                    .map(|m| {
+                        if m == 0 {
+                            0.0
+                        } else {
+                            (m as f64).sqrt() - ((m - 1) as f64).sqrt()
+                        }
+                    })
+                    .collect(),
+            ];
+            for b in kernels {
+                let want = naive(&b, &x);
+                let mut double = ToeplitzConvolution::new(b.clone(), Backend::Fft).unwrap();
+                double.plan_shorter_lengths();
+                let mut single = ToeplitzConvolution::new(b.clone(), Backend::Fft).unwrap();
+                single.plan_shorter_lengths();
+                single.set_precision(Precision::Single);
+                assert_eq!(single.precision(), Precision::Single);
+                for m in [n, n / 2 + 1, (n / 5).max(1)] {
+                    let (mut y64, mut y32) = (vec![0.0; m], vec![0.0; m]);
+                    double.apply(&x[..m], &mut y64).unwrap();
+                    single.apply(&x[..m], &mut y32).unwrap();
+                    let p = single.padded_length_for(m).unwrap();
+                    let bound = single_bound(&b[..m], &x[..m], p);
+                    let norm = |v: &[f64]| v.iter().map(|a| a * a).sum::<f64>().sqrt();
+                    let diff = |u: &[f64], v: &[f64]| {
+                        u.iter()
+                            .zip(v)
+                            .map(|(a, c)| (a - c) * (a - c))
+                            .sum::<f64>()
+                            .sqrt()
+                    };
+                    let to_naive = diff(&y32, &want[..m]);
+                    let to_double = diff(&y32, &y64);
+                    assert!(
+                        to_naive <= bound,
+                        "n = {n}, m = {m}: {to_naive:e} > {bound:e}"
+                    );
+                    assert!(
+                        to_double <= bound,
+                        "n = {n}, m = {m}: {to_double:e} > {bound:e}"
+                    );
+                    assert!(
+                        to_double > 1e-12 * norm(&y64),
+                        "n = {n}, m = {m}: the f32 plans were not used"
+                    );
+                    worst_ratio = worst_ratio.max(to_naive / bound);
+                    worst_relative = worst_relative.max(to_naive / norm(&want[..m]));
+                }
+                single.set_precision(Precision::Double);
+                let (mut y64, mut back) = (vec![0.0; n], vec![0.0; n]);
+                double.apply(&x, &mut y64).unwrap();
+                single.apply(&x, &mut back).unwrap();
+                assert!(y64
+                    .iter()
+                    .zip(&back)
+                    .all(|(a, c)| a.to_bits() == c.to_bits()));
             }
         }
+        eprintln!("f32 plans: ‖y − naive‖₂ at most {worst_ratio:.3} of the bound, {worst_relative:.2e} of ‖y‖₂");
+        // The MVM backend has no f32 path.
+        let mut mvm = ToeplitzConvolution::new(vec![1.0; 4], Backend::Mvm).unwrap();
+        mvm.set_precision(Precision::Single);
+        assert_eq!(mvm.precision(), Precision::Double);
     }
 
     #[test]

@@ -43,7 +43,7 @@ pub mod quad;
 pub mod special;
 pub mod testkit;
 
-pub use conv1d::{Backend, ToeplitzConvolution};
+pub use conv1d::{Backend, Precision, ToeplitzConvolution};
 pub use error::NumericsError;
 pub use grid::SquaredGrid;
 pub use power_sum::PowerSum;

@@ -7,13 +7,18 @@
 //! * Anti-causal sum (Eqs. 17, 29): `A_j[c] = ½ c_{M−1} (M−1−j)^γ + Σ_{i=j+1}^{M−2} c_i (i−j)^γ`
 //!   for `c_0 … c_{M−1}`: reverse, convolve causally, reverse.
 
-use crate::{Backend, NumericsError, ToeplitzConvolution};
+use crate::{Backend, NumericsError, Precision, ToeplitzConvolution};
 
 /// Causal and anti-causal trapezoid sums with the kernel `m^γ` (docs/theory-mdr.md#power-sums), for inputs of any
 /// length up to the capacity. Owns its scratch; applying does not allocate.
 pub struct PowerSum {
     gamma: f64,
     conv: ToeplitzConvolution,
+    /// The convolution with the increments `e_m = m^γ − (m−1)^γ` (`e_0 = 0`) in `f32`
+    /// ([`PowerSum::causal_increments`]), once [`Precision::Single`] was asked for.
+    increments: Option<ToeplitzConvolution>,
+    /// The precision of [`PowerSum::causal_increments`].
+    precision: Precision,
     weighted: Vec<f64>,
     reversed_out: Vec<f64>,
 }
@@ -32,6 +37,8 @@ impl PowerSum {
         Ok(Self {
             gamma,
             conv: ToeplitzConvolution::new(kernel, backend)?,
+            increments: None,
+            precision: Precision::Double,
             weighted: vec![0.0; capacity],
             reversed_out: vec![0.0; capacity],
         })
@@ -41,6 +48,71 @@ impl PowerSum {
     /// ([`ToeplitzConvolution::plan_shorter_lengths`]; the same sums to rounding).
     pub fn plan_shorter_lengths(&mut self) {
         self.conv.plan_shorter_lengths();
+        if let Some(increments) = &mut self.increments {
+            increments.plan_shorter_lengths();
+        }
+    }
+
+    /// The precision of [`PowerSum::causal_increments`] (no effect with the MVM backend).
+    /// [`Precision::Single`] convolves with the increments `e_m = m^γ − (m−1)^γ` directly, by
+    /// `f32` transforms ([`ToeplitzConvolution::set_precision`], planned on the first request,
+    /// with the ladder of shorter plans if the sums have one; later switches allocate nothing):
+    /// the error is `O(ε₃₂ log P)` of the increments' own scale (the kernel decays like
+    /// `m^{γ−1}`), where differencing sums `S` computed in `f32` would lose a factor of order `M`
+    /// to cancellation (`S_i` grows like `i^{γ+1}`; docs/performance.md, "The N = 8001 wear run:
+    /// single-precision stage products (issue 20)"). [`PowerSum::causal`] and
+    /// [`PowerSum::anticausal`] stay in `f64`.
+    pub fn set_precision(&mut self, precision: Precision) -> Result<(), NumericsError> {
+        if self.conv.backend() == Backend::Mvm {
+            return Ok(());
+        }
+        if precision == Precision::Single && self.increments.is_none() {
+            let b = self.conv.kernel();
+            let kernel = (0..b.len())
+                .map(|m| if m == 0 { 0.0 } else { b[m] - b[m - 1] })
+                .collect();
+            let mut conv = ToeplitzConvolution::new(kernel, Backend::Fft)?;
+            if self.conv.padded_length_for(1) != self.conv.padded_length() {
+                conv.plan_shorter_lengths();
+            }
+            conv.set_precision(Precision::Single);
+            self.increments = Some(conv);
+        }
+        self.precision = precision;
+        Ok(())
+    }
+
+    /// The precision of [`PowerSum::causal_increments`].
+    pub fn precision(&self) -> Precision {
+        self.precision
+    }
+
+    /// The increments of the causal sum, `E_i = S_i[a] − S_{i−1}[a]` (`E_0 = S_0 = 0`), as one
+    /// convolution `E_i = Σ_{j=0}^{i} ã_j e_{i−j}` with `e_m = m^γ − (m−1)^γ`, `e_0 = b_0 = 0`
+    /// (docs/theory-mdr.md#power-sums: `S_i − S_{i−1} = Σ_j ã_j (b_{i−j} − b_{i−1−j})`, the term
+    /// `j = i` of `S_{i−1}` absent). With [`Precision::Single`] from `f32` transforms; with
+    /// [`Precision::Double`] the differences of [`PowerSum::causal`] (the reference).
+    pub fn causal_increments(&mut self, a: &[f64], out: &mut [f64]) -> Result<(), NumericsError> {
+        let m = self.check(a.len(), out.len())?;
+        if m == 0 {
+            return Ok(());
+        }
+        match (&mut self.increments, self.precision) {
+            (Some(conv), Precision::Single) => {
+                let w = &mut self.weighted[..m];
+                w.copy_from_slice(a);
+                w[0] *= 0.5;
+                conv.apply(w, out)?;
+            }
+            _ => {
+                self.causal(a, out)?;
+                for i in (1..m).rev() {
+                    out[i] -= out[i - 1];
+                }
+            }
+        }
+        out[0] = 0.0;
+        Ok(())
     }
 
     /// The exponent `γ`.
@@ -180,6 +252,63 @@ mod tests {
                 assert!((s[48] - 0.5 * a[49]).abs() < 1e-14 * scale);
             }
         }
+    }
+
+    /// The causal sum's increments `E_i = S_i − S_{i−1}`: in `f64` (the differences of
+    /// `causal`) against the literal sums' differences to rounding, and in `f32` (one convolution
+    /// with `m^γ − (m−1)^γ`) against the `f64` ones within `5e-6` of their largest — the `f32`
+    /// transforms' `O(ε₃₂ log₂ P)` (measured at most 2.5e-7 up to `N = 8001`; differencing the sums
+    /// themselves in `f32` loses a factor of order `N`: 1e-3 at `N = 8001`) — with the ladder of
+    /// shorter plans. The MVM backend stays in `f64`.
+    #[test]
+    fn causal_increments_in_both_precisions() {
+        let a: Vec<f64> = (0..60).map(|i| (0.3 * i as f64).cos() + 1.5).collect();
+        for gamma in [0.5, 0.25, 0.75] {
+            let mut ps = PowerSum::new(80, gamma, Backend::Fft).unwrap();
+            let mut e = vec![0.0; a.len()];
+            ps.causal_increments(&a, &mut e).unwrap();
+            let s = causal_literal(&a, gamma);
+            let scale = s.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            assert_eq!(e[0], 0.0);
+            for i in 1..a.len() {
+                assert!((e[i] - (s[i] - s[i - 1])).abs() < 1e-14 * scale);
+            }
+        }
+        let mut worst = 0.0f64;
+        for (n, gamma) in [
+            (121usize, 0.5),
+            (2001, 0.5),
+            (2001, 0.25),
+            (8001, 0.5),
+            (8001, 0.75),
+        ] {
+            let a = crate::testkit::lcg(7 + n as u64, n);
+            let mut ps = PowerSum::new(n, gamma, Backend::Fft).unwrap();
+            ps.plan_shorter_lengths();
+            for m in [n, n / 3] {
+                let (mut e64, mut e32) = (vec![0.0; m], vec![0.0; m]);
+                ps.set_precision(Precision::Double).unwrap();
+                ps.causal_increments(&a[..m], &mut e64).unwrap();
+                ps.set_precision(Precision::Single).unwrap();
+                assert_eq!(ps.precision(), Precision::Single);
+                ps.causal_increments(&a[..m], &mut e32).unwrap();
+                let scale = e64.iter().fold(0.0f64, |w, v| w.max(v.abs()));
+                let error = e64
+                    .iter()
+                    .zip(&e32)
+                    .fold(0.0f64, |w, (u, v)| w.max((u - v).abs()));
+                assert!(
+                    error <= 5e-6 * scale,
+                    "n = {n}, γ = {gamma}: {error:e} of {scale:e}"
+                );
+                assert!(error > 1e-13 * scale, "the f32 plans were not used");
+                worst = worst.max(error / scale);
+            }
+        }
+        eprintln!("f32 increments: at most {worst:.2e} of the largest");
+        let mut mvm = PowerSum::new(10, 0.5, Backend::Mvm).unwrap();
+        mvm.set_precision(Precision::Single).unwrap();
+        assert_eq!(mvm.precision(), Precision::Double);
     }
 
     #[test]

@@ -1,4 +1,6 @@
-use halfspace_numerics::{diff::derivative_uniform, pow_or_sqrt, Backend, PowerSum, SquaredGrid};
+use halfspace_numerics::{
+    diff::derivative_uniform, pow_or_sqrt, Backend, PowerSum, Precision, SquaredGrid,
+};
 
 use super::{check_fits, check_len};
 use crate::{Material, MdrError, Profile};
@@ -44,6 +46,19 @@ impl ProfileTransform {
         self.sum.plan_shorter_lengths();
     }
 
+    /// The precision of [`ProfileTransform::apply`]: with [`Precision::Single`] the derivative
+    /// `D[Ĝ]` of Eq. 7 comes from the increments `Ĝ_i − Ĝ_{i−1}` convolved directly in `f32`
+    /// (`halfspace_numerics::PowerSum::causal_increments`): the same differences
+    /// (docs/theory-mdr.md#finite-differences) written in increments, `D_i = (E_{i+1} + E_i)/(2h)`,
+    /// `D_{n−1} = (3E_{n−1} − E_{n−2})/(2h)`, `D_0 = (3E_1 − E_2)/(2h)` (`Ĝ_0 = 0`), to about
+    /// `10⁻⁶` of `g` instead of the `f64` sum's rounding. For products inside an iteration
+    /// solved to a looser tolerance (docs/performance.md, "The N = 8001 wear run:
+    /// single-precision stage products (issue 20)"). No effect with the MVM backend.
+    pub fn set_precision(&mut self, precision: Precision) -> Result<(), MdrError> {
+        self.sum.set_precision(precision)?;
+        Ok(())
+    }
+
     /// Largest grid accepted.
     pub fn capacity(&self) -> usize {
         self.sum.capacity()
@@ -62,11 +77,23 @@ impl ProfileTransform {
         check_len("equivalent profile g", n, g.len())?;
         let h = grid.step();
         let big_g = &mut self.big_g[..n];
-        self.sum.causal(f_hat_slope, big_g)?;
         let scale = h.powf(0.5 * (3.0 + self.k));
-        big_g.iter_mut().for_each(|v| *v *= scale);
         let dg = &mut self.dg[..n];
-        derivative_uniform(big_g, h, dg)?;
+        if self.sum.precision() == Precision::Single && n >= 3 {
+            // E_i = Ĝ_i − Ĝ_{i−1} (see `set_precision`).
+            self.sum.causal_increments(f_hat_slope, big_g)?;
+            big_g.iter_mut().for_each(|v| *v *= scale);
+            let inv2h = 0.5 / h;
+            dg[0] = (3.0 * big_g[1] - big_g[2]) * inv2h;
+            for i in 1..n - 1 {
+                dg[i] = (big_g[i + 1] + big_g[i]) * inv2h;
+            }
+            dg[n - 1] = (3.0 * big_g[n - 1] - big_g[n - 2]) * inv2h;
+        } else {
+            self.sum.causal(f_hat_slope, big_g)?;
+            big_g.iter_mut().for_each(|v| *v *= scale);
+            derivative_uniform(big_g, h, dg)?;
+        }
         let factor = 2.0 / (1.0 + self.k) * pow_or_sqrt(h, 0.5 * (1.0 - self.k));
         for ((gi, di), wi) in g.iter_mut().zip(dg.iter()).zip(&self.index_power) {
             *gi = factor * wi * di;

@@ -1,4 +1,4 @@
-use halfspace_numerics::{Backend, SquaredGrid, ToeplitzConvolution};
+use halfspace_numerics::{Backend, Precision, SquaredGrid, ToeplitzConvolution};
 
 use super::{check_fits, check_len};
 use crate::{Material, MdrError};
@@ -142,6 +142,14 @@ impl CellStressTransform {
     /// to rounding; `halfspace_numerics::ToeplitzConvolution::plan_shorter_lengths`).
     pub fn plan_shorter_lengths(&mut self) {
         self.conv.plan_shorter_lengths();
+    }
+
+    /// The precision of the cells' convolution
+    /// (`halfspace_numerics::ToeplitzConvolution::set_precision`; for products inside an
+    /// iteration solved to a looser tolerance, docs/performance.md, "The N = 8001 wear run:
+    /// single-precision stage products (issue 20)").
+    pub fn set_precision(&mut self, precision: Precision) {
+        self.conv.set_precision(precision);
     }
 
     /// Largest contact accepted (nodes `0..M`).
