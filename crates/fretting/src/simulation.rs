@@ -2908,10 +2908,7 @@ mod tests {
                 snapshots: vec![],
                 ..FrettingParams::default()
             };
-            let mut sim = FrettingSimulation::new(params).unwrap();
-            sim.run(|_| false).unwrap();
-            let contact = sim.contact().unwrap();
-            sim.linearize(contact).unwrap();
+            let (mut sim, contact) = run_and_linearize(params);
             let n = sim.grid.len();
             let a2 = sim.grid.squared(contact.edge - 1);
             let c2 = sim.stick * sim.stick;
@@ -2963,6 +2960,15 @@ mod tests {
         }
     }
 
+    /// A run of `params` to its end, linearized at its last state (the frozen contact returned).
+    fn run_and_linearize(params: FrettingParams) -> (FrettingSimulation, Contact) {
+        let mut sim = FrettingSimulation::new(params).unwrap();
+        sim.run(|_| false).unwrap();
+        let contact = sim.contact().unwrap();
+        sim.linearize(contact).unwrap();
+        (sim, contact)
+    }
+
     /// The stage products `W x` by `f32` transforms ([`FrettingSimulation::set_single_precision_products`])
     /// against the `f64` ones at the frozen state of adaptive runs to τ = 3 (k = 0 at N = 2001 and
     /// 8001, k = −0.5 at N = 2001; seeded random, smooth and stage vectors): within 1e-5 of
@@ -2983,10 +2989,7 @@ mod tests {
                 snapshots: vec![],
                 ..FrettingParams::default()
             };
-            let mut sim = FrettingSimulation::new(params).unwrap();
-            sim.run(|_| false).unwrap();
-            let contact = sim.contact().unwrap();
-            sim.linearize(contact).unwrap();
+            let (mut sim, _) = run_and_linearize(params);
             let beta = ROS2_GAMMA * 1e-2;
             sim.matrix.beta = beta;
             sim.precond.factor(beta);

@@ -927,12 +927,13 @@ fn a_solve_interrupted_by_a_panic_leaves_a_system_that_solves() {
     let (mut interrupted, mut control) = (system(), system());
     let n = control.dim();
     let x = lcg(710, n);
-    let mut before = vec![0.0; n];
-    control
-        .preconditioner()
-        .clone()
-        .apply(&x, &mut before)
-        .unwrap();
+    // P⁻¹x by the system's kept preconditioner.
+    let kept_preconditioner_of = |sys: &EimSystem| {
+        let mut y = vec![0.0; n];
+        sys.preconditioner().clone().apply(&x, &mut y).unwrap();
+        y
+    };
+    let before = kept_preconditioner_of(&control);
     for method in [EimMethod::BlockJacobi, EimMethod::Gmres] {
         let params = EimParams {
             method,
@@ -945,12 +946,7 @@ fn a_solve_interrupted_by_a_panic_leaves_a_system_that_solves() {
             interrupted.solve(&applied, &mut eps, &params)
         }));
         assert!(caught.is_err(), "{method:?}: the hook did not panic");
-        let mut kept = vec![0.0; n];
-        interrupted
-            .preconditioner()
-            .clone()
-            .apply(&x, &mut kept)
-            .unwrap();
+        let kept = kept_preconditioner_of(&interrupted);
         assert_eq!(bits(&kept), bits(&before), "{method:?}");
         let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
         let ia = interrupted.solve(&applied, &mut a, &params).unwrap();
