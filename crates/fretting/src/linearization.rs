@@ -426,6 +426,13 @@ impl BandPreconditioner {
 
     /// Factors `M = I − β J_w`. A pivot that is not positive and finite (`M` far from `I`) leaves
     /// the preconditioner off (`M⁻¹ = I`) for this `β`.
+    ///
+    /// Banded Gaussian elimination without pivoting: for each pivot row `k`, `π_k = 1/M_kk`,
+    /// `l_ik = M_ik π_k` and `M_ij ← fma(−l_ik, M_kj, M_ij)`; then row `k`'s upper part is stored
+    /// scaled, `U'_kj = U_kj π_k` (`j > k`), so that the back substitution is
+    /// `y_k = x_k π_k − Σ_j U'_kj y_j` with one fused multiply-add per term
+    /// ([`BandPreconditioner::substitute`]; docs/performance.md, "The band substitutions on fused
+    /// multiply-adds (issue 20)").
     pub(crate) fn factor(&mut self, beta: f64) {
         let (n, w) = (self.n, self.width);
         let colours = 2 * w + 1;
@@ -436,29 +443,68 @@ impl BandPreconditioner {
             self.lu[i * colours + w] += 1.0;
         }
         self.put_constraint_row();
-        self.factored = true;
         let active = self.active.min(n);
+        self.factored = pulp::Arch::new().dispatch(Elimination {
+            lu: &mut self.lu,
+            inverse_pivot: &mut self.inverse_pivot,
+            n,
+            width: w,
+            active,
+        });
+    }
+}
+
+/// [`BandPreconditioner::factor`]'s elimination, compiled for the CPU's level (pulp's runtime
+/// dispatch) so that `f64::mul_add` is one instruction where the CPU has it (the same bits
+/// everywhere: a fused multiply-add is exactly rounded on every level). Returns whether every
+/// pivot was kept.
+struct Elimination<'a> {
+    lu: &'a mut [f64],
+    inverse_pivot: &'a mut [f64],
+    n: usize,
+    width: usize,
+    active: usize,
+}
+
+impl pulp::WithSimd for Elimination<'_> {
+    type Output = bool;
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> bool {
+        let Self {
+            lu,
+            inverse_pivot,
+            n,
+            width: w,
+            active,
+        } = self;
+        let colours = 2 * w + 1;
         for k in 0..active {
-            let pivot = self.lu[k * colours + w];
+            let pivot = lu[k * colours + w];
             if !(pivot.is_finite() && pivot > 1e-8) {
-                self.factored = false;
-                return;
+                return false;
             }
-            self.inverse_pivot[k] = 1.0 / pivot;
+            let inverse = 1.0 / pivot;
+            inverse_pivot[k] = inverse;
             let last = (k + w).min(n - 1);
             // Rows from `active` on have no entries left of the diagonal: nothing to eliminate.
             for i in k + 1..=last.min(active - 1) {
                 // Row i, column k sits at l = k + w − i.
-                let lik = self.lu[i * colours + (k + w - i)] / pivot;
-                self.lu[i * colours + (k + w - i)] = lik;
+                let lik = lu[i * colours + (k + w - i)] * inverse;
+                lu[i * colours + (k + w - i)] = lik;
                 if lik != 0.0 {
                     for j in k + 1..=last {
-                        self.lu[i * colours + (j + w - i)] -=
-                            lik * self.lu[k * colours + (j + w - k)];
+                        let ij = i * colours + (j + w - i);
+                        lu[ij] = (-lik).mul_add(lu[k * colours + (j + w - k)], lu[ij]);
                     }
                 }
             }
+            // Row k is not read again by the elimination: store its upper part as U/U_kk.
+            for u in &mut lu[k * colours + w + 1..(k + 1) * colours] {
+                *u *= inverse;
+            }
         }
+        true
     }
 }
 
@@ -487,90 +533,144 @@ impl BandPreconditioner {
         }
     }
 
-    /// The forward and back substitutions of [`LinearOperator::apply`] on the rows `0..active`.
+    /// The forward and back substitutions of [`LinearOperator::apply`] on the rows `0..active`:
+    /// `y_i ← fma(−l_ij, y_j, y_i)` over `j = i − w … i − 1`, then `y_i ← x_i π_i` and
+    /// `y_i ← fma(−U'_ij, y_j, y_i)` over `j = i + w … i + 1` (farthest first: the row just solved
+    /// enters last, one fused multiply-add on the recurrence's chain; [`BandPreconditioner::factor`]
+    /// stores `U'_ij = U_ij/U_ii` and `π_i = 1/U_ii`).
     fn substitute(&self, y: &mut [f64], active: usize) {
-        let (n, w) = (y.len(), self.width);
-        let colours = 2 * w + 1;
-        for i in 0..active {
-            let lo = i.saturating_sub(w);
-            let lower = &self.lu[i * colours + lo + w - i..i * colours + w];
-            let mut s = y[i];
-            for (l, yj) in lower.iter().zip(&y[lo..i]) {
-                s -= l * yj;
-            }
-            y[i] = s;
-        }
-        for i in (0..active).rev() {
-            let hi = (i + w + 1).min(n);
-            let row = &self.lu[i * colours..(i + 1) * colours];
-            let mut s = y[i];
-            for (u, yj) in row[w + 1..w + hi - i].iter().zip(&y[i + 1..hi]) {
-                s -= u * yj;
-            }
-            y[i] = s * self.inverse_pivot[i];
-        }
+        pulp::Arch::new().dispatch(Substitution {
+            lu: &self.lu,
+            inverse_pivot: &self.inverse_pivot,
+            width: self.width,
+            y,
+            active,
+            unrolled: false,
+        });
     }
-}
 
-impl BandPreconditioner {
     /// The substitutions of [`LinearOperator::apply`] for the half bandwidth 5
     /// ([`crate::simulation::PRECONDITIONER_WIDTH`]): the interior rows unrolled, the rows at the
     /// ends as in the general loop; the same operations in the same order (the same bits as the
-    /// general loop, `BandPreconditioner::substitute`). The five values a row reads from the rows
-    /// just solved are carried in scalar locals (registers), not loaded back from `y`: a (vector)
-    /// load of the value stored on the previous row cannot be forwarded from that store and
-    /// waits for it on every row (docs/fretting-wear.md, "Cost per step"; an array window with
+    /// general loop, [`BandPreconditioner::substitute`]). The five values a row reads from the
+    /// rows just solved are carried in scalar locals (registers), not loaded back from `y`: a
+    /// (vector) load of the value stored on the previous row cannot be forwarded from that store
+    /// and waits for it on every row (docs/fretting-wear.md, "Cost per step"; an array window with
     /// `copy_within` was tried and is kept on the stack by the compiler, the same stall: the
     /// substitution's share of a perf profile of the N = 8001 run 21.6 % against 8.5 % with the
     /// locals).
     fn substitute_width_5(&self, y: &mut [f64], active: usize) {
-        const W: usize = 5;
-        let n = y.len();
-        let colours = 2 * W + 1;
-        let (mut y5, mut y4, mut y3, mut y2, mut y1) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
-        for i in 0..active {
-            let row = &self.lu[i * colours..(i + 1) * colours];
-            let mut s = y[i];
-            if i >= W {
-                s -= row[0] * y5;
-                s -= row[1] * y4;
-                s -= row[2] * y3;
-                s -= row[3] * y2;
-                s -= row[4] * y1;
-            } else {
-                for j in 0..i {
-                    s -= row[j + W - i] * y[j];
-                }
-            }
-            y[i] = s;
-            (y5, y4, y3, y2, y1) = (y4, y3, y2, y1, s);
+        debug_assert_eq!(self.width, 5);
+        pulp::Arch::new().dispatch(Substitution {
+            lu: &self.lu,
+            inverse_pivot: &self.inverse_pivot,
+            width: self.width,
+            y,
+            active,
+            unrolled: true,
+        });
+    }
+}
+
+/// The substitutions of [`BandPreconditioner::substitute`] (`unrolled`: those of
+/// [`BandPreconditioner::substitute_width_5`]), compiled for the CPU's level (pulp's runtime
+/// dispatch) so that `f64::mul_add` is one instruction where the CPU has it; a fused multiply-add
+/// is exactly rounded on every level, so the bits are the same everywhere.
+struct Substitution<'a> {
+    lu: &'a [f64],
+    inverse_pivot: &'a [f64],
+    width: usize,
+    y: &'a mut [f64],
+    active: usize,
+    unrolled: bool,
+}
+
+impl pulp::WithSimd for Substitution<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        if self.unrolled {
+            substitute_width_5(self.lu, self.inverse_pivot, self.y, self.active);
+        } else {
+            substitute_general(self.lu, self.inverse_pivot, self.width, self.y, self.active);
         }
-        let at = |j: usize| y.get(j).copied().unwrap_or(0.0);
-        let (mut z1, mut z2, mut z3, mut z4, mut z5) = (
-            at(active),
-            at(active + 1),
-            at(active + 2),
-            at(active + 3),
-            at(active + 4),
-        );
-        for i in (0..active).rev() {
-            let row = &self.lu[i * colours..(i + 1) * colours];
-            let mut s = y[i];
-            if i + W < n {
-                s -= row[W + 1] * z1;
-                s -= row[W + 2] * z2;
-                s -= row[W + 3] * z3;
-                s -= row[W + 4] * z4;
-                s -= row[W + 5] * z5;
-            } else {
-                for j in i + 1..n {
-                    s -= row[j + W - i] * y[j];
-                }
-            }
-            let yi = s * self.inverse_pivot[i];
-            y[i] = yi;
-            (z5, z4, z3, z2, z1) = (z4, z3, z2, z1, yi);
+    }
+}
+
+/// [`BandPreconditioner::substitute`]'s loops (see there).
+#[inline(always)]
+fn substitute_general(lu: &[f64], inverse_pivot: &[f64], w: usize, y: &mut [f64], active: usize) {
+    let n = y.len();
+    let colours = 2 * w + 1;
+    for i in 0..active {
+        let lo = i.saturating_sub(w);
+        let lower = &lu[i * colours + lo + w - i..i * colours + w];
+        let mut s = y[i];
+        for (l, yj) in lower.iter().zip(&y[lo..i]) {
+            s = (-l).mul_add(*yj, s);
         }
+        y[i] = s;
+    }
+    for i in (0..active).rev() {
+        let hi = (i + w + 1).min(n);
+        let row = &lu[i * colours..(i + 1) * colours];
+        let mut s = y[i] * inverse_pivot[i];
+        for (u, yj) in row[w + 1..w + hi - i].iter().zip(&y[i + 1..hi]).rev() {
+            s = (-u).mul_add(*yj, s);
+        }
+        y[i] = s;
+    }
+}
+
+/// [`BandPreconditioner::substitute_width_5`]'s loops (see there).
+#[inline(always)]
+fn substitute_width_5(lu: &[f64], inverse_pivot: &[f64], y: &mut [f64], active: usize) {
+    const W: usize = 5;
+    let n = y.len();
+    let colours = 2 * W + 1;
+    let (mut y5, mut y4, mut y3, mut y2, mut y1) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for i in 0..active {
+        let row = &lu[i * colours..(i + 1) * colours];
+        let mut s = y[i];
+        if i >= W {
+            s = (-row[0]).mul_add(y5, s);
+            s = (-row[1]).mul_add(y4, s);
+            s = (-row[2]).mul_add(y3, s);
+            s = (-row[3]).mul_add(y2, s);
+            s = (-row[4]).mul_add(y1, s);
+        } else {
+            for j in 0..i {
+                s = (-row[j + W - i]).mul_add(y[j], s);
+            }
+        }
+        y[i] = s;
+        (y5, y4, y3, y2, y1) = (y4, y3, y2, y1, s);
+    }
+    let at = |j: usize| y.get(j).copied().unwrap_or(0.0);
+    let (mut z1, mut z2, mut z3, mut z4, mut z5) = (
+        at(active),
+        at(active + 1),
+        at(active + 2),
+        at(active + 3),
+        at(active + 4),
+    );
+    for i in (0..active).rev() {
+        let row = &lu[i * colours..(i + 1) * colours];
+        let mut s = y[i] * inverse_pivot[i];
+        if i + W < n {
+            s = (-row[W + 5]).mul_add(z5, s);
+            s = (-row[W + 4]).mul_add(z4, s);
+            s = (-row[W + 3]).mul_add(z3, s);
+            s = (-row[W + 2]).mul_add(z2, s);
+            s = (-row[W + 1]).mul_add(z1, s);
+        } else {
+            for j in (i + 1..n).rev() {
+                s = (-row[j + W - i]).mul_add(y[j], s);
+            }
+        }
+        y[i] = s;
+        (z5, z4, z3, z2, z1) = (z4, z3, z2, z1, s);
     }
 }
 

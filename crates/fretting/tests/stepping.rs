@@ -372,12 +372,16 @@ fn adaptive_fft_and_mvm_agree() {
 
 /// k = ±0.5, χ = 0.9, N = 501 to τ = 1: the adaptive run against explicit Euler at half its
 /// stability bound (a/a0, f(a0) and the profile), from the unperturbed start and
-/// [`PERTURBED_STARTS`] perturbed ones (other step sequences, as other roundings give: docs/fretting-wear.md,
-/// "The grazing-phase stepping tests over perturbed step sequences"). f(a0) and the profile per
-/// start; a/a0 within 1.5 cells per start at k = 0.5 and as the median over the starts at
-/// k = −0.5, whose chattering edge (docs/fretting-wear.md, "The contact edge going back and
-/// forth") puts single sequences up to 1.6 cells off (measured: docs/performance.md, "The
-/// N = 8001 wear run: the prefix rate by default (issue 20)").
+/// [`PERTURBED_STARTS`] perturbed ones (other step sequences, as other roundings give:
+/// docs/fretting-wear.md, "The grazing-phase stepping tests over perturbed step sequences").
+/// f(a0) and the profile per start. The radius per start as its mean over the windows
+/// [`RADIUS_WINDOWS`] (`FrettingSimulation::run_with_mean_radii`) within half a cell of explicit
+/// Euler's, and at k = 0.5 also at the snapshots within 1.5 cells. At k = −0.5 the edge goes
+/// back and forth among the nodes of an annulus (docs/fretting-wear.md, "The contact edge going
+/// back and forth"): the radius at one instant is a sample of that motion and lands up to 2.4
+/// cells from explicit Euler's sample on one start, while the window means of eight starts lie
+/// within 0.22 cell of Euler's (docs/performance.md, "The band substitutions on fused
+/// multiply-adds (issue 20)").
 #[test]
 fn adaptive_graded_runs_match_explicit_euler() {
     for k in [-0.5, 0.5] {
@@ -391,32 +395,44 @@ fn adaptive_graded_runs_match_explicit_euler() {
             snapshots: vec![0.3, 1.0],
             ..Default::default()
         };
-        let euler = run(FrettingParams {
+        let mut euler = FrettingSimulation::new(FrettingParams {
             stepping: TimeStepping::ExplicitEuler {
                 dtau: 0.5 * FrettingParams::default_step(501, length, k),
             },
             ..base.clone()
-        });
+        })
+        .unwrap();
+        let euler_means = euler.run_with_mean_radii(&RADIUS_WINDOWS).unwrap();
         let y = radius_and_depth(&euler);
-        let mut radius_cells = [vec![], vec![]];
         for seed in 0..=PERTURBED_STARTS {
-            let adaptive = run_from(&base, seed, |_| {});
+            let mut adaptive =
+                FrettingSimulation::resume(base.clone(), perturbed_start(&base, seed)).unwrap();
+            let means = adaptive.run_with_mean_radii(&RADIUS_WINDOWS).unwrap();
             let x = radius_and_depth(&adaptive);
             let diff = max_abs_diff(&adaptive.state().profile, &euler.state().profile);
             // One cell: h/(2a) (k = −0.5 at τ = 1: 2.4e-3).
             let cell = adaptive.grid().step() / (2.0 * x[1].0);
+            let cells = |a: f64, b: f64| (a - b) / cell;
             println!(
-                "k = {k}, start {seed}: {} adaptive steps vs {}; a {:?} vs {:?}; max |Δf| {diff:.1e}",
+                "k = {k}, start {seed}: {} adaptive steps vs {}; a {:?} vs {:?}; snapshots {:.2?} cells, window means {:.2?} cells; max |Δf| {diff:.1e}",
                 adaptive.state().step,
                 euler.state().step,
                 x,
-                y
+                y,
+                x.iter().zip(&y).map(|(p, q)| cells(p.0, q.0)).collect::<Vec<_>>(),
+                means.iter().zip(&euler_means).map(|(p, q)| cells(*p, *q)).collect::<Vec<_>>(),
             );
-            for (i, (p, q)) in x.iter().zip(&y).enumerate() {
-                radius_cells[i].push((p.0 - q.0).abs() / cell);
+            for (w, (p, q)) in means.iter().zip(&euler_means).enumerate() {
+                assert!(
+                    cells(*p, *q).abs() < 0.5,
+                    "k = {k}, start {seed}: mean a over {:?} {p} vs {q}",
+                    RADIUS_WINDOWS[w]
+                );
+            }
+            for (p, q) in x.iter().zip(&y) {
                 if k > 0.0 {
                     assert!(
-                        (p.0 - q.0).abs() < 1.5 * cell,
+                        cells(p.0, q.0).abs() < 1.5,
                         "k = {k}, start {seed}: a {} vs {}",
                         p.0,
                         q.0
@@ -431,13 +447,12 @@ fn adaptive_graded_runs_match_explicit_euler() {
             }
             assert!(diff < 5e-3, "k = {k}, start {seed}: {diff:e}");
         }
-        for cells in &mut radius_cells {
-            println!("k = {k}: |Δa| {cells:.2?} cells");
-            let m = median(cells);
-            assert!(m < 1.5, "k = {k}: median |Δa| {m} cells");
-        }
     }
 }
+
+/// The windows of [`adaptive_graded_runs_match_explicit_euler`]'s mean radii: about the snapshot
+/// at τ = 0.3 and ending at the one at τ = 1.
+const RADIUS_WINDOWS: [(f64, f64); 2] = [(0.25, 0.35), (0.9, 1.0)];
 
 #[test]
 fn edge_cells_take_fewer_steps_and_match_explicit_euler() {
