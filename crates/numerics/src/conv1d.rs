@@ -56,6 +56,18 @@ pub enum Precision {
 trait Sample: FftNum {
     fn of(v: f64) -> Self;
     fn to_f64(self) -> f64;
+
+    /// [`combine_split_bins`] (the same operations in the same order); a type may run it on
+    /// wider registers.
+    fn combine_split_bins(
+        even: &mut [Complex<Self>],
+        odd: &mut [Complex<Self>],
+        twiddles: &[Complex<Self>],
+        spectrum: &[Complex<Self>],
+        half: usize,
+    ) {
+        combine_split_bins(even, odd, twiddles, spectrum, half);
+    }
 }
 
 impl Sample for f64 {
@@ -64,6 +76,22 @@ impl Sample for f64 {
     }
     fn to_f64(self) -> f64 {
         self
+    }
+
+    /// On x86-64 with AVX2 two bins a register ([`combine_avx::combine_split_bins`], the same
+    /// bits), else [`combine_split_bins`].
+    fn combine_split_bins(
+        even: &mut [Complex<f64>],
+        odd: &mut [Complex<f64>],
+        twiddles: &[Complex<f64>],
+        spectrum: &[Complex<f64>],
+        half: usize,
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        if combine_avx::combine_split_bins(even, odd, twiddles, spectrum, half) {
+            return;
+        }
+        combine_split_bins(even, odd, twiddles, spectrum, half);
     }
 }
 
@@ -220,21 +248,13 @@ impl<T: Sample> SplitFft<T> {
         );
         // Both spectra become the halves' spectra of Y = X ⊙ S, in place (bin k reads and writes
         // bin k only).
-        for (k, ((e, o), w)) in even
-            .freq
-            .iter_mut()
-            .zip(odd.freq.iter_mut())
-            .zip(&self.twiddles)
-            .enumerate()
-        {
-            let t = *w * *o;
-            let xk = *e + t;
-            let xmk = (*e - t).conj();
-            let yk = xk * spectrum[k];
-            let ymk = (xmk * spectrum[half - k]).conj();
-            *e = yk + ymk;
-            *o = (yk - ymk) * w.conj();
-        }
+        T::combine_split_bins(
+            &mut even.freq,
+            &mut odd.freq,
+            &self.twiddles,
+            spectrum,
+            half,
+        );
         // Real DC and Nyquist bins of the halves' real signals: clear the rounding there so the
         // inverse transforms accept them.
         for lane in [&mut *even, &mut *odd] {
@@ -252,6 +272,148 @@ impl<T: Sample> SplitFft<T> {
         }
         if let [last] = pairs.into_remainder() {
             *last = even.time[m / 2].to_f64();
+        }
+    }
+}
+
+/// The spectrum product of [`SplitFft::convolve`] on the halves' bins, in place: with the even
+/// and odd samples' spectra `E_k`, `O_k` (`k = 0..=M/2`),
+///
+/// `t = w^k O_k`, `X_k = E_k + t`, `X_{M−k} = conj(E_k − t)`, `Y_k = X_k S_k`,
+/// `Y_{M−k} = X_{M−k} S_{M−k}`, then `E_k ← Y_k + conj(Y_{M−k})`,
+/// `O_k ← (Y_k − conj(Y_{M−k})) conj(w^k)`
+///
+/// (`SplitFft`'s formulas; bin `k` reads and writes bin `k` only). The reference for the wider
+/// versions ([`Sample::combine_split_bins`]), which must give its bits.
+fn combine_split_bins<T: Sample>(
+    even: &mut [Complex<T>],
+    odd: &mut [Complex<T>],
+    twiddles: &[Complex<T>],
+    spectrum: &[Complex<T>],
+    half: usize,
+) {
+    for (k, ((e, o), w)) in even
+        .iter_mut()
+        .zip(odd.iter_mut())
+        .zip(twiddles)
+        .enumerate()
+    {
+        let t = *w * *o;
+        let xk = *e + t;
+        let xmk = (*e - t).conj();
+        let yk = xk * spectrum[k];
+        let ymk = (xmk * spectrum[half - k]).conj();
+        *e = yk + ymk;
+        *o = (yk - ymk) * w.conj();
+    }
+}
+
+/// [`combine_split_bins`] on AVX2 registers, two bins a register, for `f64`.
+#[cfg(target_arch = "x86_64")]
+mod combine_avx {
+    use core::arch::x86_64::__m256d;
+
+    use pulp::x86::V3;
+    use pulp::Simd;
+    use rustfft::num_complex::Complex;
+
+    /// [`super::combine_split_bins`] for `f64` with the same operations in the same order on each
+    /// bin — a complex product as `num_complex`'s, `(a.re b.re − a.im b.im, a.re b.im + a.im b.re)`,
+    /// from two vector products and one `addsub` (no fused multiply-add), a conjugate as a sign
+    /// flip — so the same bits. `false` (nothing done) when the CPU has no AVX2/FMA level (pulp's
+    /// `V3`).
+    pub(super) fn combine_split_bins(
+        even: &mut [Complex<f64>],
+        odd: &mut [Complex<f64>],
+        twiddles: &[Complex<f64>],
+        spectrum: &[Complex<f64>],
+        half: usize,
+    ) -> bool {
+        let Some(simd) = V3::try_new() else {
+            return false;
+        };
+        Simd::vectorize(
+            simd,
+            Combine {
+                simd,
+                even,
+                odd,
+                twiddles,
+                spectrum,
+                half,
+            },
+        );
+        true
+    }
+
+    struct Combine<'a> {
+        simd: V3,
+        even: &'a mut [Complex<f64>],
+        odd: &'a mut [Complex<f64>],
+        twiddles: &'a [Complex<f64>],
+        spectrum: &'a [Complex<f64>],
+        half: usize,
+    }
+
+    impl pulp::WithSimd for Combine<'_> {
+        type Output = ();
+
+        #[inline(always)]
+        fn with_simd<S: Simd>(self, _: S) {
+            let Self {
+                simd,
+                even,
+                odd,
+                twiddles,
+                spectrum,
+                half,
+            } = self;
+            let avx = simd.avx;
+            let bins = even.len().min(odd.len()).min(twiddles.len());
+            let pairs = bins / 2;
+            let load = |c: &[Complex<f64>]| -> __m256d {
+                pulp::cast([c[0].re, c[0].im, c[1].re, c[1].im])
+            };
+            let store = |c: &mut [Complex<f64>], v: __m256d| {
+                let [a, b, d, e]: [f64; 4] = pulp::cast(v);
+                c[0] = Complex::new(a, b);
+                c[1] = Complex::new(d, e);
+            };
+            let sign: __m256d = pulp::cast([0.0f64, -0.0, 0.0, -0.0]);
+            let conj = |v: __m256d| avx._mm256_xor_pd(v, sign);
+            let mul = |a: __m256d, b: __m256d| {
+                let re = avx._mm256_movedup_pd(a);
+                let im = avx._mm256_permute_pd::<0b1111>(a);
+                let swapped = avx._mm256_permute_pd::<0b0101>(b);
+                avx._mm256_addsub_pd(avx._mm256_mul_pd(re, b), avx._mm256_mul_pd(im, swapped))
+            };
+            for p in 0..pairs {
+                let k = 2 * p;
+                let e = load(&even[k..k + 2]);
+                let o = load(&odd[k..k + 2]);
+                let w = load(&twiddles[k..k + 2]);
+                let forward = load(&spectrum[k..k + 2]);
+                // (S_{M−k−1}, S_{M−k}) with its two bins swapped: (S_{M−k}, S_{M−k−1}).
+                let backward = load(&spectrum[half - k - 1..half - k + 1]);
+                let backward = avx._mm256_permute2f128_pd::<0x01>(backward, backward);
+                let t = mul(w, o);
+                let xk = avx._mm256_add_pd(e, t);
+                let xmk = conj(avx._mm256_sub_pd(e, t));
+                let yk = mul(xk, forward);
+                let ymk = conj(mul(xmk, backward));
+                store(&mut even[k..k + 2], avx._mm256_add_pd(yk, ymk));
+                store(&mut odd[k..k + 2], mul(avx._mm256_sub_pd(yk, ymk), conj(w)));
+            }
+            for k in 2 * pairs..bins {
+                let (e, o, w) = (even[k], odd[k], twiddles[k]);
+                let t = w * o;
+                let xk = e + t;
+                let xmk = (e - t).conj();
+                let yk = xk * spectrum[k];
+                let ymk = (xmk * spectrum[half - k]).conj();
+                even[k] = yk + ymk;
+                odd[k] = (yk - ymk) * w.conj();
+            }
         }
     }
 }
@@ -640,6 +802,44 @@ mod tests {
         (0..x.len())
             .map(|i| (0..=i).map(|j| x[j] * b[i - j]).sum())
             .collect()
+    }
+
+    /// The spectrum product on AVX2 registers ([`Sample::combine_split_bins`] for `f64`) gives
+    /// the bin-at-a-time loop's bits ([`combine_split_bins`]), on random bins (fixed seeds) with
+    /// an even and an odd number of bins, the split plans' twiddles, and both ends of `half`.
+    #[test]
+    fn wide_spectrum_product_gives_the_scalar_bits() {
+        for half in [2usize, 4, 6, 10, 16, 250, 4096, 8100] {
+            let bins = half / 2 + 1;
+            let complex = |seed: u64, n: usize| -> Vec<Complex<f64>> {
+                let v = lcg(seed, 2 * n);
+                v.chunks(2).map(|c| Complex::new(c[0], c[1])).collect()
+            };
+            let spectrum = complex(half as u64, half + 1);
+            let (even, odd) = (complex(1, bins), complex(2, bins));
+            let twiddles: Vec<Complex<f64>> = (0..bins)
+                .map(|k| {
+                    let angle = -std::f64::consts::PI * k as f64 / half as f64;
+                    Complex::new(angle.cos(), angle.sin())
+                })
+                .collect();
+            let (mut e_wide, mut o_wide) = (even.clone(), odd.clone());
+            <f64 as Sample>::combine_split_bins(
+                &mut e_wide,
+                &mut o_wide,
+                &twiddles,
+                &spectrum,
+                half,
+            );
+            let (mut e_ref, mut o_ref) = (even.clone(), odd.clone());
+            combine_split_bins(&mut e_ref, &mut o_ref, &twiddles, &spectrum, half);
+            let bits = |v: &[Complex<f64>]| -> Vec<(u64, u64)> {
+                v.iter().map(|c| (c.re.to_bits(), c.im.to_bits())).collect()
+            };
+            assert_eq!(bits(&e_wide), bits(&e_ref), "half {half}: even bins");
+            assert_eq!(bits(&o_wide), bits(&o_ref), "half {half}: odd bins");
+            assert_ne!(bits(&e_ref), bits(&even), "half {half}: nothing computed");
+        }
     }
 
     #[test]
