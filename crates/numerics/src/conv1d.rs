@@ -65,8 +65,9 @@ trait Sample: FftNum {
         twiddles: &[Complex<Self>],
         spectrum: &[Complex<Self>],
         half: usize,
+        first: usize,
     ) {
-        combine_split_bins(even, odd, twiddles, spectrum, half);
+        combine_split_bins(even, odd, twiddles, spectrum, half, first);
     }
 }
 
@@ -86,12 +87,13 @@ impl Sample for f64 {
         twiddles: &[Complex<f64>],
         spectrum: &[Complex<f64>],
         half: usize,
+        first: usize,
     ) {
         #[cfg(target_arch = "x86_64")]
-        if combine_avx::combine_split_bins(even, odd, twiddles, spectrum, half) {
+        if combine_avx::combine_split_bins(even, odd, twiddles, spectrum, half, first) {
             return;
         }
-        combine_split_bins(even, odd, twiddles, spectrum, half);
+        combine_split_bins(even, odd, twiddles, spectrum, half, first);
     }
 }
 
@@ -247,13 +249,14 @@ impl<T: Sample> SplitFft<T> {
             || odd.forward(forward, x, 1),
         );
         // Both spectra become the halves' spectra of Y = X ⊙ S, in place (bin k reads and writes
-        // bin k only).
-        T::combine_split_bins(
-            &mut even.freq,
-            &mut odd.freq,
-            &self.twiddles,
-            spectrum,
-            half,
+        // bin k only), the bins in two halves (on two threads as the transforms are).
+        let mid = even.freq.len() / 2;
+        let (even_low, even_high) = even.freq.split_at_mut(mid);
+        let (odd_low, odd_high) = odd.freq.split_at_mut(mid);
+        let (twiddles_low, twiddles_high) = self.twiddles.split_at(mid);
+        join_if_on_pool(
+            || T::combine_split_bins(even_low, odd_low, twiddles_low, spectrum, half, 0),
+            || T::combine_split_bins(even_high, odd_high, twiddles_high, spectrum, half, mid),
         );
         // Real DC and Nyquist bins of the halves' real signals: clear the rounding there so the
         // inverse transforms accept them.
@@ -283,21 +286,24 @@ impl<T: Sample> SplitFft<T> {
 /// `Y_{M−k} = X_{M−k} S_{M−k}`, then `E_k ← Y_k + conj(Y_{M−k})`,
 /// `O_k ← (Y_k − conj(Y_{M−k})) conj(w^k)`
 ///
-/// (`SplitFft`'s formulas; bin `k` reads and writes bin `k` only). The reference for the wider
-/// versions ([`Sample::combine_split_bins`]), which must give its bits.
+/// (`SplitFft`'s formulas; bin `k` reads and writes bin `k` only), on the bins
+/// `k = first..first + even.len()` (`even`, `odd` and `twiddles` start at bin `first`). The
+/// reference for the wider versions ([`Sample::combine_split_bins`]), which must give its bits.
 fn combine_split_bins<T: Sample>(
     even: &mut [Complex<T>],
     odd: &mut [Complex<T>],
     twiddles: &[Complex<T>],
     spectrum: &[Complex<T>],
     half: usize,
+    first: usize,
 ) {
-    for (k, ((e, o), w)) in even
+    for (i, ((e, o), w)) in even
         .iter_mut()
         .zip(odd.iter_mut())
         .zip(twiddles)
         .enumerate()
     {
+        let k = first + i;
         let t = *w * *o;
         let xk = *e + t;
         let xmk = (*e - t).conj();
@@ -328,6 +334,7 @@ mod combine_avx {
         twiddles: &[Complex<f64>],
         spectrum: &[Complex<f64>],
         half: usize,
+        first: usize,
     ) -> bool {
         let Some(simd) = V3::try_new() else {
             return false;
@@ -341,6 +348,7 @@ mod combine_avx {
                 twiddles,
                 spectrum,
                 half,
+                first,
             },
         );
         true
@@ -353,6 +361,7 @@ mod combine_avx {
         twiddles: &'a [Complex<f64>],
         spectrum: &'a [Complex<f64>],
         half: usize,
+        first: usize,
     }
 
     impl pulp::WithSimd for Combine<'_> {
@@ -367,6 +376,7 @@ mod combine_avx {
                 twiddles,
                 spectrum,
                 half,
+                first,
             } = self;
             let avx = simd.avx;
             let bins = even.len().min(odd.len()).min(twiddles.len());
@@ -388,10 +398,11 @@ mod combine_avx {
                 avx._mm256_addsub_pd(avx._mm256_mul_pd(re, b), avx._mm256_mul_pd(im, swapped))
             };
             for p in 0..pairs {
-                let k = 2 * p;
-                let e = load(&even[k..k + 2]);
-                let o = load(&odd[k..k + 2]);
-                let w = load(&twiddles[k..k + 2]);
+                // Local bin i, global bin k.
+                let (i, k) = (2 * p, first + 2 * p);
+                let e = load(&even[i..i + 2]);
+                let o = load(&odd[i..i + 2]);
+                let w = load(&twiddles[i..i + 2]);
                 let forward = load(&spectrum[k..k + 2]);
                 // (S_{M−k−1}, S_{M−k}) with its two bins swapped: (S_{M−k}, S_{M−k−1}).
                 let backward = load(&spectrum[half - k - 1..half - k + 1]);
@@ -401,18 +412,19 @@ mod combine_avx {
                 let xmk = conj(avx._mm256_sub_pd(e, t));
                 let yk = mul(xk, forward);
                 let ymk = conj(mul(xmk, backward));
-                store(&mut even[k..k + 2], avx._mm256_add_pd(yk, ymk));
-                store(&mut odd[k..k + 2], mul(avx._mm256_sub_pd(yk, ymk), conj(w)));
+                store(&mut even[i..i + 2], avx._mm256_add_pd(yk, ymk));
+                store(&mut odd[i..i + 2], mul(avx._mm256_sub_pd(yk, ymk), conj(w)));
             }
-            for k in 2 * pairs..bins {
-                let (e, o, w) = (even[k], odd[k], twiddles[k]);
+            for i in 2 * pairs..bins {
+                let k = first + i;
+                let (e, o, w) = (even[i], odd[i], twiddles[i]);
                 let t = w * o;
                 let xk = e + t;
                 let xmk = (e - t).conj();
                 let yk = xk * spectrum[k];
                 let ymk = (xmk * spectrum[half - k]).conj();
-                even[k] = yk + ymk;
-                odd[k] = (yk - ymk) * w.conj();
+                even[i] = yk + ymk;
+                odd[i] = (yk - ymk) * w.conj();
             }
         }
     }
@@ -806,7 +818,8 @@ mod tests {
 
     /// The spectrum product on AVX2 registers ([`Sample::combine_split_bins`] for `f64`) gives
     /// the bin-at-a-time loop's bits ([`combine_split_bins`]), on random bins (fixed seeds) with
-    /// an even and an odd number of bins, the split plans' twiddles, and both ends of `half`.
+    /// an even and an odd number of bins, the split plans' twiddles, and both ends of `half`; in
+    /// one call and in two parts split at an odd bin.
     #[test]
     fn wide_spectrum_product_gives_the_scalar_bits() {
         for half in [2usize, 4, 6, 10, 16, 250, 4096, 8100] {
@@ -830,14 +843,39 @@ mod tests {
                 &twiddles,
                 &spectrum,
                 half,
+                0,
             );
             let (mut e_ref, mut o_ref) = (even.clone(), odd.clone());
-            combine_split_bins(&mut e_ref, &mut o_ref, &twiddles, &spectrum, half);
+            combine_split_bins(&mut e_ref, &mut o_ref, &twiddles, &spectrum, half, 0);
+            // In two parts from an odd bin (as `SplitFft::convolve` splits them, at any bin).
+            let (mut e_parts, mut o_parts) = (even.clone(), odd.clone());
+            let mid = (bins / 2) | 1;
+            let (e_low, e_high) = e_parts.split_at_mut(mid);
+            let (o_low, o_high) = o_parts.split_at_mut(mid);
+            <f64 as Sample>::combine_split_bins(e_low, o_low, &twiddles, &spectrum, half, 0);
+            <f64 as Sample>::combine_split_bins(
+                e_high,
+                o_high,
+                &twiddles[mid..],
+                &spectrum,
+                half,
+                mid,
+            );
             let bits = |v: &[Complex<f64>]| -> Vec<(u64, u64)> {
                 v.iter().map(|c| (c.re.to_bits(), c.im.to_bits())).collect()
             };
             assert_eq!(bits(&e_wide), bits(&e_ref), "half {half}: even bins");
             assert_eq!(bits(&o_wide), bits(&o_ref), "half {half}: odd bins");
+            assert_eq!(
+                bits(&e_parts),
+                bits(&e_ref),
+                "half {half}: even bins in parts"
+            );
+            assert_eq!(
+                bits(&o_parts),
+                bits(&o_ref),
+                "half {half}: odd bins in parts"
+            );
             assert_ne!(bits(&e_ref), bits(&even), "half {half}: nothing computed");
         }
     }
