@@ -19,6 +19,7 @@
 //! edge cells (docs/fretting-wear.md, "Edge cells"): their rate is the cell mean of `p Δu`, `J`
 //! keeps the nodal form in those rows.
 
+use halfspace_mdr::transform::{cell_weights, node_powers, stress_scale};
 use halfspace_mdr::{CellStressTransform, Material, MdrError, ProfileTransform};
 use halfspace_numerics::linop::LinearOperator;
 use halfspace_numerics::{
@@ -373,11 +374,13 @@ pub(crate) struct BandPreconditioner {
     /// rebuilds the same one.
     pub(crate) stress_band: Vec<f64>,
     pub(crate) probed_for: usize,
-    /// The LU factors of `M` in the same layout (unit lower part below the diagonal).
+    /// The LU factors of `M` in the same layout: the unit lower part's multipliers `l_ij` below
+    /// the diagonal, the upper part stored scaled by its pivot, `U'_ij = U_ij/U_ii` (`j > i`), on
+    /// the rows `0..active` ([`BandPreconditioner::factor`]).
     lu: Vec<f64>,
     /// Whether `lu` holds a usable factorization (false: `M⁻¹ = I`).
     factored: bool,
-    /// `1/U_ii` (a multiplication on the back substitution's chain instead of a division).
+    /// `π_i = 1/U_ii` (the back substitution starts each row at `x_i π_i`).
     inverse_pivot: Vec<f64>,
     /// Rows `0..active` of `J_w` may be nonzero (the contact nodes); `M` is the identity on the
     /// rows beyond, where factoring and substituting leave every value as it is, so both stop there.
@@ -757,8 +760,8 @@ impl MaskedBand {
         let gamma = 0.5 * (1.0 + grading);
         let alpha = 0.5 * (1.0 - grading);
         let long = n + w + 4;
-        let b: Vec<f64> = (0..=long).map(|d| (d as f64).powf(gamma)).collect();
-        let weights: Vec<f64> = b.windows(2).take(n).map(|p| p[1] - p[0]).collect();
+        let b = node_powers(long + 1, gamma);
+        let weights = cell_weights(&b[..=n]);
         let stress_kernel: Vec<f64> = (0..n)
             .map(|d| {
                 if d == 0 {
@@ -796,7 +799,7 @@ impl MaskedBand {
             width: w,
             n,
             gamma,
-            stress_scale: h.powf(gamma - 1.0) / (std::f64::consts::PI * gamma),
+            stress_scale: stress_scale(h, gamma),
             weights,
             stress_kernel,
             beta,
@@ -1238,7 +1241,8 @@ mod tests {
     }
 
     /// The unrolled substitutions of the preconditioner's width (5) give the general loop's bits, on
-    /// a diagonally dominant random band (fixed seed), with all rows active and with a part.
+    /// a diagonally dominant random band (fixed seed), with all rows active and with a part, and
+    /// `M⁻¹x` against the dense `M = I − β J_w` (`M M⁻¹x = x` to rounding).
     #[test]
     fn fixed_width_substitution_is_the_general_one_bit_for_bit() {
         {
@@ -1275,6 +1279,26 @@ mod tests {
                     .zip(&general)
                     .all(|(a, b)| a.to_bits() == b.to_bits()));
                 assert!(fixed.iter().zip(&x).any(|(a, b)| a != b));
+                // The dense twin: M = I − β J_w applied to M⁻¹x gives x back.
+                let colours = 2 * w + 1;
+                let mut back = vec![0.0; n];
+                for (i, b) in back.iter_mut().enumerate() {
+                    for (l, entry) in p.band[i * colours..(i + 1) * colours].iter().enumerate() {
+                        if let Some(j) = (i + l).checked_sub(w).filter(|&j| j < n) {
+                            let identity = if i == j { 1.0 } else { 0.0 };
+                            *b += (identity - 0.7 * entry) * fixed[j];
+                        }
+                    }
+                }
+                let residual = back
+                    .iter()
+                    .zip(&x)
+                    .map(|(b, x)| (b - x).abs())
+                    .fold(0.0, f64::max);
+                assert!(
+                    residual < 1e-13,
+                    "active {active}: |M M⁻¹x − x| = {residual:e}"
+                );
                 // On the leading block of `active + w` nodes (the stages' support) with a zero tail:
                 // the block of the whole vector's answer.
                 let block = (active + w).min(n);

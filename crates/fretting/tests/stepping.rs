@@ -376,12 +376,12 @@ fn adaptive_fft_and_mvm_agree() {
 /// docs/fretting-wear.md, "The grazing-phase stepping tests over perturbed step sequences").
 /// f(a0) and the profile per start. The radius per start as its mean over the windows
 /// [`RADIUS_WINDOWS`] (`FrettingSimulation::run_with_mean_radii`) within half a cell of explicit
-/// Euler's, and at k = 0.5 also at the snapshots within 1.5 cells. At k = −0.5 the edge goes
-/// back and forth among the nodes of an annulus (docs/fretting-wear.md, "The contact edge going
-/// back and forth"): the radius at one instant is a sample of that motion and lands up to 2.4
-/// cells from explicit Euler's sample on one start, while the window means of eight starts lie
-/// within 0.22 cell of Euler's (docs/performance.md, "The band substitutions on fused
-/// multiply-adds (issue 20)").
+/// Euler's; the snapshot radii per start within 1.5 cells at k = 0.5 and within 3 cells at
+/// k = −0.5. There the edge goes back and forth among the nodes of an annulus
+/// (docs/fretting-wear.md, "The contact edge going back and forth"): the radius at one instant
+/// is a sample of that motion (measured up to 2.43 cells from explicit Euler's sample, on the
+/// unperturbed start), while the window means of the four starts lie within 0.32 cell of
+/// Euler's (docs/performance.md, "The band substitutions on fused multiply-adds (issue 20)").
 #[test]
 fn adaptive_graded_runs_match_explicit_euler() {
     for k in [-0.5, 0.5] {
@@ -430,14 +430,13 @@ fn adaptive_graded_runs_match_explicit_euler() {
                 );
             }
             for (p, q) in x.iter().zip(&y) {
-                if k > 0.0 {
-                    assert!(
-                        cells(p.0, q.0).abs() < 1.5,
-                        "k = {k}, start {seed}: a {} vs {}",
-                        p.0,
-                        q.0
-                    );
-                }
+                let bound = if k > 0.0 { 1.5 } else { 3.0 };
+                assert!(
+                    cells(p.0, q.0).abs() < bound,
+                    "k = {k}, start {seed}: a {} vs {}",
+                    p.0,
+                    q.0
+                );
                 assert!(
                     (p.1 - q.1).abs() < 5e-4,
                     "k = {k}, start {seed}: f(a0) {} vs {}",

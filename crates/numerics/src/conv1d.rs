@@ -836,6 +836,15 @@ mod tests {
                     Complex::new(angle.cos(), angle.sin())
                 })
                 .collect();
+            #[cfg(target_arch = "x86_64")]
+            if is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma") {
+                // The wide path runs on this CPU (else the comparison below is scalar against
+                // scalar).
+                let (mut e, mut o) = (even.clone(), odd.clone());
+                assert!(combine_avx::combine_split_bins(
+                    &mut e, &mut o, &twiddles, &spectrum, half, 0
+                ));
+            }
             let (mut e_wide, mut o_wide) = (even.clone(), odd.clone());
             <f64 as Sample>::combine_split_bins(
                 &mut e_wide,

@@ -20,7 +20,7 @@ mod stress_cells;
 pub use displacement::{DisplacementMethod, DisplacementTransform};
 pub use profile_transform::{EquivalentSplit, ProfileTransform};
 pub use stress::StressTransform;
-pub use stress_cells::CellStressTransform;
+pub use stress_cells::{cell_weights, node_powers, stress_scale, CellStressTransform};
 
 use halfspace_numerics::{NumericsError, SquaredGrid};
 

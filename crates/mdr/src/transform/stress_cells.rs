@@ -42,6 +42,24 @@ pub struct CellStressTransform {
     series_factors: [f64; SERIES_TERMS],
 }
 
+/// `m^γ` for `m = 0..len`: the powers of the partial cell and, by differences
+/// ([`cell_weights`]), of the cells' weights (the type's docs). One table for the transform and
+/// for the closed form of its matrix (the wear steps' masked band, crates/fretting).
+pub fn node_powers(len: usize, gamma: f64) -> Vec<f64> {
+    (0..len).map(|m| (m as f64).powf(gamma)).collect()
+}
+
+/// The cells' weights `w_m = (m+1)^γ − m^γ`, `m = 0..powers.len() − 1`, from
+/// `powers[m] = m^γ` ([`node_powers`]).
+pub fn cell_weights(powers: &[f64]) -> Vec<f64> {
+    powers.windows(2).map(|w| w[1] - w[0]).collect()
+}
+
+/// The factor `h^{γ−1}/(πγ)` of `σ` (the type's docs), for the node spacing `h` in `ξ = x²`.
+pub fn stress_scale(h: f64, gamma: f64) -> f64 {
+    h.powf(gamma - 1.0) / (std::f64::consts::PI * gamma)
+}
+
 /// Beyond this distance (in cells) from the edge `(n + θ)^γ − n^γ` is summed as a series.
 const SERIES_FROM: usize = 64;
 /// Terms of that series (`(θ/n)^10 ≤ 64^{−10}`: below one ulp).
@@ -122,8 +140,8 @@ impl CellStressTransform {
     /// Builds the transform for contacts of up to `capacity` nodes.
     pub fn new(capacity: usize, material: &Material, backend: Backend) -> Result<Self, MdrError> {
         let gamma = 0.5 * (1.0 + material.grading_exponent());
-        let powers: Vec<f64> = (0..=capacity).map(|m| (m as f64).powf(gamma)).collect();
-        let weights = powers.windows(2).map(|w| w[1] - w[0]).collect();
+        let powers = node_powers(capacity + 1, gamma);
+        let weights = cell_weights(&powers);
         Ok(Self {
             gamma,
             conv: ToeplitzConvolution::new(weights, backend)?,
@@ -171,7 +189,7 @@ impl CellStressTransform {
         let m = q.len();
         let cells = m - 1;
         let h = grid.step();
-        let scale = h.powf(self.gamma - 1.0) / (std::f64::consts::PI * self.gamma);
+        let scale = stress_scale(h, self.gamma);
         let edge_slope = q[m - 1] / theta;
         if theta.to_bits() != self.edge_theta.to_bits() {
             self.edge_theta = theta;
@@ -208,7 +226,7 @@ impl CellStressTransform {
         self.cell_sums(q)?;
         let cells = q.len() - 1;
         let h = grid.step();
-        let scale = h.powf(self.gamma - 1.0) / (std::f64::consts::PI * self.gamma);
+        let scale = stress_scale(h, self.gamma);
         for (theta, sigma) in [(thetas.0, sigmas.0), (thetas.1, sigmas.1)] {
             let edge_slope = q[cells] / theta;
             let mut powers = std::mem::take(&mut self.two_edge_powers);
