@@ -439,14 +439,17 @@ impl BandPreconditioner {
     pub(crate) fn factor(&mut self, beta: f64) {
         let (n, w) = (self.n, self.width);
         let colours = 2 * w + 1;
-        for (l, b) in self.lu.iter_mut().zip(&self.band) {
+        let active = self.active.min(n);
+        // Rows from `active` on are never read (the elimination and the substitutions stop
+        // there): only the active rows are formed.
+        let rows = active * colours;
+        for (l, b) in self.lu[..rows].iter_mut().zip(&self.band[..rows]) {
             *l = -beta * b;
         }
-        for i in 0..n {
+        for i in 0..active {
             self.lu[i * colours + w] += 1.0;
         }
         self.put_constraint_row();
-        let active = self.active.min(n);
         self.factored = pulp::Arch::new().dispatch(Elimination {
             lu: &mut self.lu,
             inverse_pivot: &mut self.inverse_pivot,
