@@ -415,17 +415,16 @@ mod combine_avx {
                 store(&mut even[i..i + 2], avx._mm256_add_pd(yk, ymk));
                 store(&mut odd[i..i + 2], mul(avx._mm256_sub_pd(yk, ymk), conj(w)));
             }
-            for i in 2 * pairs..bins {
-                let k = first + i;
-                let (e, o, w) = (even[i], odd[i], twiddles[i]);
-                let t = w * o;
-                let xk = e + t;
-                let xmk = (e - t).conj();
-                let yk = xk * spectrum[k];
-                let ymk = (xmk * spectrum[half - k]).conj();
-                even[i] = yk + ymk;
-                odd[i] = (yk - ymk) * w.conj();
-            }
+            // An odd last bin: the scalar loop's operations on it.
+            let done = 2 * pairs;
+            super::combine_split_bins(
+                &mut even[done..bins],
+                &mut odd[done..bins],
+                &twiddles[done..bins],
+                spectrum,
+                half,
+                first + done,
+            );
         }
     }
 }
