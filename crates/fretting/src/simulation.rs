@@ -1877,14 +1877,9 @@ impl FrettingSimulation {
     /// thread, its FFT halves one after the other (one thread) unless that thread is itself a
     /// worker of a pool of two or more.
     pub fn run(&mut self, mut after_step: impl FnMut(&Self) -> bool) -> Result<(), FrettingError> {
-        use halfspace_numerics::conv1d::{plan_length, SPLIT_FROM};
-        let split = plan_length(2 * self.grid.len() - 1) >= SPLIT_FROM;
+        let split = self.plans_split();
         while !self.is_finished() {
-            if split {
-                halfspace_numerics::parallel::on_pool_with_partner(|| self.step())?;
-            } else {
-                self.step()?;
-            }
+            self.step_where_it_runs(split)?;
             if after_step(self) {
                 return Ok(());
             }
@@ -1896,6 +1891,25 @@ impl FrettingSimulation {
             self.take_snapshot(radii);
         }
         Ok(())
+    }
+
+    /// Whether this grid's transforms split their FFTs (`2N − 1` padded to
+    /// `halfspace_numerics::conv1d::SPLIT_FROM` or more): then [`Self::run`] takes each step on
+    /// the pool ([`Self::step_where_it_runs`]).
+    fn plans_split(&self) -> bool {
+        use halfspace_numerics::conv1d::{plan_length, SPLIT_FROM};
+        plan_length(2 * self.grid.len() - 1) >= SPLIT_FROM
+    }
+
+    /// One [`Self::step`] where [`Self::run`] takes it: with `split` ([`Self::plans_split`]) on a
+    /// worker of the rayon pool with a polling partner, else on the calling thread (the same bits
+    /// either way).
+    fn step_where_it_runs(&mut self, split: bool) -> Result<(), FrettingError> {
+        if split {
+            halfspace_numerics::parallel::on_pool_with_partner(|| self.step())
+        } else {
+            self.step()
+        }
     }
 }
 
@@ -1918,7 +1932,6 @@ impl FrettingSimulation {
         &mut self,
         windows: &[(f64, f64)],
     ) -> Result<Vec<f64>, FrettingError> {
-        use halfspace_numerics::conv1d::{plan_length, SPLIT_FROM};
         let (start, last, end) = (self.state.tau, self.params.fixed_end(), self.params.tau_end);
         for &(from, to) in windows {
             if !(from >= start && from < last && to > from && to <= end) {
@@ -1936,17 +1949,13 @@ impl FrettingSimulation {
                 });
             }
         }
-        let split = plan_length(2 * self.grid.len() - 1) >= SPLIT_FROM;
+        let split = self.plans_split();
         // ∫ a dτ and the length covered, per window.
         let mut integrals = vec![(0.0, 0.0); windows.len()];
         let mut radius = self.radii()?.touching;
         while !self.is_finished() {
             let (before, start_radius) = (self.state.tau, radius);
-            if split {
-                halfspace_numerics::parallel::on_pool_with_partner(|| self.step())?;
-            } else {
-                self.step()?;
-            }
+            self.step_where_it_runs(split)?;
             let after = self.state.tau;
             radius = self.radii()?.touching;
             let slope = (radius - start_radius) / (after - before);
