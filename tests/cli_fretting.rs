@@ -422,3 +422,63 @@ fn the_fretting_limit_study_reaches_every_limit_from_below() {
     }
     assert!(plot.is_file());
 }
+
+/// `--gap-transform` and the config key `gap_transform`: the run reports the transform it used,
+/// a resume under the other one is refused naming it (a checkpoint written before the key, with
+/// no attribute, is a central-differences run's), and an unknown name is refused up front.
+#[test]
+fn the_gap_transform_is_chosen_recorded_and_checked_on_resume() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("pl");
+    let common = ["--n", "401", "--tau-end", "0.3", "--json"];
+    let plain = fretting_wear(&out, &common, &["--gap-transform", "piecewise-linear"]);
+    let plain: Vec<&str> = plain.iter().map(String::as_str).collect();
+    let v = ok_json(&run(&plain));
+    assert_eq!(v["gap_transform"], "piecewise-linear");
+    let v = ok_json(&run(&[
+        "fretting-wear",
+        "--n",
+        "401",
+        "--tau-end",
+        "0.3",
+        "--json",
+        "--out",
+        dir.path().join("cd").to_str().unwrap(),
+    ]));
+    assert_eq!(v["gap_transform"], "central-differences");
+    // Stopped early, then resumed with the default transform: refused, naming the key.
+    let stopped = fretting_wear(
+        &out,
+        &common,
+        &[
+            "--gap-transform",
+            "piecewise-linear",
+            "--force",
+            "--stop-after",
+            "20",
+        ],
+    );
+    let stopped: Vec<&str> = stopped.iter().map(String::as_str).collect();
+    run(&stopped);
+    let resume = fretting_wear(&out, &common, &["--resume"]);
+    bad_owned(&resume, "gap_transform");
+    let resume = fretting_wear(
+        &out,
+        &common,
+        &["--resume", "--gap-transform", "piecewise-linear"],
+    );
+    let resumed: Vec<&str> = resume.iter().map(String::as_str).collect();
+    assert_eq!(ok_json(&run(&resumed))["gap_transform"], "piecewise-linear");
+    let cfg = dir.path().join("bad.toml");
+    std::fs::write(&cfg, "n = 401\ngap_transform = \"linear\"\n").unwrap();
+    bad(
+        &[
+            "fretting-wear",
+            "--config",
+            cfg.to_str().unwrap(),
+            "--out",
+            dir.path().join("bad").to_str().unwrap(),
+        ],
+        "\"linear\": expected \"central-differences\" or \"piecewise-linear\"",
+    );
+}

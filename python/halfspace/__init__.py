@@ -431,6 +431,7 @@ class WearResult(Result):
     profile_at_a0_over_d: float
     limit_contact_radius_over_a0: float
     method: str
+    gap_transform: str
     n: int
     chi: float
     length: float
@@ -690,6 +691,7 @@ def fretting_wear(
     method: str = "fft",
     material: Graded | Homogeneous | str | None = None,
     length: float | None = None,
+    gap_transform: str = "central-differences",
     resume: str | os.PathLike[str] | None = None,
 ) -> WearResult:
     """Fretting wear of a parabolic indenter in partial slip by the MDR (Willert et al. 2021,
@@ -702,7 +704,10 @@ def fretting_wear(
     ``limiting_profile``; ``contact_radius_history`` is a/a₀ per step (the extent of the touching
     region; ``loaded_radius_history``: where p > 1e-3 max p), at ``tau_history``; ``steps`` counts
     the time steps; ``wear_volume`` and
-    ``limit_wear_volume`` are V/(π a₀² d). As ``halfspace fretting-wear``. ``resume``: a run
+    ``limit_wear_volume`` are V/(π a₀² d). ``gap_transform``: ``"central-differences"`` (the
+    paper's Eq. 7) or ``"piecewise-linear"`` (no node-to-node mode near the contact edge, about
+    1.5× the steps; docs/fretting-wear.md, "The profile transform of the worn profile"). As
+    ``halfspace fretting-wear``. ``resume``: a run
     directory of ``halfspace fretting-wear`` (killed, or stopped) made with the same parameters —
     the run continues from its checkpoint to the uninterrupted run's result bit for bit, with the
     command line's ``--resume`` checks (a run of another adaptive scheme is refused); the
@@ -717,7 +722,8 @@ def fretting_wear(
         "dtau": _opt_real(dtau, "dtau"), "tau_end": _real(tau_end, "tau_end"),
         "method": _text(method, "method"),
         "material": None if material is None else _spec(material, "material"),
-        "length": _opt_real(length, "length")},
+        "length": _opt_real(length, "length"),
+        "gap_transform": _text(gap_transform, "gap_transform")},
         None if resume is None else _path(resume, "resume")))
 
 

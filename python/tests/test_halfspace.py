@@ -71,6 +71,11 @@ def test_fretting_wear_equals_the_cli(tmp_path):
         assert np.array_equal(got.limiting_profile, f["limiting_profile"][:])
     with pytest.raises(hs.HalfspaceError):
         hs.fretting_wear(chi=1.5)
+    assert got.gap_transform == ref["gap_transform"] == "central-differences"
+    pl = hs.fretting_wear(chi=0.5, n=301, tau_end=0.5, gap_transform="piecewise-linear")
+    assert pl.gap_transform == "piecewise-linear"
+    with pytest.raises(hs.HalfspaceError, match="piecewise-linear"):
+        hs.fretting_wear(n=301, tau_end=0.5, gap_transform="linear")
 
 
 def test_fretting_wear_resumes_a_cli_run_and_refuses_another_schemes(tmp_path):

@@ -33,7 +33,7 @@ const WEAR_RUN: RunKind = RunKind {
 #[derive(Debug, Args)]
 pub struct FrettingArgs {
     /// TOML (or .json) file with any of: chi, n, tol, dtau, tau_end, length, snapshots, method,
-    /// material; a flag given on the command line overrides its key (docs/architecture.md, "The application layer").
+    /// material, gap_transform; a flag given on the command line overrides its key (docs/architecture.md, "The application layer").
     #[arg(long)]
     config: Option<PathBuf>,
     /// Output directory (results.h5, results.npz, worn_profiles.png/.svg, checkpoint.npz).
@@ -74,6 +74,11 @@ pub struct FrettingArgs {
     /// Domain size L/a0 (≥ 1.45 and ≥ 1.02 r*/a0; default 1.6, graded max(1.6, 1.15 r*/a0)).
     #[arg(long, allow_hyphen_values = true)]
     length: Option<f64>,
+    /// The discretization of the profile transform (Eq. 7/23) of the worn profile:
+    /// central-differences (default, the paper's) or piecewise-linear (no node-to-node mode near
+    /// the contact edge; docs/fretting-wear.md, "The profile transform of the worn profile").
+    #[arg(long, value_parser = ["central-differences", "piecewise-linear"])]
+    gap_transform: Option<String>,
     /// Seconds of work between checkpoints.
     #[arg(long, default_value_t = 2.0, allow_hyphen_values = true)]
     checkpoint_seconds: f64,
@@ -97,6 +102,7 @@ fn params_of(args: &FrettingArgs) -> Result<(FrettingParams, WearMedium), CliErr
         snapshots: None,
         method: args.method.map(|m| m.name().to_string()),
         material: args.material.clone(),
+        gap_transform: args.gap_transform.clone(),
     };
     let WearRunCase { params, medium } = file.overlay(flags).case(Names::Flags)?;
     Ok((params, medium))

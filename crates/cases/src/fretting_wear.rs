@@ -10,8 +10,8 @@ use serde::Deserialize;
 use crate::config::Names;
 use crate::data::{read_record, read_text_bounded, AttrValue, DataError, Record};
 use crate::fretting::{
-    FrettingError, FrettingParams, FrettingSimulation, FrettingState, Snapshot, TimeStepping,
-    ADAPTIVE_SCHEME, FIXED_STEP_SCHEME,
+    FrettingError, FrettingParams, FrettingSimulation, FrettingState, GapTransform, Snapshot,
+    TimeStepping, ADAPTIVE_SCHEME, FIXED_STEP_SCHEME,
 };
 use crate::run_files::MANIFEST;
 use crate::spec::{parse_wear_medium, SpecError, WearMedium};
@@ -41,6 +41,9 @@ pub struct WearConfig {
     /// The medium ([`parse_wear_medium`]): `homogeneous` (default), `homogeneous:nu=..`,
     /// `graded:k=..,nu=..`.
     pub material: Option<String>,
+    /// The discretization of Eq. 7 / 23 for the worn profile: `"central-differences"` (default)
+    /// or `"piecewise-linear"` ([`GapTransform`]).
+    pub gap_transform: Option<String>,
 }
 
 /// A validated MDR fretting-wear run: the library's parameters and the medium.
@@ -63,6 +66,7 @@ impl WearConfig {
             snapshots: flags.snapshots.or(self.snapshots),
             method: flags.method.or(self.method),
             material: flags.material.or(self.material),
+            gap_transform: flags.gap_transform.or(self.gap_transform),
         }
     }
 
@@ -97,6 +101,14 @@ impl WearConfig {
                 tolerance: tol.unwrap_or(TimeStepping::DEFAULT_TOLERANCE),
             },
         };
+        if let Some(name) = &self.gap_transform {
+            p.gap_transform = GapTransform::from_name(name).ok_or_else(|| {
+                SpecError(format!(
+                    "{} = {name:?}: expected \"central-differences\" or \"piecewise-linear\"",
+                    names.of("gap_transform")
+                ))
+            })?;
+        }
         if let Some(s) = &self.snapshots {
             p.snapshots = s.clone();
         }
@@ -162,6 +174,10 @@ pub enum ResumeError {
     Data(#[from] DataError),
 }
 
+/// The attribute naming the run's [`GapTransform`] (absent in checkpoints written before it
+/// existed: the central differences).
+const GAP_TRANSFORM: &str = "gap_transform";
+
 /// The run's parameters as a run directory's manifest, its checkpoints and its results record
 /// them (the adaptive scheme's name, [`ADAPTIVE_SCHEME`], with adaptive steps, and the fixed-step
 /// ROS2 path's, [`FIXED_STEP_SCHEME`], with fixed steps: a checkpoint of another scheme or of none
@@ -186,6 +202,10 @@ pub fn params_attrs(p: &FrettingParams) -> Vec<(&'static str, AttrValue)> {
         ("length", AttrValue::Float(p.length)),
         ("method", AttrValue::Text(p.backend.name().into())),
         ("snapshots", AttrValue::Text(format!("{:?}", p.snapshots))),
+        (
+            GAP_TRANSFORM,
+            AttrValue::Text(p.gap_transform.name().into()),
+        ),
     ];
     match p.stepping {
         TimeStepping::Adaptive { .. } => {
@@ -312,7 +332,14 @@ pub fn state_from_checkpoint(
                 },
             });
         }
-        if rec.get_attr(name) != Some(&value) {
+        // A checkpoint written before the key existed used the central differences.
+        let recorded = match rec.get_attr(name) {
+            None if name == GAP_TRANSFORM => Some(AttrValue::Text(
+                GapTransform::CentralDifferences.name().into(),
+            )),
+            other => other.cloned(),
+        };
+        if recorded.as_ref() != Some(&value) {
             return Err(bad(format!(
                 "the checkpoint was made with {name} = {:?}, this run has {:?}; resume with the same \
                  parameters or start the run over",

@@ -653,6 +653,7 @@ pub fn wear_summary(
         "profile_at_a0_over_d": sim.profile_at_a0(),
         "limit_contact_radius_over_a0": sim.limit_contact_radius(),
         "method": p.backend.name(),
+        "gap_transform": p.gap_transform.name(),
         "n": p.nodes,
         "chi": p.chi,
         "length": p.length,

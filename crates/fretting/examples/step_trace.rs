@@ -8,12 +8,15 @@
 //!
 //! `cargo run --release -p halfspace-fretting --example step_trace -- N K CHI [TOL] [TAU_END] [CSV]`
 //! (switches by environment: `PERTURB=SEED`, `HOLE_ESTIMATE=off`, `FIRST_ORDER_FALLBACK=on`,
-//! `HOLE_PROJECTION=off`, `RECYCLED_STAGE2=on`, `PREFIX_RATE=off`, `MASKED_BAND=off`)
+//! `HOLE_PROJECTION=off`, `RECYCLED_STAGE2=on`, `PREFIX_RATE=off`, `MASKED_BAND=off`,
+//! `GAP_TRANSFORM=piecewise-linear`)
 
 use std::io::Write;
 use std::sync::{Arc, Mutex};
 
-use halfspace_fretting::{FrettingParams, FrettingSimulation, StepAttempt, TimeStepping};
+use halfspace_fretting::{
+    FrettingParams, FrettingSimulation, GapTransform, StepAttempt, TimeStepping,
+};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -31,6 +34,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         length: FrettingParams::default_length(chi, k),
         tau_end,
         stepping: TimeStepping::Adaptive { tolerance },
+        gap_transform: match std::env::var("GAP_TRANSFORM") {
+            Ok(name) => GapTransform::from_name(&name).ok_or("GAP_TRANSFORM: unknown name")?,
+            Err(_) => GapTransform::CentralDifferences,
+        },
         ..FrettingParams::default()
     };
     let attempts: Arc<Mutex<Vec<StepAttempt>>> = Arc::default();

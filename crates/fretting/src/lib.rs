@@ -19,7 +19,7 @@ mod simulation;
 pub mod studies;
 
 pub use error::FrettingError;
-pub use params::{FrettingParams, TimeStepping};
+pub use params::{FrettingParams, GapTransform, TimeStepping};
 pub use simulation::{
     AttemptObserver, ContactRadii, FrettingSimulation, FrettingState, Snapshot, StepAttempt,
     ADAPTIVE_SCHEME, FIXED_STEP_SCHEME, GAP_TOLERANCE, LOAD_THRESHOLD, SINGLE_PRECISION_FROM,

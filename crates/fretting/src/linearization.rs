@@ -21,16 +21,42 @@
 
 use halfspace_mdr::transform::{cell_weights, node_powers, stress_scale};
 use halfspace_mdr::{CellStressTransform, Material, MdrError, ProfileTransform};
+
+use crate::GapTransform;
 use halfspace_numerics::linop::LinearOperator;
 use halfspace_numerics::{
     diff::derivative_uniform, pow_or_sqrt, Backend, NumericsError, Precision, SquaredGrid,
     ToeplitzConvolution,
 };
 
+/// `g = P[D v]` of profile samples `v` on the grid (Eq. 7 / 23, discretized as `transform`): the
+/// one profile transform of the wear run (its rate, its Jacobian and its sliding columns).
+/// `slope` (at least `v.len()` values) is scratch.
+pub(crate) fn samples_to_gap(
+    tf: &mut ProfileTransform,
+    transform: GapTransform,
+    grid: &SquaredGrid,
+    v: &[f64],
+    slope: &mut [f64],
+    g: &mut [f64],
+) -> Result<(), MdrError> {
+    let n = grid.len();
+    match transform {
+        GapTransform::CentralDifferences => {
+            derivative_uniform(&v[..n], grid.step(), &mut slope[..n])?;
+            tf.slope_to_equivalent(grid, &mut slope[..n], g)?;
+        }
+        GapTransform::PiecewiseLinear => tf.values_to_equivalent(grid, &v[..n], g)?,
+    }
+    Ok(())
+}
+
 /// `W = I − β J` (`β = γ Δτ`) at a frozen contact state, as a [`LinearOperator`] on all `N` nodes.
 pub(crate) struct RosenbrockMatrix {
     grid: SquaredGrid,
     profile_tf: ProfileTransform,
+    /// The discretization of Eq. 7 / 23 ([`samples_to_gap`]).
+    gap_transform: GapTransform,
     stress_tf: CellStressTransform,
     /// `c̃_N` of the normalized problem.
     modulus: f64,
@@ -70,6 +96,7 @@ impl RosenbrockMatrix {
         backend: Backend,
         modulus: f64,
         chi: f64,
+        gap_transform: GapTransform,
     ) -> Result<Self, MdrError> {
         let n = grid.len();
         // The Jacobian runs on the contact nodes only (about half the grid and less): shorter
@@ -80,6 +107,7 @@ impl RosenbrockMatrix {
         stress_tf.plan_shorter_lengths();
         Ok(Self {
             profile_tf,
+            gap_transform,
             stress_tf,
             grid,
             modulus,
@@ -277,9 +305,14 @@ impl RosenbrockMatrix {
         let h = self.grid.step();
         let len = (m + 3).max(SquaredGrid::MIN_NODES).min(self.grid.len());
         let prefix = SquaredGrid::with_step(len, h)?;
-        derivative_uniform(&v[..len], h, &mut self.slope[..len])?;
-        self.profile_tf
-            .slope_to_equivalent(&prefix, &mut self.slope[..len], &mut self.g[..len])?;
+        samples_to_gap(
+            &mut self.profile_tf,
+            self.gap_transform,
+            &prefix,
+            &v[..len],
+            &mut self.slope[..len],
+            &mut self.g[..len],
+        )?;
         Ok(())
     }
 
@@ -705,6 +738,10 @@ fn substitute_width_5(lu: &[f64], inverse_pivot: &[f64], y: &mut [f64], active: 
 /// part (`1 − o_k` in place of `o_k`, what the stages' preconditioner takes) is summed directly,
 /// column by column, on the `reach` rows above each closed node ([`CLOSED_REACH`]).
 pub(crate) struct MaskedBand {
+    /// The discretization of Eq. 7 / 23 whose `G` the band holds.
+    transform: GapTransform,
+    /// The piecewise-linear `G`'s column-0 correction `C_k0 = −ρ̃_k e_{k+1}`.
+    first_column: Vec<f64>,
     width: usize,
     n: usize,
     gamma: f64,
@@ -758,7 +795,13 @@ impl MaskedBand {
     /// The closed forms for the grid of `n` nodes and step `h`, grading exponent `k_g`
     /// (`γ = (1 + k_g)/2`), half bandwidth `w`; a closed node's column is summed on the `reach`
     /// rows above it (`usize::MAX`: all, the exact band; [`CLOSED_REACH`]).
-    pub(crate) fn new(grid: &SquaredGrid, grading: f64, width: usize, reach: usize) -> Self {
+    pub(crate) fn new(
+        grid: &SquaredGrid,
+        grading: f64,
+        width: usize,
+        reach: usize,
+        transform: GapTransform,
+    ) -> Self {
         let (n, h, w) = (grid.len(), grid.step(), width);
         let gamma = 0.5 * (1.0 + grading);
         let alpha = 0.5 * (1.0 - grading);
@@ -778,11 +821,31 @@ impl MaskedBand {
             .map(|d| if d == 0 { b[1] } else { b[d + 1] - b[d - 1] })
             .collect();
         let beta_at = |d: isize| if d < 0 { 0.0 } else { beta[d as usize] };
+        // The piecewise-linear transform: `G_kj = ρ̃_k τ̃_{k−j}`, `τ̃_δ = e_{δ+1} − e_δ` (`δ ≥ 0`,
+        // `e_m = b_m − b_{m−1}`, `e_0 = 0`), `ρ̃_k = 2k^α/(1+k_g)`, column 0 `−ρ̃_k e_k`.
+        let increment = |m: isize| {
+            if m <= 0 {
+                0.0
+            } else {
+                b[m as usize] - b[m as usize - 1]
+            }
+        };
         let tau: Vec<f64> = (-1..(n + w + 1) as isize)
-            .map(|d| beta_at(d + 1) - beta_at(d - 1))
+            .map(|d| match transform {
+                GapTransform::CentralDifferences => beta_at(d + 1) - beta_at(d - 1),
+                GapTransform::PiecewiseLinear if d < 0 => 0.0,
+                GapTransform::PiecewiseLinear => increment(d + 1) - increment(d),
+            })
             .collect();
+        let rho_scale = match transform {
+            GapTransform::CentralDifferences => 1.0 / (2.0 * (1.0 + grading)),
+            GapTransform::PiecewiseLinear => 2.0 / (1.0 + grading),
+        };
         let rho: Vec<f64> = (0..n)
-            .map(|k| pow_or_sqrt(k as f64, alpha) / (2.0 * (1.0 + grading)))
+            .map(|k| pow_or_sqrt(k as f64, alpha) * rho_scale)
+            .collect();
+        let first_column: Vec<f64> = (0..n)
+            .map(|k| -rho[k] * increment(k as isize + 1))
             .collect();
         let split = (0..n)
             .map(|k| {
@@ -799,6 +862,8 @@ impl MaskedBand {
             }
         }
         Self {
+            transform,
+            first_column,
             width: w,
             n,
             gamma,
@@ -837,6 +902,9 @@ impl MaskedBand {
     /// `G_kj = ρ_k τ_{k−j} + C_kj` (see the type's docs).
     fn gap_entry(&self, k: usize, j: usize) -> f64 {
         let toeplitz = self.rho[k] * self.tau(k as isize - j as isize);
+        if self.transform == GapTransform::PiecewiseLinear {
+            return toeplitz + if j == 0 { self.first_column[k] } else { 0.0 };
+        }
         let beta = |d: usize| self.beta[d];
         toeplitz
             + match j {
@@ -1111,13 +1179,21 @@ mod tests {
         let w = PRECONDITIONER_WIDTH;
         let row = 2 * w + 1;
         let grid = SquaredGrid::new(n, 2.0).unwrap();
-        for grading in [0.0, -0.5, 0.3] {
+        let cases = [0.0, -0.5, 0.3].into_iter().flat_map(|grading| {
+            [
+                GapTransform::CentralDifferences,
+                GapTransform::PiecewiseLinear,
+            ]
+            .map(|transform| (grading, transform))
+        });
+        for (grading, transform) in cases {
             let material = Material::power_law(1.0, 1.0, 0.3, grading).unwrap();
             let modulus = 1.7;
             let mut matrix =
-                RosenbrockMatrix::new(grid, &material, Backend::Fft, modulus, 0.5).unwrap();
-            let mut bands = MaskedBand::new(&grid, grading, w, usize::MAX);
-            let mut near = MaskedBand::new(&grid, grading, w, CLOSED_REACH);
+                RosenbrockMatrix::new(grid, &material, Backend::Fft, modulus, 0.5, transform)
+                    .unwrap();
+            let mut bands = MaskedBand::new(&grid, grading, w, usize::MAX, transform);
+            let mut near = MaskedBand::new(&grid, grading, w, CLOSED_REACH, transform);
             let zeros = vec![0.0; n];
             let mut last = None;
             for (m, theta, closed) in [
@@ -1161,7 +1237,7 @@ mod tests {
                     .fold(0.0f64, |a, (d, b)| a.max((d - b).abs()));
                 assert!(
                     error <= 1e-12 * largest,
-                    "k = {grading}, m = {m}, θ = {theta}: {error:e} of {largest:e}"
+                    "k = {grading}, {transform:?}, m = {m}, θ = {theta}: {error:e} of {largest:e}"
                 );
                 // The closed nodes' part: the all-open band less the masked one.
                 let masked = bands.band.clone();

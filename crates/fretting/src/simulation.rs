@@ -1,13 +1,15 @@
 use halfspace_mdr::{CellStressTransform, Material, MdrError, ProfileTransform};
 use halfspace_numerics::krylov::{Gmres, KrylovParams};
 use halfspace_numerics::linop::Identity;
-use halfspace_numerics::{diff::derivative_uniform, NumericsError, Precision, SquaredGrid};
+use halfspace_numerics::{NumericsError, Precision, SquaredGrid};
 
 use crate::limit::{
     annulus_response, initial_profile, limit_contact_radius, limit_wear_volume, limiting_profile,
     stick_radius,
 };
-use crate::linearization::{BandPreconditioner, MaskedBand, RosenbrockMatrix, CLOSED_REACH};
+use crate::linearization::{
+    samples_to_gap, BandPreconditioner, MaskedBand, RosenbrockMatrix, CLOSED_REACH,
+};
 use crate::{FrettingError, FrettingParams, TimeStepping};
 
 /// `c_N` of the normalized problem: with `q̃ = c̃_N (1 − g̃)`, Eq. 29 (Eq. 17 at `k = 0`) gives
@@ -362,6 +364,8 @@ pub struct FrettingSimulation {
     gap_column_done: Vec<bool>,
     /// Work of the sliding node's test: the slope and `g` of a rate or a unit vector.
     slide_slope: Vec<f64>,
+    /// `e_j` for a column of `G` ([`FrettingSimulation::gap_column`]).
+    slide_unit: Vec<f64>,
     slide_gap: Vec<f64>,
     /// The observer of the adaptive attempts and the attempt being made.
     observer: Option<AttemptObserver>,
@@ -456,6 +460,7 @@ impl FrettingSimulation {
             params.backend,
             normalized_modulus(params.k),
             params.chi,
+            params.gap_transform,
         )?;
         // Explicit Euler's rate keeps the full-length plans: the explicit reference runs of the
         // tests keep their bits (their grazing-phase a/a₀ at τ = 3 moves by 3e-4 with the
@@ -565,6 +570,7 @@ impl FrettingSimulation {
             gap_band: vec![0.0; n * (2 * PRECONDITIONER_WIDTH + 1)],
             gap_column_done: vec![false; n],
             slide_slope: vec![0.0; n],
+            slide_unit: vec![0.0; n],
             slide_gap: vec![0.0; n],
             observer: None,
             attempt: StepAttempt {
@@ -1329,9 +1335,10 @@ impl FrettingSimulation {
                 // edge and the closed part's tail (docs/performance.md, "The N = 8001 wear run:
                 // the exact masked band").
                 let (grid, k, width) = (&self.grid, self.params.k, p.width());
-                let bands = self
-                    .masked_band
-                    .get_or_insert_with(|| MaskedBand::new(grid, k, width, CLOSED_REACH));
+                let transform = self.params.gap_transform;
+                let bands = self.masked_band.get_or_insert_with(|| {
+                    MaskedBand::new(grid, k, width, CLOSED_REACH, transform)
+                });
                 self.matrix.closed_band(bands).map_err(MdrError::from)?;
                 bands.subtract_from(&p.stress_band, contact.edge);
                 self.matrix.scale_band(p.width(), &bands.band, &mut p.band);
@@ -1389,10 +1396,11 @@ impl FrettingSimulation {
         for j in s - w..=s + w {
             self.gap_column(j)?;
         }
-        let h = self.grid.step();
-        derivative_uniform(&self.rate, h, &mut self.slide_slope).map_err(MdrError::from)?;
-        self.profile_tf.slope_to_equivalent(
+        samples_to_gap(
+            &mut self.profile_tf,
+            self.params.gap_transform,
             &self.grid,
+            &self.rate,
             &mut self.slide_slope,
             &mut self.slide_gap,
         )?;
@@ -1429,12 +1437,14 @@ impl FrettingSimulation {
         if self.gap_column_done[j] {
             return Ok(());
         }
-        let (w, n, h) = (PRECONDITIONER_WIDTH, self.grid.len(), self.grid.step());
-        self.slide_gap.fill(0.0);
-        self.slide_gap[j] = 1.0;
-        derivative_uniform(&self.slide_gap, h, &mut self.slide_slope).map_err(MdrError::from)?;
-        self.profile_tf.slope_to_equivalent(
+        let (w, n) = (PRECONDITIONER_WIDTH, self.grid.len());
+        self.slide_unit.fill(0.0);
+        self.slide_unit[j] = 1.0;
+        samples_to_gap(
+            &mut self.profile_tf,
+            self.params.gap_transform,
             &self.grid,
+            &self.slide_unit,
             &mut self.slide_slope,
             &mut self.slide_gap,
         )?;
@@ -1808,10 +1818,14 @@ impl FrettingSimulation {
     fn equivalent_into(&mut self, len: usize) -> Result<(), FrettingError> {
         let h = self.grid.step();
         let prefix = SquaredGrid::with_step(len, h).map_err(MdrError::from)?;
-        derivative_uniform(&self.state.profile[..len], h, &mut self.slope[..len])
-            .map_err(MdrError::from)?;
-        self.profile_tf
-            .slope_to_equivalent(&prefix, &mut self.slope[..len], &mut self.g[..len])?;
+        samples_to_gap(
+            &mut self.profile_tf,
+            self.params.gap_transform,
+            &prefix,
+            &self.state.profile[..len],
+            &mut self.slope[..len],
+            &mut self.g[..len],
+        )?;
         Ok(())
     }
 
@@ -2208,6 +2222,7 @@ const KRYLOV: KrylovParams = KrylovParams {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::GapTransform;
     use halfspace_numerics::linop::LinearOperator;
 
     /// The band preconditioner: the probed band of `K` against the dense `K` (assembled column by
@@ -3044,17 +3059,26 @@ mod tests {
     /// edge and the clipping pattern do not move).
     #[test]
     fn rate_jacobian_matches_central_differences() {
-        for k in [0.0, -0.5, 0.5] {
+        let cases = [0.0, -0.5, 0.5].into_iter().flat_map(|k| {
+            [
+                GapTransform::CentralDifferences,
+                GapTransform::PiecewiseLinear,
+            ]
+            .map(|t| (k, t))
+        });
+        for (k, gap_transform) in cases {
             let length = FrettingParams::default_length(0.5, k);
             let params = FrettingParams {
                 nodes: 801,
                 k,
                 length,
                 stepping: TimeStepping::ExplicitEuler {
-                    dtau: FrettingParams::default_step(801, length, k),
+                    dtau: FrettingParams::default_step(801, length, k)
+                        * gap_transform.explicit_step_factor(),
                 },
                 tau_end: 0.2,
                 snapshots: vec![],
+                gap_transform,
                 ..FrettingParams::default()
             };
             let (mut sim, contact) = run_and_linearize(params);
@@ -3099,12 +3123,13 @@ mod tests {
                 .filter(|&i| sigma[i].abs() > 1e-3 * sigma_max)
                 .map(|i| ((plus[i] - minus[i]) / (2.0 * eps) - jv[i]).abs())
                 .fold(0.0, f64::max);
-            eprintln!("k = {k}: |J v − FD| {worst:e} of {scale:e}");
-            // Measured 5e-9 (k = 0, 0.5) and 8e-6 (k = −0.5) of the largest entry.
+            eprintln!("k = {k}, {gap_transform:?}: |J v − FD| {worst:e} of {scale:e}");
+            // Measured 5e-9 (k = 0, 0.5) and 8e-6 (k = −0.5) of the largest entry; with the
+            // piecewise-linear transform 2e-7 (k = 0), 9e-7 (k = 0.5) and 5.7e-5 (k = −0.5).
             assert!(scale > 0.0);
             assert!(
                 worst < 1e-4 * scale,
-                "k = {k}: |J v − FD| = {worst:e} of {scale:e}"
+                "k = {k}, {gap_transform:?}: |J v − FD| = {worst:e} of {scale:e}"
             );
         }
     }

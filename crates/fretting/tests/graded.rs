@@ -56,6 +56,7 @@ fn graded(k: f64, chi: f64, nodes: usize, tau_end: f64, backend: Backend) -> Fre
         tau_end,
         snapshots: vec![],
         backend,
+        ..FrettingParams::default()
     })
 }
 
@@ -109,6 +110,7 @@ fn mvm_and_fft_agree_over_300_steps() {
             tau_end: 300.0 * dtau,
             snapshots: vec![],
             backend,
+            ..FrettingParams::default()
         };
         let fft = run(params(Backend::Fft));
         let mvm = run(params(Backend::Mvm));

@@ -172,6 +172,49 @@ impl ProfileTransform {
         Ok(c0)
     }
 
+    /// `g` on every node from samples `v_i = f(√ξ_i)` of a profile, exact for the profile
+    /// linear in `ξ = r²` between nodes (docs/theory-mdr.md#profile-transform, "Piecewise-linear
+    /// profiles"): with the cell slopes `s_{t+½} = (v_{t+1} − v_t)/h`,
+    ///
+    /// `g_j = (1/γ) h j^{1−γ} Σ_{t=0}^{j−1} s_{t+½} e_{j−t}`, `e_m = m^γ − (m−1)^γ`, `γ = (1+k)/2`,
+    ///
+    /// the exact `(1/γ) ξ^{1−γ} dĜ/dξ` of Eq. 7 / 23 for that profile (`∫` over a cell of
+    /// `γ(ξ_j − ρ)^{γ−1}` is `h^γ e_{j−t}`). No difference is taken at the nodes, so no profile
+    /// mode is invisible to it (the central differences of [`ProfileTransform::slope_to_equivalent`]
+    /// do not see `(−1)^i`); a paraboloid (`v` linear in `ξ`) is exact without a split, and a
+    /// smooth profile converges at order `1 + γ`, as the trapezoid rule of Eq. 7 (P1). `g_j`
+    /// depends on `v_0 … v_j` only. `slope` (at least `len` values) is scratch. Requires
+    /// `f(0) = v_0` to be where the profile is measured from (as Eq. 7: `g` sees differences only).
+    pub fn values_to_equivalent(
+        &mut self,
+        grid: &SquaredGrid,
+        values: &[f64],
+        g: &mut [f64],
+    ) -> Result<(), MdrError> {
+        check_fits("profile transform grid", grid, self.capacity())?;
+        let n = grid.len();
+        check_len("profile samples", n, values.len())?;
+        check_len("equivalent profile g", n, g.len())?;
+        let h = grid.step();
+        let inv_h = 1.0 / h;
+        let slope = &mut self.slope[..n];
+        for t in 0..n - 1 {
+            slope[t] = (values[t + 1] - values[t]) * inv_h;
+        }
+        // The causal sum halves its first entry (trapezoid): doubled here, so that its
+        // increments are the plain sums over the cells 0..j.
+        slope[0] *= 2.0;
+        slope[n - 1] = 0.0;
+        let increments = &mut self.big_g[..n];
+        self.sum.causal_increments(slope, increments)?;
+        let factor = h / (0.5 * (1.0 + self.k));
+        for ((gi, e), wi) in g.iter_mut().zip(increments.iter()).zip(&self.index_power) {
+            *gi = factor * wi * e;
+        }
+        g[0] = 0.0;
+        Ok(())
+    }
+
     fn split_apply(
         &mut self,
         grid: &SquaredGrid,
