@@ -423,9 +423,10 @@ fn the_fretting_limit_study_reaches_every_limit_from_below() {
     assert!(plot.is_file());
 }
 
-/// `--gap-transform` and the config key `gap_transform`: the run reports the transform it used,
-/// a resume under the other one is refused naming it (a checkpoint written before the key, with
-/// no attribute, is a central-differences run's), and an unknown name is refused up front.
+/// `--gap-transform` and the config key `gap_transform` (and `--edge-cells`): the run reports the
+/// transform it used, a resume under the other one is refused naming it (a checkpoint written
+/// before the key, with no attribute, is a central-differences run's), and an unknown name is
+/// refused up front.
 #[test]
 fn the_gap_transform_is_chosen_recorded_and_checked_on_resume() {
     let dir = tempfile::tempdir().unwrap();

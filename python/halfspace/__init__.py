@@ -97,6 +97,12 @@ def _text(v: Any, name: str) -> str:
     return v
 
 
+def _flag(v: Any, name: str) -> bool:
+    if not isinstance(v, (bool, np.bool_)):
+        raise TypeError(f"{name} must be True or False, got {v!r} ({type(v).__name__})")
+    return bool(v)
+
+
 def _path(v: Any, name: str) -> str | os.PathLike[str]:
     if not isinstance(v, (str, os.PathLike)):
         raise TypeError(f"{name} must be a path, got {v!r} ({type(v).__name__})")
@@ -432,6 +438,7 @@ class WearResult(Result):
     limit_contact_radius_over_a0: float
     method: str
     gap_transform: str
+    edge_cells: bool
     n: int
     chi: float
     length: float
@@ -692,6 +699,7 @@ def fretting_wear(
     material: Graded | Homogeneous | str | None = None,
     length: float | None = None,
     gap_transform: str = "central-differences",
+    edge_cells: bool = False,
     resume: str | os.PathLike[str] | None = None,
 ) -> WearResult:
     """Fretting wear of a parabolic indenter in partial slip by the MDR (Willert et al. 2021,
@@ -706,8 +714,9 @@ def fretting_wear(
     the time steps; ``wear_volume`` and
     ``limit_wear_volume`` are V/(π a₀² d). ``gap_transform``: ``"central-differences"`` (the
     paper's Eq. 7) or ``"piecewise-linear"`` (no node-to-node mode near the contact edge, about
-    1.5× the steps; docs/fretting-wear.md, "The profile transform of the worn profile"). As
-    ``halfspace fretting-wear``. ``resume``: a run
+    1.5× the steps; docs/fretting-wear.md, "The profile transform of the worn profile");
+    ``edge_cells``: the edge cells' rate as cell means (with the piecewise-linear transform the
+    fewest steps of the graded runs). As ``halfspace fretting-wear``. ``resume``: a run
     directory of ``halfspace fretting-wear`` (killed, or stopped) made with the same parameters —
     the run continues from its checkpoint to the uninterrupted run's result bit for bit, with the
     command line's ``--resume`` checks (a run of another adaptive scheme is refused); the
@@ -723,7 +732,8 @@ def fretting_wear(
         "method": _text(method, "method"),
         "material": None if material is None else _spec(material, "material"),
         "length": _opt_real(length, "length"),
-        "gap_transform": _text(gap_transform, "gap_transform")},
+        "gap_transform": _text(gap_transform, "gap_transform"),
+        "edge_cells": _flag(edge_cells, "edge_cells")},
         None if resume is None else _path(resume, "resume")))
 
 

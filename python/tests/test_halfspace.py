@@ -72,8 +72,12 @@ def test_fretting_wear_equals_the_cli(tmp_path):
     with pytest.raises(hs.HalfspaceError):
         hs.fretting_wear(chi=1.5)
     assert got.gap_transform == ref["gap_transform"] == "central-differences"
-    pl = hs.fretting_wear(chi=0.5, n=301, tau_end=0.5, gap_transform="piecewise-linear")
-    assert pl.gap_transform == "piecewise-linear"
+    pl = hs.fretting_wear(chi=0.5, n=301, tau_end=0.5, gap_transform="piecewise-linear",
+                          edge_cells=True)
+    assert pl.gap_transform == "piecewise-linear" and pl.edge_cells is True
+    assert got.edge_cells is False
+    with pytest.raises(TypeError, match="edge_cells"):
+        hs.fretting_wear(n=301, tau_end=0.5, edge_cells="yes")
     with pytest.raises(hs.HalfspaceError, match="piecewise-linear"):
         hs.fretting_wear(n=301, tau_end=0.5, gap_transform="linear")
 

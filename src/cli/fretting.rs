@@ -33,7 +33,7 @@ const WEAR_RUN: RunKind = RunKind {
 #[derive(Debug, Args)]
 pub struct FrettingArgs {
     /// TOML (or .json) file with any of: chi, n, tol, dtau, tau_end, length, snapshots, method,
-    /// material, gap_transform; a flag given on the command line overrides its key (docs/architecture.md, "The application layer").
+    /// material, gap_transform, edge_cells; a flag given on the command line overrides its key (docs/architecture.md, "The application layer").
     #[arg(long)]
     config: Option<PathBuf>,
     /// Output directory (results.h5, results.npz, worn_profiles.png/.svg, checkpoint.npz).
@@ -79,6 +79,11 @@ pub struct FrettingArgs {
     /// the contact edge; docs/fretting-wear.md, "The profile transform of the worn profile").
     #[arg(long, value_parser = ["central-differences", "piecewise-linear"])]
     gap_transform: Option<String>,
+    /// The wear rate of the cells at the contact edge as cell means of p Δu instead of nodal
+    /// samples (docs/fretting-wear.md, "Edge cells"); with --gap-transform piecewise-linear the
+    /// fewest steps of the graded runs ("The profile transform of the worn profile").
+    #[arg(long)]
+    edge_cells: bool,
     /// Seconds of work between checkpoints.
     #[arg(long, default_value_t = 2.0, allow_hyphen_values = true)]
     checkpoint_seconds: f64,
@@ -103,6 +108,7 @@ fn params_of(args: &FrettingArgs) -> Result<(FrettingParams, WearMedium), CliErr
         method: args.method.map(|m| m.name().to_string()),
         material: args.material.clone(),
         gap_transform: args.gap_transform.clone(),
+        edge_cells: args.edge_cells.then_some(true),
     };
     let WearRunCase { params, medium } = file.overlay(flags).case(Names::Flags)?;
     Ok((params, medium))

@@ -44,6 +44,8 @@ pub struct WearConfig {
     /// The discretization of Eq. 7 / 23 for the worn profile: `"central-differences"` (default)
     /// or `"piecewise-linear"` ([`GapTransform`]).
     pub gap_transform: Option<String>,
+    /// The edge cells' rate as cell means (default false; [`FrettingParams::edge_cells`]).
+    pub edge_cells: Option<bool>,
 }
 
 /// A validated MDR fretting-wear run: the library's parameters and the medium.
@@ -67,6 +69,7 @@ impl WearConfig {
             method: flags.method.or(self.method),
             material: flags.material.or(self.material),
             gap_transform: flags.gap_transform.or(self.gap_transform),
+            edge_cells: flags.edge_cells.or(self.edge_cells),
         }
     }
 
@@ -109,6 +112,7 @@ impl WearConfig {
                 ))
             })?;
         }
+        p.edge_cells = self.edge_cells.unwrap_or(p.edge_cells);
         if let Some(s) = &self.snapshots {
             p.snapshots = s.clone();
         }
@@ -178,6 +182,10 @@ pub enum ResumeError {
 /// existed: the central differences).
 const GAP_TRANSFORM: &str = "gap_transform";
 
+/// The attribute recording [`FrettingParams::edge_cells`] (1 on, 0 off; absent before it
+/// existed: off).
+const EDGE_CELLS: &str = "edge_cells";
+
 /// The run's parameters as a run directory's manifest, its checkpoints and its results record
 /// them (the adaptive scheme's name, [`ADAPTIVE_SCHEME`], with adaptive steps, and the fixed-step
 /// ROS2 path's, [`FIXED_STEP_SCHEME`], with fixed steps: a checkpoint of another scheme or of none
@@ -206,6 +214,7 @@ pub fn params_attrs(p: &FrettingParams) -> Vec<(&'static str, AttrValue)> {
             GAP_TRANSFORM,
             AttrValue::Text(p.gap_transform.name().into()),
         ),
+        (EDGE_CELLS, AttrValue::Int(i64::from(p.edge_cells))),
     ];
     match p.stepping {
         TimeStepping::Adaptive { .. } => {
@@ -332,11 +341,12 @@ pub fn state_from_checkpoint(
                 },
             });
         }
-        // A checkpoint written before the key existed used the central differences.
+        // A checkpoint written before the keys existed: central differences, nodal edge rates.
         let recorded = match rec.get_attr(name) {
             None if name == GAP_TRANSFORM => Some(AttrValue::Text(
                 GapTransform::CentralDifferences.name().into(),
             )),
+            None if name == EDGE_CELLS => Some(AttrValue::Int(0)),
             other => other.cloned(),
         };
         if recorded.as_ref() != Some(&value) {

@@ -654,6 +654,7 @@ pub fn wear_summary(
         "limit_contact_radius_over_a0": sim.limit_contact_radius(),
         "method": p.backend.name(),
         "gap_transform": p.gap_transform.name(),
+        "edge_cells": p.edge_cells,
         "n": p.nodes,
         "chi": p.chi,
         "length": p.length,

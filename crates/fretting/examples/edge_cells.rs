@@ -2,9 +2,10 @@
 //! "Edge cells"): steps, rejections, GMRES iterations, final radii and volume, seconds.
 //!
 //! `cargo run --release -p halfspace-fretting --example edge_cells -- N K CHI on|off [TAU_END]`
-//! (the default run: `2001 0 0.5 on`; CPU time: run it under `/usr/bin/time`).
+//! (the default run: `2001 0 0.5 on`; CPU time: run it under `/usr/bin/time`;
+//! `GAP_TRANSFORM=piecewise-linear` for that profile transform).
 
-use halfspace_fretting::{FrettingParams, FrettingSimulation};
+use halfspace_fretting::{FrettingParams, FrettingSimulation, GapTransform};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -20,6 +21,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         chi,
         length: FrettingParams::default_length(chi, k),
         tau_end,
+        gap_transform: match std::env::var("GAP_TRANSFORM") {
+            Ok(name) => GapTransform::from_name(&name).ok_or("GAP_TRANSFORM: unknown name")?,
+            Err(_) => GapTransform::CentralDifferences,
+        },
         ..FrettingParams::default()
     };
     let start = std::time::Instant::now();

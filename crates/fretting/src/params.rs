@@ -118,6 +118,10 @@ pub struct FrettingParams {
     pub backend: Backend,
     /// The discretization of Eq. 7 / 23 for the worn profile.
     pub gap_transform: GapTransform,
+    /// The wear rate of the cells at the contact edge as the cell mean of `p Δu` (the edge
+    /// pressure `π (a² − ξ)^γ` integrated over the cell) instead of the nodal `p Δu`
+    /// (docs/fretting-wear.md, "Edge cells"); off by default.
+    pub edge_cells: bool,
 }
 
 impl Default for FrettingParams {
@@ -136,6 +140,7 @@ impl Default for FrettingParams {
             snapshots: vec![0.1, 1.0, 3.0, 10.0, 30.0],
             backend: Backend::Fft,
             gap_transform: GapTransform::CentralDifferences,
+            edge_cells: false,
         }
     }
 }

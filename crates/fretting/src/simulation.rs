@@ -555,7 +555,7 @@ impl FrettingSimulation {
             single_precision_products: false,
             edge_shape: vec![0.0; n],
             edge_mean: vec![0.0; n],
-            edge_cells: 0,
+            edge_cells: if params.edge_cells { EDGE_CELLS } else { 0 },
             // Part of ADAPTIVE_SCHEME (see `hole_estimate`): rename it when a default changes.
             freeze_contact: true,
             first_order_fallback: false,
@@ -601,13 +601,14 @@ impl FrettingSimulation {
         })
     }
 
-    /// Experimental, off by default: the wear rate of the cells at the contact edge as the cell mean
+    /// Off by default ([`FrettingParams::edge_cells`], which sets it at construction and is
+    /// recorded in checkpoints): the wear rate of the cells at the contact edge as the cell mean
     /// of `p Δu` with the edge pressure `π (a² − ξ)^{(1+k)/2}` integrated over the cell
     /// (docs/fretting-wear.md, "Edge cells"), instead of the nodal `p Δu`. Takes fewer adaptive
-    /// steps; not the default because it leaves open points listed there (χ = 0.3 ends 1.6
-    /// cells inside r*, k = −0.5 at χ = 0.3 2.4 cells inside, FFT and MVM agree to 3e-6 only). Not
-    /// part of the checkpointed state: a resumed run must set it again. Set before the first step.
+    /// steps; not the default because of the open points listed there. Set before the first
+    /// step; this setter changes the parameters' value too.
     pub fn set_edge_cell_rates(&mut self, on: bool) {
+        self.params.edge_cells = on;
         self.edge_cells = if on { EDGE_CELLS } else { 0 };
         self.current = None;
     }
@@ -645,7 +646,7 @@ impl FrettingSimulation {
     /// Whether the error estimate of the adaptive steps includes the holes a step opens that its
     /// embedded first-order solution does not have (on by default, docs/fretting-wear.md, "What
     /// sets the step"; off: the estimate of before, for comparisons). Set before the first step;
-    /// not part of the checkpointed state (as [`FrettingSimulation::set_edge_cell_rates`]): a
+    /// not part of the checkpointed state: a
     /// resumed run repeats the uninterrupted one bit for bit when it is set the same way again.
     pub fn set_hole_estimate(&mut self, on: bool) {
         self.hole_estimate = on;
