@@ -9,7 +9,7 @@
 //! `cargo run --release -p halfspace-fretting --example step_trace -- N K CHI [TOL] [TAU_END] [CSV]`
 //! (switches by environment: `PERTURB=SEED`, `HOLE_ESTIMATE=off`, `FIRST_ORDER_FALLBACK=on`,
 //! `HOLE_PROJECTION=off`, `RECYCLED_STAGE2=on`, `PREFIX_RATE=off`, `MASKED_BAND=off`,
-//! `GAP_TRANSFORM=piecewise-linear`)
+//! `GAP_TRANSFORM=piecewise-linear`, `EDGE_CELLS=on`)
 
 use std::io::Write;
 use std::sync::{Arc, Mutex};
@@ -38,6 +38,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             Ok(name) => GapTransform::from_name(&name).ok_or("GAP_TRANSFORM: unknown name")?,
             Err(_) => GapTransform::CentralDifferences,
         },
+        edge_cells: std::env::var("EDGE_CELLS").is_ok_and(|v| v == "on"),
         ..FrettingParams::default()
     };
     let attempts: Arc<Mutex<Vec<StepAttempt>>> = Arc::default();
