@@ -424,9 +424,9 @@ fn the_fretting_limit_study_reaches_every_limit_from_below() {
 }
 
 /// `--gap-transform` and the config key `gap_transform` (and `--edge-cells`): the run reports the
-/// transform it used, a resume under the other one is refused naming it (a checkpoint written
-/// before the key, with no attribute, is a central-differences run's), and an unknown name is
-/// refused up front.
+/// transform it used, a resume under the other one is refused naming it, and an unknown name is
+/// refused up front. (A default run records neither option, as runs before them did: the unit
+/// test `checkpoints_record_the_discretization_options_only_when_not_the_default`.)
 #[test]
 fn the_gap_transform_is_chosen_recorded_and_checked_on_resume() {
     let dir = tempfile::tempdir().unwrap();

@@ -178,13 +178,23 @@ pub enum ResumeError {
     Data(#[from] DataError),
 }
 
-/// The attribute naming the run's [`GapTransform`] (absent in checkpoints written before it
-/// existed: the central differences).
-const GAP_TRANSFORM: &str = "gap_transform";
-
-/// The attribute recording [`FrettingParams::edge_cells`] (1 on, 0 off; absent before it
-/// existed: off).
-const EDGE_CELLS: &str = "edge_cells";
+/// The discretization options as `(attribute, this run's value, the default's value)`: the
+/// [`GapTransform`] by name and the edge cells as 1 / 0 ([`FrettingParams::edge_cells`]).
+fn discretization_attrs(p: &FrettingParams) -> [(&'static str, AttrValue, AttrValue); 2] {
+    let text = |t: GapTransform| AttrValue::Text(t.name().into());
+    [
+        (
+            "gap_transform",
+            text(p.gap_transform),
+            text(GapTransform::default()),
+        ),
+        (
+            "edge_cells",
+            AttrValue::Int(i64::from(p.edge_cells)),
+            AttrValue::Int(0),
+        ),
+    ]
+}
 
 /// The run's parameters as a run directory's manifest, its checkpoints and its results record
 /// them (the adaptive scheme's name, [`ADAPTIVE_SCHEME`], with adaptive steps, and the fixed-step
@@ -210,12 +220,16 @@ pub fn params_attrs(p: &FrettingParams) -> Vec<(&'static str, AttrValue)> {
         ("length", AttrValue::Float(p.length)),
         ("method", AttrValue::Text(p.backend.name().into())),
         ("snapshots", AttrValue::Text(format!("{:?}", p.snapshots))),
-        (
-            GAP_TRANSFORM,
-            AttrValue::Text(p.gap_transform.name().into()),
-        ),
-        (EDGE_CELLS, AttrValue::Int(i64::from(p.edge_cells))),
     ];
+    // The discretization options only where they differ from the defaults: a default run records
+    // what every run recorded before they existed (its run directory and checkpoint resume as
+    // before; [`state_from_checkpoint`] reads an absent one as the default).
+    attrs.extend(
+        discretization_attrs(p)
+            .into_iter()
+            .filter(|(_, value, default)| value != default)
+            .map(|(name, value, _)| (name, value)),
+    );
     match p.stepping {
         TimeStepping::Adaptive { .. } => {
             attrs.push(("adaptive_scheme", AttrValue::Text(ADAPTIVE_SCHEME.into())));
@@ -341,20 +355,22 @@ pub fn state_from_checkpoint(
                 },
             });
         }
-        // A checkpoint written before the keys existed: central differences, nodal edge rates.
-        let recorded = match rec.get_attr(name) {
-            None if name == GAP_TRANSFORM => Some(AttrValue::Text(
-                GapTransform::CentralDifferences.name().into(),
-            )),
-            None if name == EDGE_CELLS => Some(AttrValue::Int(0)),
-            other => other.cloned(),
-        };
-        if recorded.as_ref() != Some(&value) {
+        if rec.get_attr(name) != Some(&value) {
             return Err(bad(format!(
                 "the checkpoint was made with {name} = {:?}, this run has {:?}; resume with the same \
                  parameters or start the run over",
                 rec.get_attr(name),
                 value
+            )));
+        }
+    }
+    // The discretization options, an absent one the default's (a default run records none).
+    for (name, value, default) in discretization_attrs(params) {
+        let recorded = rec.get_attr(name).unwrap_or(&default);
+        if recorded != &value {
+            return Err(bad(format!(
+                "the checkpoint was made with {name} = {recorded:?}, this run has {value:?}; \
+                 resume with the same parameters or start the run over"
             )));
         }
     }
@@ -484,5 +500,55 @@ mod tests {
         };
         let case = c.overlay(flags).case(Names::Flags).unwrap();
         assert_eq!((case.inhomogeneities.len(), case.grid), (2, 128));
+    }
+
+    /// The discretization options in checkpoints: a default run records none (as every
+    /// checkpoint before they existed), and an absent one reads as the default; a checkpoint of
+    /// another option is refused naming it, either way round.
+    #[test]
+    fn checkpoints_record_the_discretization_options_only_when_not_the_default() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(CHECKPOINT);
+        let params = FrettingParams {
+            nodes: 101,
+            tau_end: 0.05,
+            snapshots: vec![],
+            ..FrettingParams::default()
+        };
+        let options = FrettingParams {
+            gap_transform: GapTransform::PiecewiseLinear,
+            edge_cells: true,
+            ..params.clone()
+        };
+        let names: Vec<&str> = params_attrs(&params).iter().map(|(n, _)| *n).collect();
+        assert!(!names.contains(&"gap_transform") && !names.contains(&"edge_cells"));
+        for (made, resumed, refused) in [
+            (&params, &options, Some("gap_transform")),
+            (&options, &params, Some("gap_transform")),
+            (&options, &options, None),
+            (&params, &params, None),
+        ] {
+            let mut sim = FrettingSimulation::new(made.clone()).unwrap();
+            sim.run(|_| false).unwrap();
+            crate::data::write_record(&path, &checkpoint_record(&sim)).unwrap();
+            match (state_from_checkpoint(&path, resumed), refused) {
+                (Ok(state), None) => assert_eq!(state.step, sim.state().step),
+                (Err(e), Some(name)) => assert!(e.to_string().contains(name), "{e}"),
+                (other, _) => panic!("{:?}", other.map(|s| s.step)),
+            }
+        }
+        // Only the edge cells differ: refused naming them.
+        let mut sim = FrettingSimulation::new(options.clone()).unwrap();
+        sim.run(|_| false).unwrap();
+        crate::data::write_record(&path, &checkpoint_record(&sim)).unwrap();
+        let e = state_from_checkpoint(
+            &path,
+            &FrettingParams {
+                edge_cells: false,
+                ..options
+            },
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("edge_cells"), "{e}");
     }
 }

@@ -727,7 +727,11 @@ fn substitute_width_5(lu: &[f64], inverse_pivot: &[f64], y: &mut [f64], active: 
 ///   `ρ_k = k^{(1−k_g)/2}/(2(1+k_g))`, `τ_δ = β_{δ+1} − β_{δ−1}`, `β_δ = b_{δ+1} − b_{δ−1}`
 ///   (`β_0 = 1`, `β_δ = 0` for `δ < 0`), `b_δ = δ^γ`, with the columns `0..=2` corrected by the split
 ///   `c₀ = (D v)_0`: `C_k0 = −ρ_k β_{k+1} − 3e_k`, `C_k1 = −ρ_k β_k + 4e_k`, `C_k2 = −e_k`,
-///   `e_k = k/(1+k_g) − ρ_k (b_k + b_{k−1})`.
+///   `e_k = k/(1+k_g) − ρ_k (b_k + b_{k−1})`; with the piecewise-linear transform
+///   (`GapTransform::PiecewiseLinear`, `ProfileTransform::values_to_equivalent`)
+///   `G_kj = ρ̃_k τ̃_{k−j}`, `ρ̃_k = 2k^{(1−k_g)/2}/(1+k_g)`, `τ̃_δ = e_{δ+1} − e_δ` for `δ ≥ 0`
+///   and 0 for `δ < 0` (`e_m = b_m − b_{m−1}`, `e_0 = 0`), column 0 `−ρ̃_k e_k` (`C_k0 =
+///   −ρ̃_k e_{k+1}`, no other correction);
 ///
 /// `A_{i,i+l} = −c̃_N Σ_{k=i}^{m−1} S_ik o_k G_{k,i+l}` (`o_k = 1[g_k < 1]`): for `k < m − 1` the
 /// Toeplitz part is the correlation `c_σ Σ_δ s_δ τ_{δ−l} x_{i+δ}` of `x_k = o_k ρ_k` with one kernel

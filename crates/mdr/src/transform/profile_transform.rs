@@ -180,11 +180,11 @@ impl ProfileTransform {
     ///
     /// the exact `(1/γ) ξ^{1−γ} dĜ/dξ` of Eq. 7 / 23 for that profile (`∫` over a cell of
     /// `γ(ξ_j − ρ)^{γ−1}` is `h^γ e_{j−t}`). No difference is taken at the nodes, so no profile
-    /// mode is invisible to it (the central differences of [`ProfileTransform::slope_to_equivalent`]
-    /// do not see `(−1)^i`); a paraboloid (`v` linear in `ξ`) is exact without a split, and a
-    /// smooth profile converges at order `1 + γ`, as the trapezoid rule of Eq. 7 (P1). `g_j`
-    /// depends on `v_0 … v_j` only. `slope` (at least `len` values) is scratch. Requires
-    /// `f(0) = v_0` to be where the profile is measured from (as Eq. 7: `g` sees differences only).
+    /// mode is invisible to it (the interior stencils of the central differences of
+    /// [`ProfileTransform::slope_to_equivalent`] have `(−1)^i` in their null space); a paraboloid
+    /// (`v` linear in `ξ`) is exact without a split, and a smooth profile converges at order
+    /// `1 + γ`, as the trapezoid rule of Eq. 7 (P1). `g_j` depends on `v_0 … v_j` only. `g` sees
+    /// differences of `v` only (as Eq. 7, which needs `f(0) = 0`).
     pub fn values_to_equivalent(
         &mut self,
         grid: &SquaredGrid,
