@@ -469,7 +469,26 @@ fn the_gap_transform_is_chosen_recorded_and_checked_on_resume() {
         &["--resume", "--gap-transform", "piecewise-linear"],
     );
     let resumed: Vec<&str> = resume.iter().map(String::as_str).collect();
-    assert_eq!(ok_json(&run(&resumed))["gap_transform"], "piecewise-linear");
+    let v = ok_json(&run(&resumed));
+    assert_eq!(v["gap_transform"], "piecewise-linear");
+    assert_eq!(v["edge_cells"], false);
+    // The edge cells the same way: reported, and a resume without them refused naming them; with
+    // them it completes.
+    let stopped = fretting_wear(
+        &out,
+        &common,
+        &["--edge-cells", "--force", "--stop-after", "20"],
+    );
+    let stopped: Vec<&str> = stopped.iter().map(String::as_str).collect();
+    run(&stopped);
+    bad_owned(&fretting_wear(&out, &common, &["--resume"]), "edge_cells");
+    bad_owned(
+        &fretting_wear(&out, &common, &["--resume", "--edge-cells", "false"]),
+        "edge_cells",
+    );
+    let resume = fretting_wear(&out, &common, &["--resume", "--edge-cells"]);
+    let resumed: Vec<&str> = resume.iter().map(String::as_str).collect();
+    assert_eq!(ok_json(&run(&resumed))["edge_cells"], true);
     let cfg = dir.path().join("bad.toml");
     std::fs::write(&cfg, "n = 401\ngap_transform = \"linear\"\n").unwrap();
     bad(

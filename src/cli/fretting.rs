@@ -82,8 +82,9 @@ pub struct FrettingArgs {
     /// The wear rate of the cells at the contact edge as cell means of p Δu instead of nodal
     /// samples (docs/fretting-wear.md, "Edge cells"); with --gap-transform piecewise-linear the
     /// fewest steps of the graded runs ("The profile transform of the worn profile").
-    #[arg(long)]
-    edge_cells: bool,
+    /// `--edge-cells false` overrides a config's `edge_cells = true`.
+    #[arg(long, num_args = 0..=1, default_missing_value = "true")]
+    edge_cells: Option<bool>,
     /// Seconds of work between checkpoints.
     #[arg(long, default_value_t = 2.0, allow_hyphen_values = true)]
     checkpoint_seconds: f64,
@@ -108,7 +109,7 @@ fn params_of(args: &FrettingArgs) -> Result<(FrettingParams, WearMedium), CliErr
         method: args.method.map(|m| m.name().to_string()),
         material: args.material.clone(),
         gap_transform: args.gap_transform.clone(),
-        edge_cells: args.edge_cells.then_some(true),
+        edge_cells: args.edge_cells,
     };
     let WearRunCase { params, medium } = file.overlay(flags).case(Names::Flags)?;
     Ok((params, medium))

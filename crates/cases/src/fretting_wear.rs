@@ -537,18 +537,17 @@ mod tests {
                 (other, _) => panic!("{:?}", other.map(|s| s.step)),
             }
         }
-        // Only the edge cells differ: refused naming them.
-        let mut sim = FrettingSimulation::new(options.clone()).unwrap();
-        sim.run(|_| false).unwrap();
-        crate::data::write_record(&path, &checkpoint_record(&sim)).unwrap();
-        let e = state_from_checkpoint(
-            &path,
-            &FrettingParams {
-                edge_cells: false,
-                ..options
-            },
-        )
-        .unwrap_err();
-        assert!(e.to_string().contains("edge_cells"), "{e}");
+        // Only the edge cells differ, either way round: refused naming them.
+        let without = FrettingParams {
+            edge_cells: false,
+            ..options.clone()
+        };
+        for (made, resumed) in [(&options, &without), (&without, &options)] {
+            let mut sim = FrettingSimulation::new(made.clone()).unwrap();
+            sim.run(|_| false).unwrap();
+            crate::data::write_record(&path, &checkpoint_record(&sim)).unwrap();
+            let e = state_from_checkpoint(&path, resumed).unwrap_err();
+            assert!(e.to_string().contains("edge_cells"), "{e}");
+        }
     }
 }

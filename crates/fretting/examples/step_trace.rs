@@ -38,7 +38,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             Ok(name) => GapTransform::from_name(&name).ok_or("GAP_TRANSFORM: unknown name")?,
             Err(_) => GapTransform::CentralDifferences,
         },
-        edge_cells: std::env::var("EDGE_CELLS").is_ok_and(|v| v == "on"),
+        edge_cells: match std::env::var("EDGE_CELLS").as_deref() {
+            Ok("on") => true,
+            Ok("off") | Err(_) => false,
+            Ok(_) => return Err("EDGE_CELLS: on or off".into()),
+        },
         ..FrettingParams::default()
     };
     let attempts: Arc<Mutex<Vec<StepAttempt>>> = Arc::default();

@@ -3121,7 +3121,7 @@ mod tests {
             let minus = rate_at(-1.0);
             let scale = jv.iter().fold(0.0f64, |m, x| m.max(x.abs()));
             // The rate is differentiable where the clipping of p does not switch: rows with
-            // |σ| > 1e-3 max σ. (J linearizes the nodal rate; with the experimental edge cells
+            // |σ| > 1e-3 max σ. (J linearizes the nodal rate; with the edge cells
             // it keeps that form on their rows, docs/fretting-wear.md, "Edge cells".)
             let worst = (0..contact.edge)
                 .filter(|&i| sigma[i].abs() > 1e-3 * sigma_max)

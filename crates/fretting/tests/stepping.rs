@@ -455,7 +455,7 @@ const RADIUS_WINDOWS: [(f64, f64); 2] = [(0.25, 0.35), (0.9, 1.0)];
 
 #[test]
 fn edge_cells_take_fewer_steps_and_match_explicit_euler() {
-    // The experimental edge cells (docs/fretting-wear.md, "Edge cells"), χ = 0.5, N = 801 to
+    // The edge cells (`FrettingParams::edge_cells`) (docs/fretting-wear.md, "Edge cells"), χ = 0.5, N = 801 to
     // τ = 1: the adaptive run against explicit Euler with the same rate (at half the default
     // step), and fewer adaptive steps than the nodal rate — both with the second stage on the
     // trial's contact (the scheme they were compared in; the default now keeps the start's
