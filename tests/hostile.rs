@@ -1256,6 +1256,14 @@ fn messages_name_the_input_the_rule_and_the_value() {
             strings(&["fretting-wear", "--n", "-5", "--out", o]),
             vec!["--n", "-5"],
         ),
+        (
+            strings(&["fretting-wear", "--gap-transform", "linear", "--out", o]),
+            vec!["--gap-transform", "linear", "piecewise-linear"],
+        ),
+        (
+            strings(&["fretting-wear", "--edge-cells", "maybe", "--out", o]),
+            vec!["--edge-cells", "maybe"],
+        ),
     ];
     for (args, needles) in &cases {
         let err = refused("E message", args, &[], needles);

@@ -21,13 +21,13 @@
 
 use halfspace_mdr::transform::{cell_weights, node_powers, stress_scale};
 use halfspace_mdr::{CellStressTransform, Material, MdrError, ProfileTransform};
-
-use crate::GapTransform;
 use halfspace_numerics::linop::LinearOperator;
 use halfspace_numerics::{
     diff::derivative_uniform, pow_or_sqrt, Backend, NumericsError, Precision, SquaredGrid,
     ToeplitzConvolution,
 };
+
+use crate::GapTransform;
 
 /// `g = P[D v]` of profile samples `v` on the grid (Eq. 7 / 23, discretized as `transform`): the
 /// one profile transform of the wear run (its rate, its Jacobian and its sliding columns).

@@ -1021,6 +1021,23 @@ fn hole_projection_takes_fewer_steps() {
     fewer_attempts_than_rejecting_holes(|s| s.set_hole_projection(true));
 }
 
+/// `(a/a₀, f(a₀)/d)` of every snapshot ([`radius_and_depth`]).
+type Snapshots = Vec<(f64, f64)>;
+
+/// `(a/a₀, f(a₀)/d)` at τ = 0.1, 1 and 3 of explicit Euler at Δτ = 2e-4 and 1e-4 (below the
+/// piecewise-linear transform's stable step) with the discretization `options` sets.
+fn euler_pair(options: impl Fn(FrettingParams) -> FrettingParams) -> (Snapshots, Snapshots) {
+    let euler = |dtau: f64| {
+        radius_and_depth(&run(options(FrettingParams {
+            stepping: TimeStepping::ExplicitEuler { dtau },
+            tau_end: 3.0,
+            snapshots: vec![0.1, 1.0, 3.0],
+            ..FrettingParams::default()
+        })))
+    };
+    (euler(2e-4), euler(1e-4))
+}
+
 /// The run of `params` with the piecewise-linear profile transform.
 fn piecewise_linear(params: FrettingParams) -> FrettingParams {
     FrettingParams {
@@ -1061,15 +1078,7 @@ fn edge_structure(sim: &FrettingSimulation, snapshot: usize, skip: usize) -> (f6
 /// node-to-node mode near the edge at τ = 1, where the central differences have one at every node.
 #[test]
 fn piecewise_linear_transform_has_no_odd_even_mode_and_is_accurate() {
-    let euler = |dtau: f64| {
-        radius_and_depth(&run(piecewise_linear(FrettingParams {
-            stepping: TimeStepping::ExplicitEuler { dtau },
-            tau_end: 3.0,
-            snapshots: vec![0.1, 1.0, 3.0],
-            ..FrettingParams::default()
-        })))
-    };
-    let (coarse, fine) = (euler(2e-4), euler(1e-4));
+    let (coarse, fine) = euler_pair(piecewise_linear);
     let sim = run(piecewise_linear(FrettingParams::default()));
     let central = run(FrettingParams::default());
     let state = sim.state();
@@ -1144,15 +1153,7 @@ fn piecewise_linear_with_edge_cells_is_accurate_in_fewer_steps() {
         edge_cells: true,
         ..piecewise_linear(params)
     };
-    let euler = |dtau: f64| {
-        radius_and_depth(&run(combined(FrettingParams {
-            stepping: TimeStepping::ExplicitEuler { dtau },
-            tau_end: 3.0,
-            snapshots: vec![0.1, 1.0, 3.0],
-            ..FrettingParams::default()
-        })))
-    };
-    let (coarse, fine) = (euler(2e-4), euler(1e-4));
+    let (coarse, fine) = euler_pair(combined);
     let sim = run(combined(FrettingParams::default()));
     let adaptive = radius_and_depth(&sim);
     for (j, tau) in [0.1, 1.0, 3.0].into_iter().enumerate() {
