@@ -215,9 +215,15 @@ impl RosenbrockMatrix {
     pub(crate) fn jacobian(&mut self, v: &[f64], out: &mut [f64]) -> Result<(), MdrError> {
         self.pressure_response(v, out)?;
         let m = self.contact_nodes;
-        for (i, o) in out.iter_mut().enumerate().take(m) {
-            if self.slip[i] > 0.0 {
-                *o += self.slip_slope * self.pressure[i] * v[i];
+        let slip_slope = self.slip_slope;
+        for (((o, &slip), &p), &vi) in out[..m]
+            .iter_mut()
+            .zip(&self.slip[..m])
+            .zip(&self.pressure[..m])
+            .zip(&v[..m])
+        {
+            if slip > 0.0 {
+                *o += slip_slope * p * vi;
             }
         }
         Ok(())
@@ -235,13 +241,21 @@ impl RosenbrockMatrix {
         } else {
             0.0
         };
-        for (i, o) in out.iter_mut().enumerate() {
-            *o = if i < m && self.slip[i] > 0.0 && self.loaded[i] {
-                self.slip[i] * (self.sigma[i] + self.stress_theta[i] * d_theta)
+        let (contact, outside) = out.split_at_mut(m.min(out.len()));
+        for ((((o, &slip), &loaded), &sigma), &stress_theta) in contact
+            .iter_mut()
+            .zip(&self.slip[..m])
+            .zip(&self.loaded[..m])
+            .zip(&self.sigma[..m])
+            .zip(&self.stress_theta[..m])
+        {
+            *o = if slip > 0.0 && loaded {
+                slip * (sigma + stress_theta * d_theta)
             } else {
                 0.0
             };
         }
+        outside.fill(0.0);
         Ok(())
     }
 
@@ -251,12 +265,13 @@ impl RosenbrockMatrix {
     fn masked_stress(&mut self, v: &[f64]) -> Result<(), MdrError> {
         let m = self.contact_nodes;
         self.equivalent_near_contact(m, v)?;
-        for i in 0..m {
-            self.q[i] = if self.open_gap[i] {
-                -self.modulus * self.g[i]
-            } else {
-                0.0
-            };
+        let modulus = self.modulus;
+        for ((q, &open), &g) in self.q[..m]
+            .iter_mut()
+            .zip(&self.open_gap[..m])
+            .zip(&self.g[..m])
+        {
+            *q = if open { -modulus * g } else { 0.0 };
         }
         self.stress_tf.line_load_to_stress(
             &self.grid,
