@@ -222,9 +222,9 @@ impl RosenbrockMatrix {
             .zip(&self.pressure[..m])
             .zip(&v[..m])
         {
-            if slip > 0.0 {
-                *o += slip_slope * p * vi;
-            }
+            // A select, not a branch (the same value per node; the loop vectorizes).
+            let sum = *o + slip_slope * p * vi;
+            *o = if slip > 0.0 { sum } else { *o };
         }
         Ok(())
     }
@@ -249,11 +249,8 @@ impl RosenbrockMatrix {
             .zip(&self.sigma[..m])
             .zip(&self.stress_theta[..m])
         {
-            *o = if slip > 0.0 && loaded {
-                slip * (sigma + stress_theta * d_theta)
-            } else {
-                0.0
-            };
+            let response = slip * (sigma + stress_theta * d_theta);
+            *o = if (slip > 0.0) & loaded { response } else { 0.0 };
         }
         outside.fill(0.0);
         Ok(())

@@ -1708,8 +1708,8 @@ impl FrettingSimulation {
             f64::MIN_POSITIVE
         };
         let modulus = normalized_modulus(self.params.k);
-        for i in 0..=last {
-            self.q[i] = modulus * (1.0 - self.g[i]).max(0.0);
+        for (q, &g) in self.q[..=last].iter_mut().zip(&self.g[..=last]) {
+            *q = modulus * (1.0 - g).max(0.0);
         }
         let m = last + 1;
         self.stress_tf.line_load_to_stress(
@@ -1724,9 +1724,27 @@ impl FrettingSimulation {
         }
         self.p[m..].fill(0.0);
         // The slip vanishes from the edge on (`edge = m`), and with it the rate.
-        for i in 0..edge {
-            self.slip[i] = self.slip_at(i);
-            self.rate[i] = self.p[i] * self.slip[i];
+        // slip_at(i) on 0..edge, as zipped slices (the same operations per node).
+        let first = self.first_annulus_node.min(edge);
+        for ((slip, rate), &p) in self.slip[..first]
+            .iter_mut()
+            .zip(&mut self.rate[..first])
+            .zip(&self.p[..first])
+        {
+            *slip = 0.0;
+            *rate = p * 0.0;
+        }
+        let chi = self.params.chi;
+        for (((((slip, rate), &p), &f), &limit), &annulus) in self.slip[first..edge]
+            .iter_mut()
+            .zip(&mut self.rate[first..edge])
+            .zip(&self.p[first..edge])
+            .zip(&self.state.profile[first..edge])
+            .zip(&self.limit[first..edge])
+            .zip(&self.annulus[first..edge])
+        {
+            *slip = (4.0 * ((f - limit) / chi + annulus)).max(0.0);
+            *rate = p * *slip;
         }
         self.slip[edge..].fill(0.0);
         self.rate[edge..].fill(0.0);
