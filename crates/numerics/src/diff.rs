@@ -29,8 +29,8 @@ pub fn derivative_uniform(y: &[f64], h: f64, out: &mut [f64]) -> Result<(), Nume
         _ => {
             let inv2h = 0.5 / h;
             out[0] = (-3.0 * y[0] + 4.0 * y[1] - y[2]) * inv2h;
-            for i in 1..n - 1 {
-                out[i] = (y[i + 1] - y[i - 1]) * inv2h;
+            for (o, w) in out[1..n - 1].iter_mut().zip(y[..n].windows(3)) {
+                *o = (w[2] - w[0]) * inv2h;
             }
             out[n - 1] = (3.0 * y[n - 1] - 4.0 * y[n - 2] + y[n - 3]) * inv2h;
         }

@@ -85,8 +85,8 @@ impl ProfileTransform {
             big_g.iter_mut().for_each(|v| *v *= scale);
             let inv2h = 0.5 / h;
             dg[0] = (3.0 * big_g[1] - big_g[2]) * inv2h;
-            for i in 1..n - 1 {
-                dg[i] = (big_g[i + 1] + big_g[i]) * inv2h;
+            for (d, w) in dg[1..n - 1].iter_mut().zip(big_g[1..n].windows(2)) {
+                *d = (w[1] + w[0]) * inv2h;
             }
             dg[n - 1] = (3.0 * big_g[n - 1] - big_g[n - 2]) * inv2h;
         } else {

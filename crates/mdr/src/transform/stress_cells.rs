@@ -206,7 +206,7 @@ impl CellStressTransform {
             );
         }
         self.edge_cells = self.edge_cells.max(cells + 1);
-        self.stress_from_sums(scale, edge_slope, |n| self.edge_powers[n], sigma);
+        self.stress_from_sums(scale, edge_slope, &self.edge_powers[..=cells], sigma);
         Ok(())
     }
 
@@ -238,7 +238,7 @@ impl CellStressTransform {
                 theta,
                 &mut powers[..=cells],
             );
-            self.stress_from_sums(scale, edge_slope, |n| powers[n], sigma);
+            self.stress_from_sums(scale, edge_slope, &powers[..=cells], sigma);
             self.two_edge_powers = powers;
         }
         Ok(())
@@ -246,22 +246,18 @@ impl CellStressTransform {
 
     /// `σ_j = scale · (edge_slope · P(M − 1 − j) − S_j)` (`S_j` the cell sums of
     /// [`CellStressTransform::cell_sums`], 0 at `j = M − 1`; `P(n) = (n + θ)^γ − n^γ`).
-    fn stress_from_sums(
-        &self,
-        scale: f64,
-        edge_slope: f64,
-        power: impl Fn(usize) -> f64,
-        sigma: &mut [f64],
-    ) {
+    fn stress_from_sums(&self, scale: f64, edge_slope: f64, powers: &[f64], sigma: &mut [f64]) {
         let cells = sigma.len() - 1;
-        for (j, s) in sigma.iter_mut().enumerate() {
-            let cell_sum = if j < cells {
-                self.sums[cells - 1 - j]
-            } else {
-                0.0
-            };
-            *s = scale * (edge_slope * power(cells - j) - cell_sum);
+        // Node j reads P(M − 1 − j) and S_j = sums[M − 2 − j]: both reversed.
+        let (inner, last) = sigma.split_at_mut(cells);
+        for ((s, &power), &cell_sum) in inner
+            .iter_mut()
+            .zip(powers[1..=cells].iter().rev())
+            .zip(self.sums[..cells].iter().rev())
+        {
+            *s = scale * (edge_slope * power - cell_sum);
         }
+        last[0] = scale * (edge_slope * powers[0] - 0.0);
     }
 
     /// The checks of [`CellStressTransform::line_load_to_stress`] for one edge `θ`.
@@ -302,9 +298,8 @@ impl CellStressTransform {
         let m = q.len();
         let cells = m - 1;
         // Anti-causal Σ_{i≥j} Δq_i w_{i−j}: reverse, convolve causally, read back reversed.
-        for (l, v) in self.reversed[..cells].iter_mut().enumerate() {
-            let i = cells - 1 - l;
-            *v = q[i + 1] - q[i];
+        for (v, pair) in self.reversed[..cells].iter_mut().zip(q.windows(2).rev()) {
+            *v = pair[1] - pair[0];
         }
         self.conv
             .apply(&self.reversed[..cells], &mut self.sums[..cells])?;
