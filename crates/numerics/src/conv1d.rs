@@ -69,6 +69,14 @@ trait Sample: FftNum {
     ) {
         combine_split_bins(even, odd, twiddles, spectrum, half, first);
     }
+
+    /// `freq_k ← freq_k · spectrum_k` (`num_complex`'s product) on the common bins; a type may
+    /// run it on wider registers (the same bits).
+    fn multiply_spectrum(freq: &mut [Complex<Self>], spectrum: &[Complex<Self>]) {
+        for (f, s) in freq.iter_mut().zip(spectrum) {
+            *f = *f * *s;
+        }
+    }
 }
 
 impl Sample for f64 {
@@ -94,6 +102,24 @@ impl Sample for f64 {
             return;
         }
         combine_split_bins(even, odd, twiddles, spectrum, half, first);
+    }
+
+    /// On x86-64 with AVX2 two bins a register ([`combine_avx::multiply_spectrum`], the same
+    /// bits), else the scalar product.
+    fn multiply_spectrum(freq: &mut [Complex<f64>], spectrum: &[Complex<f64>]) {
+        #[cfg(target_arch = "x86_64")]
+        if combine_avx::multiply_spectrum(freq, spectrum) {
+            return;
+        }
+        scalar_spectrum_product(freq, spectrum);
+    }
+}
+
+/// `freq_k ← freq_k · spectrum_k` by `num_complex`'s `Mul` (the reference of the wide product).
+#[allow(clippy::assign_op_pattern)] // `Mul`, not `MulAssign`: the reference is the product's expression
+fn scalar_spectrum_product(freq: &mut [Complex<f64>], spectrum: &[Complex<f64>]) {
+    for (f, s) in freq.iter_mut().zip(spectrum) {
+        *f = *f * *s;
     }
 }
 
@@ -352,6 +378,62 @@ mod combine_avx {
             },
         );
         true
+    }
+
+    /// `freq_k ← freq_k · spectrum_k` with `num_complex`'s operations on each bin
+    /// (`(a.re b.re − a.im b.im, a.re b.im + a.im b.re)`: two vector products and one `addsub`, no
+    /// fused multiply-add), two bins a register: the scalar loop's bits. `false` (nothing done)
+    /// without AVX2/FMA (pulp's `V3`).
+    pub(super) fn multiply_spectrum(freq: &mut [Complex<f64>], spectrum: &[Complex<f64>]) -> bool {
+        let Some(simd) = V3::try_new() else {
+            return false;
+        };
+        Simd::vectorize(
+            simd,
+            Multiply {
+                simd,
+                freq,
+                spectrum,
+            },
+        );
+        true
+    }
+
+    struct Multiply<'a> {
+        simd: V3,
+        freq: &'a mut [Complex<f64>],
+        spectrum: &'a [Complex<f64>],
+    }
+
+    impl pulp::WithSimd for Multiply<'_> {
+        type Output = ();
+
+        #[inline(always)]
+        fn with_simd<S: Simd>(self, _: S) {
+            let Self {
+                simd,
+                freq,
+                spectrum,
+            } = self;
+            let avx = simd.avx;
+            let bins = freq.len().min(spectrum.len());
+            let (freq, spectrum) = (&mut freq[..bins], &spectrum[..bins]);
+            let mut f_pairs = freq.chunks_exact_mut(2);
+            let mut s_pairs = spectrum.chunks_exact(2);
+            for (f, s) in (&mut f_pairs).zip(&mut s_pairs) {
+                let a: __m256d = pulp::cast([f[0].re, f[0].im, f[1].re, f[1].im]);
+                let b: __m256d = pulp::cast([s[0].re, s[0].im, s[1].re, s[1].im]);
+                let re = avx._mm256_movedup_pd(a);
+                let im = avx._mm256_permute_pd::<0b1111>(a);
+                let swapped = avx._mm256_permute_pd::<0b0101>(b);
+                let v =
+                    avx._mm256_addsub_pd(avx._mm256_mul_pd(re, b), avx._mm256_mul_pd(im, swapped));
+                let [p, q, r, t]: [f64; 4] = pulp::cast(v);
+                f[0] = Complex::new(p, q);
+                f[1] = Complex::new(r, t);
+            }
+            super::scalar_spectrum_product(f_pairs.into_remainder(), s_pairs.remainder());
+        }
     }
 
     struct Combine<'a> {
@@ -761,9 +843,7 @@ impl<T: Sample> WholeFft<T> {
         self.forward
             .process_with_scratch(&mut self.time, &mut self.freq, &mut self.scratch)
             .expect("buffer lengths come from the plan");
-        for (f, s) in self.freq.iter_mut().zip(spectrum) {
-            *f = *f * *s;
-        }
+        T::multiply_spectrum(&mut self.freq, spectrum);
         // The spectrum of a real signal has real DC (and Nyquist) bins; clear the rounding noise
         // there so the inverse transform accepts it.
         self.freq[0].im = T::zero();
@@ -813,6 +893,39 @@ mod tests {
         (0..x.len())
             .map(|i| (0..=i).map(|j| x[j] * b[i - j]).sum())
             .collect()
+    }
+
+    /// The whole plans' spectrum product on AVX2 registers ([`Sample::multiply_spectrum`] for
+    /// `f64`) gives `num_complex`'s product's bits, bin for bin, on random bins (fixed seeds) of
+    /// even and odd counts, with extreme magnitudes among them.
+    #[test]
+    fn wide_whole_spectrum_product_gives_the_scalar_bits() {
+        let complex = |seed: u64, n: usize| -> Vec<Complex<f64>> {
+            let v = lcg(seed, 2 * n);
+            v.chunks(2).map(|c| Complex::new(c[0], c[1])).collect()
+        };
+        for bins in [1usize, 2, 3, 8, 129, 2026, 2049] {
+            let mut freq = complex(bins as u64, bins);
+            let mut spectrum = complex(7 + bins as u64, bins);
+            freq[0] = Complex::new(1e300, -1e-300);
+            spectrum[bins - 1] = Complex::new(-3e-310, 2e200);
+            #[cfg(target_arch = "x86_64")]
+            if is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma") {
+                // The wide path runs on this CPU (else the comparison is scalar against scalar).
+                let mut f = freq.clone();
+                assert!(combine_avx::multiply_spectrum(&mut f, &spectrum));
+            }
+            let mut wide = freq.clone();
+            <f64 as Sample>::multiply_spectrum(&mut wide, &spectrum);
+            for (k, ((w, f), s)) in wide.iter().zip(&freq).zip(&spectrum).enumerate() {
+                let scalar = *f * *s;
+                assert_eq!(
+                    (w.re.to_bits(), w.im.to_bits()),
+                    (scalar.re.to_bits(), scalar.im.to_bits()),
+                    "{bins} bins, bin {k}"
+                );
+            }
+        }
     }
 
     /// The spectrum product on AVX2 registers ([`Sample::combine_split_bins`] for `f64`) gives
