@@ -214,7 +214,9 @@ impl RosenbrockMatrix {
     /// `J v` at the frozen state (see the module docs).
     pub(crate) fn jacobian(&mut self, v: &[f64], out: &mut [f64]) -> Result<(), MdrError> {
         self.pressure_response(v, out)?;
-        let m = self.contact_nodes;
+        // The contact nodes that `out` holds (all of them: its length is the operator's
+        // dimension, at least `m + 3`).
+        let m = self.contact_nodes.min(out.len());
         let slip_slope = self.slip_slope;
         for (((o, &slip), &p), &vi) in out[..m]
             .iter_mut()
