@@ -910,7 +910,7 @@ mod tests {
             freq[0] = Complex::new(1e300, -1e-300);
             spectrum[bins - 1] = Complex::new(-3e-310, 2e200);
             #[cfg(target_arch = "x86_64")]
-            if is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma") {
+            if pulp::x86::V3::try_new().is_some() {
                 // The wide path runs on this CPU (else the comparison is scalar against scalar).
                 let mut f = freq.clone();
                 assert!(combine_avx::multiply_spectrum(&mut f, &spectrum));
@@ -949,7 +949,7 @@ mod tests {
                 })
                 .collect();
             #[cfg(target_arch = "x86_64")]
-            if is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma") {
+            if pulp::x86::V3::try_new().is_some() {
                 // The wide path runs on this CPU (else the comparison below is scalar against
                 // scalar).
                 let (mut e, mut o) = (even.clone(), odd.clone());
