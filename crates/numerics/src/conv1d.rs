@@ -399,6 +399,18 @@ mod combine_avx {
         true
     }
 
+    /// Two complex products `a · b` (bins `[re, im, re, im]`) with `num_complex`'s operations,
+    /// `(a.re b.re − a.im b.im, a.re b.im + a.im b.re)`: two vector products and one `addsub`,
+    /// no fused multiply-add — the scalar product's bits.
+    #[inline(always)]
+    fn product(simd: V3, a: __m256d, b: __m256d) -> __m256d {
+        let avx = simd.avx;
+        let re = avx._mm256_movedup_pd(a);
+        let im = avx._mm256_permute_pd::<0b1111>(a);
+        let swapped = avx._mm256_permute_pd::<0b0101>(b);
+        avx._mm256_addsub_pd(avx._mm256_mul_pd(re, b), avx._mm256_mul_pd(im, swapped))
+    }
+
     struct Multiply<'a> {
         simd: V3,
         freq: &'a mut [Complex<f64>],
@@ -415,7 +427,6 @@ mod combine_avx {
                 freq,
                 spectrum,
             } = self;
-            let avx = simd.avx;
             let bins = freq.len().min(spectrum.len());
             let (freq, spectrum) = (&mut freq[..bins], &spectrum[..bins]);
             let mut f_pairs = freq.chunks_exact_mut(2);
@@ -423,11 +434,7 @@ mod combine_avx {
             for (f, s) in (&mut f_pairs).zip(&mut s_pairs) {
                 let a: __m256d = pulp::cast([f[0].re, f[0].im, f[1].re, f[1].im]);
                 let b: __m256d = pulp::cast([s[0].re, s[0].im, s[1].re, s[1].im]);
-                let re = avx._mm256_movedup_pd(a);
-                let im = avx._mm256_permute_pd::<0b1111>(a);
-                let swapped = avx._mm256_permute_pd::<0b0101>(b);
-                let v =
-                    avx._mm256_addsub_pd(avx._mm256_mul_pd(re, b), avx._mm256_mul_pd(im, swapped));
+                let v = product(simd, a, b);
                 let [p, q, r, t]: [f64; 4] = pulp::cast(v);
                 f[0] = Complex::new(p, q);
                 f[1] = Complex::new(r, t);
@@ -473,12 +480,7 @@ mod combine_avx {
             };
             let sign: __m256d = pulp::cast([0.0f64, -0.0, 0.0, -0.0]);
             let conj = |v: __m256d| avx._mm256_xor_pd(v, sign);
-            let mul = |a: __m256d, b: __m256d| {
-                let re = avx._mm256_movedup_pd(a);
-                let im = avx._mm256_permute_pd::<0b1111>(a);
-                let swapped = avx._mm256_permute_pd::<0b0101>(b);
-                avx._mm256_addsub_pd(avx._mm256_mul_pd(re, b), avx._mm256_mul_pd(im, swapped))
-            };
+            let mul = |a: __m256d, b: __m256d| product(simd, a, b);
             for p in 0..pairs {
                 // Local bin i, global bin k.
                 let (i, k) = (2 * p, first + 2 * p);
