@@ -423,7 +423,8 @@ fn the_fretting_limit_study_reaches_every_limit_from_below() {
     assert!(plot.is_file());
 }
 
-/// `--gap-transform` and the config key `gap_transform` (and `--edge-cells`): the run reports the
+/// `--gap-transform` and the config key `gap_transform` (and `--edge-cells`, whose checkpoints
+/// also record the edge cells' rule): the run reports the
 /// transform it used, a resume under the other one is refused naming it, and an unknown name is
 /// refused up front. (A default run records neither option, as runs before them did: the unit
 /// test `checkpoints_record_the_discretization_options_only_when_not_the_default`.)
@@ -487,8 +488,25 @@ fn the_gap_transform_is_chosen_recorded_and_checked_on_resume() {
         "edge_cells",
     );
     let resume = fretting_wear(&out, &common, &["--resume", "--edge-cells"]);
+    // The checkpoint records the edge cells' rule: one without it (the rule before the last
+    // node's floor) or of another rule is refused, saying why.
+    checkpoint_scheme_is_checked(
+        &out.join("checkpoint.npz"),
+        (
+            "edge_cell_rule",
+            halfspace::fretting::EDGE_CELL_RULE,
+            "own-floor",
+        ),
+        &resume,
+        &[
+            "another rule of the edge cells",
+            "only starting the run over helps",
+        ],
+    );
     let resumed: Vec<&str> = resume.iter().map(String::as_str).collect();
-    assert_eq!(ok_json(&run(&resumed))["edge_cells"], true);
+    let v = ok_json(&run(&resumed));
+    assert_eq!(v["edge_cells"], true);
+    assert_eq!(v["edge_cell_rule"], halfspace::fretting::EDGE_CELL_RULE);
     let cfg = dir.path().join("bad.toml");
     std::fs::write(&cfg, "n = 401\ngap_transform = \"linear\"\n").unwrap();
     bad(

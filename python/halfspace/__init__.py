@@ -450,6 +450,7 @@ class WearResult(Result):
     wear_volume_definition: str
     tol: float | None = None
     adaptive_scheme: str | None = None
+    edge_cell_rule: str | None = None
     dtau: float | None = None
     nu: float | None = None
     tangential_constant_ratio: float | None = None

@@ -11,7 +11,7 @@ use crate::config::Names;
 use crate::data::{read_record, read_text_bounded, AttrValue, DataError, Record};
 use crate::fretting::{
     FrettingError, FrettingParams, FrettingSimulation, FrettingState, GapTransform, Snapshot,
-    TimeStepping, ADAPTIVE_SCHEME, FIXED_STEP_SCHEME,
+    TimeStepping, ADAPTIVE_SCHEME, EDGE_CELL_RULE, FIXED_STEP_SCHEME,
 };
 use crate::run_files::MANIFEST;
 use crate::spec::{parse_wear_medium, SpecError, WearMedium};
@@ -198,8 +198,9 @@ fn discretization_attrs(p: &FrettingParams) -> [(&'static str, AttrValue, AttrVa
 
 /// The run's parameters as a run directory's manifest, its checkpoints and its results record
 /// them (the adaptive scheme's name, [`ADAPTIVE_SCHEME`], with adaptive steps, and the fixed-step
-/// ROS2 path's, [`FIXED_STEP_SCHEME`], with fixed steps: a checkpoint of another scheme or of none
-/// recorded is refused, since its steps would not be repeated bit for bit).
+/// ROS2 path's, [`FIXED_STEP_SCHEME`], with fixed steps, and with the edge cells their rule's,
+/// [`EDGE_CELL_RULE`]: a checkpoint of another scheme or rule or of none recorded is refused,
+/// since its steps would not be repeated bit for bit).
 pub fn params_attrs(p: &FrettingParams) -> Vec<(&'static str, AttrValue)> {
     let mut attrs = vec![
         ("chi", AttrValue::Float(p.chi)),
@@ -230,6 +231,9 @@ pub fn params_attrs(p: &FrettingParams) -> Vec<(&'static str, AttrValue)> {
             .filter(|(_, value, default)| value != default)
             .map(|(name, value, _)| (name, value)),
     );
+    if p.edge_cells {
+        attrs.push(("edge_cell_rule", AttrValue::Text(EDGE_CELL_RULE.into())));
+    }
     match p.stepping {
         TimeStepping::Adaptive { .. } => {
             attrs.push(("adaptive_scheme", AttrValue::Text(ADAPTIVE_SCHEME.into())));
@@ -354,6 +358,17 @@ pub fn state_from_checkpoint(
                     None => None,
                 },
             });
+        }
+        if name == "edge_cell_rule" && rec.get_attr(name) != Some(&value) {
+            return Err(bad(format!(
+                "the checkpoint was made by another rule of the edge cells ({}); this build runs \
+                 {EDGE_CELL_RULE} and cannot resume it bit for bit: only starting the run over helps",
+                match rec.get_attr(name) {
+                    Some(AttrValue::Text(s)) => s.clone(),
+                    Some(other) => format!("{other:?}"),
+                    None => "not recorded: the rule before the last node's floor".into(),
+                }
+            )));
         }
         if rec.get_attr(name) != Some(&value) {
             return Err(bad(format!(

@@ -628,7 +628,8 @@ fn surface_record(problem: &ContactProblem, summary: &serde_json::Value) -> Reco
 /// The summary of a fretting-wear run (`halfspace fretting-wear --json`, the Python
 /// `fretting_wear`): the contact radius and its limit, `f̃(a₀)`, the wear volume and its limit
 /// over `π a₀² d`, the parameters (for adaptive steps `tol` and `adaptive_scheme`,
-/// [`crate::fretting::ADAPTIVE_SCHEME`]), and with `ν` the graded tangential constant `c_T/c_N` and
+/// [`crate::fretting::ADAPTIVE_SCHEME`]; with the edge cells `edge_cell_rule`,
+/// [`crate::fretting::EDGE_CELL_RULE`]), and with `ν` the graded tangential constant `c_T/c_N` and
 /// `u_max/(μ d) = c_N/c_T`.
 pub fn wear_summary(
     sim: &crate::fretting::FrettingSimulation,
@@ -674,6 +675,10 @@ pub fn wear_summary(
         }
         crate::fretting::TimeStepping::Fixed { dtau }
         | crate::fretting::TimeStepping::ExplicitEuler { dtau } => summary["dtau"] = json!(dtau),
+    }
+    if p.edge_cells {
+        // Which rule of the edge cells gave their rates (as checkpoints record it).
+        summary["edge_cell_rule"] = json!(crate::fretting::EDGE_CELL_RULE);
     }
     if let (Some(nu), Some(ratio)) = (medium.nu, medium.tangential_ratio()) {
         summary["nu"] = json!(nu);

@@ -1209,3 +1209,70 @@ fn piecewise_linear_with_edge_cells_is_accurate_in_fewer_steps() {
         "a/a0 = {a} vs r* = {r_star}"
     );
 }
+
+/// With both discretization options the graded run's adaptive end state (k = −0.5, χ = 0.9,
+/// N = 501, to τ = 30) is near a rest state of the wear rate: explicit Euler of the same rate
+/// from it (the rate is autonomous: the state restarted at τ = 0) for Δτ = 0.04 moves the volume
+/// by < 5e-5 V∞ and the touching radius by < 0.25 cell, and the end states at tol 1e-4 and 1e-5
+/// agree to 2e-3 V∞ and a cell. Before the edge cells' floor
+/// ([`halfspace_fretting::EDGE_CELL_RULE`]) this test's two runs ended 1.0e-2 V∞ and 1.9 cells
+/// apart (tol 1e-5: 1.96 cells inside r*, V 0.25 % below V∞); the CLI's run with its default
+/// snapshots at tol 1e-5 came to rest 3.9 cells inside r* with V 1.2 % below V∞, where the rate
+/// still wore the loaded last contact node (`p = 2.1`; explicit Euler from it moved V by 3.5e-4
+/// V∞ and the edge by 0.76 cell within Δτ = 0.04). With the floor: 1.6e-5 V∞ and 0.03 cell;
+/// 9.7e-4 V∞ and 0.01 cell apart (the remaining creep: docs/fretting-wear.md, "The edge cells'
+/// stall").
+#[test]
+fn edge_cells_graded_end_state_is_a_rest_state_of_the_rate() {
+    let params = |tolerance: f64| FrettingParams {
+        nodes: 501,
+        k: -0.5,
+        chi: 0.9,
+        length: FrettingParams::default_length(0.9, -0.5),
+        tau_end: 30.0,
+        snapshots: vec![],
+        stepping: TimeStepping::Adaptive { tolerance },
+        gap_transform: GapTransform::PiecewiseLinear,
+        edge_cells: true,
+        ..FrettingParams::default()
+    };
+    let fine = run(params(1e-5));
+    let coarse = run(params(1e-4));
+    let v_limit = fine.limit_wear_volume();
+    let r_star = fine.limit_contact_radius();
+    let cell = fine.grid().step() / (2.0 * r_star);
+    let radius = |sim: &FrettingSimulation| *sim.state().contact_radius_history.last().unwrap();
+    // Explicit Euler from the end state, Δτ = 1e-5 (below the step bound at N = 501) for 0.04.
+    let mut state = fine.state().clone();
+    state.step = 0;
+    state.tau = 0.0;
+    state.tau_history.clear();
+    state.contact_radius_history.clear();
+    state.loaded_radius_history.clear();
+    state.snapshots.clear();
+    let mut euler = FrettingSimulation::resume(
+        FrettingParams {
+            stepping: TimeStepping::ExplicitEuler { dtau: 1e-5 },
+            tau_end: 0.04,
+            ..params(1e-5)
+        },
+        state,
+    )
+    .unwrap();
+    euler.run(|_| false).unwrap();
+    let moved_volume = (euler.wear_volume() - fine.wear_volume()) / v_limit;
+    let moved_radius = (radius(&euler) - radius(&fine)) / cell;
+    let apart_volume = (coarse.wear_volume() - fine.wear_volume()) / v_limit;
+    let apart_radius = (radius(&coarse) - radius(&fine)) / cell;
+    println!(
+        "tol 1e-5: {} steps, {:+.2} cells from r*, V/V∞ − 1 {:+.3e}; explicit Euler for 0.04 \
+         moves V by {moved_volume:.1e} V∞, a by {moved_radius:.2} cells; tol 1e-4: {} steps, \
+         {apart_volume:+.1e} V∞ and {apart_radius:+.2} cells apart",
+        fine.state().step,
+        (radius(&fine) - r_star) / cell,
+        fine.wear_volume() / v_limit - 1.0,
+        coarse.state().step,
+    );
+    assert!(moved_volume.abs() < 5e-5 && moved_radius.abs() < 0.25);
+    assert!(apart_volume.abs() < 2e-3 && apart_radius.abs() < 1.0);
+}
