@@ -503,6 +503,26 @@ fn the_gap_transform_is_chosen_recorded_and_checked_on_resume() {
             "only starting the run over helps",
         ],
     );
+    // So is a run directory whose manifest records another rule or none (checked before the
+    // run directory's own check, whose message would ask for a parameter no flag sets).
+    let manifest = out.join("run.json");
+    let intact = std::fs::read_to_string(&manifest).unwrap();
+    for other in [None, Some("own-floor")] {
+        let mut m: serde_json::Value = serde_json::from_str(&intact).unwrap();
+        let parameters = m["parameters"].as_object_mut().unwrap();
+        match other {
+            None => {
+                parameters.remove("edge_cell_rule");
+            }
+            Some(name) => {
+                parameters.insert("edge_cell_rule".into(), serde_json::json!(name));
+            }
+        }
+        std::fs::write(&manifest, m.to_string()).unwrap();
+        bad_owned(&resume, "another rule of the edge cells");
+        bad_owned(&resume, "only starting the run over helps");
+    }
+    std::fs::write(&manifest, intact).unwrap();
     let resumed: Vec<&str> = resume.iter().map(String::as_str).collect();
     let v = ok_json(&run(&resumed));
     assert_eq!(v["edge_cells"], true);

@@ -246,14 +246,23 @@ pub fn params_attrs(p: &FrettingParams) -> Vec<(&'static str, AttrValue)> {
     attrs
 }
 
+/// Why a run of the edge cells' rule `found` (`None`: not recorded, the rule before the last
+/// node's floor) cannot be resumed by this build ([`EDGE_CELL_RULE`]).
+fn other_edge_cell_rule(found: Option<&str>) -> String {
+    format!(
+        "the run was made by another rule of the edge cells ({}); this build runs \
+         {EDGE_CELL_RULE} and cannot resume it bit for bit: only starting the run over helps",
+        found.unwrap_or("not recorded: the rule before the last node's floor")
+    )
+}
+
 /// An adaptive run's directory `dir` whose manifest ([`MANIFEST`]) records a fretting-wear run of
-/// another adaptive scheme than this build's: refused ([`ResumeError::OtherScheme`]). Anything
-/// else — no manifest, another command, fixed steps, other parameters — is left to the caller's
-/// checks (the run directory's, [`state_from_checkpoint`]'s).
+/// another adaptive scheme than this build's: refused ([`ResumeError::OtherScheme`]); a run with
+/// the edge cells (any stepping) whose manifest records another rule of them than
+/// [`EDGE_CELL_RULE`], or none: refused ([`ResumeError::Checkpoint`], saying so). Anything else —
+/// no manifest, another command, fixed steps, other parameters — is left to the caller's checks
+/// (the run directory's, [`state_from_checkpoint`]'s).
 pub fn check_run_scheme(dir: &Path, params: &FrettingParams) -> Result<(), ResumeError> {
-    if !matches!(params.stepping, TimeStepping::Adaptive { .. }) {
-        return Ok(());
-    }
     let Some(manifest) = read_text_bounded(&dir.join(MANIFEST), 1 << 20)
         .ok()
         .and_then(|text| serde_json::from_str::<serde_json::Value>(&text).ok())
@@ -261,7 +270,23 @@ pub fn check_run_scheme(dir: &Path, params: &FrettingParams) -> Result<(), Resum
         return Ok(());
     };
     let parameters = &manifest["parameters"];
-    if manifest["command"] != WEAR_COMMAND || parameters["stepping"] != "adaptive" {
+    if manifest["command"] != WEAR_COMMAND {
+        return Ok(());
+    }
+    // A run with the edge cells of another rule (or of none recorded: the rule before the last
+    // node's floor), whatever its stepping; a run without them is left to the parameters' check.
+    if params.edge_cells && parameters["edge_cells"] == 1 {
+        let found = parameters["edge_cell_rule"].as_str();
+        if found != Some(EDGE_CELL_RULE) {
+            return Err(ResumeError::Checkpoint {
+                path: dir.to_path_buf(),
+                reason: other_edge_cell_rule(found),
+            });
+        }
+    }
+    if !matches!(params.stepping, TimeStepping::Adaptive { .. })
+        || parameters["stepping"] != "adaptive"
+    {
         return Ok(());
     }
     let found = parameters["adaptive_scheme"].as_str();
@@ -360,15 +385,10 @@ pub fn state_from_checkpoint(
             });
         }
         if name == "edge_cell_rule" && rec.get_attr(name) != Some(&value) {
-            return Err(bad(format!(
-                "the checkpoint was made by another rule of the edge cells ({}); this build runs \
-                 {EDGE_CELL_RULE} and cannot resume it bit for bit: only starting the run over helps",
-                match rec.get_attr(name) {
-                    Some(AttrValue::Text(s)) => s.clone(),
-                    Some(other) => format!("{other:?}"),
-                    None => "not recorded: the rule before the last node's floor".into(),
-                }
-            )));
+            return Err(bad(other_edge_cell_rule(match rec.get_attr(name) {
+                Some(AttrValue::Text(s)) => Some(s.as_str()),
+                _ => None,
+            })));
         }
         if rec.get_attr(name) != Some(&value) {
             return Err(bad(format!(

@@ -2864,14 +2864,16 @@ mod tests {
         let n = grid.len();
         let h = grid.step();
         let (last, gamma) = (374, 0.25);
-        let own_mean = |theta: f64, noise: f64| {
+        // Rounding inside: its size and the factor on the odd nodes (`L − 1` is odd): 0.7 makes
+        // the extrapolation `2π_{L−1} − π_{L−2}` positive, 0.3 negative.
+        let own_mean = |theta: f64, (noise, odd): (f64, f64)| {
             let mut sigma = vec![0.0; n];
             for (j, s) in sigma.iter_mut().enumerate().take(last) {
                 // Stick zone loaded, the annulus from node 300 on at rounding level.
                 *s = if j < 300 {
                     1.0
                 } else {
-                    noise * if j % 2 == 0 { 1.0 } else { 0.7 }
+                    noise * if j % 2 == 0 { 1.0 } else { odd }
                 };
             }
             sigma[last] = 2.12;
@@ -2892,10 +2894,16 @@ mod tests {
             // The inside extrapolates to ~0: the blend's share of `own`, or the floor.
             let blend = ((theta - BLEND.0) / (BLEND.1 - BLEND.0)).clamp(0.0, 1.0);
             let floor = (blend * own).max(OWN_FLOOR * (theta / BLEND.0).min(1.0) * own);
-            let means: Vec<(f64, f64)> = [-1e-11, 0.0, 8e-12, 1e-11]
-                .into_iter()
-                .map(|noise| own_mean(theta, noise))
-                .collect();
+            let means: Vec<(f64, f64)> = [
+                (-1e-11, 0.7),
+                (0.0, 0.7),
+                (8e-12, 0.7),
+                (1e-11, 0.7),
+                (1e-11, 0.3),
+            ]
+            .into_iter()
+            .map(|rounding| own_mean(theta, rounding))
+            .collect();
             for &(shape, mean) in &means {
                 // π_L within rounding of that (the extrapolation inside is ~1e-12 of it).
                 assert!(
@@ -2912,8 +2920,8 @@ mod tests {
         }
         // Continuity in θ through θ₀: the two sides of BLEND.0 give the same π_L.
         let (below, above) = (
-            own_mean(BLEND.0 - 1e-9, 1e-11).0,
-            own_mean(BLEND.0 + 1e-9, 1e-11).0,
+            own_mean(BLEND.0 - 1e-9, (1e-11, 0.7)).0,
+            own_mean(BLEND.0 + 1e-9, (1e-11, 0.7)).0,
         );
         assert!((below - above).abs() <= 1e-6 * above, "{below} vs {above}");
     }
