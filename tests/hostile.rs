@@ -353,6 +353,102 @@ fn runaway_work_is_estimated_and_refused_before_it_starts() {
     ] {
         refused("B other", &strings(&args), &[], &[]);
     }
+    // Refused up front with the estimate, before anything of their size is allocated (each used
+    // to abort in the allocator or panic on a capacity overflow): a wear grid of 1e10 nodes,
+    // subsurface boxes of 1e6 m and 1e300 m, an EIM study of 1e10 and 2⁶⁴ − 1 layers; and a deep
+    // inhomogeneity beyond the layers that can be indexed (a scan of every layer above it before).
+    let sphere_case = [
+        "--indenter",
+        "sphere:R=1e-3",
+        "--material",
+        "homogeneous:E=210e9,nu=0.3",
+        "--force",
+        "1",
+        "--grid",
+        "16",
+    ];
+    let npz = dir.path().join("c.npz");
+    let npz = npz.to_str().unwrap();
+    for (family, args, needles) in [
+        (
+            "B wear grid",
+            strings(&["fretting-wear", "--n", "10000000000", "--out", o]),
+            vec!["MDR wear run", "GiB"],
+        ),
+        (
+            "B subsurface",
+            strings(
+                &[
+                    &["contact3d"][..],
+                    &sphere_case,
+                    &["--subsurface", "1e6", "--out", npz],
+                ]
+                .concat(),
+            ),
+            vec!["subsurface", "8 GiB"],
+        ),
+        (
+            "B subsurface",
+            strings(
+                &[
+                    &["contact3d"][..],
+                    &sphere_case,
+                    &["--subsurface", "1e300", "--out", npz],
+                ]
+                .concat(),
+            ),
+            vec!["subsurface", "8 GiB"],
+        ),
+        (
+            "B EIM layers",
+            strings(&[
+                "study",
+                "eim-operator",
+                "--grid",
+                "16",
+                "--layers",
+                "10000000000",
+            ]),
+            vec!["--layers", "GiB"],
+        ),
+        (
+            "B EIM layers",
+            strings(&[
+                "study",
+                "eim-operator",
+                "--grid",
+                "16",
+                "--layers",
+                "18446744073709551615",
+            ]),
+            vec!["--layers", "GiB"],
+        ),
+        (
+            "B deep inhomogeneity",
+            strings(
+                &[
+                    &["contact3d"][..],
+                    &sphere_case,
+                    &[
+                        "--extent",
+                        "1e-3",
+                        "--inhomogeneity",
+                        "sphere:x=0,y=0,z=1e300,r=1e-4,E=2e9,nu=0.3",
+                        "--out",
+                        npz,
+                    ],
+                ]
+                .concat(),
+            ),
+            vec!["1e300", "layers"],
+        ),
+    ] {
+        refused(family, &args, &[], &needles);
+    }
+    assert!(
+        !out.join("run.json").exists(),
+        "a refused wear run claimed its directory"
+    );
     assert!(!out.join("results.h5").exists());
 }
 
@@ -1450,6 +1546,21 @@ fn indenter_approach_fatigue_and_wear3d_keys_are_refused_in_one_line() {
             vec!["alternation = \"gauged\"", "coupled pair", "ignored"],
         ),
     ];
+    // contact3d has no fatigue: an inhomogeneity's fatigue table is refused, not ignored.
+    let cfg = write(
+        dir.path(),
+        "contact3d_fatigue.toml",
+        &format!(
+            "indenter = \"sphere:R=1e-4\"\nmaterial = \"homogeneous:E=210e9,nu=0.3\"\nforce = 0.08\n\
+             grid = 16\n{sphere}fatigue = {{ f_minus1 = 3e8 }}\n"
+        ),
+    );
+    refused(
+        "contact3d inhomogeneity fatigue",
+        &strings(&["contact3d", "--config", &cfg, "--out", &format!("{o}.npz")]),
+        &[],
+        &["[[inhomogeneity]] 1", "fatigue", "does not read"],
+    );
     for (name, text, needles) in &loop_cases {
         let cfg = write(
             dir.path(),

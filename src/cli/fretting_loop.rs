@@ -177,17 +177,18 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
             "halfspace fretting-loop fatigue indices; XDMF axes Z Y X = depth (into the body), x, y (m)",
         )?;
     }
-    // Complete: the checkpoint is no longer needed (a re-run into the same directory starts over).
-    if checkpoint.exists() {
-        std::fs::remove_file(&checkpoint)
-            .map_err(|e| CliError::Spec(format!("removing {}: {e}", checkpoint.display())))?;
-    }
     loop_figures(&args.out, &lp, reference.as_ref().map(|(r, _)| r))?;
     if let Some(f) = &frames {
         f.write(&args.out.join("loop_pq.gif"), &lp)?;
     }
     if let Some(f) = &fatigue {
         fatigue_figures(&args.out, f)?;
+    }
+    // Complete, figures written: the checkpoint is no longer needed (a re-run into the same
+    // directory starts over). Removed only now, so that a figure that fails leaves `--resume`.
+    if checkpoint.exists() {
+        std::fs::remove_file(&checkpoint)
+            .map_err(|e| CliError::Spec(format!("removing {}: {e}", checkpoint.display())))?;
     }
     run_dir.complete_present()?;
     let mut summary = loop_summary(

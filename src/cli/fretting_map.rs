@@ -109,9 +109,6 @@ pub fn run(args: FrettingMapArgs) -> Result<(), CliError> {
             source,
         })
     })?;
-    // Complete: the per-point checkpoints are no longer needed.
-    std::fs::remove_dir_all(&points_dir)
-        .map_err(|e| CliError::Spec(format!("removing {}: {e}", points_dir.display())))?;
     let column = |f: usize| -> Vec<f64> { points.iter().map(|p| p.values()[f]).collect() };
     let (regime, energy) = (column(2), column(3));
     let (crack_risk, response): (Vec<f64>, Vec<f64>) = points
@@ -126,6 +123,10 @@ pub fn run(args: FrettingMapArgs) -> Result<(), CliError> {
         &energy,
         with_risk.then_some((&response[..], &crack_risk[..])),
     )?;
+    // Complete, figures written: the per-point checkpoints are no longer needed (removed only
+    // now, so that a figure that fails leaves `--resume`).
+    std::fs::remove_dir_all(&points_dir)
+        .map_err(|e| CliError::Spec(format!("removing {}: {e}", points_dir.display())))?;
     let base = map.base();
     run_dir.complete_present()?;
     let (rows, cols) = map.shape();

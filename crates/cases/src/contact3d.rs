@@ -171,6 +171,18 @@ impl Contact3dConfig {
                 )));
             }
         }
+        if let Some(k) = self
+            .inhomogeneity
+            .iter()
+            .position(|e| e.fatigue().is_some())
+        {
+            return Err(SpecError(format!(
+                "[[inhomogeneity]] {} has a fatigue table, which contact3d does not read \
+                 (fatigue criteria are evaluated over a fretting cycle: fretting-loop with a \
+                 [fatigue] table); remove it",
+                k + 1
+            )));
+        }
         let inhomogeneities = self
             .inhomogeneity
             .iter()

@@ -476,6 +476,14 @@ pub fn eim_operator(grid: usize, layers: usize) -> Result<EimOperatorTiming, Stu
     if nl == 0 {
         return Err(StudyError::Input(format!("layers must be ≥ 1, got {nl}")));
     }
+    // Refused before anything of size `layers` is built: the study's eigenstrains and strains
+    // (12 fields a layer) and, at least, the operator's stored spectra of `2·layers − 1` depth
+    // keys of 36 blocks.
+    let (nf, lf) = (n as f64, nl as f64);
+    let need = 12.0 * lf * nf * nf * 8.0
+        + crate::sam::eim::operator::estimated_bytes(n, n, 1, 36) * (2.0 * lf - 1.0);
+    halfspace_numerics::memory::check_fits("the EIM operator study", need)
+        .map_err(|e| StudyError::Input(format!("--layers {nl} on a {n}² grid: {e}")))?;
     let surface = SurfaceGrid::square(n, n as f64)?;
     let all: Vec<usize> = (0..nl).collect();
     let t = Instant::now();

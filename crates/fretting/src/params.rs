@@ -146,6 +146,10 @@ impl Default for FrettingParams {
     }
 }
 
+/// Bytes a node of the wear run takes, rounded up from the measured ≈ 2.8 kB
+/// ([`FrettingParams::validate`] refuses a grid that would not fit).
+const WEAR_BYTES_PER_NODE: f64 = 4000.0;
+
 impl FrettingParams {
     /// Smallest domain accepted (docs/theory-mdr.md#p8-domain-size).
     pub const MIN_LENGTH: f64 = 1.45;
@@ -186,6 +190,15 @@ impl FrettingParams {
         if self.nodes < 64 {
             return Err(bad("n", self.nodes as f64, "≥ 64"));
         }
+        // Refused up front, with the estimate, instead of aborting in the allocator: the run's
+        // vectors, band, plans and kernels take ≈ 2.8 kB a node (`/usr/bin/time` of
+        // `halfspace fretting-wear --n 8001 / 64001 --tau-end 0.001`: 43.8 / 197.9 MB peak RSS);
+        // the estimate rounds up.
+        halfspace_numerics::memory::check_fits(
+            "the MDR wear run",
+            WEAR_BYTES_PER_NODE * self.nodes as f64,
+        )
+        .map_err(halfspace_mdr::MdrError::from)?;
         if !(self.tau_end.is_finite() && self.tau_end > 0.0 && self.tau_end <= Self::MAX_TAU_END) {
             return Err(bad(
                 "tau_end",

@@ -151,14 +151,14 @@ impl SubsurfacePlan {
     /// Bytes of the stored Love spectra of `layers` layers on an `n1 × n2` grid: at most 18 blocks
     /// (6 strains × 3 tractions) of `2N₁(N₂ + 1)` complex values per layer.
     pub fn spectra_bytes(n1: usize, n2: usize, layers: usize) -> f64 {
-        (layers * 18) as f64 * 2.0 * n1 as f64 * (n2 + 1) as f64 * 16.0
+        layers as f64 * 18.0 * 2.0 * n1 as f64 * (n2 as f64 + 1.0) * 16.0
     }
 
     /// Bytes of one application: the `6 · layers` strain spectra and the `15 · layers · N₁N₂`
     /// values of the field and its invariants.
     pub fn field_bytes(n1: usize, n2: usize, layers: usize) -> f64 {
-        (layers * 6) as f64 * 2.0 * n1 as f64 * (n2 + 1) as f64 * 16.0
-            + (layers * 15 * n1 * n2) as f64 * 8.0
+        let (layers, n1, n2) = (layers as f64, n1 as f64, n2 as f64);
+        layers * 6.0 * 2.0 * n1 * (n2 + 1.0) * 16.0 + layers * 15.0 * n1 * n2 * 8.0
     }
 
     /// The plan of the layers from the surface to `depth` below `grid` in the half-space
@@ -182,8 +182,10 @@ impl SubsurfacePlan {
         depth: f64,
         surface: bool,
     ) -> Result<Self, SamError> {
-        crate::error::positive("subsurface depth", depth)?;
-        let layers = Self::layers_for(depth, grid.half1);
+        let layers = Self::check(grid, e, nu, depth)?;
+        // Refused before the list of levels is built (a depth of thousands of cells would
+        // otherwise allocate that list, or overflow, first).
+        Self::check_fits(grid, layers.saturating_add(usize::from(surface)))?;
         let levels: Vec<usize> = (0..layers + usize::from(surface)).collect();
         Self::with_levels(grid, e, nu, depth, &levels)
     }
@@ -212,15 +214,7 @@ impl SubsurfacePlan {
             )));
         }
         let surface = levels.contains(&layers);
-        let need = Self::spectra_bytes(grid.n1, grid.n2, levels.len())
-            + Self::field_bytes(grid.n1, grid.n2, levels.len());
-        if need > FIELD_LIMIT_BYTES {
-            return Err(SamError::InvalidParameter {
-                name: "memory for the subsurface stress field (bytes)",
-                value: need,
-                allowed: "≤ 8 GiB: a shallower subsurface depth or a coarser grid",
-            });
-        }
+        Self::check_fits(grid, levels.len())?;
         // Depth keys in units of Δ: (2k + 1) for layer k, 0 for the surface layer.
         let targets: Vec<i64> = levels
             .iter()
@@ -260,6 +254,21 @@ impl SubsurfacePlan {
 
     /// The inputs of a plan checked (a positive depth and modulus, `ν ∈ (−1, 0.5)`, cubic cells):
     /// the layers of the box, [`SubsurfacePlan::layers_for`].
+    /// Refuses `levels` levels on `grid` above [`FIELD_LIMIT_BYTES`] (their stored spectra and one
+    /// application's fields).
+    fn check_fits(grid: &SurfaceGrid, levels: usize) -> Result<(), SamError> {
+        let need = Self::spectra_bytes(grid.n1, grid.n2, levels)
+            + Self::field_bytes(grid.n1, grid.n2, levels);
+        if need > FIELD_LIMIT_BYTES {
+            return Err(SamError::InvalidParameter {
+                name: "memory for the subsurface stress field (bytes)",
+                value: need,
+                allowed: "≤ 8 GiB: a shallower subsurface depth or a coarser grid",
+            });
+        }
+        Ok(())
+    }
+
     fn check(grid: &SurfaceGrid, e: f64, nu: f64, depth: f64) -> Result<usize, SamError> {
         crate::error::positive("subsurface depth", depth)?;
         crate::error::positive("Young's modulus", e)?;

@@ -167,6 +167,14 @@ impl Inhomogeneity {
 
     /// In-plane bounding box `[x_min, x_max, y_min, y_max]` (unbounded along a cylinder's axis) and
     /// the deepest point.
+    /// The depth of its top (shallowest point), m.
+    pub(crate) fn top(&self) -> f64 {
+        match self.shape {
+            Shape::Sphere { z, r, .. } | Shape::Cylinder { z, r, .. } => z - r,
+            Shape::Cuboid { z, half, .. } => z - half[2],
+        }
+    }
+
     pub(crate) fn bounds(&self) -> ([f64; 4], f64) {
         match self.shape {
             Shape::Sphere { x, y, z, r } => ([x - r, x + r, y - r, y + r], z + r),
@@ -192,6 +200,10 @@ impl Inhomogeneity {
         }
     }
 }
+
+/// The deepest layer index the geometry accepts (`depth/2Δ`): beyond it an inhomogeneity is
+/// refused up front (its layers would not be indexed, nor its depth keys).
+const MAX_LAYER_INDEX: f64 = 1e9;
 
 /// Where the fibres of a unidirectional composite sit relative to the contact centre `x = 0`
 /// (\[LN11\] does not give the positions: docs/theory-sam.md#inhomogeneity-references runs both).
@@ -476,12 +488,30 @@ impl InclusionSet {
             }
             deepest = deepest.max(deep);
         }
-        let n_layers = (deepest / (2.0 * d)).ceil() as usize + 1;
+        // Layer k is centred at (2k + 1)Δ. Only the layers some inhomogeneity spans are scanned
+        // (a deep one would otherwise cost a scan of every layer above it), in increasing order.
+        if (deepest / (2.0 * d)).is_nan() || deepest / (2.0 * d) >= MAX_LAYER_INDEX {
+            return Err(SamError::InvalidInput(format!(
+                "an inhomogeneity reaches {deepest:e} m below the surface, more than {MAX_LAYER_INDEX:e} \
+                 layers of 2Δ = {:e} m: move it up, or coarsen the grid",
+                2.0 * d
+            )));
+        }
+        let mut spanned: Vec<usize> = list
+            .iter()
+            .flat_map(|inh| {
+                let lo = ((inh.top() / d - 1.0) / 2.0).floor().max(0.0) as usize;
+                let hi = ((inh.bounds().1 / d - 1.0) / 2.0).ceil().max(0.0) as usize;
+                lo..=hi
+            })
+            .collect();
+        spanned.sort_unstable();
+        spanned.dedup();
         let mut materials: Vec<(f64, f64)> = Vec::new();
         let mut layers = Vec::new();
         let mut cells = Vec::new();
         let mut owned = vec![false; list.len()];
-        for k in 0..n_layers {
+        for k in spanned {
             let depth = (2 * k + 1) as f64 * d;
             let mut any = false;
             for i in 0..grid.n1 {
