@@ -1666,5 +1666,22 @@ fn indenter_approach_fatigue_and_wear3d_keys_are_refused_in_one_line() {
             needles,
         );
     }
+    // A grid beyond the machine's memory is refused before the run directory is claimed.
+    let cfg = write(dir.path(), "w_grid.toml", wear);
+    refused(
+        "fretting-wear3d grid",
+        &strings(&[
+            "fretting-wear3d",
+            "--config",
+            &cfg,
+            "--out",
+            o,
+            "--grid",
+            "100000",
+        ]),
+        &[],
+        &["GiB"],
+    );
+    assert!(!out.join("run.json").exists());
     assert!(!out.join("results.h5").exists());
 }

@@ -88,6 +88,9 @@ pub fn run(args: FrettingWear3dArgs) -> Result<(), CliError> {
         }
         return Ok(());
     }
+    // Refused before the run directory is claimed (`FrettingWear3d::new` checks the same): a
+    // refused request leaves no directory behind.
+    case.estimate()?.run.check_memory("the wear run")?;
     let every = super::Checkpoints::interval(args.checkpoint_seconds)?;
     let manifest = json!({ "case": format!("{case:?}") });
     let run_dir = RunDir::claim(

@@ -86,11 +86,13 @@ impl WearEstimate {
 impl WearCase {
     /// The computed cycles and the work of the run ([`WearEstimate`]), before anything is
     /// solved: the surface grid and its checkerboard compliance `C_min` are evaluated (no
-    /// contact solve). Refuses nothing but an invalid case.
+    /// contact solve). Refuses nothing but an invalid case and a grid whose solver would not fit
+    /// in memory (checked before the compliance's `N₁ × N₂` table is built).
     pub fn estimate(&self) -> Result<WearEstimate, SamError> {
         self.validate()?;
         let lc = &self.fretting;
         let grid = SurfaceGrid::square(lc.grid, self.extent())?;
+        crate::memory::check_problem(&grid, true, lc.is_coupled())?;
         let compliance = Compliance::pair(lc.indenter, Body::elastic(lc.e, lc.nu)?)?;
         let checkerboard = super::run::checkerboard_compliance(&compliance, &grid);
         let a = self.reference_radius();
