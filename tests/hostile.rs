@@ -1360,6 +1360,48 @@ fn messages_name_the_input_the_rule_and_the_value() {
             strings(&["fretting-wear", "--edge-cells", "maybe", "--out", o]),
             vec!["--edge-cells", "maybe"],
         ),
+        // A [map] key of the wrong type is named with its line (it was "[map]: invalid type"
+        // alone), and a map that is not a table says so.
+        (
+            strings(&[
+                "fretting-map",
+                "--config",
+                &write(
+                    dir.path(),
+                    "map_type.toml",
+                    "[map]\nloads = [0.08]\namplitudes = \"1e-8\"\n",
+                ),
+                "--out",
+                o,
+            ]),
+            vec!["[map]", "amplitudes = \"1e-8\"", "expected a sequence"],
+        ),
+        (
+            strings(&[
+                "fretting-map",
+                "--config",
+                &write(dir.path(), "map_value.toml", "map = 3\n"),
+                "--out",
+                o,
+            ]),
+            vec!["map = 3", "[map] table"],
+        ),
+        // A study's flag given to another study is refused (it was ignored, exit 0).
+        (
+            strings(&[
+                "study",
+                "eq17",
+                "--layers",
+                "0",
+                "--datasets",
+                "/nonexistent",
+            ]),
+            vec!["--datasets", "fe-comparison", "eq17"],
+        ),
+        (
+            strings(&["study", "fe-comparison", "--grid", "5"]),
+            vec!["--grid", "eim-operator", "fe-comparison"],
+        ),
     ];
     for (args, needles) in &cases {
         let err = refused("E message", args, &[], needles);

@@ -46,18 +46,39 @@ pub struct StudyArgs {
     /// Print one JSON object on stdout.
     #[arg(long)]
     json: bool,
-    /// Directory of the reference fixtures (fe-comparison).
-    #[arg(long, default_value = "datasets")]
-    datasets: PathBuf,
-    /// Cells per side (eim-operator).
-    #[arg(long, default_value_t = 128, allow_hyphen_values = true)]
-    grid: usize,
-    /// Layers (eim-operator).
-    #[arg(long, default_value_t = 8, allow_hyphen_values = true)]
-    layers: usize,
+    /// Directory of the reference fixtures (fe-comparison; default `datasets`).
+    #[arg(long)]
+    datasets: Option<PathBuf>,
+    /// Cells per side (eim-operator; default 128).
+    #[arg(long, allow_hyphen_values = true)]
+    grid: Option<usize>,
+    /// Layers (eim-operator; default 8).
+    #[arg(long, allow_hyphen_values = true)]
+    layers: Option<usize>,
 }
 
 pub fn run(args: StudyArgs) -> Result<(), CliError> {
+    // A flag the chosen study does not read is refused, not ignored.
+    let name = args
+        .study
+        .to_possible_value()
+        .map(|v| v.get_name().to_string())
+        .unwrap_or_default();
+    for (flag, given, reader) in [
+        ("--datasets", args.datasets.is_some(), Study::FeComparison),
+        ("--grid", args.grid.is_some(), Study::EimOperator),
+        ("--layers", args.layers.is_some(), Study::EimOperator),
+    ] {
+        if given && std::mem::discriminant(&args.study) != std::mem::discriminant(&reader) {
+            let reader = reader
+                .to_possible_value()
+                .map(|v| v.get_name().to_string())
+                .unwrap_or_default();
+            return Err(CliError::Spec(format!(
+                "{flag} is read only by the {reader} study, not by {name}: leave it out"
+            )));
+        }
+    }
     let plot = args.plot.as_deref();
     match args.study {
         Study::Eq17 | Study::Displacement | Study::Eq27 => {
@@ -96,7 +117,11 @@ pub fn run(args: StudyArgs) -> Result<(), CliError> {
             }
         }
         Study::FeComparison => {
-            let study = studies::fe_comparison(&args.datasets)?;
+            let study = studies::fe_comparison(
+                args.datasets
+                    .as_deref()
+                    .unwrap_or(std::path::Path::new("datasets")),
+            )?;
             if let Some(path) = plot {
                 figures::fe_comparison(path, &study)?;
             }
@@ -117,13 +142,14 @@ pub fn run(args: StudyArgs) -> Result<(), CliError> {
             println!("{}", studies::graded_wear_summary(&study));
         }
         Study::EimOperator => {
-            let timing = studies::eim_operator(args.grid, args.layers).map_err(|e| match e {
-                // The one input of this study a user gives besides the grid: its flag named.
-                StudyError::Input(m) if m.starts_with("layers") => {
-                    CliError::Spec(format!("--layers: {m}"))
-                }
-                e => e.into(),
-            })?;
+            let timing = studies::eim_operator(args.grid.unwrap_or(128), args.layers.unwrap_or(8))
+                .map_err(|e| match e {
+                    // The one input of this study a user gives besides the grid: its flag named.
+                    StudyError::Input(m) if m.starts_with("layers") => {
+                        CliError::Spec(format!("--layers: {m}"))
+                    }
+                    e => e.into(),
+                })?;
             if args.json {
                 println!("{}", timing.summary());
             } else {

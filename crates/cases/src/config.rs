@@ -532,9 +532,15 @@ pub fn map_config_from_toml(text: &str, what: &str) -> Result<(LoopConfig, MapAx
             "{what}: a fretting map needs a [map] table with loads = [..] (N) and amplitudes = [..] (m)"
         ))
     })?;
-    let axes: MapAxes = axes
-        .try_into()
-        .map_err(|e: toml::de::Error| SpecError(format!("{what}: [map]: {}", e.message())))?;
+    // Read as the other tables are (`from_table`), so that an error names the key and its line.
+    let axes: MapAxes = match axes {
+        toml::Value::Table(t) => from_table(t, &format!("{what}: [map]"))?,
+        other => {
+            return Err(SpecError(format!(
+                "{what}: invalid type: map = {other} must be the [map] table"
+            )))
+        }
+    };
     let cfg: LoopConfig = from_table(table, what)?;
     Ok((cfg, axes))
 }
