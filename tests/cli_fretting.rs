@@ -196,27 +196,43 @@ fn adaptive_checkpoints_record_the_scheme() {
         );
         // The manifest of a run of another scheme (or of none recorded) is refused the same
         // way, before the run directory's check (which would ask for parameters no flag sets).
-        let manifest = b.join("run.json");
-        let intact = std::fs::read_to_string(&manifest).unwrap();
-        for other in [None, Some("ros2-hole-projection")] {
-            let mut m: serde_json::Value = serde_json::from_str(&intact).unwrap();
-            let parameters = m["parameters"].as_object_mut().unwrap();
-            match other {
-                None => {
-                    parameters.remove("adaptive_scheme");
-                }
-                Some(name) => {
-                    parameters.insert("adaptive_scheme".into(), serde_json::json!(name));
-                }
-            }
-            std::fs::write(&manifest, m.to_string()).unwrap();
-            bad_owned(&resume, "another build's adaptive scheme");
-            bad_owned(&resume, "--force starts over");
-        }
-        std::fs::write(&manifest, intact).unwrap();
+        manifest_scheme_is_checked(
+            &b.join("run.json"),
+            ("adaptive_scheme", "ros2-hole-projection"),
+            &resume,
+            &["another build's adaptive scheme", "--force starts over"],
+        );
     };
     stopped_and_resumed(command, (&a, &b), &["30"], Some("checkpoint.npz"), between);
     arrays_equal(&a.join("results.npz"), &b.join("results.npz"));
+}
+
+/// A run directory whose manifest (`run.json`) records no `key` or the `other` value is refused on
+/// `resume` with every one of `messages`; the intact manifest is restored after.
+fn manifest_scheme_is_checked(
+    manifest: &Path,
+    (key, other): (&str, &str),
+    resume: &[String],
+    messages: &[&str],
+) {
+    let intact = std::fs::read_to_string(manifest).unwrap();
+    for replacement in [None, Some(other)] {
+        let mut m: serde_json::Value = serde_json::from_str(&intact).unwrap();
+        let parameters = m["parameters"].as_object_mut().unwrap();
+        match replacement {
+            None => {
+                parameters.remove(key);
+            }
+            Some(name) => {
+                parameters.insert(key.into(), serde_json::json!(name));
+            }
+        }
+        std::fs::write(manifest, m.to_string()).unwrap();
+        for message in messages {
+            bad_owned(resume, message);
+        }
+    }
+    std::fs::write(manifest, intact).unwrap();
 }
 
 #[test]
@@ -505,24 +521,15 @@ fn the_gap_transform_is_chosen_recorded_and_checked_on_resume() {
     );
     // So is a run directory whose manifest records another rule or none (checked before the
     // run directory's own check, whose message would ask for a parameter no flag sets).
-    let manifest = out.join("run.json");
-    let intact = std::fs::read_to_string(&manifest).unwrap();
-    for other in [None, Some("own-floor")] {
-        let mut m: serde_json::Value = serde_json::from_str(&intact).unwrap();
-        let parameters = m["parameters"].as_object_mut().unwrap();
-        match other {
-            None => {
-                parameters.remove("edge_cell_rule");
-            }
-            Some(name) => {
-                parameters.insert("edge_cell_rule".into(), serde_json::json!(name));
-            }
-        }
-        std::fs::write(&manifest, m.to_string()).unwrap();
-        bad_owned(&resume, "another rule of the edge cells");
-        bad_owned(&resume, "only starting the run over helps");
-    }
-    std::fs::write(&manifest, intact).unwrap();
+    manifest_scheme_is_checked(
+        &out.join("run.json"),
+        ("edge_cell_rule", "own-floor"),
+        &resume,
+        &[
+            "another rule of the edge cells",
+            "only starting the run over helps",
+        ],
+    );
     let resumed: Vec<&str> = resume.iter().map(String::as_str).collect();
     let v = ok_json(&run(&resumed));
     assert_eq!(v["edge_cells"], true);

@@ -1183,18 +1183,13 @@ fn messages_name_the_input_the_rule_and_the_value() {
     let out = dir.path().join("out");
     let o = out.to_str().unwrap();
     let m = "homogeneous:E=210e9,nu=0.3";
+    let c3_bare = |extra: &[&str]| {
+        let mut a = strings(&["contact3d", "--indenter", "sphere:R=1e-4", "--material", m]);
+        a.extend(strings(extra));
+        a
+    };
     let c3 = |extra: &[&str]| {
-        let mut a = strings(&[
-            "contact3d",
-            "--indenter",
-            "sphere:R=1e-4",
-            "--material",
-            m,
-            "--force",
-            "0.08",
-            "--grid",
-            "32",
-        ]);
+        let mut a = c3_bare(&["--force", "0.08", "--grid", "32"]);
         a.extend(strings(extra));
         a
     };
@@ -1212,30 +1207,8 @@ fn messages_name_the_input_the_rule_and_the_value() {
             ax(&["--depth", "1e-6", "--plot", &format!("{o}.pdf")]),
             vec!["--plot", ".pdf", ".svg"],
         ),
-        (
-            strings(&[
-                "contact3d",
-                "--indenter",
-                "sphere:R=1e-4",
-                "--material",
-                m,
-                "--force",
-                "-1",
-            ]),
-            vec!["--force", "-1"],
-        ),
-        (
-            strings(&[
-                "contact3d",
-                "--indenter",
-                "sphere:R=1e-4",
-                "--material",
-                m,
-                "--depth",
-                "-1e-6",
-            ]),
-            vec!["--depth"],
-        ),
+        (c3_bare(&["--force", "-1"]), vec!["--force", "-1"]),
+        (c3_bare(&["--depth", "-1e-6"]), vec!["--depth"]),
         (c3(&["--extent", "-1"]), vec!["-1"]),
         (c3(&["--subsurface", "-1e-6"]), vec!["subsurface"]),
         (
@@ -1245,17 +1218,7 @@ fn messages_name_the_input_the_rule_and_the_value() {
         (c3(&["--shift-x", "-1e-8"]), vec!["friction"]),
         (c3(&["--plot", &format!("{o}.pdf")]), vec!["--plot", ".pdf"]),
         (
-            strings(&[
-                "contact3d",
-                "--indenter",
-                "sphere:R=1e-4",
-                "--material",
-                m,
-                "--force",
-                "0.08",
-                "--grid",
-                "-4",
-            ]),
+            c3_bare(&["--force", "0.08", "--grid", "-4"]),
             vec!["--grid", "-4"],
         ),
         (

@@ -488,7 +488,8 @@ fn reachable_levels_timed(
             let d: [f64; 6] = std::array::from_fn(|f| bound[f][p] + 1e-9 * scale);
             reference_bounds(&r, &d, matrix)
         })
-        .collect();
+        .collect::<Result<_, _>>()
+        .map_err(|e| SamError::InvalidInput(e.to_string()))?;
     // The seed: the surface layer and the levels of the cells of largest bound of each criterion.
     let mut seed: Vec<usize> = vec![layers];
     for c in 0..4 {
@@ -516,11 +517,12 @@ fn reachable_levels_timed(
         .into_par_iter()
         .map(|q| {
             let path = path_of(q);
-            let [c, dv] = invariant_bounds(&path, matrix);
-            let [s, f] = critical_plane_bounds(&path, matrix);
-            [c, dv, s, f]
+            let [c, dv] = invariant_bounds(&path, matrix)?;
+            let [s, f] = critical_plane_bounds(&path, matrix)?;
+            Ok([c, dv, s, f])
         })
-        .collect();
+        .collect::<Result<_, halfspace_fatigue::FatigueError>>()
+        .map_err(|e| SamError::InvalidInput(e.to_string()))?;
     let mut lower = [f64::NEG_INFINITY; 4];
     let mut inv = InvariantScratch::default();
     let mut plane = PlaneScratch::default();
@@ -850,7 +852,7 @@ impl AnchoredBound {
                 .iter()
                 .map(|b| std::array::from_fn(|f| b[f][q] + self.rounding)),
         );
-        Ok(anchored_bounds(path, deviation, matrix))
+        anchored_bounds(path, deviation, matrix).map_err(|e| SamError::InvalidInput(e.to_string()))
     }
 }
 

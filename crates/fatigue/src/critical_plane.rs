@@ -225,6 +225,28 @@ fn normalize(a: [f64; 3]) -> [f64; 3] {
     [a[0] / l, a[1] / l, a[2] / l]
 }
 
+/// A user's plane normal scaled to unit length: `n/|n|`, refused when `n` has a non-finite
+/// component or is zero (it names no plane). Scaled by its largest component first, so that
+/// normals like `[1e200, 0, 0]` or `[1e-200, 0, 0]` neither overflow nor underflow.
+fn unit_normal(n: &[f64; 3]) -> Result<[f64; 3], FatigueError> {
+    if let Some(&bad) = n.iter().find(|c| !c.is_finite()) {
+        return Err(FatigueError::InvalidSearch {
+            name: "normal",
+            value: bad,
+            reason: "a plane normal's components must be finite",
+        });
+    }
+    let scale = n.iter().fold(0.0_f64, |m, c| m.max(c.abs()));
+    if scale == 0.0 {
+        return Err(FatigueError::InvalidSearch {
+            name: "normal",
+            value: 0.0,
+            reason: "a zero vector is not a plane normal",
+        });
+    }
+    Ok(normalize([n[0] / scale, n[1] / scale, n[2] / scale]))
+}
+
 /// SWT on the plane `n`: `σ_n,max · (max_t ε_n − min_t ε_n)/2` with
 /// `ε_n = ((1 + ν) σ_n − ν tr σ)/E` (Smith, Watson & Topper 1970; docs/fatigue.md, Eq. F5).
 /// Returns `(value, σ_n,max, ε_a)`.
@@ -251,7 +273,7 @@ pub fn swt_on_plane(
 ) -> Result<Swt, FatigueError> {
     material.validate_elastic()?;
     check_path(path)?;
-    let n = normalize(*n);
+    let n = unit_normal(n)?;
     let trace: Vec<f64> = path.iter().map(|s| s[0] + s[1] + s[2]).collect();
     let [value, smax, ea] = swt_plane(path, &trace, &n, material.young, material.poisson);
     Ok(Swt {
@@ -535,7 +557,7 @@ pub fn fatemi_socie_on_plane(
 ) -> Result<FatemiSocie, FatigueError> {
     material.validate_fatemi_socie()?;
     check_path(path)?;
-    let n = normalize(*n);
+    let n = unit_normal(n)?;
     let (mut shear, mut hull) = (Vec::new(), Vec::new());
     let (value, gamma_a, smax, m) = fs_plane_exact(
         &PathColumns::new(path),

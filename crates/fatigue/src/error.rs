@@ -48,6 +48,16 @@ pub enum FatigueError {
         value: f64,
         reason: &'static str,
     },
+    /// A deviation bound of a screening bound is negative or not finite.
+    #[error(
+        "invalid deviation bound at segment {segment}, component {component}: {value} \
+         (must be finite and non-negative)"
+    )]
+    InvalidDeviation {
+        segment: usize,
+        component: usize,
+        value: f64,
+    },
     /// The minimum-ball pivoting did not terminate (cannot happen in exact arithmetic).
     #[error("minimum enclosing ball: no convergence after {iterations} pivot iterations")]
     NoConvergence { iterations: usize },

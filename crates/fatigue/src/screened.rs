@@ -7,6 +7,10 @@
 //! its location are those of the full evaluation), the others are `NaN`. Crossland and Dang Van
 //! share one minimum ball per point (~40 μs), so a point evaluated for either holds both.
 //!
+//! The public bound functions check their input (the material constants each bound uses, a
+//! non-empty finite path, finite non-negative deviations) and return typed errors; the screen
+//! checks once and then runs their unchecked forms.
+//!
 //! Bounds (`R_X = max_t ‖X(t) − X̄‖`, the radius of the ball about the path's mean — `‖·‖_F` the
 //! Frobenius norm, `|y| = √(½ s:s)` the ball's norm of docs/fatigue.md Eq. F1;
 //! `σ₁ ≤ λ̂ = min(σ_H + √(2/3)‖s‖_F, Gershgorin)`):
@@ -30,7 +34,7 @@ use crate::critical_plane::{
 };
 use crate::error::FatigueError;
 use crate::field::{FieldParams, Maximum};
-use crate::invariant::{crossland_dang_van, InvariantScratch};
+use crate::invariant::{check_path, crossland_dang_van, InvariantScratch};
 use crate::material::Material;
 use crate::tensor::{
     deviator, deviator_coordinates, hydrostatic, principal_values, strain_from_stress, Voigt,
@@ -97,7 +101,14 @@ fn largest_principal_bound(s: &Voigt) -> f64 {
 }
 
 /// `[Crossland bound, Dang Van bound]` of one path (module doc).
-pub fn invariant_bounds(path: &[Voigt], material: &Material) -> [f64; 2] {
+pub fn invariant_bounds(path: &[Voigt], material: &Material) -> Result<[f64; 2], FatigueError> {
+    material.validate_limits()?;
+    check_path(path)?;
+    Ok(invariant_bounds_unchecked(path, material))
+}
+
+/// [`invariant_bounds`] of a checked path and material (the screen's pass 1).
+fn invariant_bounds_unchecked(path: &[Voigt], material: &Material) -> [f64; 2] {
     let n = path.len() as f64;
     let mut mean = [0.0; 5];
     for s in path {
@@ -129,7 +140,17 @@ pub fn invariant_bounds(path: &[Voigt], material: &Material) -> [f64; 2] {
 }
 
 /// `[SWT bound, Fatemi–Socie bound]` of one path (module doc).
-pub fn critical_plane_bounds(path: &[Voigt], material: &Material) -> [f64; 2] {
+pub fn critical_plane_bounds(
+    path: &[Voigt],
+    material: &Material,
+) -> Result<[f64; 2], FatigueError> {
+    material.validate_fatemi_socie()?;
+    check_path(path)?;
+    Ok(critical_plane_bounds_unchecked(path, material))
+}
+
+/// [`critical_plane_bounds`] of a checked path and material (the screen's pass 1).
+fn critical_plane_bounds_unchecked(path: &[Voigt], material: &Material) -> [f64; 2] {
     let sigma1 = path
         .iter()
         .map(largest_principal_bound)
@@ -290,11 +311,22 @@ pub fn fatemi_socie_patch_bound(
     material: &Material,
     threshold: Option<f64>,
     scratch: &mut PatchScratch,
+) -> Result<f64, FatigueError> {
+    material.validate_fatemi_socie()?;
+    check_path(path)?;
+    Ok(fatemi_socie_patch_bound_unchecked(
+        path, material, threshold, scratch,
+    ))
+}
+
+/// [`fatemi_socie_patch_bound`] of a checked path and material (the screen's pass 2).
+fn fatemi_socie_patch_bound_unchecked(
+    path: &[Voigt],
+    material: &Material,
+    threshold: Option<f64>,
+    scratch: &mut PatchScratch,
 ) -> f64 {
-    let path_bound = critical_plane_bounds(path, material)[1];
-    if path.is_empty() {
-        return path_bound;
-    }
+    let path_bound = critical_plane_bounds_unchecked(path, material)[1];
     let mut lo = [f64::INFINITY; 6];
     let mut hi = [f64::NEG_INFINITY; 6];
     for s in path {
@@ -452,7 +484,14 @@ pub fn fatemi_socie_patch_bound(
 ///
 /// `D` is taken `× (1 + 10⁻⁹)` plus `10⁻¹²` of `|y(σ^ref)| + D` for the rounding of the exact
 /// ball and of the principal values. [`anchored_bounds`] with the one anchor `σ^ref`.
-pub fn reference_bounds(reference: &Voigt, deviation: &[f64; 6], material: &Material) -> [f64; 4] {
+pub fn reference_bounds(
+    reference: &Voigt,
+    deviation: &[f64; 6],
+    material: &Material,
+) -> Result<[f64; 4], FatigueError> {
+    material.validate()?;
+    check_path(std::slice::from_ref(reference))?;
+    check_deviations(std::slice::from_ref(deviation))?;
     let y_ref = deviator_coordinates(reference);
     let y_norm = y_ref.iter().map(|v| v * v).sum::<f64>().sqrt();
     let d = deviation[..5].iter().map(|v| v * v).sum::<f64>().sqrt();
@@ -460,7 +499,7 @@ pub fn reference_bounds(reference: &Voigt, deviation: &[f64; 6], material: &Mate
     let h = hydrostatic(reference) + deviation[5];
     let lambda1 = principal_values(&deviator(reference))[0] + 1e-12 * y_norm;
     let s1 = h + lambda1 + 2.0 / 3f64.sqrt() * d;
-    enclosure_bounds(d, h, s1, deviation[5], material)
+    Ok(enclosure_bounds(d, h, s1, deviation[5], material))
 }
 
 /// Upper bounds `[Crossland, Dang Van, SWT, Fatemi–Socie]` of every path whose states lie near
@@ -483,10 +522,17 @@ pub fn reference_bounds(reference: &Voigt, deviation: &[f64; 6], material: &Mate
 /// hydrostatic half range). `ρ` is taken `× (1 + 10⁻⁹)` plus `10⁻¹²` of `max_a |y(a)| + ρ`, the
 /// principal values `+ 10⁻¹² max_a |y(a)|`, for the rounding. With no anchor nothing is known:
 /// every bound is `+∞` (no level can be ruled out).
-pub fn anchored_bounds(anchors: &[Voigt], deviation: &[[f64; 6]], material: &Material) -> [f64; 4] {
+pub fn anchored_bounds(
+    anchors: &[Voigt],
+    deviation: &[[f64; 6]],
+    material: &Material,
+) -> Result<[f64; 4], FatigueError> {
+    material.validate()?;
+    check_deviations(deviation)?;
     if anchors.is_empty() {
-        return [f64::INFINITY; 4];
+        return Ok([f64::INFINITY; 4]);
     }
+    check_path(anchors)?;
     let mut lo = [f64::INFINITY; 6];
     let mut hi = [f64::NEG_INFINITY; 6];
     let mut y_norm = 0.0f64;
@@ -536,7 +582,32 @@ pub fn anchored_bounds(anchors: &[Voigt], deviation: &[[f64; 6]], material: &Mat
         }
     }
     let rho = rho * (1.0 + 1e-9) + 1e-12 * (y_norm + rho);
-    enclosure_bounds(rho, h, s1 + 1e-12 * y_norm, range, material)
+    Ok(enclosure_bounds(
+        rho,
+        h,
+        s1 + 1e-12 * y_norm,
+        range,
+        material,
+    ))
+}
+
+/// Deviations of [`reference_bounds`] and [`anchored_bounds`]: finite and non-negative (they are
+/// bounds on magnitudes).
+fn check_deviations(deviation: &[[f64; 6]]) -> Result<(), FatigueError> {
+    for (g, dev) in deviation.iter().enumerate() {
+        if let Some((k, &v)) = dev
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !(v.is_finite() && **v >= 0.0))
+        {
+            return Err(FatigueError::InvalidDeviation {
+                segment: g,
+                component: k,
+                value: v,
+            });
+        }
+    }
+    Ok(())
 }
 
 /// The four bounds of a path whose deviator coordinates lie in a ball of radius `rho` (the
@@ -588,7 +659,11 @@ pub fn evaluate_screened(
     if increments == 0 || points == 0 {
         return Err(FatigueError::EmptyPath);
     }
-    if points.checked_mul(increments * 6) != Some(stress.len()) {
+    if increments
+        .checked_mul(6)
+        .and_then(|n| n.checked_mul(points))
+        != Some(stress.len())
+    {
         return Err(FatigueError::FieldShape {
             len: stress.len(),
             points,
@@ -627,8 +702,8 @@ pub fn evaluate_screened(
         .map_init(Vec::new, |path, p| {
             path_of(stress, p, increments, path);
             let material = &materials[material_of[p] as usize];
-            let [c, dv] = invariant_bounds(path, material);
-            let [s, f] = critical_plane_bounds(path, material);
+            let [c, dv] = invariant_bounds_unchecked(path, material);
+            let [s, f] = critical_plane_bounds_unchecked(path, material);
             [c, dv, s, f]
         })
         .collect();
@@ -682,7 +757,12 @@ pub fn evaluate_screened(
         let patch_bound = |p: usize, threshold: f64, scratch: &mut (Vec<Voigt>, PatchScratch)| {
             path_of(stress, p, increments, &mut scratch.0);
             let material = &materials[material_of[p] as usize];
-            fatemi_socie_patch_bound(&scratch.0, material, Some(threshold), &mut scratch.1)
+            fatemi_socie_patch_bound_unchecked(
+                &scratch.0,
+                material,
+                Some(threshold),
+                &mut scratch.1,
+            )
         };
         let refine: Option<&Refine<'_>> = if which == 1 { Some(&patch_bound) } else { None };
         let count = screen(

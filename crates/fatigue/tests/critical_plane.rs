@@ -160,7 +160,24 @@ fn filtered_diameter_keeps_every_point_when_the_cut_off_overflows() {
     let mut kept = Vec::new();
     let got = diameter_filtered(&mut pts, &mut kept);
     // 80 points kept take the hull (which reuses `kept` as its scratch); dropping them all gave 0.
-    assert!(got.0 > 0.0, "diameter {}", got.0);
+    // The squared diameter itself overflows, as all pairs say.
+    assert_eq!(got.0, f64::INFINITY, "diameter {}", got.0);
+    assert_eq!(got.0, diameter_brute_force(&pts).0);
+    // Just below the overflow (squares ≈ 4e300) the filter cuts and the diameter is exact: the
+    // x extent's 2e150, along ±x.
+    let mut pts: Vec<[f64; 2]> = (0..80)
+        .map(|i| {
+            let t = 2.0 * std::f64::consts::PI * i as f64 / 80.0;
+            [1e150 * t.cos(), 1e149 * t.sin()]
+        })
+        .collect();
+    let (want, _) = diameter_brute_force(&pts);
+    let (got, d) = diameter_filtered(&mut pts, &mut kept);
+    assert!(
+        want.is_finite() && (got - want).abs() <= 1e-12 * want,
+        "{got} vs {want}"
+    );
+    assert!((got - 4e300).abs() <= 1e-12 * 4e300 && d[1].abs() <= 1e-12 * d[0].abs());
 }
 
 /// The exact in-plane maximum of Fatemi–Socie equals a fine scan of directions.
@@ -198,6 +215,18 @@ fn fatemi_socie_in_plane_direction_is_exact() {
         // The direction is in the plane and attains γ_a.
         let dn: f64 = (0..3).map(|k| fs.direction[k] * n[k]).sum();
         assert!(dn.abs() < 1e-12);
+        let w = halfspace_fatigue::tensor::bilinear_weights(&fs.direction, &n);
+        let (lo, hi) = path
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), s| {
+                let t = halfspace_fatigue::tensor::dot6(&w, s);
+                (lo.min(t), hi.max(t))
+            });
+        let along = 0.5 * (hi - lo) / g;
+        assert!(
+            (along - ga).abs() <= 1e-12 * ga,
+            "γ_a {ga}, along the direction {along}"
+        );
     }
 }
 
@@ -537,4 +566,46 @@ fn search_accuracy_survey() {
         ef / n
     );
     assert!(ws < 1e-7 && wf < 5e-4);
+}
+
+/// A plane normal given by the caller: scaled to unit length (any positive multiple names the same
+/// plane, also beyond the square's overflow), and refused when it is zero or not finite (returned
+/// `+∞` / NaN before; review, stop 45).
+#[test]
+fn on_plane_criteria_check_the_normal() {
+    let mut rng = Rng::new(2240);
+    let m = steel();
+    let path = random_cycle(&mut rng, 24, 1e8, 5e7);
+    let unit = [0.6, 0.0, 0.8];
+    let a = swt_on_plane(&path, &m, &unit).unwrap();
+    let f = fatemi_socie_on_plane(&path, &m, &unit).unwrap();
+    for scale in [1e-200, 3.0, 1e200] {
+        let n = unit.map(|c| c * scale);
+        let b = swt_on_plane(&path, &m, &n).unwrap();
+        assert!(
+            (a.value - b.value).abs() <= 1e-14 * a.value.abs(),
+            "{scale}"
+        );
+        let g = fatemi_socie_on_plane(&path, &m, &n).unwrap();
+        assert!(
+            (f.value - g.value).abs() <= 1e-14 * f.value.abs(),
+            "{scale}"
+        );
+    }
+    for n in [[0.0; 3], [f64::NAN, 1.0, 0.0], [0.0, f64::INFINITY, 0.0]] {
+        assert!(
+            matches!(
+                swt_on_plane(&path, &m, &n),
+                Err(FatigueError::InvalidSearch { name: "normal", .. })
+            ),
+            "{n:?}"
+        );
+        assert!(
+            matches!(
+                fatemi_socie_on_plane(&path, &m, &n),
+                Err(FatigueError::InvalidSearch { name: "normal", .. })
+            ),
+            "{n:?}"
+        );
+    }
 }

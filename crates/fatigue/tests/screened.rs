@@ -5,7 +5,7 @@ mod common;
 
 use common::{proportional_cycle, random_cycle, steel, Rng};
 use halfspace_fatigue::critical_plane::{
-    fatemi_socie, fatemi_socie_brute_force, swt, CriticalPlaneParams, PlaneScratch,
+    fatemi_socie, fatemi_socie_brute_force, swt, swt_brute_force, CriticalPlaneParams, PlaneScratch,
 };
 use halfspace_fatigue::invariant::{crossland_dang_van, InvariantScratch};
 use halfspace_fatigue::screened::{
@@ -30,17 +30,39 @@ fn paths(points: usize, increments: usize, seed: u64) -> Vec<Vec<Voigt>> {
         .collect()
 }
 
+/// The critical-plane maxima `[SWT, FS]` a bound must stay above: the largest of the default
+/// search, a fine search (20 000 normals) and brute force on a 2° grid. A bound checked only
+/// against the default search (a local search, docs/fatigue.md "Critical-plane search") could
+/// sit below the true maximum where that search misses it.
+fn critical_plane_maxima(path: &[Voigt], m: &Material, scratch: &mut PlaneScratch) -> [f64; 2] {
+    let fine = CriticalPlaneParams {
+        coarse_normals: 20_000,
+        coarse_directions: 24,
+        candidates: 16,
+        angular_tolerance: 1e-9,
+    };
+    let step = 2f64.to_radians();
+    let default = CriticalPlaneParams::default();
+    let s = swt(path, m, &default, scratch)
+        .unwrap()
+        .value
+        .max(swt(path, m, &fine, scratch).unwrap().value)
+        .max(swt_brute_force(path, m, step).unwrap().value);
+    let f = fatemi_socie(path, m, &default, scratch)
+        .unwrap()
+        .value
+        .max(fatemi_socie(path, m, &fine, scratch).unwrap().value)
+        .max(fatemi_socie_brute_force(path, m, step).unwrap().value);
+    [s, f]
+}
+
 #[test]
 fn bounds_bound_the_critical_plane_criteria() {
     let m = steel();
-    let params = FieldParams::default();
     let mut scratch = PlaneScratch::default();
     for path in paths(60, 24, 77) {
-        let [bs, bf] = critical_plane_bounds(&path, &m);
-        let s = swt(&path, &m, &params.plane, &mut scratch).unwrap().value;
-        let f = fatemi_socie(&path, &m, &params.plane, &mut scratch)
-            .unwrap()
-            .value;
+        let [bs, bf] = critical_plane_bounds(&path, &m).unwrap();
+        let [s, f] = critical_plane_maxima(&path, &m, &mut scratch);
         assert!(s <= bs, "SWT {s} above its bound {bs}");
         assert!(f <= bf, "FS {f} above its bound {bf}");
         // Not vacuous: within a factor of a few.
@@ -85,8 +107,8 @@ fn patch_bound_bounds_fatemi_socie() {
     let (mut tighter, mut worst) = (0usize, 0.0f64);
     let mut excluded = [0usize; 2];
     for path in &all {
-        let bound = fatemi_socie_patch_bound(path, &m, None, &mut buffer);
-        let old = critical_plane_bounds(path, &m)[1];
+        let bound = fatemi_socie_patch_bound(path, &m, None, &mut buffer).unwrap();
+        let old = critical_plane_bounds(path, &m).unwrap()[1];
         let d = fatemi_socie(path, &m, &CriticalPlaneParams::default(), &mut scratch)
             .unwrap()
             .value;
@@ -108,7 +130,8 @@ fn patch_bound_bounds_fatemi_socie() {
         }
         // Stopped early at a threshold, it still bounds the value.
         for fraction in [0.3, 0.9, 1.1, 1.25, 2.0] {
-            let early = fatemi_socie_patch_bound(path, &m, Some(fraction * exact), &mut buffer);
+            let early =
+                fatemi_socie_patch_bound(path, &m, Some(fraction * exact), &mut buffer).unwrap();
             assert!(
                 exact <= early,
                 "FS {exact} above {early} (threshold {fraction} × FS)"
@@ -141,7 +164,6 @@ fn patch_bound_bounds_fatemi_socie() {
 #[test]
 fn reference_bounds_bound_all_four_criteria() {
     let m = steel();
-    let params = FieldParams::default();
     let mut rng = Rng::new(4242);
     let mut plane = PlaneScratch::default();
     let mut inv = InvariantScratch::default();
@@ -175,12 +197,9 @@ fn reference_bounds_bound_all_four_criteria() {
                 std::array::from_fn(|k| reference[k] + d[k] + if k < 3 { h } else { 0.0 })
             })
             .collect();
-        let b = reference_bounds(&reference, &deviation, &m);
+        let b = reference_bounds(&reference, &deviation, &m).unwrap();
         let (c, dv) = crossland_dang_van(&path, &m, &mut inv).unwrap();
-        let s = swt(&path, &m, &params.plane, &mut plane).unwrap().value;
-        let f = fatemi_socie(&path, &m, &params.plane, &mut plane)
-            .unwrap()
-            .value;
+        let [s, f] = critical_plane_maxima(&path, &m, &mut plane);
         for (k, (v, bound)) in [c.index, dv.index, s, f].iter().zip(b).enumerate() {
             assert!(
                 *v <= bound,
@@ -208,7 +227,6 @@ fn reference_bounds_bound_all_four_criteria() {
 #[test]
 fn anchored_bounds_bound_all_four_criteria() {
     let m = steel();
-    let params = FieldParams::default();
     let mut rng = Rng::new(9191);
     let mut plane = PlaneScratch::default();
     let mut inv = InvariantScratch::default();
@@ -259,12 +277,9 @@ fn anchored_bounds_bound_all_four_criteria() {
                 }));
             }
         }
-        let b = anchored_bounds(&anchors, &deviation, &m);
+        let b = anchored_bounds(&anchors, &deviation, &m).unwrap();
         let (c, dv) = crossland_dang_van(&path, &m, &mut inv).unwrap();
-        let s = swt(&path, &m, &params.plane, &mut plane).unwrap().value;
-        let f = fatemi_socie(&path, &m, &params.plane, &mut plane)
-            .unwrap()
-            .value;
+        let [s, f] = critical_plane_maxima(&path, &m, &mut plane);
         for (k, (v, bound)) in [c.index, dv.index, s, f].iter().zip(b).enumerate() {
             assert!(
                 *v <= bound,
@@ -275,8 +290,8 @@ fn anchored_bounds_bound_all_four_criteria() {
             }
         }
         // One anchor, one deviation: the reference bound.
-        let one = anchored_bounds(&anchors[..1], &deviation[..1], &m);
-        let reference = reference_bounds(&anchors[0], &deviation[0], &m);
+        let one = anchored_bounds(&anchors[..1], &deviation[..1], &m).unwrap();
+        let reference = reference_bounds(&anchors[0], &deviation[0], &m).unwrap();
         // Absolute floors for bounds near 0: Crossland, Dang Van, SWT (Pa), Fatemi–Socie.
         let floor = [1e-9, 1e-9, 1e-3, 1e-12];
         for k in 0..4 {
@@ -296,7 +311,7 @@ fn bounds_bound_crossland_and_dang_van() {
     let m = steel();
     let mut scratch = InvariantScratch::default();
     for path in paths(60, 24, 91) {
-        let [bc, bdv] = invariant_bounds(&path, &m);
+        let [bc, bdv] = invariant_bounds(&path, &m).unwrap();
         let (c, dv) = crossland_dang_van(&path, &m, &mut scratch).unwrap();
         assert!(c.index <= bc, "Crossland {} above its bound {bc}", c.index);
         assert!(
@@ -315,7 +330,7 @@ fn bounds_bound_crossland_and_dang_van() {
     }
     // A symmetric proportional path: its mean is the ball's centre, the bound is tight to rounding.
     let path = common::proportional_cycle([0.0; 6], [1e8, -5e7, 0.0, 2e7, 0.0, 1e7], 21);
-    let [bc, _] = invariant_bounds(&path, &m);
+    let [bc, _] = invariant_bounds(&path, &m).unwrap();
     let (c, _) = crossland_dang_van(&path, &m, &mut scratch).unwrap();
     assert!(
         c.index <= bc && bc - c.index <= 1e-8 * c.index.abs(),
@@ -521,6 +536,92 @@ proptest::proptest! {
 /// With no anchor the anchored bound knows nothing: every bound is `+∞`, so no level is ruled out.
 #[test]
 fn anchored_bounds_without_anchors_rule_nothing_out() {
-    let b = anchored_bounds(&[], &[], &steel());
+    let b = anchored_bounds(&[], &[], &steel()).unwrap();
     assert!(b.iter().all(|v| *v == f64::INFINITY), "{b:?}");
+}
+
+/// The public bounds refuse what they cannot bound — an invalid material, an empty or non-finite
+/// path, a negative or non-finite deviation — instead of returning NaN or ±∞ (review, stop 45);
+/// a field shape whose `points × increments × 6` overflows is a shape error, not a panic.
+#[test]
+fn bounds_and_screen_refuse_invalid_input() {
+    use halfspace_fatigue::FatigueError;
+    let m = steel();
+    let path = paths(1, 12, 5).remove(0);
+    let mut scratch = PatchScratch::default();
+    let no_limit = Material { t_minus1: 0.0, ..m };
+    let no_young = Material { young: -1.0, ..m };
+    let no_yield = Material {
+        yield_stress: f64::NAN,
+        ..m
+    };
+    fn invalid<T>(r: Result<T, FatigueError>) -> bool {
+        matches!(
+            r,
+            Err(FatigueError::InvalidMaterial { .. } | FatigueError::TorsionBendingRatio { .. })
+        )
+    }
+    assert!(invalid(invariant_bounds(&path, &no_limit)));
+    assert!(invalid(critical_plane_bounds(&path, &no_young)));
+    assert!(invalid(critical_plane_bounds(&path, &no_yield)));
+    assert!(invalid(fatemi_socie_patch_bound(
+        &path,
+        &no_yield,
+        None,
+        &mut scratch
+    )));
+    assert!(invalid(reference_bounds(&path[0], &[0.0; 6], &no_limit)));
+    assert!(invalid(anchored_bounds(&path, &[[0.0; 6]], &no_young)));
+    // Paths.
+    assert_eq!(invariant_bounds(&[], &m), Err(FatigueError::EmptyPath));
+    assert_eq!(
+        fatemi_socie_patch_bound(&[], &m, None, &mut scratch),
+        Err(FatigueError::EmptyPath)
+    );
+    let mut nan = path.clone();
+    nan[3][4] = f64::NAN;
+    assert!(matches!(
+        critical_plane_bounds(&nan, &m),
+        Err(FatigueError::NonFiniteStress {
+            increment: 3,
+            component: 4,
+            ..
+        })
+    ));
+    assert!(matches!(
+        anchored_bounds(&nan, &[], &m),
+        Err(FatigueError::NonFiniteStress { increment: 3, .. })
+    ));
+    // Deviations.
+    let mut dev = [1e6; 6];
+    dev[2] = -1.0;
+    assert_eq!(
+        reference_bounds(&path[0], &dev, &m),
+        Err(FatigueError::InvalidDeviation {
+            segment: 0,
+            component: 2,
+            value: -1.0
+        })
+    );
+    dev[2] = f64::INFINITY;
+    assert!(matches!(
+        anchored_bounds(&path[..3], &[[0.0; 6], dev], &m),
+        Err(FatigueError::InvalidDeviation {
+            segment: 1,
+            component: 2,
+            ..
+        })
+    ));
+    // Valid input still gives the bounds.
+    assert!(reference_bounds(&path[0], &[1e6; 6], &m)
+        .unwrap()
+        .iter()
+        .all(|b| b.is_finite()));
+    // The screen's shape check: `increments × 6` overflowed (a panic in debug builds, a wrapped
+    // product that could match in release).
+    let params = FieldParams::default();
+    assert!(matches!(
+        evaluate_screened(&[0.0; 6], usize::MAX / 3, &[m], &[0], &params, 0.5),
+        Err(FatigueError::FieldShape { .. })
+    ));
 }
