@@ -440,19 +440,27 @@ fn the_fretting_limit_study_reaches_every_limit_from_below() {
 }
 
 /// `--gap-transform` and the config key `gap_transform` (and `--edge-cells`, whose checkpoints
-/// also record the edge cells' rule): the run reports the
-/// transform it used, a resume under the other one is refused naming it, and an unknown name is
-/// refused up front. (A default run records neither option, as runs before them did: the unit
-/// test `checkpoints_record_the_discretization_options_only_when_not_the_default`.)
+/// also record the edge cells' rule): the run reports the transform it used (the default since
+/// stop 45: piecewise-linear with the edge cells), a resume under the other one is refused naming
+/// it, and an unknown name is refused up front. (A record without the options is a run of the
+/// central differences without the edge cells, made before they were recorded: the unit test
+/// `checkpoints_record_the_discretization_options_unless_the_legacy_ones`.)
 #[test]
 fn the_gap_transform_is_chosen_recorded_and_checked_on_resume() {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("pl");
+    let out = dir.path().join("cd");
     let common = ["--n", "401", "--tau-end", "0.3", "--json"];
-    let plain = fretting_wear(&out, &common, &["--gap-transform", "piecewise-linear"]);
+    let central = [
+        "--gap-transform",
+        "central-differences",
+        "--edge-cells",
+        "false",
+    ];
+    let plain = fretting_wear(&out, &common, &central);
     let plain: Vec<&str> = plain.iter().map(String::as_str).collect();
     let v = ok_json(&run(&plain));
-    assert_eq!(v["gap_transform"], "piecewise-linear");
+    assert_eq!(v["gap_transform"], "central-differences");
+    assert_eq!(v["edge_cells"], false);
     let v = ok_json(&run(&[
         "fretting-wear",
         "--n",
@@ -461,49 +469,35 @@ fn the_gap_transform_is_chosen_recorded_and_checked_on_resume() {
         "0.3",
         "--json",
         "--out",
-        dir.path().join("cd").to_str().unwrap(),
+        dir.path().join("default").to_str().unwrap(),
     ]));
-    assert_eq!(v["gap_transform"], "central-differences");
+    assert_eq!(v["gap_transform"], "piecewise-linear");
+    assert_eq!(v["edge_cells"], true);
     // Stopped early, then resumed with the default transform: refused, naming the key.
     let stopped = fretting_wear(
         &out,
         &common,
-        &[
-            "--gap-transform",
-            "piecewise-linear",
-            "--force",
-            "--stop-after",
-            "20",
-        ],
+        &[&central[..], &["--force", "--stop-after", "20"]].concat(),
     );
     let stopped: Vec<&str> = stopped.iter().map(String::as_str).collect();
     run(&stopped);
-    let resume = fretting_wear(&out, &common, &["--resume"]);
+    let resume = fretting_wear(&out, &common, &["--resume", "--edge-cells", "false"]);
     bad_owned(&resume, "gap_transform");
-    let resume = fretting_wear(
-        &out,
-        &common,
-        &["--resume", "--gap-transform", "piecewise-linear"],
-    );
+    let resume = fretting_wear(&out, &common, &[&["--resume"][..], &central].concat());
     let resumed: Vec<&str> = resume.iter().map(String::as_str).collect();
     let v = ok_json(&run(&resumed));
-    assert_eq!(v["gap_transform"], "piecewise-linear");
+    assert_eq!(v["gap_transform"], "central-differences");
     assert_eq!(v["edge_cells"], false);
     // The edge cells the same way: reported, and a resume without them refused naming them; with
-    // them it completes.
-    let stopped = fretting_wear(
-        &out,
-        &common,
-        &["--edge-cells", "--force", "--stop-after", "20"],
-    );
+    // them (the default) it completes.
+    let stopped = fretting_wear(&out, &common, &["--force", "--stop-after", "20"]);
     let stopped: Vec<&str> = stopped.iter().map(String::as_str).collect();
     run(&stopped);
-    bad_owned(&fretting_wear(&out, &common, &["--resume"]), "edge_cells");
     bad_owned(
         &fretting_wear(&out, &common, &["--resume", "--edge-cells", "false"]),
         "edge_cells",
     );
-    let resume = fretting_wear(&out, &common, &["--resume", "--edge-cells"]);
+    let resume = fretting_wear(&out, &common, &["--resume"]);
     // The checkpoint records the edge cells' rule: one without it (the rule before the last
     // node's floor) or of another rule is refused, saying why.
     checkpoint_scheme_is_checked(

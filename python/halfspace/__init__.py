@@ -699,8 +699,8 @@ def fretting_wear(
     method: str = "fft",
     material: Graded | Homogeneous | str | None = None,
     length: float | None = None,
-    gap_transform: str = "central-differences",
-    edge_cells: bool = False,
+    gap_transform: str = "piecewise-linear",
+    edge_cells: bool = True,
     resume: str | os.PathLike[str] | None = None,
 ) -> WearResult:
     """Fretting wear of a parabolic indenter in partial slip by the MDR (Willert et al. 2021,
@@ -713,11 +713,11 @@ def fretting_wear(
     ``limiting_profile``; ``contact_radius_history`` is a/a₀ per step (the extent of the touching
     region; ``loaded_radius_history``: where p > 1e-3 max p), at ``tau_history``; ``steps`` counts
     the time steps; ``wear_volume`` and
-    ``limit_wear_volume`` are V/(π a₀² d). ``gap_transform``: ``"central-differences"`` (the
-    paper's Eq. 7) or ``"piecewise-linear"`` (no node-to-node mode near the contact edge, about
-    1.5× the steps; docs/fretting-wear.md, "The profile transform of the worn profile");
-    ``edge_cells``: the edge cells' rate as cell means (with the piecewise-linear transform the
-    fewest steps of the graded runs). As ``halfspace fretting-wear``. ``resume``: a run
+    ``limit_wear_volume`` are V/(π a₀² d). ``gap_transform``: ``"piecewise-linear"`` (default: no
+    node-to-node mode near the contact edge) or ``"central-differences"`` (the paper's Eq. 7 as
+    written; docs/fretting-wear.md, "The profile transform of the worn profile");
+    ``edge_cells`` (default ``True``): the edge cells' rate as cell means (docs/fretting-wear.md,
+    "The defaults"). As ``halfspace fretting-wear``. ``resume``: a run
     directory of ``halfspace fretting-wear`` (killed, or stopped) made with the same parameters —
     the run continues from its checkpoint to the uninterrupted run's result bit for bit, with the
     command line's ``--resume`` checks (a run of another adaptive scheme is refused); the

@@ -71,11 +71,12 @@ def test_fretting_wear_equals_the_cli(tmp_path):
         assert np.array_equal(got.limiting_profile, f["limiting_profile"][:])
     with pytest.raises(hs.HalfspaceError):
         hs.fretting_wear(chi=1.5)
-    assert got.gap_transform == ref["gap_transform"] == "central-differences"
-    pl = hs.fretting_wear(chi=0.5, n=301, tau_end=0.5, gap_transform="piecewise-linear",
-                          edge_cells=True)
-    assert pl.gap_transform == "piecewise-linear" and pl.edge_cells is True
-    assert got.edge_cells is False
+    # The defaults (since stop 45): the piecewise-linear transform with the edge cells.
+    assert got.gap_transform == ref["gap_transform"] == "piecewise-linear"
+    assert got.edge_cells is True and ref["edge_cells"] is True
+    cd = hs.fretting_wear(chi=0.5, n=301, tau_end=0.5, gap_transform="central-differences",
+                          edge_cells=False)
+    assert cd.gap_transform == "central-differences" and cd.edge_cells is False
     with pytest.raises(TypeError, match="edge_cells"):
         hs.fretting_wear(n=301, tau_end=0.5, edge_cells="yes")
     with pytest.raises(hs.HalfspaceError, match="piecewise-linear"):

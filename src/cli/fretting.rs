@@ -75,14 +75,15 @@ pub struct FrettingArgs {
     #[arg(long, allow_hyphen_values = true)]
     length: Option<f64>,
     /// The discretization of the profile transform (Eq. 7/23) of the worn profile:
-    /// central-differences (default, the paper's) or piecewise-linear (no node-to-node mode near
-    /// the contact edge; docs/fretting-wear.md, "The profile transform of the worn profile").
+    /// piecewise-linear (default: no node-to-node mode near the contact edge) or
+    /// central-differences (the paper's Eq. 7 as written; docs/fretting-wear.md, "The profile
+    /// transform of the worn profile").
     #[arg(long, value_parser = ["central-differences", "piecewise-linear"])]
     gap_transform: Option<String>,
     /// The wear rate of the cells at the contact edge as cell means of p Δu instead of nodal
-    /// samples (docs/fretting-wear.md, "Edge cells"); with --gap-transform piecewise-linear the
-    /// fewest steps of the graded runs ("The profile transform of the worn profile").
-    /// `--edge-cells false` overrides a config's `edge_cells = true`.
+    /// samples (default true; docs/fretting-wear.md, "Edge cells"): with the piecewise-linear
+    /// transform the fewest steps of the graded runs. `--edge-cells false` turns them off (and
+    /// overrides a config's `edge_cells`).
     #[arg(long, num_args = 0..=1, default_missing_value = "true")]
     edge_cells: Option<bool>,
     /// Seconds of work between checkpoints.

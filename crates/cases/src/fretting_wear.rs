@@ -11,7 +11,7 @@ use crate::config::Names;
 use crate::data::{read_record, read_text_bounded, AttrValue, DataError, Record};
 use crate::fretting::{
     FrettingError, FrettingParams, FrettingSimulation, FrettingState, GapTransform, Snapshot,
-    TimeStepping, ADAPTIVE_SCHEME, EDGE_CELL_RULE, FIXED_STEP_SCHEME,
+    TimeStepping, ADAPTIVE_SCHEME, EDGE_CELL_RULE, EULER_SCHEME, FIXED_STEP_SCHEME,
 };
 use crate::run_files::MANIFEST;
 use crate::spec::{parse_wear_medium, SpecError, WearMedium};
@@ -41,10 +41,10 @@ pub struct WearConfig {
     /// The medium ([`parse_wear_medium`]): `homogeneous` (default), `homogeneous:nu=..`,
     /// `graded:k=..,nu=..`.
     pub material: Option<String>,
-    /// The discretization of Eq. 7 / 23 for the worn profile: `"central-differences"` (default)
-    /// or `"piecewise-linear"` ([`GapTransform`]).
+    /// The discretization of Eq. 7 / 23 for the worn profile: `"piecewise-linear"` (default) or
+    /// `"central-differences"` ([`GapTransform`]).
     pub gap_transform: Option<String>,
-    /// The edge cells' rate as cell means (default false; [`FrettingParams::edge_cells`]).
+    /// The edge cells' rate as cell means (default true; [`FrettingParams::edge_cells`]).
     pub edge_cells: Option<bool>,
 }
 
@@ -178,15 +178,17 @@ pub enum ResumeError {
     Data(#[from] DataError),
 }
 
-/// The discretization options as `(attribute, this run's value, the default's value)`: the
-/// [`GapTransform`] by name and the edge cells as 1 / 0 ([`FrettingParams::edge_cells`]).
+/// The discretization options as `(attribute, this run's value, the value a record without the
+/// attribute means)`: the [`GapTransform`] by name and the edge cells as 1 / 0
+/// ([`FrettingParams::edge_cells`]); an absent one is [`GapTransform::LEGACY`] and no edge cells,
+/// the defaults of the runs made before the options were recorded.
 fn discretization_attrs(p: &FrettingParams) -> [(&'static str, AttrValue, AttrValue); 2] {
     let text = |t: GapTransform| AttrValue::Text(t.name().into());
     [
         (
             "gap_transform",
             text(p.gap_transform),
-            text(GapTransform::default()),
+            text(GapTransform::LEGACY),
         ),
         (
             "edge_cells",
@@ -222,9 +224,10 @@ pub fn params_attrs(p: &FrettingParams) -> Vec<(&'static str, AttrValue)> {
         ("method", AttrValue::Text(p.backend.name().into())),
         ("snapshots", AttrValue::Text(format!("{:?}", p.snapshots))),
     ];
-    // The discretization options only where they differ from the defaults: a default run records
-    // what every run recorded before they existed (its run directory and checkpoint resume as
-    // before; [`state_from_checkpoint`] reads an absent one as the default).
+    // The discretization options where they differ from the legacy ones (the central differences
+    // without the edge cells, which every run recorded nothing of before the options existed:
+    // those run directories and checkpoints resume as before; [`state_from_checkpoint`] reads
+    // an absent one as the legacy value). The default run (both options) records both.
     attrs.extend(
         discretization_attrs(p)
             .into_iter()
@@ -241,7 +244,9 @@ pub fn params_attrs(p: &FrettingParams) -> Vec<(&'static str, AttrValue)> {
         TimeStepping::Fixed { .. } => {
             attrs.push(("fixed_scheme", AttrValue::Text(FIXED_STEP_SCHEME.into())));
         }
-        TimeStepping::ExplicitEuler { .. } => {}
+        TimeStepping::ExplicitEuler { .. } => {
+            attrs.push(("euler_scheme", AttrValue::Text(EULER_SCHEME.into())));
+        }
     }
     attrs
 }
@@ -399,7 +404,7 @@ pub fn state_from_checkpoint(
             )));
         }
     }
-    // The discretization options, an absent one the default's (a default run records none).
+    // The discretization options, an absent one the legacy value (a record made before them).
     for (name, value, default) in discretization_attrs(params) {
         let recorded = rec.get_attr(name).unwrap_or(&default);
         if recorded != &value {
@@ -537,17 +542,20 @@ mod tests {
         assert_eq!((case.inhomogeneities.len(), case.grid), (2, 128));
     }
 
-    /// The discretization options in checkpoints: a default run records none (as every
-    /// checkpoint before they existed), and an absent one reads as the default; a checkpoint of
-    /// another option is refused naming it, either way round.
+    /// The discretization options in checkpoints: a run of the legacy ones (the central
+    /// differences without the edge cells, the defaults before stop 45) records none, as every
+    /// checkpoint before they existed, and an absent one reads as the legacy value; the default
+    /// run records both; a checkpoint of another option is refused naming it, either way round.
     #[test]
-    fn checkpoints_record_the_discretization_options_only_when_not_the_default() {
+    fn checkpoints_record_the_discretization_options_unless_the_legacy_ones() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join(CHECKPOINT);
         let params = FrettingParams {
             nodes: 101,
             tau_end: 0.05,
             snapshots: vec![],
+            gap_transform: GapTransform::LEGACY,
+            edge_cells: false,
             ..FrettingParams::default()
         };
         let options = FrettingParams {
@@ -557,6 +565,12 @@ mod tests {
         };
         let names: Vec<&str> = params_attrs(&params).iter().map(|(n, _)| *n).collect();
         assert!(!names.contains(&"gap_transform") && !names.contains(&"edge_cells"));
+        let defaults = FrettingParams {
+            nodes: 101,
+            ..FrettingParams::default()
+        };
+        let names: Vec<&str> = params_attrs(&defaults).iter().map(|(n, _)| *n).collect();
+        assert!(names.contains(&"gap_transform") && names.contains(&"edge_cells"));
         for (made, resumed, refused) in [
             (&params, &options, Some("gap_transform")),
             (&options, &params, Some("gap_transform")),

@@ -22,6 +22,6 @@ pub use error::FrettingError;
 pub use params::{FrettingParams, GapTransform, TimeStepping};
 pub use simulation::{
     AttemptObserver, ContactRadii, FrettingSimulation, FrettingState, Snapshot, StepAttempt,
-    ADAPTIVE_SCHEME, EDGE_CELL_RULE, FIXED_STEP_SCHEME, GAP_TOLERANCE, LOAD_THRESHOLD,
-    SINGLE_PRECISION_FROM, SLIDING_EDGE_SCHEME,
+    ADAPTIVE_SCHEME, EDGE_CELL_RULE, EULER_SCHEME, FIXED_STEP_SCHEME, GAP_TOLERANCE,
+    LOAD_THRESHOLD, SINGLE_PRECISION_FROM, SLIDING_EDGE_SCHEME,
 };

@@ -150,15 +150,15 @@ impl RosenbrockMatrix {
         }
         let delta = 1e-6;
         let (lo, hi) = ((theta - delta).max(0.5 * theta), (theta + delta).min(1.0));
-        // One convolution for both edges (the cells' sums do not depend on θ).
-        self.stress_tf.line_load_to_stress_at_two_edges(
+        // The cells' sums do not depend on θ: no convolution for the difference.
+        self.stress_tf.line_load_edge_difference(
             &self.grid,
             &self.q[..m],
             (hi, lo),
-            (&mut self.stress_theta[..m], &mut self.sigma[..m]),
+            &mut self.stress_theta[..m],
         )?;
-        for (d, s) in self.stress_theta[..m].iter_mut().zip(&self.sigma[..m]) {
-            *d = (*d - s) / (hi - lo);
+        for d in self.stress_theta[..m].iter_mut() {
+            *d /= hi - lo;
         }
         self.gap_last = g[m - 1];
         self.gap_edge = g[m];

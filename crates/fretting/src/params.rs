@@ -56,16 +56,23 @@ pub enum GapTransform {
     /// the trapezoid power sum and its central difference, with the parabolic split
     /// (`ProfileTransform::slope_to_equivalent`; docs/theory-mdr.md#profile-transform). Its
     /// central differences do not see the node-to-node mode `(−1)^i` of `f̃`, which the wear then
-    /// leaves undamped near the contact edge. The default.
-    #[default]
+    /// leaves undamped near the contact edge (the default before stop 45, and what a record
+    /// without the option means: [`GapTransform::LEGACY`]).
     CentralDifferences,
     /// Exact for a profile linear in `ξ = r²` between nodes (`ProfileTransform::values_to_equivalent`):
     /// cell slopes and the integrated kernel, no difference at the nodes, so every mode of `f̃`
-    /// moves `g` and is worn down; the same order `1 + γ` on smooth profiles.
+    /// moves `g` and is worn down; the same order `1 + γ` on smooth profiles. The default (with
+    /// the edge cells, [`FrettingParams::edge_cells`]; docs/fretting-wear.md, "The defaults").
+    #[default]
     PiecewiseLinear,
 }
 
 impl GapTransform {
+    /// The transform of a run directory, checkpoint or manifest that records none: those were
+    /// made before the option was recorded for every run, when the central differences were the
+    /// default (and the edge cells off).
+    pub const LEGACY: Self = Self::CentralDifferences;
+
     /// The name in configs, results and checkpoints: `central-differences` or `piecewise-linear`.
     pub fn name(&self) -> &'static str {
         match self {
@@ -121,7 +128,8 @@ pub struct FrettingParams {
     pub gap_transform: GapTransform,
     /// The wear rate of the cells at the contact edge as the cell mean of `p Δu` (the edge
     /// pressure `π (a² − ξ)^γ` integrated over the cell) instead of the nodal `p Δu`
-    /// (docs/fretting-wear.md, "Edge cells"); off by default.
+    /// (docs/fretting-wear.md, "Edge cells"); on by default (off in a record that does not
+    /// name it, made before stop 45).
     pub edge_cells: bool,
 }
 
@@ -140,8 +148,8 @@ impl Default for FrettingParams {
             length: 1.6,
             snapshots: vec![0.1, 1.0, 3.0, 10.0, 30.0],
             backend: Backend::Fft,
-            gap_transform: GapTransform::CentralDifferences,
-            edge_cells: false,
+            gap_transform: GapTransform::PiecewiseLinear,
+            edge_cells: true,
         }
     }
 }

@@ -193,7 +193,10 @@ struct StartRate {
 /// and the rate's profile transform on the prefix `0..L` ([`FrettingSimulation::set_prefix_rate`];
 /// `-masked` alone was the same scheme on the whole grid), and the preconditioner's factors and
 /// substitutions on fused multiply-adds (`BandPreconditioner::factor` in linearization.rs;
-/// `-prefix` alone was the same scheme with separate multiplies and subtractions).
+/// `-prefix` alone was the same scheme with separate multiplies and subtractions), and the
+/// convolutions as packed complex FFTs with the preconditioned Krylov basis kept and the edge's
+/// θ-difference without a convolution (`-fma` alone was the same scheme with real FFTs, the
+/// preconditioner applied to the update, and the difference of two stress transforms).
 /// The name must change
 /// whenever the path does: `HOLE_MARGIN`, the default
 /// switches (`hole_estimate`, `freeze_contact`, `first_order_fallback`, `hole_projection`,
@@ -207,14 +210,15 @@ pub const ADAPTIVE_SCHEME: &str = if SLIDING_EDGE_DEFAULT {
 };
 
 /// The default scheme's name without the sliding mode ([`ADAPTIVE_SCHEME`]).
-const MAIN_SCHEME: &str = "ros2-hole-projection-eta1e-3-band5x12-rate-plans-masked-prefix-fma";
+const MAIN_SCHEME: &str =
+    "ros2-hole-projection-eta1e-3-band5x12-rate-plans-masked-prefix-fma-packed-fgmres";
 
 /// The name of the adaptive scheme with the sliding mode of the contact edge's last node
 /// ([`FrettingSimulation::set_sliding_edge`]; not the default): what [`ADAPTIVE_SCHEME`] records
 /// when a build makes it the default, so that a checkpoint of either scheme is refused by the
 /// other.
 pub const SLIDING_EDGE_SCHEME: &str =
-    "ros2-hole-projection-eta1e-3-band5x12-rate-plans-masked-prefix-fma-sliding-edge";
+    "ros2-hole-projection-eta1e-3-band5x12-rate-plans-masked-prefix-fma-packed-fgmres-sliding-edge";
 
 /// The stages whose GMRES tolerance (relative) is at least this take the products `W x` by
 /// `f32` transforms ([`FrettingSimulation::set_single_precision_products`]): their relative
@@ -223,6 +227,12 @@ pub const SLIDING_EDGE_SCHEME: &str =
 /// Krylov method; Simoncini & Szyld 2003, SIAM J. Sci. Comput. 25; Bouras & Frayssé 2005, SIAM
 /// J. Matrix Anal. Appl. 26). Fixed steps solve to `1e-8`: they stay in `f64`.
 pub const SINGLE_PRECISION_FROM: f64 = 1e-4;
+
+/// The name of the explicit Euler path's rounding, which its checkpoints record as
+/// `euler_scheme`: `euler-packed` is the rate by the packed complex FFTs (docs/performance.md,
+/// "The convolutions as packed complex transforms"); an Euler checkpoint without it (real FFTs)
+/// is refused on resume, whose steps would not be repeated bit for bit.
+pub const EULER_SCHEME: &str = "euler-packed";
 
 /// The name of the fixed-step ROS2 path ([`crate::TimeStepping::Fixed`]), which checkpoints
 /// record as `fixed_scheme` so that a fixed-step run is resumed only by a build whose stages round
@@ -233,12 +243,14 @@ pub const SINGLE_PRECISION_FROM: f64 = 1e-4;
 /// the path without it) and the rate's profile transform on the prefix
 /// ([`FrettingSimulation::set_prefix_rate`]; `ros2-fixed-rate-plans-masked` was the path without
 /// it) and the preconditioner on fused multiply-adds (`ros2-fixed-rate-plans-masked-prefix` was
-/// the path without them); its stages solve to `1e-8`, below [`SINGLE_PRECISION_FROM`]: no `f32` products. A
+/// the path without them) and the packed FFTs, the kept preconditioned basis and the edge's
+/// θ-difference of [`ADAPTIVE_SCHEME`] (`ros2-fixed-rate-plans-masked-prefix-fma` was the path
+/// without them); its stages solve to `1e-8`, below [`SINGLE_PRECISION_FROM`]: no `f32` products. A
 /// checkpoint made before the name was recorded
 /// (the whole grid's plan there: other rounding) is refused. The name must change whenever the
-/// fixed-step path's rounding does. Explicit Euler, the reference path, records none (its bits have
-/// not changed).
-pub const FIXED_STEP_SCHEME: &str = "ros2-fixed-rate-plans-masked-prefix-fma";
+/// fixed-step path's rounding does. Explicit Euler, the reference path, records
+/// [`EULER_SCHEME`].
+pub const FIXED_STEP_SCHEME: &str = "ros2-fixed-rate-plans-masked-prefix-fma-packed-fgmres";
 
 /// `γ = 1 + 1/√2` of ROS2.
 const ROS2_GAMMA: f64 = 1.0 + std::f64::consts::FRAC_1_SQRT_2;
@@ -510,6 +522,7 @@ impl FrettingSimulation {
                 // product after the Arnoldi estimate falls below the stage tolerance.
                 let mut gmres = Gmres::new(n, KRYLOV.restart);
                 gmres.confirm_residual(false);
+                gmres.keep_preconditioned_basis(true);
                 gmres
             },
             precond: BandPreconditioner::new(n, PRECONDITIONER_WIDTH),
@@ -2276,7 +2289,9 @@ mod tests {
         for k in [0.0, -0.5] {
             let nodes = 401;
             let length = FrettingParams::default_length(0.5, k);
-            let dtau_explicit = FrettingParams::default_step(nodes, length, k);
+            // The default discretization's explicit bound.
+            let dtau_explicit = FrettingParams::default_step(nodes, length, k)
+                * GapTransform::default().explicit_step_factor();
             let params = FrettingParams {
                 nodes,
                 k,
@@ -2687,6 +2702,9 @@ mod tests {
                 tau_end: 3.0,
                 snapshots: vec![1.0, 3.0],
                 stepping: TimeStepping::Adaptive { tolerance },
+                // The switch was measured on the central differences' nodal rate.
+                gap_transform: GapTransform::CentralDifferences,
+                edge_cells: false,
                 ..FrettingParams::default()
             };
             let start = |tolerance: f64, seed: u64| {
@@ -3036,6 +3054,9 @@ mod tests {
             tau_end: 3.0,
             snapshots: vec![],
             stepping: TimeStepping::Adaptive { tolerance },
+            // The sliding mode was built and measured on the central differences' nodal rate.
+            gap_transform: GapTransform::CentralDifferences,
+            edge_cells: false,
             ..FrettingParams::default()
         };
         let mut sim = FrettingSimulation::new(params).unwrap();
@@ -3196,6 +3217,8 @@ mod tests {
                 tau_end: 0.2,
                 snapshots: vec![],
                 gap_transform,
+                // The nodal rate (the edge cells' rows keep the nodal form in J by design).
+                edge_cells: false,
                 ..FrettingParams::default()
             };
             let (mut sim, contact) = run_and_linearize(params);

@@ -4,7 +4,9 @@
 mod common;
 
 use common::max_abs_diff;
-use halfspace_fretting::{limit, FrettingError, FrettingParams, FrettingSimulation, TimeStepping};
+use halfspace_fretting::{
+    limit, FrettingError, FrettingParams, FrettingSimulation, GapTransform, TimeStepping,
+};
 use halfspace_mdr::{DisplacementMethod, DisplacementTransform, Material};
 use halfspace_numerics::Backend;
 
@@ -96,7 +98,8 @@ fn chi_03_approaches_its_limit() {
 fn fft_and_mvm_runs_agree() {
     let base = FrettingParams {
         nodes: 801,
-        stepping: TimeStepping::ExplicitEuler { dtau: 2e-3 },
+        // Below the default discretization's explicit bound (1.05e-3 at N = 801).
+        stepping: TimeStepping::ExplicitEuler { dtau: 1e-3 },
         tau_end: 0.6,
         snapshots: vec![0.3],
         ..Default::default()
@@ -122,7 +125,8 @@ fn fft_and_mvm_runs_agree() {
 fn resume_is_bit_for_bit() {
     let params = FrettingParams {
         nodes: 601,
-        stepping: TimeStepping::ExplicitEuler { dtau: 2e-3 },
+        // Below the default discretization's explicit bound (1.4e-3 at N = 601).
+        stepping: TimeStepping::ExplicitEuler { dtau: 1e-3 },
         tau_end: 1.0,
         snapshots: vec![0.2, 0.5],
         ..Default::default()
@@ -146,10 +150,13 @@ fn resume_is_bit_for_bit() {
 /// the formula at f₀ to 1e-13 and its derivative by central differences).
 #[test]
 fn slip_field_matches_its_definition_and_hertz() {
+    // The central differences' g below (`slope_to_equivalent`) is that run's transform.
     let params = FrettingParams {
         stepping: TimeStepping::ExplicitEuler { dtau: 1e-3 },
         tau_end: 0.001,
         snapshots: vec![0.001],
+        gap_transform: GapTransform::CentralDifferences,
+        edge_cells: false,
         ..Default::default()
     };
     let sim = run(params);
@@ -278,13 +285,15 @@ fn bad_parameters_and_instability_are_reported() {
         },
         "n must be",
     );
-    // χ = 0.99 on N = 301 at the a-priori bound Δτ = 8e-3 passes r* at τ ≈ 1.9: detected and
-    // reported (the bound is measured at χ ≤ 0.9).
+    // χ = 0.99 on N = 301 at the central differences' a-priori bound Δτ = 8e-3 passes r* at
+    // τ ≈ 1.9: detected and reported (the bound is measured at χ ≤ 0.9).
     let mut sim = FrettingSimulation::new(FrettingParams {
         chi: 0.99,
         nodes: 301,
         stepping: TimeStepping::ExplicitEuler { dtau: 8e-3 },
         tau_end: 5.0,
+        gap_transform: GapTransform::CentralDifferences,
+        edge_cells: false,
         ..Default::default()
     })
     .unwrap();

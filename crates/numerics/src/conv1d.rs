@@ -7,8 +7,10 @@
 //!   padding the product is circular), kernel spectrum computed once, `apply` allocation-free;
 //!   O(P log P). With [`ToeplitzConvolution::plan_shorter_lengths`] it also plans a ladder of
 //!   shorter lengths `P_l ≥ 2c_l − 1` (`c_l` falling by 4/5 a rung) and an input of length
-//!   `m ≤ c_l` uses the shortest such plan: the same sum, `O(m log m)` for short inputs. From
-//!   [`SPLIT_FROM`] a plan's transforms run as two halves that may take two threads.
+//!   `m ≤ c_l` uses the shortest such plan: the same sum, `O(m log m)` for short inputs. Below
+//!   [`SPLIT_FROM`] an even `P` is transformed as one complex FFT of length `P/2` each way on the
+//!   packed samples, the spectrum product fused with the unpacking and packing (`PackedFft`);
+//!   from [`SPLIT_FROM`] a plan's transforms run as two halves that may take two threads.
 //! * [`Backend::Mvm`]: the lower-triangular Toeplitz matrix–vector product, O(m²), with four
 //!   independent accumulators per row.
 
@@ -16,6 +18,7 @@ use std::sync::Arc;
 
 use realfft::{ComplexToReal, FftNum, RealFftPlanner, RealToComplex};
 use rustfft::num_complex::Complex;
+use rustfft::{Fft, FftPlanner};
 
 use crate::NumericsError;
 
@@ -77,6 +80,12 @@ trait Sample: FftNum {
             *f = *f * *s;
         }
     }
+
+    /// [`fuse_packed_bins`] (the same operations in the same order); a type may run it on wider
+    /// registers.
+    fn fuse_packed_bins(z: &mut [Complex<Self>], alpha: &[Complex<Self>], beta: &[Complex<Self>]) {
+        fuse_packed_bins(z, alpha, beta);
+    }
 }
 
 impl Sample for f64 {
@@ -112,6 +121,16 @@ impl Sample for f64 {
             return;
         }
         scalar_spectrum_product(freq, spectrum);
+    }
+
+    /// On x86-64 with AVX2 two bins a register ([`combine_avx::fuse_packed_bins`], the same
+    /// bits), else [`fuse_packed_bins`].
+    fn fuse_packed_bins(z: &mut [Complex<f64>], alpha: &[Complex<f64>], beta: &[Complex<f64>]) {
+        #[cfg(target_arch = "x86_64")]
+        if combine_avx::fuse_packed_bins(z, alpha, beta) {
+            return;
+        }
+        fuse_packed_bins(z, alpha, beta);
     }
 }
 
@@ -183,11 +202,133 @@ struct FftPlan<T: Sample> {
 
 /// How a plan evaluates its real FFTs of length `P`.
 enum Transforms<T: Sample> {
-    /// One transform of length `P` each way, with its buffers.
+    /// One transform of length `P` each way, with its buffers (odd `P`).
     Whole(WholeFft<T>),
+    /// Even `P` below [`SPLIT_FROM`]: one complex transform of length `P/2` each way on the packed
+    /// samples, the spectrum product fused with the real transforms' pre- and post-processing.
+    Packed(PackedFft<T>),
     /// Split in halves (padded lengths from [`SPLIT_FROM`], multiples of 4): no length-`P`
     /// transforms or buffers kept.
     Split(SplitFft<T>),
+}
+
+/// The real FFTs of an even length `P = 2M` as one complex FFT of length `M` each way, on the
+/// packed samples `z_j = x_{2j} + i x_{2j+1}` (the classical two-for-one real transform; e.g.
+/// Press et al., *Numerical Recipes*, 3rd ed., "FFT of real functions"), with the unpacking of `Z = DFT_M(z)`, the
+/// spectrum product and the packing of the result fused into one pass over the bins:
+///
+/// `Z'_k = α_k Z_k + β_k conj(Z_{M−k})` (indices mod `M`), `y_{2j} + i y_{2j+1} = IDFT_M(Z')_j`
+/// (unnormalized; the `1/P` is in `S`), with `w = e^{−2πi/P}`, `A = S_k`, `B = conj(S_{M−k})`,
+///
+/// `α_k = [A (1 − i w^k)(1 + i w^{−k}) + B (1 + i w^k)(1 − i w^{−k})]/2`,
+/// `β_k = [A (1 + i w^k)(1 + i w^{−k}) + B (1 − i w^k)(1 − i w^{−k})]/2`.
+///
+/// Derivation: `E_k = (Z_k + conj(Z_{M−k}))/2` and `O_k = (Z_k − conj(Z_{M−k}))/(2i)` are the
+/// spectra of the even and odd samples, `X_k = E_k + w^k O_k` and `X_{k+M} = E_k − w^k O_k`
+/// (`SplitFft`'s formulas), `Y = X ⊙ S` with `S_{k+M} = conj(S_{M−k})` for the real kernel, and
+/// the even and odd outputs are `IDFT_M(Y_k + Y_{k+M})` and `IDFT_M((Y_k − Y_{k+M}) w^{−k})`.
+/// Against the length-`P` real transforms (`WholeFft`) this saves the real transforms' own
+/// pre- and post-processing passes and the separate product pass (docs/performance.md, "The
+/// convolutions as packed complex transforms").
+struct PackedFft<T: Sample> {
+    /// `M = P/2`.
+    half: usize,
+    forward: Arc<dyn Fft<T>>,
+    inverse: Arc<dyn Fft<T>>,
+    /// `α_k`, `β_k`, `k = 0..M` (computed in `f64`, rounded to `T`).
+    alpha: Vec<Complex<T>>,
+    beta: Vec<Complex<T>>,
+    buffer: Vec<Complex<T>>,
+    scratch: Vec<Complex<T>>,
+}
+
+impl<T: Sample> PackedFft<T> {
+    /// The plan of even length `p` for the kernel spectrum `spectrum` (`p/2 + 1` bins of the
+    /// length-`p` real transform, `1/p` folded in, in `f64`).
+    fn new(p: usize, spectrum: &[Complex<f64>]) -> Self {
+        debug_assert!(p % 2 == 0 && spectrum.len() == p / 2 + 1);
+        let half = p / 2;
+        let mut planner = FftPlanner::<T>::new();
+        let forward = planner.plan_fft_forward(half);
+        let inverse = planner.plan_fft_inverse(half);
+        let scratch_len = forward
+            .get_inplace_scratch_len()
+            .max(inverse.get_inplace_scratch_len());
+        let i = Complex::new(0.0, 1.0);
+        let one = Complex::new(1.0, 0.0);
+        let (alpha, beta) = (0..half)
+            .map(|k| {
+                let angle = -2.0 * std::f64::consts::PI * k as f64 / p as f64;
+                let w = Complex::new(angle.cos(), angle.sin());
+                let (a, b) = (spectrum[k], spectrum[half - k].conj());
+                let (minus, plus) = (one - i * w, one + i * w);
+                let (minus_c, plus_c) = (one - i * w.conj(), one + i * w.conj());
+                let alpha = (a * minus * plus_c + b * plus * minus_c) * 0.5;
+                let beta = (a * plus * plus_c + b * minus * minus_c) * 0.5;
+                let round = |c: Complex<f64>| Complex::new(T::of(c.re), T::of(c.im));
+                (round(alpha), round(beta))
+            })
+            .unzip();
+        Self {
+            half,
+            forward,
+            inverse,
+            alpha,
+            beta,
+            buffer: vec![Complex::new(T::zero(), T::zero()); half],
+            scratch: vec![Complex::new(T::zero(), T::zero()); scratch_len],
+        }
+    }
+
+    /// `y = IDFT_P(DFT_P(x, zero-padded) ⊙ S)[..m]`, `m = x.len() = y.len() ≤ P`.
+    fn convolve(&mut self, x: &[f64], y: &mut [f64]) {
+        let m = x.len();
+        let half = self.half;
+        let buffer = &mut self.buffer;
+        let mut pairs = x.chunks_exact(2);
+        for (z, pair) in buffer.iter_mut().zip(&mut pairs) {
+            *z = Complex::new(T::of(pair[0]), T::of(pair[1]));
+        }
+        let filled = m / 2;
+        if let [last] = pairs.remainder() {
+            buffer[filled] = Complex::new(T::of(*last), T::zero());
+        }
+        buffer[m.div_ceil(2)..].fill(Complex::new(T::zero(), T::zero()));
+        self.forward.process_with_scratch(buffer, &mut self.scratch);
+        T::fuse_packed_bins(buffer, &self.alpha, &self.beta);
+        self.inverse.process_with_scratch(buffer, &mut self.scratch);
+        let mut out = y.chunks_exact_mut(2);
+        for (pair, z) in (&mut out).zip(buffer.iter()) {
+            pair[0] = z.re.to_f64();
+            pair[1] = z.im.to_f64();
+        }
+        if let [last] = out.into_remainder() {
+            *last = buffer[filled].re.to_f64();
+        }
+        debug_assert!(m <= 2 * half);
+    }
+}
+
+/// The fused pass of `PackedFft`, in place: `Z'_k = α_k Z_k + β_k conj(Z_{M−k})` for every bin
+/// `k < M` (`M = z.len()`, indices mod `M`), bins `k` and `M − k` together. The reference for the
+/// wider version ([`Sample::fuse_packed_bins`]).
+fn fuse_packed_bins<T: Sample>(z: &mut [Complex<T>], alpha: &[Complex<T>], beta: &[Complex<T>]) {
+    let half = z.len();
+    if half == 0 {
+        return;
+    }
+    let z0 = z[0];
+    z[0] = alpha[0] * z0 + beta[0] * z0.conj();
+    for k in 1..half.div_ceil(2) {
+        let (a, b) = (z[k], z[half - k]);
+        z[k] = alpha[k] * a + beta[k] * b.conj();
+        z[half - k] = alpha[half - k] * b + beta[half - k] * a.conj();
+    }
+    if half % 2 == 0 {
+        let k = half / 2;
+        let a = z[k];
+        z[k] = alpha[k] * a + beta[k] * a.conj();
+    }
 }
 
 /// The length-`P` real FFTs of a plan that does not split, and their buffers.
@@ -399,6 +540,113 @@ mod combine_avx {
         true
     }
 
+    /// [`super::fuse_packed_bins`] for `f64`, bins `k, k + 1` and `M − k, M − k − 1` two a
+    /// register, with the same operations in the same order on each bin (products as
+    /// `num_complex`'s, no fused multiply-add; a conjugate as a sign flip): the same bits. `false`
+    /// (nothing done) without AVX2/FMA (pulp's `V3`).
+    pub(super) fn fuse_packed_bins(
+        z: &mut [Complex<f64>],
+        alpha: &[Complex<f64>],
+        beta: &[Complex<f64>],
+    ) -> bool {
+        let Some(simd) = V3::try_new() else {
+            return false;
+        };
+        Simd::vectorize(
+            simd,
+            Fuse {
+                simd,
+                z,
+                alpha,
+                beta,
+            },
+        );
+        true
+    }
+
+    struct Fuse<'a> {
+        simd: V3,
+        z: &'a mut [Complex<f64>],
+        alpha: &'a [Complex<f64>],
+        beta: &'a [Complex<f64>],
+    }
+
+    impl pulp::WithSimd for Fuse<'_> {
+        type Output = ();
+
+        #[inline(always)]
+        fn with_simd<S: Simd>(self, _: S) {
+            let Self {
+                simd,
+                z,
+                alpha,
+                beta,
+            } = self;
+            let half = z.len();
+            if half == 0 || alpha.len() < half || beta.len() < half {
+                super::fuse_packed_bins(z, alpha, beta);
+                return;
+            }
+            let avx = simd.avx;
+            // (c_{j}, c_{j+1}) → (c_{j+1}, c_j).
+            let swap = |v: __m256d| avx._mm256_permute2f128_pd::<0x01>(v, v);
+            let conj = |v: __m256d| conjugate(simd, v);
+            let mul = |a: __m256d, b: __m256d| product(simd, a, b);
+            let z0 = z[0];
+            z[0] = alpha[0] * z0 + beta[0] * z0.conj();
+            // Bins k, k + 1 (forward) with M − k, M − k − 1 (backward, loaded swapped), while the
+            // two ranges do not meet: k + 1 < M − k − 1.
+            let mut k = 1;
+            while 2 * k + 2 < half {
+                let j = half - k - 1;
+                let a = load(&z[k..k + 2]);
+                let b = swap(load(&z[j..j + 2]));
+                let alpha_f = load(&alpha[k..k + 2]);
+                let beta_f = load(&beta[k..k + 2]);
+                let alpha_b = swap(load(&alpha[j..j + 2]));
+                let beta_b = swap(load(&beta[j..j + 2]));
+                let forward = avx._mm256_add_pd(mul(alpha_f, a), mul(beta_f, conj(b)));
+                let backward = avx._mm256_add_pd(mul(alpha_b, b), mul(beta_b, conj(a)));
+                store(&mut z[k..k + 2], forward);
+                store(&mut z[j..j + 2], swap(backward));
+                k += 2;
+            }
+            // The bins left between (the scalar loop's operations on each).
+            while k < half.div_ceil(2) {
+                let (a, b) = (z[k], z[half - k]);
+                z[k] = alpha[k] * a + beta[k] * b.conj();
+                z[half - k] = alpha[half - k] * b + beta[half - k] * a.conj();
+                k += 1;
+            }
+            if half % 2 == 0 {
+                let k = half / 2;
+                let a = z[k];
+                z[k] = alpha[k] * a + beta[k] * a.conj();
+            }
+        }
+    }
+
+    /// Bins `c[0]`, `c[1]` as one register `[re, im, re, im]`.
+    #[inline(always)]
+    fn load(c: &[Complex<f64>]) -> __m256d {
+        pulp::cast([c[0].re, c[0].im, c[1].re, c[1].im])
+    }
+
+    /// A register `[re, im, re, im]` into bins `c[0]`, `c[1]`.
+    #[inline(always)]
+    fn store(c: &mut [Complex<f64>], v: __m256d) {
+        let [a, b, d, e]: [f64; 4] = pulp::cast(v);
+        c[0] = Complex::new(a, b);
+        c[1] = Complex::new(d, e);
+    }
+
+    /// The conjugates of both bins of a register (a sign flip of the imaginary parts).
+    #[inline(always)]
+    fn conjugate(simd: V3, v: __m256d) -> __m256d {
+        let sign: __m256d = pulp::cast([0.0f64, -0.0, 0.0, -0.0]);
+        simd.avx._mm256_xor_pd(v, sign)
+    }
+
     /// Two complex products `a · b` (bins `[re, im, re, im]`) with `num_complex`'s operations,
     /// `(a.re b.re − a.im b.im, a.re b.im + a.im b.re)`: two vector products and one `addsub`,
     /// no fused multiply-add — the scalar product's bits.
@@ -470,16 +718,7 @@ mod combine_avx {
             let avx = simd.avx;
             let bins = even.len().min(odd.len()).min(twiddles.len());
             let pairs = bins / 2;
-            let load = |c: &[Complex<f64>]| -> __m256d {
-                pulp::cast([c[0].re, c[0].im, c[1].re, c[1].im])
-            };
-            let store = |c: &mut [Complex<f64>], v: __m256d| {
-                let [a, b, d, e]: [f64; 4] = pulp::cast(v);
-                c[0] = Complex::new(a, b);
-                c[1] = Complex::new(d, e);
-            };
-            let sign: __m256d = pulp::cast([0.0f64, -0.0, 0.0, -0.0]);
-            let conj = |v: __m256d| avx._mm256_xor_pd(v, sign);
+            let conj = |v: __m256d| conjugate(simd, v);
             let mul = |a: __m256d, b: __m256d| product(simd, a, b);
             for p in 0..pairs {
                 // Local bin i, global bin k.
@@ -784,7 +1023,7 @@ impl<T: Sample> FftPlan<T> {
     fn new(kernel: &[f64], p: usize) -> Self {
         let n = kernel.len();
         debug_assert!(p + 1 >= 2 * n);
-        let spectrum = {
+        let spectrum64: Vec<Complex<f64>> = {
             let forward = RealFftPlanner::<f64>::new().plan_fft_forward(p);
             let mut time = vec![0.0; p];
             time[..n].copy_from_slice(kernel);
@@ -794,18 +1033,24 @@ impl<T: Sample> FftPlan<T> {
                 .process_with_scratch(&mut time, &mut spectrum, &mut scratch)
                 .expect("buffer lengths come from the plan");
             let scale = 1.0 / p as f64;
-            spectrum
+            spectrum.iter().map(|s| *s * scale).collect()
+        };
+        let split = p >= SPLIT_FROM && p % 4 == 0;
+        let packed = !split && p % 2 == 0;
+        // The packed plans hold their own coefficients instead of the spectrum.
+        let spectrum = if packed {
+            Vec::new()
+        } else {
+            spectrum64
                 .iter()
-                .map(|s| {
-                    let s = *s * scale;
-                    Complex::new(T::of(s.re), T::of(s.im))
-                })
+                .map(|s| Complex::new(T::of(s.re), T::of(s.im)))
                 .collect()
         };
         let mut planner = RealFftPlanner::<T>::new();
-        let split = p >= SPLIT_FROM && p % 4 == 0;
         let transforms = if split {
             Transforms::Split(SplitFft::new(p, &mut planner))
+        } else if packed {
+            Transforms::Packed(PackedFft::new(p, &spectrum64))
         } else {
             let forward = planner.plan_fft_forward(p);
             let inverse = planner.plan_fft_inverse(p);
@@ -829,6 +1074,7 @@ impl<T: Sample> FftPlan<T> {
     fn apply(&mut self, x: &[f64], y: &mut [f64]) {
         match &mut self.transforms {
             Transforms::Split(split) => split.convolve(&self.spectrum, x, y),
+            Transforms::Packed(packed) => packed.convolve(x, y),
             Transforms::Whole(whole) => whole.convolve(&self.spectrum, x, y),
         }
     }
@@ -925,6 +1171,46 @@ mod tests {
                     (w.re.to_bits(), w.im.to_bits()),
                     (scalar.re.to_bits(), scalar.im.to_bits()),
                     "{bins} bins, bin {k}"
+                );
+            }
+        }
+    }
+
+    /// The packed plans' fused pass on AVX2 registers ([`Sample::fuse_packed_bins`] for `f64`)
+    /// gives the bin-at-a-time loop's bits ([`fuse_packed_bins`]) on random bins (fixed seeds),
+    /// for even and odd `M` from 1 up, with extreme magnitudes among them.
+    #[test]
+    fn wide_fused_packed_bins_give_the_scalar_bits() {
+        let complex = |seed: u64, n: usize| -> Vec<Complex<f64>> {
+            let v = lcg(seed, 2 * n);
+            v.chunks(2).map(|c| Complex::new(c[0], c[1])).collect()
+        };
+        for half in (1usize..=12).chain([63, 64, 1600, 2025]) {
+            let mut z = complex(half as u64, half);
+            let alpha = complex(3 + half as u64, half);
+            let beta = complex(5 + half as u64, half);
+            z[half - 1] = Complex::new(1e300, -3e-310);
+            #[cfg(target_arch = "x86_64")]
+            if pulp::x86::V3::try_new().is_some() {
+                // The wide path runs on this CPU (else the comparison is scalar against scalar).
+                let mut w = z.clone();
+                assert!(combine_avx::fuse_packed_bins(&mut w, &alpha, &beta));
+            }
+            let mut wide = z.clone();
+            <f64 as Sample>::fuse_packed_bins(&mut wide, &alpha, &beta);
+            let mut scalar = z.clone();
+            fuse_packed_bins(&mut scalar, &alpha, &beta);
+            let bits = |v: &[Complex<f64>]| -> Vec<(u64, u64)> {
+                v.iter().map(|c| (c.re.to_bits(), c.im.to_bits())).collect()
+            };
+            assert_eq!(bits(&wide), bits(&scalar), "M = {half}");
+            // And the pass is the formula: Z'_k = α_k Z_k + β_k conj(Z_{M−k}).
+            for k in 0..half {
+                let want = alpha[k] * z[k] + beta[k] * z[(half - k) % half].conj();
+                assert_eq!(
+                    (scalar[k].re.to_bits(), scalar[k].im.to_bits()),
+                    (want.re.to_bits(), want.im.to_bits()),
+                    "M = {half}, bin {k}"
                 );
             }
         }

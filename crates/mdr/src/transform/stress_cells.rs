@@ -35,7 +35,7 @@ pub struct CellStressTransform {
     edge_theta: f64,
     edge_cells: usize,
     /// `(n + θ)^γ − n^γ` at one of the two edges of
-    /// [`CellStressTransform::line_load_to_stress_at_two_edges`] (work array).
+    /// [`CellStressTransform::line_load_edge_difference`] (work array).
     two_edge_powers: Vec<f64>,
     /// The binomial series' factors `(γ − m)/(m + 1)`, `m = 0..SERIES_TERMS`
     /// ([`partial_cell_powers`]), divided once here instead of per node.
@@ -210,26 +210,28 @@ impl CellStressTransform {
         Ok(())
     }
 
-    /// [`CellStressTransform::line_load_to_stress`] for one `q` at two edges `θ_a`, `θ_b`
-    /// (`σ_a`, `σ_b`): the cells' sums do not depend on `θ`, so they are convolved once, and each
-    /// `σ` is the one `line_load_to_stress` gives at its `θ`, bit for bit (the θ-derivative of the
-    /// implicit wear steps' Jacobian, docs/fretting-wear.md, "Time integration").
-    pub fn line_load_to_stress_at_two_edges(
+    /// `σ(θ_a) − σ(θ_b)` of [`CellStressTransform::line_load_to_stress`] for one `q` at two edges:
+    /// the cells' sums `S_j` do not depend on `θ` and cancel, so
+    ///
+    /// `σ_j(θ_a) − σ_j(θ_b) = scale · q_{M−1} · (P_a(M − 1 − j)/θ_a − P_b(M − 1 − j)/θ_b)`,
+    /// `P_θ(n) = (n + θ)^γ − n^γ`,
+    ///
+    /// with no convolution and without the cancellation of the sums that the difference of two
+    /// transforms suffers (the θ-derivative of the implicit wear steps' Jacobian,
+    /// docs/fretting-wear.md, "Time integration"). Only `q`'s last value enters; `q` fixes `M`.
+    pub fn line_load_edge_difference(
         &mut self,
         grid: &SquaredGrid,
         q: &[f64],
         thetas: (f64, f64),
-        sigmas: (&mut [f64], &mut [f64]),
+        difference: &mut [f64],
     ) -> Result<(), MdrError> {
-        self.check(grid, q, thetas.0, sigmas.0)?;
-        self.check(grid, q, thetas.1, sigmas.1)?;
-        self.cell_sums(q)?;
+        self.check(grid, q, thetas.0, difference)?;
+        self.check(grid, q, thetas.1, difference)?;
         let cells = q.len() - 1;
-        let h = grid.step();
-        let scale = stress_scale(h, self.gamma);
-        for (theta, sigma) in [(thetas.0, sigmas.0), (thetas.1, sigmas.1)] {
-            let edge_slope = q[cells] / theta;
-            let mut powers = std::mem::take(&mut self.two_edge_powers);
+        let scale = stress_scale(grid.step(), self.gamma);
+        let mut powers = std::mem::take(&mut self.two_edge_powers);
+        for (sign, theta) in [(1.0, thetas.0), (-1.0, thetas.1)] {
             partial_cell_powers(
                 &self.powers,
                 &self.series_factors,
@@ -238,9 +240,17 @@ impl CellStressTransform {
                 theta,
                 &mut powers[..=cells],
             );
-            self.stress_from_sums(scale, edge_slope, &powers[..=cells], sigma);
-            self.two_edge_powers = powers;
+            let slope = sign * scale * q[cells] / theta;
+            // Node j reads P(M − 1 − j): reversed.
+            for (d, &power) in difference.iter_mut().zip(powers[..=cells].iter().rev()) {
+                if sign > 0.0 {
+                    *d = slope * power;
+                } else {
+                    *d += slope * power;
+                }
+            }
         }
+        self.two_edge_powers = powers;
         Ok(())
     }
 
