@@ -196,7 +196,9 @@ struct StartRate {
 /// `-prefix` alone was the same scheme with separate multiplies and subtractions), and the
 /// convolutions as packed complex FFTs with the preconditioned Krylov basis kept and the edge's
 /// θ-difference without a convolution (`-fma` alone was the same scheme with real FFTs, the
-/// preconditioner applied to the update, and the difference of two stress transforms).
+/// preconditioner applied to the update, and the difference of two stress transforms), and
+/// GMRES's inner products in eight running sums (`-packed-fgmres` alone was the same scheme with
+/// one sum; docs/performance.md, "The GMRES inner products in eight sums").
 /// The name must change
 /// whenever the path does: `HOLE_MARGIN`, the default
 /// switches (`hole_estimate`, `freeze_contact`, `first_order_fallback`, `hole_projection`,
@@ -211,14 +213,14 @@ pub const ADAPTIVE_SCHEME: &str = if SLIDING_EDGE_DEFAULT {
 
 /// The default scheme's name without the sliding mode ([`ADAPTIVE_SCHEME`]).
 const MAIN_SCHEME: &str =
-    "ros2-hole-projection-eta1e-3-band5x12-rate-plans-masked-prefix-fma-packed-fgmres";
+    "ros2-hole-projection-eta1e-3-band5x12-rate-plans-masked-prefix-fma-packed-fgmres-dot8";
 
 /// The name of the adaptive scheme with the sliding mode of the contact edge's last node
 /// ([`FrettingSimulation::set_sliding_edge`]; not the default): what [`ADAPTIVE_SCHEME`] records
 /// when a build makes it the default, so that a checkpoint of either scheme is refused by the
 /// other.
 pub const SLIDING_EDGE_SCHEME: &str =
-    "ros2-hole-projection-eta1e-3-band5x12-rate-plans-masked-prefix-fma-packed-fgmres-sliding-edge";
+    "ros2-hole-projection-eta1e-3-band5x12-rate-plans-masked-prefix-fma-packed-fgmres-dot8-sliding-edge";
 
 /// The stages whose GMRES tolerance (relative) is at least this take the products `W x` by
 /// `f32` transforms ([`FrettingSimulation::set_single_precision_products`]): their relative
@@ -244,13 +246,14 @@ pub const EULER_SCHEME: &str = "euler-packed";
 /// ([`FrettingSimulation::set_prefix_rate`]; `ros2-fixed-rate-plans-masked` was the path without
 /// it) and the preconditioner on fused multiply-adds (`ros2-fixed-rate-plans-masked-prefix` was
 /// the path without them) and the packed FFTs, the kept preconditioned basis and the edge's
-/// θ-difference of [`ADAPTIVE_SCHEME`] (`ros2-fixed-rate-plans-masked-prefix-fma` was the path
-/// without them); its stages solve to `1e-8`, below [`SINGLE_PRECISION_FROM`]: no `f32` products. A
+/// θ-difference and the eight-sum inner products of [`ADAPTIVE_SCHEME`]
+/// (`ros2-fixed-rate-plans-masked-prefix-fma` was the path without the first three,
+/// `-packed-fgmres` without the last); its stages solve to `1e-8`, below [`SINGLE_PRECISION_FROM`]: no `f32` products. A
 /// checkpoint made before the name was recorded
 /// (the whole grid's plan there: other rounding) is refused. The name must change whenever the
 /// fixed-step path's rounding does. Explicit Euler, the reference path, records
 /// [`EULER_SCHEME`].
-pub const FIXED_STEP_SCHEME: &str = "ros2-fixed-rate-plans-masked-prefix-fma-packed-fgmres";
+pub const FIXED_STEP_SCHEME: &str = "ros2-fixed-rate-plans-masked-prefix-fma-packed-fgmres-dot8";
 
 /// `γ = 1 + 1/√2` of ROS2.
 const ROS2_GAMMA: f64 = 1.0 + std::f64::consts::FRAC_1_SQRT_2;

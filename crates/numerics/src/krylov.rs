@@ -968,8 +968,21 @@ fn no_convergence(solver: &'static str, iterations: usize, residual: f64) -> Num
     }
 }
 
+/// `Σ a_i b_i` in eight running sums (lanes `i mod 8`), added pairwise at the end, and the tail:
+/// eight independent chains of additions instead of one (the wear run's GMRES spends its own time
+/// in these dependent additions; docs/performance.md, "The GMRES inner products in eight sums").
 fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
+    let n = a.len().min(b.len());
+    let mut acc = [0.0f64; 8];
+    let (lanes_a, lanes_b) = (a[..n].chunks_exact(8), b[..n].chunks_exact(8));
+    let (tail_a, tail_b) = (lanes_a.remainder(), lanes_b.remainder());
+    for (x, y) in lanes_a.zip(lanes_b) {
+        for l in 0..8 {
+            acc[l] += x[l] * y[l];
+        }
+    }
+    let tail: f64 = tail_a.iter().zip(tail_b).map(|(x, y)| x * y).sum();
+    ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7])) + tail
 }
 
 fn norm(a: &[f64]) -> f64 {
