@@ -389,6 +389,19 @@ pub fn state_from_checkpoint(
                 },
             });
         }
+        if matches!(name, "euler_scheme" | "fixed_scheme") && rec.get_attr(name) != Some(&value) {
+            return Err(bad(format!(
+                "the checkpoint was made by another build's {} path ({name} = {:?}; this build \
+                 runs {value:?}) and cannot be resumed bit for bit: only starting the run over \
+                 helps (--force starts over)",
+                if name == "euler_scheme" {
+                    "explicit Euler"
+                } else {
+                    "fixed-step"
+                },
+                rec.get_attr(name),
+            )));
+        }
         if name == "edge_cell_rule" && rec.get_attr(name) != Some(&value) {
             return Err(bad(other_edge_cell_rule(match rec.get_attr(name) {
                 Some(AttrValue::Text(s)) => Some(s.as_str()),
@@ -540,6 +553,41 @@ mod tests {
         };
         let case = c.overlay(flags).case(Names::Flags).unwrap();
         assert_eq!((case.inhomogeneities.len(), case.grid), (2, 128));
+    }
+
+    /// An explicit Euler checkpoint records its rounding (`euler_scheme`): one without it (the
+    /// real FFTs' build) or of another is refused saying that only starting over helps.
+    #[test]
+    fn euler_checkpoints_record_their_scheme() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(CHECKPOINT);
+        let params = FrettingParams {
+            nodes: 101,
+            tau_end: 0.01,
+            snapshots: vec![],
+            stepping: TimeStepping::ExplicitEuler { dtau: 1e-3 },
+            ..FrettingParams::default()
+        };
+        let mut sim = FrettingSimulation::new(params.clone()).unwrap();
+        sim.run(|_| false).unwrap();
+        let intact = checkpoint_record(&sim);
+        crate::data::write_record(&path, &intact).unwrap();
+        assert_eq!(state_from_checkpoint(&path, &params).unwrap().step, 10);
+        for other in [None, Some("euler")] {
+            let mut rec = intact.clone();
+            rec.attributes.retain(|(n, _)| n != "euler_scheme");
+            if let Some(name) = other {
+                rec = rec.attr("euler_scheme", AttrValue::Text(name.into()));
+            }
+            crate::data::write_record(&path, &rec).unwrap();
+            let e = state_from_checkpoint(&path, &params)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("explicit Euler") && e.contains("only starting the run over helps"),
+                "{e}"
+            );
+        }
     }
 
     /// The discretization options in checkpoints: a run of the legacy ones (the central

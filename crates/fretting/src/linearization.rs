@@ -133,8 +133,8 @@ impl RosenbrockMatrix {
 
     /// Freezes the linearization point: the slip, the clipped pressure, the unclipped stress
     /// `σ` (for `1[σ > 0]`) and `g` (for `1[g < 1]`) on the grid, the contact nodes `0..m` and
-    /// the edge `θ`; `∂σ/∂θ` by a central difference in `θ` (the stress at two edges from one
-    /// convolution).
+    /// the edge `θ`; `∂σ/∂θ` by a central difference in `θ` (the difference of the stress at two
+    /// edges without a convolution, `CellStressTransform::line_load_edge_difference`).
     pub(crate) fn freeze(
         &mut self,
         slip: &[f64],

@@ -300,8 +300,10 @@ impl FrettingParams {
         }
     }
 
-    /// The step a run gets when none is given: the reference run's `Δτ = 10⁻³`, or
-    /// [`FrettingParams::step_limit`] where that is smaller (fine grids, `k < 0`).
+    /// The explicit step of the central differences: the reference run's `Δτ = 10⁻³`, or
+    /// [`FrettingParams::step_limit`] where that is smaller (fine grids, `k < 0`). An explicit
+    /// Euler run of another transform (the default piecewise-linear one) takes it times
+    /// [`GapTransform::explicit_step_factor`]; [`FrettingParams::validate`] refuses more.
     pub fn default_step(nodes: usize, length: f64, k: f64) -> f64 {
         SquaredGrid::new(nodes, length)
             .map(|grid| Self::step_limit(&grid, k).min(1e-3))

@@ -526,6 +526,7 @@ impl FrettingSimulation {
                 let mut gmres = Gmres::new(n, KRYLOV.restart);
                 gmres.confirm_residual(false);
                 gmres.keep_preconditioned_basis(true);
+                gmres.sum_in_lanes(true);
                 gmres
             },
             precond: BandPreconditioner::new(n, PRECONDITIONER_WIDTH),

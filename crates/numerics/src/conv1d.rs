@@ -7,10 +7,11 @@
 //!   padding the product is circular), kernel spectrum computed once, `apply` allocation-free;
 //!   O(P log P). With [`ToeplitzConvolution::plan_shorter_lengths`] it also plans a ladder of
 //!   shorter lengths `P_l ≥ 2c_l − 1` (`c_l` falling by 4/5 a rung) and an input of length
-//!   `m ≤ c_l` uses the shortest such plan: the same sum, `O(m log m)` for short inputs. Below
-//!   [`SPLIT_FROM`] an even `P` is transformed as one complex FFT of length `P/2` each way on the
-//!   packed samples, the spectrum product fused with the unpacking and packing (`PackedFft`);
-//!   from [`SPLIT_FROM`] a plan's transforms run as two halves that may take two threads.
+//!   `m ≤ c_l` uses the shortest such plan: the same sum, `O(m log m)` for short inputs. An
+//!   even `P` whose plan does not split is transformed as one complex FFT of length `P/2` each
+//!   way on the packed samples, the spectrum product fused with the unpacking and packing
+//!   (`PackedFft`); from [`SPLIT_FROM`] a plan whose `P` is a multiple of 4 runs its transforms
+//!   as two halves that may take two threads (odd `P`: realfft's real transforms).
 //! * [`Backend::Mvm`]: the lower-triangular Toeplitz matrix–vector product, O(m²), with four
 //!   independent accumulators per row.
 
@@ -204,7 +205,8 @@ struct FftPlan<T: Sample> {
 enum Transforms<T: Sample> {
     /// One transform of length `P` each way, with its buffers (odd `P`).
     Whole(WholeFft<T>),
-    /// Even `P` below [`SPLIT_FROM`]: one complex transform of length `P/2` each way on the packed
+    /// Even `P` that does not split (below [`SPLIT_FROM`], or not a multiple of 4 — only
+    /// `with_padded_length` gives those): one complex transform of length `P/2` each way on the packed
     /// samples, the spectrum product fused with the real transforms' pre- and post-processing.
     Packed(PackedFft<T>),
     /// Split in halves (padded lengths from [`SPLIT_FROM`], multiples of 4): no length-`P`

@@ -94,6 +94,9 @@ pub struct Gmres {
     /// (flexible-GMRES storage, Saad 1993): the update `x += Σ y_j M⁻¹ v_j` then needs no
     /// preconditioner application. Empty otherwise.
     zs: Vec<Vec<f64>>,
+    /// Whether [`Gmres::solve`] / [`Gmres::solve_in_previous_space`] take their inner products
+    /// in eight running sums ([`Gmres::sum_in_lanes`]).
+    lanes: bool,
     r: Vec<f64>,
     /// Whether a cycle whose residual estimate fell below the tolerance is confirmed by the true
     /// residual `b − A x` (one more product) before returning (default true).
@@ -127,6 +130,7 @@ impl Gmres {
             w: vec![0.0; n],
             z: vec![0.0; n],
             zs: Vec::new(),
+            lanes: false,
             r: vec![0.0; n],
             confirm: true,
             previous: None,
@@ -147,6 +151,14 @@ impl Gmres {
         } else {
             Vec::new()
         };
+    }
+
+    /// With `true`, [`Gmres::solve`] and [`Gmres::solve_in_previous_space`] take their inner
+    /// products and norms in eight running sums (`dot_in_lanes`: eight independent chains of
+    /// additions; another rounding, the same iterates in exact arithmetic). Default false: the
+    /// other callers (the EIM solves, whose checkpoints record no scheme) keep their bits.
+    pub fn sum_in_lanes(&mut self, on: bool) {
+        self.lanes = on;
     }
 
     /// With `false`, a solve returns as soon as the Arnoldi residual estimate `|g_k|/‖b‖` of a
@@ -226,6 +238,9 @@ impl Gmres {
         params: &KrylovParams,
     ) -> Result<KrylovInfo, NumericsError> {
         let previous = self.previous.take();
+        // The inner products this solve takes ([`Gmres::sum_in_lanes`]).
+        let dot: fn(&[f64], &[f64]) -> f64 = if self.lanes { dot_in_lanes } else { dot };
+        let norm = |a: &[f64]| dot(a, a).sqrt();
         params.validate()?;
         let n = a.dim();
         if n > self.n || precond.dim() != n {
@@ -968,10 +983,16 @@ fn no_convergence(solver: &'static str, iterations: usize, residual: f64) -> Num
     }
 }
 
-/// `Σ a_i b_i` in eight running sums (lanes `i mod 8`), added pairwise at the end, and the tail:
-/// eight independent chains of additions instead of one (the wear run's GMRES spends its own time
-/// in these dependent additions; docs/performance.md, "The GMRES inner products in eight sums").
+/// `Σ a_i b_i`, one running sum (the default rounding of every solver here).
 fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// `Σ a_i b_i` in eight running sums (lanes `i mod 8`), added pairwise at the end, and the tail:
+/// eight independent chains of additions instead of one ([`Gmres::sum_in_lanes`]; the wear run's
+/// GMRES spends its own time in these dependent additions; docs/performance.md, "The GMRES inner
+/// products in eight sums").
+fn dot_in_lanes(a: &[f64], b: &[f64]) -> f64 {
     let n = a.len().min(b.len());
     let mut acc = [0.0f64; 8];
     let (lanes_a, lanes_b) = (a[..n].chunks_exact(8), b[..n].chunks_exact(8));
