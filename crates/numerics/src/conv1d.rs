@@ -315,13 +315,24 @@ impl<T: Sample> PackedFft<T> {
 /// `k < M` (`M = z.len()`, indices mod `M`), bins `k` and `M − k` together. The reference for the
 /// wider version ([`Sample::fuse_packed_bins`]).
 fn fuse_packed_bins<T: Sample>(z: &mut [Complex<T>], alpha: &[Complex<T>], beta: &[Complex<T>]) {
-    let half = z.len();
-    if half == 0 {
+    if z.is_empty() {
         return;
     }
     let z0 = z[0];
     z[0] = alpha[0] * z0 + beta[0] * z0.conj();
-    for k in 1..half.div_ceil(2) {
+    fuse_packed_bins_from(z, alpha, beta, 1);
+}
+
+/// The pairs `k`, `M − k` of [`fuse_packed_bins`] from `k = first` on, and the middle bin of an
+/// even `M` (bin 0 done): the scalar loop, and the wide version's remainder.
+fn fuse_packed_bins_from<T: Sample>(
+    z: &mut [Complex<T>],
+    alpha: &[Complex<T>],
+    beta: &[Complex<T>],
+    first: usize,
+) {
+    let half = z.len();
+    for k in first..half.div_ceil(2) {
         let (a, b) = (z[k], z[half - k]);
         z[k] = alpha[k] * a + beta[k] * b.conj();
         z[half - k] = alpha[half - k] * b + beta[half - k] * a.conj();
@@ -614,17 +625,7 @@ mod combine_avx {
                 k += 2;
             }
             // The bins left between (the scalar loop's operations on each).
-            while k < half.div_ceil(2) {
-                let (a, b) = (z[k], z[half - k]);
-                z[k] = alpha[k] * a + beta[k] * b.conj();
-                z[half - k] = alpha[half - k] * b + beta[half - k] * a.conj();
-                k += 1;
-            }
-            if half % 2 == 0 {
-                let k = half / 2;
-                let a = z[k];
-                z[k] = alpha[k] * a + beta[k] * a.conj();
-            }
+            super::fuse_packed_bins_from(z, alpha, beta, k);
         }
     }
 

@@ -231,6 +231,7 @@ impl CellStressTransform {
         let cells = q.len() - 1;
         let scale = stress_scale(grid.step(), self.gamma);
         let mut powers = std::mem::take(&mut self.two_edge_powers);
+        difference.fill(0.0);
         for (sign, theta) in [(1.0, thetas.0), (-1.0, thetas.1)] {
             partial_cell_powers(
                 &self.powers,
@@ -243,11 +244,7 @@ impl CellStressTransform {
             let slope = sign * scale * q[cells] / theta;
             // Node j reads P(M − 1 − j): reversed.
             for (d, &power) in difference.iter_mut().zip(powers[..=cells].iter().rev()) {
-                if sign > 0.0 {
-                    *d = slope * power;
-                } else {
-                    *d += slope * power;
-                }
+                *d += slope * power;
             }
         }
         self.two_edge_powers = powers;
