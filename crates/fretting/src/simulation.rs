@@ -198,7 +198,9 @@ struct StartRate {
 /// θ-difference without a convolution (`-fma` alone was the same scheme with real FFTs, the
 /// preconditioner applied to the update, and the difference of two stress transforms), and
 /// GMRES's inner products in eight running sums (`-packed-fgmres` alone was the same scheme with
-/// one sum; docs/performance.md, "The GMRES inner products in eight sums").
+/// one sum; docs/performance.md, "The GMRES inner products in eight sums"), and the shorter plans
+/// at the lengths [`halfspace_numerics::conv1d::rung_lengths`] (`-dot8` alone was the same scheme
+/// with capacities falling by 4/5; docs/performance.md, "The rungs of the shorter plans").
 /// The name must change
 /// whenever the path does: `HOLE_MARGIN`, the default
 /// switches (`hole_estimate`, `freeze_contact`, `first_order_fallback`, `hole_projection`,
@@ -213,14 +215,14 @@ pub const ADAPTIVE_SCHEME: &str = if SLIDING_EDGE_DEFAULT {
 
 /// The default scheme's name without the sliding mode ([`ADAPTIVE_SCHEME`]).
 const MAIN_SCHEME: &str =
-    "ros2-hole-projection-eta1e-3-band5x12-rate-plans-masked-prefix-fma-packed-fgmres-dot8";
+    "ros2-hole-projection-eta1e-3-band5x12-rate-plans-masked-prefix-fma-packed-fgmres-dot8-pow2-rungs";
 
 /// The name of the adaptive scheme with the sliding mode of the contact edge's last node
 /// ([`FrettingSimulation::set_sliding_edge`]; not the default): what [`ADAPTIVE_SCHEME`] records
 /// when a build makes it the default, so that a checkpoint of either scheme is refused by the
 /// other.
 pub const SLIDING_EDGE_SCHEME: &str =
-    "ros2-hole-projection-eta1e-3-band5x12-rate-plans-masked-prefix-fma-packed-fgmres-dot8-sliding-edge";
+    "ros2-hole-projection-eta1e-3-band5x12-rate-plans-masked-prefix-fma-packed-fgmres-dot8-pow2-rungs-sliding-edge";
 
 /// The stages whose GMRES tolerance (relative) is at least this take the products `W x` by
 /// `f32` transforms ([`FrettingSimulation::set_single_precision_products`]): their relative
@@ -246,14 +248,15 @@ pub const EULER_SCHEME: &str = "euler-packed";
 /// ([`FrettingSimulation::set_prefix_rate`]; `ros2-fixed-rate-plans-masked` was the path without
 /// it) and the preconditioner on fused multiply-adds (`ros2-fixed-rate-plans-masked-prefix` was
 /// the path without them) and the packed FFTs, the kept preconditioned basis and the edge's
-/// θ-difference and the eight-sum inner products of [`ADAPTIVE_SCHEME`]
-/// (`ros2-fixed-rate-plans-masked-prefix-fma` was the path without the first three,
-/// `-packed-fgmres` without the last); its stages solve to `1e-8`, below [`SINGLE_PRECISION_FROM`]: no `f32` products. A
+/// θ-difference, the eight-sum inner products and the shorter plans' lengths of
+/// [`ADAPTIVE_SCHEME`] (`ros2-fixed-rate-plans-masked-prefix-fma` was the path without the first
+/// three, `-packed-fgmres` without the last two, `-dot8` without the last); its stages solve to `1e-8`, below [`SINGLE_PRECISION_FROM`]: no `f32` products. A
 /// checkpoint made before the name was recorded
 /// (the whole grid's plan there: other rounding) is refused. The name must change whenever the
 /// fixed-step path's rounding does. Explicit Euler, the reference path, records
 /// [`EULER_SCHEME`].
-pub const FIXED_STEP_SCHEME: &str = "ros2-fixed-rate-plans-masked-prefix-fma-packed-fgmres-dot8";
+pub const FIXED_STEP_SCHEME: &str =
+    "ros2-fixed-rate-plans-masked-prefix-fma-packed-fgmres-dot8-pow2-rungs";
 
 /// `γ = 1 + 1/√2` of ROS2.
 const ROS2_GAMMA: f64 = 1.0 + std::f64::consts::FRAC_1_SQRT_2;

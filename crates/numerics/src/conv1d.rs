@@ -6,8 +6,8 @@
 //! * [`Backend::Fft`]: zero-padded to a 5-smooth length `P ≥ 2n − 1` ([`plan_length`]) (docs/theory-mdr.md#p7-fft-details: without the
 //!   padding the product is circular), kernel spectrum computed once, `apply` allocation-free;
 //!   O(P log P). With [`ToeplitzConvolution::plan_shorter_lengths`] it also plans a ladder of
-//!   shorter lengths `P_l ≥ 2c_l − 1` (`c_l` falling by 4/5 a rung) and an input of length
-//!   `m ≤ c_l` uses the shortest such plan: the same sum, `O(m log m)` for short inputs. An
+//!   shorter lengths `P_l = 2c_l` ([`rung_lengths`]: a power of two times 1, 3, 5 or 7) and an
+//!   input of length `m ≤ c_l` uses the shortest such plan: the same sum, `O(m log m)` for short inputs. An
 //!   even `P` whose plan does not split is transformed as one complex FFT of length `P/2` each
 //!   way on the packed samples, the spectrum product fused with the unpacking and packing
 //!   (`PackedFft`); from [`SPLIT_FROM`] a plan whose `P` is a multiple of 4 runs its transforms
@@ -803,6 +803,27 @@ enum Engine {
 /// one FFT costs little more than the copies around it.
 const SHORTEST_RUNG: usize = 256;
 
+/// The padded lengths of the rungs of [`ToeplitzConvolution::plan_shorter_lengths`] in
+/// `[from, below)`: `P = 2^a s` with `s ∈ {1, 3, 5, 7}` and `a ≥ 2`, increasing. Consecutive
+/// lengths are at most 5/4 apart (`4 → 5 → 6 → 7 → 8` times a power of two), and a length of this
+/// form from [`SPLIT_FROM`] on is a multiple of 4, so it splits like [`plan_length`]'s.
+pub fn rung_lengths(from: usize, below: usize) -> Vec<usize> {
+    let mut lengths = Vec::new();
+    let mut power = 4usize;
+    while power < below {
+        for s in [1, 3, 5, 7] {
+            let p = power * s;
+            if (from..below).contains(&p) {
+                lengths.push(p);
+            }
+        }
+        power *= 2;
+    }
+    // `s` is odd, so no length repeats.
+    lengths.sort_unstable();
+    lengths
+}
+
 /// Causal linear convolution with a fixed kernel `b_0 … b_{n−1}` (see the module docs).
 /// Built once (plans and kernel spectrum); [`ToeplitzConvolution::apply`] does not allocate.
 pub struct ToeplitzConvolution {
@@ -935,36 +956,32 @@ impl ToeplitzConvolution {
         }
     }
 
-    /// Adds FFT plans for shorter inputs (no effect with the MVM backend): for `c = ⌊(4/5)^l n⌋ ≥ 256`
-    /// a rung zero-padded to `P_l = `[`plan_length`]`(2c − 1)` (split from [`SPLIT_FROM`] on) that holds the kernel `b_0 … b_{c_l−1}`,
-    /// `c_l = ⌈P_l/2⌉ ≥ c` (for inputs of length `m ≤ c_l` the outputs `i < m` need no more, and
-    /// `P_l ≥ m + c_l − 1` keeps the product linear). An input of length `m` then uses the
-    /// shortest plan with `c_l ≥ m`: the same sum, in `O(m log m)`; the result differs from the
-    /// full-length plan's by rounding only. For callers whose inputs are much shorter than the
-    /// capacity (the implicit wear steps' Jacobian on the contact nodes, docs/fretting-wear.md,
-    /// "Time integration"). The rungs take the plans' precision.
+    /// Adds FFT plans for shorter inputs (no effect with the MVM backend): a rung for every
+    /// length `P_l` of [`rung_lengths`] (a power of two times 1, 3, 5 or 7, split from
+    /// [`SPLIT_FROM`] on) with `256 ≤ P_l/2 < n` below the full-capacity plan's length, holding the kernel
+    /// `b_0 … b_{c_l−1}`, `c_l = P_l/2` (for inputs of length `m ≤ c_l` the outputs `i < m` need
+    /// no more, and `P_l ≥ m + c_l − 1` keeps the product linear). An input of length `m` then
+    /// uses the shortest plan with `c_l ≥ m`: the same sum, in `O(m log m)`; the result differs
+    /// from the full-length plan's by rounding only. For callers whose inputs are much shorter
+    /// than the capacity (the implicit wear steps' Jacobian on the contact nodes,
+    /// docs/fretting-wear.md, "Time integration"). The rungs take the plans' precision.
+    ///
+    /// The lengths are the fast ones of the convolution's cost per length (bench
+    /// `conv_lengths`; docs/performance.md, "The rungs of the shorter plans"): one odd factor
+    /// at most, so that rustfft's radix-2/4/8 passes do most of the work; consecutive rungs
+    /// are at most 5/4 apart.
     pub fn plan_shorter_lengths(&mut self) {
         let shapes = self.shapes();
         if shapes.len() != 1 {
             return;
         }
-        let mut rungs = Vec::new();
-        let mut c = self.kernel.len();
-        let mut longest = shapes[0].1;
-        loop {
-            c = c * 4 / 5;
-            if c < SHORTEST_RUNG {
-                break;
-            }
-            let p = plan_length(2 * c - 1);
-            if p < longest {
-                // The plan holds every input its padding allows: c = ⌈P/2⌉.
-                let capacity = p.div_ceil(2).min(self.kernel.len());
-                rungs.push((capacity, p));
-                longest = p;
-            }
-        }
-        rungs.reverse();
+        let longest = shapes[0].1;
+        let mut rungs: Vec<(usize, usize)> = rung_lengths(2 * SHORTEST_RUNG, longest)
+            .into_iter()
+            .filter(|&p| p / 2 < self.kernel.len())
+            .map(|p| (p / 2, p))
+            .collect();
+        rungs.sort_unstable();
         if let Engine::Fft(plans) = &mut self.engine {
             let mut longer = std::mem::take(plans);
             *plans = build_plans(&self.kernel, &rungs);
@@ -1353,14 +1370,18 @@ mod tests {
         let mut ladder = ToeplitzConvolution::new(b.clone(), Backend::Fft).unwrap();
         ladder.plan_shorter_lengths();
         assert_eq!(ladder.padded_length(), full.padded_length());
-        // n = 1500: rungs of capacity 1200, 960, 768, 625, 500, 400, 313 (P = 2400 … 625).
-        assert_eq!(ladder.padded_length_for(256), Some(625));
-        assert_eq!(ladder.padded_length_for(1201), Some(3000));
+        // n = 1500 (P = 3000): rungs P = 512, 640, 768, 896, 1024, …, 2048, 2560, capacity P/2.
+        assert_eq!(ladder.padded_length_for(1), Some(512));
+        assert_eq!(ladder.padded_length_for(256), Some(512));
+        assert_eq!(ladder.padded_length_for(257), Some(640));
+        assert_eq!(ladder.padded_length_for(1025), Some(2560));
+        assert_eq!(ladder.padded_length_for(1280), Some(2560));
+        assert_eq!(ladder.padded_length_for(1281), Some(3000));
         let want = naive(&b, &x);
         let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1.0);
         for m in (1..=n)
             .step_by(37)
-            .chain([255, 256, 257, 300, 301, 1199, 1200, 1201, n])
+            .chain([255, 256, 257, 300, 320, 321, 1279, 1280, 1281, n])
         {
             let p = ladder.padded_length_for(m).unwrap();
             assert!(p + 1 >= 2 * m, "m = {m}: P = {p}");
@@ -1382,6 +1403,26 @@ mod tests {
             .iter()
             .zip(&y_ladder)
             .all(|(a, c)| a.to_bits() == c.to_bits()));
+    }
+
+    /// The rungs' lengths: `2^a s` with `s ∈ {1, 3, 5, 7}`, increasing, at most 5/4 apart, every
+    /// one of that form in the range (against a brute-force list), multiples of 4 (so those from
+    /// [`SPLIT_FROM`] on split).
+    #[test]
+    fn rung_lengths_are_powers_of_two_times_one_small_odd_factor() {
+        let lengths = rung_lengths(512, 40_000);
+        let brute: Vec<usize> = (512usize..40_000)
+            .filter(|&p| {
+                let odd = p >> p.trailing_zeros();
+                p % 4 == 0 && [1, 3, 5, 7].contains(&odd)
+            })
+            .collect();
+        assert_eq!(lengths, brute);
+        assert_eq!(&lengths[..6], &[512, 640, 768, 896, 1024, 1280]);
+        for pair in lengths.windows(2) {
+            assert!(pair[0] < pair[1] && 4 * pair[1] <= 5 * pair[0], "{pair:?}");
+        }
+        assert!(rung_lengths(600, 600).is_empty());
     }
 
     /// The plans from [`SPLIT_FROM`] on are split (a multiple of 4): every input length of a
