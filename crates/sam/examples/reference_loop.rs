@@ -14,7 +14,10 @@
 //! (the contraction). With `REFERENCE_LOOP_DUMP=FILE` the state after every
 //! increment is appended to `FILE` (`p`, `q₁`, `q₂` as little-endian f64) and `p₀` printed. With
 //! `REFERENCE_LOOP_TOLERANCE=T` the alternation stops at `T` instead of 1e-7
-//! (`ContactParams::alternation_tolerance`: a tighter-converged reference path).
+//! (`ContactParams::alternation_tolerance`: a tighter-converged reference path). With
+//! `REFERENCE_LOOP_WINDOW=M` the loop runs on the central `M × M` cells of the `N²` grid (same
+//! cell size): the contact solves a windowed contact would run (docs/performance.md, "A contact
+//! window for the 3D loops: measured, not built"); the dump then holds `M²` cells per field.
 
 use halfspace_sam::contact::{Alternation, ContactParams, ContactProblem};
 use halfspace_sam::drivers::fretting_loop::LoopCase;
@@ -42,7 +45,13 @@ fn main() {
         .homogeneous();
     case.grid = n;
     let a = case.hertz_radius();
-    let grid = SurfaceGrid::square(case.grid, case.extent_over_a * a).unwrap();
+    // `REFERENCE_LOOP_WINDOW=M`: the loop on the central `M²` cells only (the same cells: extent
+    // scaled by `M/N`), the contact solve a windowed one would run.
+    let window: usize = std::env::var("REFERENCE_LOOP_WINDOW").ok().map_or(n, |m| {
+        m.parse().expect("REFERENCE_LOOP_WINDOW: a number of cells")
+    });
+    let grid =
+        SurfaceGrid::square(window, case.extent_over_a * a * window as f64 / n as f64).unwrap();
     let geometry = (0..grid.len())
         .map(|k| {
             let (x, y) = grid.centre(k / grid.n2, k % grid.n2);
