@@ -154,9 +154,9 @@ impl Default for FrettingParams {
     }
 }
 
-/// Bytes a node of the wear run takes, rounded up from the measured ≈ 2.8 kB
+/// Bytes a node of the wear run takes, rounded up from the measured ≈ 3.7 kB
 /// ([`FrettingParams::validate`] refuses a grid that would not fit).
-const WEAR_BYTES_PER_NODE: f64 = 4000.0;
+const WEAR_BYTES_PER_NODE: f64 = 5000.0;
 
 impl FrettingParams {
     /// Smallest domain accepted (docs/theory-mdr.md#p8-domain-size).
@@ -199,9 +199,10 @@ impl FrettingParams {
             return Err(bad("n", self.nodes as f64, "≥ 64"));
         }
         // Refused up front, with the estimate, instead of aborting in the allocator: the run's
-        // vectors, band, plans and kernels take ≈ 2.8 kB a node (`/usr/bin/time` of
-        // `halfspace fretting-wear --n 8001 / 64001 --tau-end 0.001`: 43.8 / 197.9 MB peak RSS);
-        // the estimate rounds up.
+        // vectors, band, plans and kernels take ≈ 3.7 kB a node (`/usr/bin/time` of
+        // `halfspace fretting-wear --n 8001 / 64001 --tau-end 0.001`: 48.6 / 245.9 MB peak RSS
+        // since the shorter plans' rungs at the fast lengths, 47.4 / 216.9 MB before; 43.8 /
+        // 197.9 MB before the packed FFTs); the estimate rounds up.
         halfspace_numerics::memory::check_fits(
             "the MDR wear run",
             WEAR_BYTES_PER_NODE * self.nodes as f64,

@@ -812,12 +812,15 @@ pub fn rung_lengths(from: usize, below: usize) -> Vec<usize> {
     let mut power = 4usize;
     while power < below {
         for s in [1, 3, 5, 7] {
-            let p = power * s;
-            if (from..below).contains(&p) {
-                lengths.push(p);
+            match power.checked_mul(s) {
+                Some(p) if (from..below).contains(&p) => lengths.push(p),
+                _ => {}
             }
         }
-        power *= 2;
+        match power.checked_mul(2) {
+            Some(next) => power = next,
+            None => break,
+        }
     }
     // `s` is odd, so no length repeats.
     lengths.sort_unstable();
@@ -1358,9 +1361,9 @@ mod tests {
         }
     }
 
-    /// The ladder of shorter plans: every input length from 1 to the capacity against the naive
-    /// sum (fixed seeds), the shortest plan that fits is used, and a full-length input gives the
-    /// full plan's bits.
+    /// The ladder of shorter plans: every 37th input length from 1 to the capacity and the rungs'
+    /// boundaries against the naive sum (fixed seeds), the shortest plan that fits is used, and a
+    /// full-length input gives the full plan's bits.
     #[test]
     fn shorter_plans_match_the_naive_sum() {
         let n = 1500;
@@ -1418,7 +1421,11 @@ mod tests {
             })
             .collect();
         assert_eq!(lengths, brute);
+        assert!(lengths.iter().all(|p| p % 4 == 0));
         assert_eq!(&lengths[..6], &[512, 640, 768, 896, 1024, 1280]);
+        // No overflow near the top of `usize`.
+        let top = rung_lengths(usize::MAX / 2, usize::MAX);
+        assert!(!top.is_empty() && top.windows(2).all(|w| w[0] < w[1]));
         for pair in lengths.windows(2) {
             assert!(pair[0] < pair[1] && 4 * pair[1] <= 5 * pair[0], "{pair:?}");
         }
@@ -1441,6 +1448,13 @@ mod tests {
         }
         assert_eq!(plan_length(4001), fast_length(4001));
         let n = 6000;
+        {
+            let mut op = ToeplitzConvolution::new(lcg(17, n), Backend::Fft).unwrap();
+            op.plan_shorter_lengths();
+            assert_eq!(op.padded_length_for(4096), Some(8192));
+            assert_eq!(op.padded_length_for(4097), Some(10_240));
+            assert_eq!(op.padded_length_for(5121), op.padded_length());
+        }
         let b = lcg(17, n);
         let x = lcg(18, n);
         let want = naive(&b, &x);
@@ -1454,7 +1468,9 @@ mod tests {
                 op.plan_shorter_lengths();
                 op.set_precision(precision);
                 let mut go = move || {
-                    [n, n - 1, 5001, 4800, 4097, 3000, 700]
+                    // The split rungs 8192 (capacity 4096) and 10 240 (5120) and their
+                    // boundaries, the packed ones below.
+                    [n, n - 1, 5121, 5120, 5001, 4800, 4097, 4096, 3000, 700]
                         .iter()
                         .map(|&m| {
                             let mut y = vec![0.0; m];
