@@ -16,8 +16,9 @@
 //! `REFERENCE_LOOP_TOLERANCE=T` the alternation stops at `T` instead of 1e-7
 //! (`ContactParams::alternation_tolerance`: a tighter-converged reference path). With
 //! `REFERENCE_LOOP_WINDOW=M` the loop runs on the central `M × M` cells of the `N²` grid (same
-//! cell size): the contact solves a windowed contact would run (docs/performance.md, "A contact
-//! window for the 3D loops: measured, not built"); the dump then holds `M²` cells per field.
+//! cell size): the problem on the window alone, without the whole grid's checks
+//! (`ContactProblem::set_window` adds them; docs/performance.md, "A contact window for the 3D
+//! loops"); the dump then holds `M²` cells per field.
 
 use halfspace_sam::contact::{Alternation, ContactParams, ContactProblem};
 use halfspace_sam::drivers::fretting_loop::LoopCase;

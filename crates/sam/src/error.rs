@@ -27,6 +27,20 @@ pub enum SamError {
     /// The contact reaches the edge of the computational domain.
     #[error("the contact reaches the edge of the domain (pressure on the boundary cells); enlarge the domain extent")]
     ContactAtDomainEdge,
+    /// The contact solved on a window of the grid (`ContactProblem::set_window`) would close the
+    /// gap outside the window.
+    #[error(
+        "the contact reaches beyond its window of {} × {} cells (deformed gap {gap:e} m outside it): \
+         the window must be larger",
+        cells[0],
+        cells[1]
+    )]
+    ContactOutsideWindow {
+        /// The window's rows and columns.
+        cells: [usize; 2],
+        /// The smallest deformed gap outside the window (m).
+        gap: f64,
+    },
     /// No contact at all (the indenter does not touch).
     #[error("no contact: the indenter does not reach the surface at this load")]
     NoContact,

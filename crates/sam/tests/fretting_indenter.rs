@@ -167,11 +167,14 @@ fn approach_control_gives_hertz_force() {
         );
     }
     eprintln!("64²: max |W/W_Hertz(δ) − 1| over the normal loading = {worst:.2e}");
-    // The approach stays fixed over the cycle: without coupling the force too.
+    // The approach stays fixed over the cycle: without coupling the force too, to the normal
+    // solve's tolerance (`NormalParams` 1e-10: each increment re-converges p from the last
+    // one's; measured within 1e-12 on the whole 64² grid, 1e-11 on the loop's contact window of
+    // 40², docs/performance.md "A contact window for the 3D loops").
     let w = rows[case.normal_steps - 1].w;
     for r in &rows[case.normal_steps..] {
         assert_eq!(r.approach, delta);
-        assert!((r.w / w - 1.0).abs() < 1e-12, "{} vs {w}", r.w);
+        assert!((r.w / w - 1.0).abs() < 1e-10, "{} vs {w}", r.w);
     }
     lp.metrics().unwrap();
     // Exactly one of force and approach.

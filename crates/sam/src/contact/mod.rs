@@ -15,7 +15,7 @@ pub use inhomogeneous::{
     MAX_EIM_RECYCLED_DEPTH, REFERENCE_EIM_CHANGE_FACTOR,
 };
 pub use problem::{
-    Alternation, AlternationStep, ContactParams, ContactProblem, ContactState, IncrementInfo,
-    INEXACT_CEILING, NORMAL_CEILING, NORMAL_GAUGE, TRACE_LIMIT,
+    Alternation, AlternationStep, ContactParams, ContactProblem, ContactState, GridWindow,
+    IncrementInfo, INEXACT_CEILING, NORMAL_CEILING, NORMAL_GAUGE, TRACE_LIMIT,
 };
 pub use solver::ContactSolver;

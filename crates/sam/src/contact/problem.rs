@@ -163,6 +163,136 @@ pub struct IncrementInfo {
     pub max_pressure: f64,
 }
 
+/// A rectangle of a grid's cells: rows `first[0]..first[0] + cells[0]` (along `x₁`) and columns
+/// `first[1]..first[1] + cells[1]` (along `x₂`), the cell `(i, j)` being `k = i N₂ + j` on the grid
+/// and `(i − first[0]) cells[1] + (j − first[1])` on the window. A contact problem may solve on a
+/// window ([`ContactProblem::set_window`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct GridWindow {
+    /// The first row and column.
+    pub first: [usize; 2],
+    /// The rows and columns.
+    pub cells: [usize; 2],
+}
+
+impl GridWindow {
+    /// The central window of `grid` that holds every cell whose centre lies within `half_width`
+    /// (m) of the grid's centre along `x₁` and along `x₂`, with as many cells outside it on either
+    /// side (so its centres are the grid's central ones) and at least 8 cells a side; `None` when
+    /// that is the whole grid.
+    pub fn central(grid: &SurfaceGrid, half_width: f64) -> Result<Option<Self>, SamError> {
+        if !(half_width.is_finite() && half_width > 0.0) {
+            return Err(SamError::InvalidParameter {
+                name: "contact window half-width",
+                value: half_width,
+                allowed: "finite and > 0",
+            });
+        }
+        let side = |n: usize, half: f64| -> usize {
+            // Cells from the centre to the last centre within the half-width, on each side
+            // (the centres sit at odd multiples of the half cell from the middle when n is even).
+            let reach = ((half_width / half - if n % 2 == 0 { 1.0 } else { 0.0 }) / 2.0).floor();
+            let m = if n % 2 == 0 {
+                2 * (reach.max(0.0) as usize + 1)
+            } else {
+                2 * reach.max(0.0) as usize + 1
+            };
+            m.max(8).min(n)
+        };
+        let cells = [side(grid.n1, grid.half1), side(grid.n2, grid.half2)];
+        if cells == [grid.n1, grid.n2] {
+            return Ok(None);
+        }
+        Ok(Some(Self {
+            first: [(grid.n1 - cells[0]) / 2, (grid.n2 - cells[1]) / 2],
+            cells,
+        }))
+    }
+
+    /// Whether the window lies inside `grid` with at least 8 cells a side.
+    fn check(&self, grid: &SurfaceGrid) -> Result<(), SamError> {
+        let fits = |a: usize| {
+            self.cells[a] >= 8
+                && self.first[a]
+                    .checked_add(self.cells[a])
+                    .is_some_and(|end| end <= [grid.n1, grid.n2][a])
+        };
+        if fits(0) && fits(1) {
+            Ok(())
+        } else {
+            Err(SamError::InvalidInput(format!(
+                "contact window {self:?}: at least 8 cells a side, inside the {} × {} grid",
+                grid.n1, grid.n2
+            )))
+        }
+    }
+
+    /// The window as a grid of its own (the same cells).
+    fn grid(&self, grid: &SurfaceGrid) -> SurfaceGrid {
+        SurfaceGrid {
+            n1: self.cells[0],
+            n2: self.cells[1],
+            ..*grid
+        }
+    }
+
+    /// The window's values of a field on the grid of `n2` columns (empty stays empty).
+    fn gather(&self, n2: usize, field: &[f64]) -> Vec<f64> {
+        if field.is_empty() {
+            return Vec::new();
+        }
+        let mut out = Vec::with_capacity(self.cells[0] * self.cells[1]);
+        for i in 0..self.cells[0] {
+            let row = (self.first[0] + i) * n2 + self.first[1];
+            out.extend_from_slice(&field[row..row + self.cells[1]]);
+        }
+        out
+    }
+
+    /// Writes the window's values `window` into the field on the grid of `n2` columns (the cells
+    /// outside untouched; nothing for an empty field).
+    fn scatter(&self, n2: usize, window: &[f64], field: &mut [f64]) {
+        if field.is_empty() {
+            return;
+        }
+        for (i, values) in window.chunks_exact(self.cells[1]).enumerate() {
+            let row = (self.first[0] + i) * n2 + self.first[1];
+            field[row..row + self.cells[1]].copy_from_slice(values);
+        }
+    }
+
+    /// Whether the cell `k` of the grid of `n2` columns lies in the window.
+    fn contains(&self, n2: usize, k: usize) -> bool {
+        let (i, j) = (k / n2, k % n2);
+        (self.first[0]..self.first[0] + self.cells[0]).contains(&i)
+            && (self.first[1]..self.first[1] + self.cells[1]).contains(&j)
+    }
+
+    /// The state's fields on the window (its scalars as they are).
+    fn gather_state(&self, n2: usize, state: &ContactState) -> ContactState {
+        let g = |f: &[f64]| self.gather(n2, f);
+        ContactState {
+            pressure: g(&state.pressure),
+            shear: [g(&state.shear[0]), g(&state.shear[1])],
+            tangential_displacement: [
+                g(&state.tangential_displacement[0]),
+                g(&state.tangential_displacement[1]),
+            ],
+            slip: [g(&state.slip[0]), g(&state.slip[1])],
+            ..*state
+        }
+    }
+}
+
+/// A contact problem solved on a window of its grid ([`ContactProblem::set_window`]).
+struct Windowed<S: OperatorSet> {
+    window: GridWindow,
+    /// The problem on the window's cells.
+    inner: ContactProblem<S>,
+    /// The whole grid's deformed gap of the last solve (the window's check).
+    gap: Vec<f64>,
+}
+
 /// A contact problem on one grid: geometry, bodies, friction, solvers and the current state, on the
 /// operators of `S` (the DC-FFT ones by default, or their dense twins). Every operator of the
 /// problem uses one padded and one periodic FFT core of the grid.
@@ -200,6 +330,12 @@ pub struct ContactProblem<S: OperatorSet = FftOperators> {
     /// The changes of every alternation of the solves since the last `begin`, and their count.
     trace: Vec<AlternationStep>,
     solves: usize,
+    /// The pair's compliance (a window's problem is built from it).
+    compliance: Compliance,
+    /// The contact solved on a window of the grid, if set ([`ContactProblem::set_window`]), and
+    /// the solves it did not take.
+    window: Option<Box<Windowed<S>>>,
+    window_misses: usize,
 }
 
 impl ContactProblem {
@@ -322,7 +458,216 @@ impl<S: OperatorSet> ContactProblem<S> {
             trial_shift: [0.0; 2],
             trace: Vec::with_capacity(TRACE_LIMIT),
             solves: 0,
+            compliance,
+            window: None,
+            window_misses: 0,
         })
+    }
+
+    /// Solves the contact on the cells of `window` only (`None`: on the whole grid again): the
+    /// compliance restricted to the window is the same block of the same operators (the DC-FFT
+    /// convolution of the window's cells), so while the deformed gap stays open outside the
+    /// window its solution is the whole grid's (to the solvers' tolerances: their
+    /// preconditioners and iterates are the window's; docs/performance.md, "A contact window
+    /// for the 3D loops"). Every solve checks that on the whole grid: the deformed gap
+    /// `h₀ + u₃^eig − δ + K p + κ⟦P_B⟧ * q` positive at every cell outside the window (one
+    /// product of the whole grid's operators; [`SamError::ContactOutsideWindow`] inside). The problem's fields stay the whole grid's
+    /// ([`ContactProblem::state`], [`ContactProblem::geometry`], the eigen-displacements):
+    /// pressure, shear and slip are 0 outside the window, and the tangential displacement
+    /// `Δu = T q + c` (the friction history) is computed on the whole grid after every solve
+    /// (one product of the whole grid's tangential operators). A solve whose contact reaches
+    /// the window's edge or whose deformed gap closes outside it is solved again on the whole
+    /// grid from the window's result, and a solve whose warm start has pressure or shear outside
+    /// the window runs on the whole grid (counted by [`ContactProblem::window_misses`]): which
+    /// grid a solve takes is a function of the state and the load, so a restored state
+    /// continues bit for bit. Refused when the state has pressure or shear outside the window.
+    pub fn set_window(&mut self, window: Option<GridWindow>) -> Result<(), SamError> {
+        let Some(window) = window else {
+            self.window = None;
+            return Ok(());
+        };
+        window.check(&self.grid)?;
+        let n2 = self.grid.n2;
+        self.check_outside(&window, &self.state)?;
+        let mut inner = ContactProblem::<S>::with_operators(
+            window.grid(&self.grid),
+            self.compliance,
+            window.gather(n2, &self.geometry),
+            self.params,
+        )?;
+        if let Some(eig) = &self.eigen {
+            let e = [
+                window.gather(n2, &eig[0]),
+                window.gather(n2, &eig[1]),
+                window.gather(n2, &eig[2]),
+            ];
+            inner.set_eigen_displacements(Some([&e[0], &e[1], &e[2]]))?;
+        }
+        inner.restore_state(&window.gather_state(n2, &self.state))?;
+        self.window = Some(Box::new(Windowed {
+            window,
+            inner,
+            gap: vec![0.0; self.grid.len()],
+        }));
+        Ok(())
+    }
+
+    /// The window the contact is solved on, if any ([`ContactProblem::set_window`]).
+    pub fn window(&self) -> Option<GridWindow> {
+        self.window.as_ref().map(|w| w.window)
+    }
+
+    /// Refuses a state with pressure or shear outside `window`.
+    fn check_outside(&self, window: &GridWindow, state: &ContactState) -> Result<(), SamError> {
+        let n2 = self.grid.n2;
+        let outside = |f: &[f64]| {
+            f.iter()
+                .enumerate()
+                .any(|(k, v)| *v != 0.0 && !window.contains(n2, k))
+        };
+        if outside(&state.pressure) || outside(&state.shear[0]) || outside(&state.shear[1]) {
+            return Err(SamError::InvalidInput(format!(
+                "the contact state has pressure or shear outside the contact window {window:?}"
+            )));
+        }
+        Ok(())
+    }
+
+    /// After a solve on the window: its pressure, shear and slip into the whole grid's state,
+    /// the check of the whole grid's deformed gap outside the window, then the whole grid's
+    /// trial tangential displacement `Δuⁿ⁺¹ = T q + c` (what [`ContactProblem::commit`] makes the
+    /// history; with `committed`, the window's solve committed it already: into the state now).
+    fn finish_window_solve(&mut self, committed: bool) -> Result<(), SamError> {
+        let w = self.window.as_mut().expect("a window");
+        self.trace.clone_from(&w.inner.trace);
+        let n2 = self.grid.n2;
+        let (win, inner) = (w.window, &w.inner.state);
+        win.scatter(n2, &inner.pressure, &mut self.state.pressure);
+        for a in 0..2 {
+            win.scatter(n2, &inner.shear[a], &mut self.state.shear[a]);
+            win.scatter(n2, &inner.slip[a], &mut self.state.slip[a]);
+        }
+        self.state.approach = inner.approach;
+        self.state.force = inner.force;
+        self.trial_shift = if committed {
+            inner.shift
+        } else {
+            w.inner.trial_shift
+        };
+        // g = h₀ + u₃^eig − δ + K p + κ⟦P_B⟧ * q on the whole grid.
+        self.normal.displacement(&self.state.pressure, &mut w.gap)?;
+        if let Some(op) = &mut self.shear_to_normal {
+            op.apply(
+                &[&self.state.shear[0], &self.state.shear[1]],
+                &mut [&mut self.u3],
+            )?;
+            w.gap.iter_mut().zip(&self.u3).for_each(|(g, u)| *g += u);
+        }
+        let delta = self.state.approach;
+        let mut closest = f64::INFINITY;
+        for (k, g) in w.gap.iter_mut().enumerate() {
+            *g += self.geometry[k] - delta;
+            if let Some(eig) = &self.eigen {
+                *g += eig[2][k];
+            }
+            if !win.contains(n2, k) {
+                closest = closest.min(*g);
+            }
+        }
+        if closest <= 0.0 {
+            return Err(SamError::ContactOutsideWindow {
+                cells: win.cells,
+                gap: closest,
+            });
+        }
+        // Δuⁿ⁺¹ = T q + c, c = −κ⟦P_B⟧ * p + u_α^eig, on the whole grid (as a whole-grid solve ends).
+        if let Some(solver) = &mut self.tangential {
+            let [t0, t1] = &mut self.tq;
+            solver.displacement([&self.state.shear[0], &self.state.shear[1]], [t0, t1])?;
+            if let Some(op) = &mut self.pressure_to_tangential {
+                let [c0, c1] = &mut self.c;
+                op.apply(&[&self.state.pressure], &mut [c0, c1])?;
+            } else {
+                self.c[0].fill(0.0);
+                self.c[1].fill(0.0);
+            }
+            if let Some(eig) = &self.eigen {
+                for a in 0..2 {
+                    self.c[a].iter_mut().zip(&eig[a]).for_each(|(c, u)| *c += u);
+                }
+            }
+            for a in 0..2 {
+                for k in 0..self.trial_displacement[a].len() {
+                    self.trial_displacement[a][k] = self.tq[a][k] + self.c[a][k];
+                }
+            }
+            // The slip `S = b − T q = (Δuⁿ − Dⁿ) + D − c − T q` on the whole grid (outside the
+            // contact the relative displacement's change, as a whole-grid solve writes it); the
+            // window's own values on its cells.
+            let shift = self.trial_shift;
+            for a in 0..2 {
+                let history = &self.state.tangential_displacement[a];
+                let previous = self.state.shift[a];
+                for (k, s) in self.state.slip[a].iter_mut().enumerate() {
+                    *s = (history[k] - previous) + shift[a] - self.c[a][k] - self.tq[a][k];
+                }
+                let w = self.window.as_ref().expect("a window");
+                w.window
+                    .scatter(n2, &w.inner.state.slip[a], &mut self.state.slip[a]);
+            }
+        }
+        if committed {
+            for a in 0..2 {
+                self.state.tangential_displacement[a].copy_from_slice(&self.trial_displacement[a]);
+            }
+            self.state.shift = self.trial_shift;
+        }
+        Ok(())
+    }
+
+    /// Whether this solve runs on the window: set, and the state's pressure and shear (its warm
+    /// start) vanish outside it. Then the window's problem starts from the whole grid's state
+    /// (the same values when its last solve was the window's: a function of the state alone,
+    /// so a resumed loop takes the same path).
+    fn enter_window(&mut self) -> bool {
+        let Some(w) = &self.window else {
+            return false;
+        };
+        if self.check_outside(&w.window, &self.state).is_err() {
+            self.window_misses += 1;
+            return false;
+        }
+        let n2 = self.grid.n2;
+        let w = self.window.as_mut().expect("a window");
+        let (win, inner) = (w.window, &mut w.inner.state);
+        let copy = |field: &[f64], out: &mut Vec<f64>| {
+            if !field.is_empty() {
+                *out = win.gather(n2, field);
+            }
+        };
+        copy(&self.state.pressure, &mut inner.pressure);
+        for a in 0..2 {
+            copy(&self.state.shear[a], &mut inner.shear[a]);
+            copy(&self.state.slip[a], &mut inner.slip[a]);
+        }
+        inner.approach = self.state.approach;
+        inner.force = self.state.force;
+        true
+    }
+
+    /// The whole grid's solve of an increment begun on the window (whose solve was not taken):
+    /// the friction history `w` from the committed state, as [`ContactProblem::begin`] makes it,
+    /// and the window's next solve a first one.
+    fn on_whole_grid(&mut self) {
+        if let Some(w) = &mut self.window {
+            w.inner.solves = 0;
+        }
+        let n = self.state.tangential_displacement[0].len();
+        for a in 0..2 {
+            for k in 0..n {
+                self.w[a][k] = self.state.tangential_displacement[a][k] - self.state.shift[a];
+            }
+        }
     }
 
     /// Sets the known surface eigen-displacements `u^eig = (u₁, u₂, u₃)` of the half-space (
@@ -360,6 +705,21 @@ impl<S: OperatorSet> ContactProblem<S> {
                 }
             }
         }
+        if let Some(w) = &mut self.window {
+            let n2 = self.grid.n2;
+            match &self.eigen {
+                None => w.inner.set_eigen_displacements(None)?,
+                Some(eig) => {
+                    let e = [
+                        w.window.gather(n2, &eig[0]),
+                        w.window.gather(n2, &eig[1]),
+                        w.window.gather(n2, &eig[2]),
+                    ];
+                    w.inner
+                        .set_eigen_displacements(Some([&e[0], &e[1], &e[2]]))?;
+                }
+            }
+        }
         Ok(())
     }
 
@@ -390,6 +750,10 @@ impl<S: OperatorSet> ContactProblem<S> {
             });
         }
         self.geometry.copy_from_slice(geometry);
+        if let Some(w) = &mut self.window {
+            w.inner
+                .set_geometry(&w.window.gather(self.grid.n2, geometry))?;
+        }
         Ok(())
     }
 
@@ -492,6 +856,10 @@ impl<S: OperatorSet> ContactProblem<S> {
         }
         self.state.clone_from(state);
         self.solves = 0;
+        if let Some(w) = &mut self.window {
+            w.inner
+                .restore_state(&w.window.gather_state(self.grid.n2, state))?;
+        }
         Ok(())
     }
 
@@ -515,6 +883,10 @@ impl<S: OperatorSet> ContactProblem<S> {
     pub fn begin(&mut self) {
         self.trace.clear();
         self.solves = 0;
+        if let Some(w) = &mut self.window {
+            w.inner.begin();
+            return;
+        }
         let n = self.state.tangential_displacement[0].len();
         for a in 0..2 {
             for k in 0..n {
@@ -526,10 +898,37 @@ impl<S: OperatorSet> ContactProblem<S> {
     /// Makes the last [`ContactProblem::solve`] the converged state of the increment: `Δuⁿ⁺¹` and
     /// `Dⁿ⁺¹` become the history of the next one (docs/theory-sam.md#history-variables).
     pub fn commit(&mut self) {
+        if let Some(w) = &mut self.window {
+            w.inner.commit();
+        }
         for a in 0..2 {
             self.state.tangential_displacement[a].copy_from_slice(&self.trial_displacement[a]);
         }
         self.state.shift = self.trial_shift;
+        self.sync_window_history();
+    }
+
+    /// The window's friction history made the whole grid's (its values on the window's cells):
+    /// the window's next increment starts from exactly what a problem restored from this state
+    /// would (a resumed loop repeats the uninterrupted one bit for bit).
+    fn sync_window_history(&mut self) {
+        if let Some(w) = &mut self.window {
+            let n2 = self.grid.n2;
+            for a in 0..2 {
+                let field = &self.state.tangential_displacement[a];
+                if !field.is_empty() {
+                    w.inner.state.tangential_displacement[a] = w.window.gather(n2, field);
+                }
+            }
+            w.inner.state.shift = self.state.shift;
+        }
+    }
+
+    /// The solves of this problem that its window ([`ContactProblem::set_window`]) did not take
+    /// (their contact reached the window's edge or beyond, or their warm start had contact
+    /// outside it) and that ran on the whole grid instead.
+    pub fn window_misses(&self) -> usize {
+        self.window_misses
     }
 
     /// Solves the current increment (after [`ContactProblem::begin`]) to normal load `load` and
@@ -553,6 +952,23 @@ impl<S: OperatorSet> ContactProblem<S> {
         shift: [f64; 2],
         slack: f64,
     ) -> Result<IncrementInfo, SamError> {
+        if self.enter_window() {
+            let w = self.window.as_mut().expect("a window");
+            let solved = w.inner.solve_loosely(load, shift, slack);
+            let outcome = solved.and_then(|info| self.finish_window_solve(false).map(|()| info));
+            match outcome {
+                Ok(info) => return Ok(info),
+                // The contact reaches the window's edge or beyond: this solve on the whole grid
+                // (below), from the window's result.
+                Err(SamError::ContactOutsideWindow { .. } | SamError::ContactAtDomainEdge) => {
+                    self.window_misses += 1;
+                }
+                Err(e) => return Err(e),
+            }
+        }
+        if self.window.is_some() {
+            self.on_whole_grid();
+        }
         halfspace_numerics::parallel::on_pool(self.grid.len(), || {
             self.solve_loosely_here(load, shift, slack)
         })
@@ -871,6 +1287,25 @@ impl<S: OperatorSet> ContactProblem<S> {
         force: f64,
         bracket: f64,
     ) -> Result<(IncrementInfo, f64), SamError> {
+        if self.enter_window() {
+            let w = self.window.as_mut().expect("a window");
+            let solved = w.inner.increment_with_force(load, force, bracket);
+            let outcome = solved.and_then(|done| self.finish_window_solve(true).map(|()| done));
+            match outcome {
+                Ok(done) => {
+                    self.sync_window_history();
+                    return Ok(done);
+                }
+                // The whole grid from the committed history (not yet overwritten: the check
+                // comes first), below; the window's own history back to it (its solve
+                // committed).
+                Err(SamError::ContactOutsideWindow { .. } | SamError::ContactAtDomainEdge) => {
+                    self.window_misses += 1;
+                    self.sync_window_history();
+                }
+                Err(e) => return Err(e),
+            }
+        }
         let mu = self.params.friction;
         // Every evaluation solves the same increment from the same history and warm start.
         self.begin();

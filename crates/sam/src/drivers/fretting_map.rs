@@ -271,9 +271,11 @@ impl FrettingMap {
     /// ([`LoopCase::as_run`] with the parameters of [`FrettingLoop::new`]); a checkpointed point
     /// is reused only when [`FrettingMap::accepts_point_fingerprint`].
     pub fn point_fingerprint(&self, i: usize, j: usize) -> Result<String, SamError> {
+        let case = self.point_case(i, j)?;
         Ok(format!(
-            "{:?}",
-            self.point_case(i, j)?.as_run(NestedParams::default())
+            "{:?}{}",
+            case.as_run(NestedParams::default()),
+            case.window_fingerprint()?
         ))
     }
 
@@ -291,8 +293,9 @@ impl FrettingMap {
         suffix: &str,
     ) -> Result<bool, SamError> {
         let case = self.point_case(i, j)?;
-        let current = format!("{:?}{suffix}", case.as_run(NestedParams::default()));
-        let given = format!("{case:?}{suffix}");
+        let window = case.window_fingerprint()?;
+        let current = format!("{:?}{window}{suffix}", case.as_run(NestedParams::default()));
+        let given = format!("{case:?}{window}{suffix}");
         Ok(case
             .check_fingerprint(NestedParams::default(), recorded, &current, &given)
             .is_ok())

@@ -1,6 +1,6 @@
 //! The fretting-loop configuration and its load path.
 
-use crate::contact::{Alternation, BodyResponse, ContactParams, NestedParams};
+use crate::contact::{Alternation, BodyResponse, ContactParams, GridWindow, NestedParams};
 use crate::eim::{
     composite_fibres, FibreLayout, Inhomogeneity, COMPOSITE_CELLS_PER_RADIUS,
     COMPOSITE_FIBRE_RADIUS,
@@ -8,7 +8,7 @@ use crate::eim::{
 use crate::kernels::surface::Body;
 use crate::normal::NormalLoad;
 use crate::subsurface::SubsurfacePlan;
-use crate::SamError;
+use crate::{SamError, SurfaceGrid};
 
 /// The labels of the points of \[LN11\] Figs. 5–7: A end of the normal loading, B `δx = +A`, C
 /// `δx = 0` on the way back, D `δx = −A`.
@@ -185,6 +185,18 @@ fretting_loop_keys! {
     }
 }
 
+/// The half-width of the fretting loop's contact window over the Hertz radius `a`
+/// ([`ContactProblem::set_window`](crate::contact::ContactProblem::set_window)): the contact of
+/// \[LN11\]'s loops reaches ≈ 1.05a (a ±1.04a window is too small, docs/performance.md, "A
+/// contact window for the 3D loops"); 1.3a leaves ≈ 8 cells at 128². A solve whose contact goes
+/// further runs on the whole grid.
+pub const CONTACT_WINDOW_OVER_A: f64 = 1.3;
+
+/// What a loop's checkpoint fingerprint appends for its contact window
+/// ([`LoopCase::window_fingerprint`]); absent from checkpoints of builds before the window, which
+/// are refused.
+pub const CONTACT_WINDOW_FIELD: &str = "; contact window ";
+
 /// How a fingerprint (`{:?}` of [`LoopCase`]) spells the alternation scheme's field: absent
 /// from checkpoints written before it was recorded ([`LoopCase::check_fingerprint`]).
 const ALTERNATION_FIELD: &str = ", alternation: ";
@@ -306,12 +318,31 @@ impl LoopCase {
         self.is_coupled().then(|| self.alternation_scheme())
     }
 
+    /// The window of the grid the loop's contact solves run on: the central cells within
+    /// [`CONTACT_WINDOW_OVER_A`]` · a` of the axis ([`GridWindow::central`]; `None`: the whole
+    /// grid).
+    pub fn contact_window(&self) -> Result<Option<GridWindow>, SamError> {
+        let a = self.hertz_radius();
+        let grid = SurfaceGrid::square(self.grid, self.extent_over_a * a)?;
+        GridWindow::central(&grid, CONTACT_WINDOW_OVER_A * a)
+    }
+
+    /// What the loop's checkpoint fingerprint appends for its contact window
+    /// ([`CONTACT_WINDOW_FIELD`] and the window's cells, `None` for the whole grid).
+    pub fn window_fingerprint(&self) -> Result<String, SamError> {
+        Ok(format!(
+            "{CONTACT_WINDOW_FIELD}{:?}",
+            self.contact_window()?.map(|w| w.cells)
+        ))
+    }
+
     /// The case as it runs with the outer-loop parameters `nested`: the alternation scheme the
     /// one used ([`LoopCase::alternation_used`]); with inhomogeneities and the nested loop,
     /// [`LoopCase::eim_change_factor`] is the factor that loop uses (the case's, or `nested`'s
     /// default); otherwise the case unchanged (the factor is not used). A checkpoint's
-    /// fingerprint is this case as `{:?}`, so it records the values used and a change of the
-    /// library's defaults is caught ([`LoopCase::check_fingerprint`]).
+    /// fingerprint is this case as `{:?}` (and [`LoopCase::window_fingerprint`]), so it records
+    /// the values used and a change of the library's defaults is caught
+    /// ([`LoopCase::check_fingerprint`]).
     pub fn as_run(&self, nested: NestedParams) -> LoopCase {
         let mut case = self.clone();
         case.alternation = self.alternation_used();

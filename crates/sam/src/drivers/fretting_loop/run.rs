@@ -3,7 +3,7 @@
 use std::ops::ControlFlow;
 use std::time::Instant;
 
-use super::case::{LoadPath, LoopCase, POINT_LABELS};
+use super::case::{LoadPath, LoopCase, CONTACT_WINDOW_FIELD, POINT_LABELS};
 use super::history::{CycleSources, CycleStress};
 use super::metrics::LoopMetrics;
 use super::row::LoopRow;
@@ -128,7 +128,11 @@ impl FrettingLoop {
             alternation: case.alternation_scheme(),
             ..ContactParams::default()
         };
-        let problem = ContactProblem::new(grid, compliance, geometry, params)?;
+        let mut problem = ContactProblem::new(grid, compliance, geometry, params)?;
+        // The contact solved on the cells within `CONTACT_WINDOW_OVER_A · a` of the axis
+        // (docs/performance.md, "A contact window for the 3D loops"); the EIM and every field on
+        // the whole grid.
+        problem.set_window(case.contact_window()?)?;
         let solver = ContactSolver::new(
             problem,
             case.e,
@@ -155,7 +159,15 @@ impl FrettingLoop {
     /// the next increment repeats the uninterrupted loop's bit for bit.
     pub fn resume(case: LoopCase, snapshot: LoopSnapshot) -> Result<Self, SamError> {
         let mut lp = Self::new(case)?;
-        let given = format!("{:?}", lp.case);
+        if !snapshot.fingerprint.contains(CONTACT_WINDOW_FIELD) {
+            return Err(SamError::InvalidInput(
+                "the checkpoint was written by a build whose contact solves ran on the whole grid \
+                 (before the contact window, docs/performance.md \"A contact window for the 3D \
+                 loops\"): its increments would not be repeated bit for bit; start the loop over"
+                    .into(),
+            ));
+        }
+        let given = format!("{:?}{}", lp.case, lp.case.window_fingerprint()?);
         lp.case
             .check_fingerprint(lp.nested, &snapshot.fingerprint, &lp.fingerprint(), &given)?;
         lp.check_snapshot(&snapshot)?;
@@ -417,7 +429,9 @@ impl FrettingLoop {
     /// The configuration as text, the EIM change factor the one used ([`LoopCase::as_run`]; a
     /// checkpoint is resumed only with the same one, [`LoopCase::check_fingerprint`]).
     pub fn fingerprint(&self) -> String {
-        format!("{:?}", self.case.as_run(self.nested))
+        // The case was validated when the loop was planned: its window is known.
+        let window = self.case.window_fingerprint().unwrap_or_default();
+        format!("{:?}{window}", self.case.as_run(self.nested))
     }
 
     /// The case.
