@@ -201,6 +201,9 @@ fn central_windows_hold_the_cells_within_the_half_width() {
     let odd = SurfaceGrid::square(17, 17.0).unwrap(); // centres at 0, ±1, …
     let w = GridWindow::central(&odd, 4.5).unwrap().unwrap();
     assert_eq!((w.first, w.cells), ([4, 4], [9, 9]));
+    // At least 8 cells, centred: 9 on an odd grid.
+    let w = GridWindow::central(&odd, 0.1).unwrap().unwrap();
+    assert_eq!((w.first, w.cells), ([4, 4], [9, 9]));
     assert!(GridWindow::central(&grid, f64::NAN).is_err());
     assert!(GridWindow::central(&grid, 0.0).is_err());
     // A window outside the grid or under 8 cells is refused.
@@ -241,4 +244,45 @@ fn the_fretting_loop_records_its_contact_window() {
     };
     let err = FrettingLoop::resume(case, legacy).err().expect("refused");
     assert!(err.to_string().contains("start the loop over"), "{err}");
+}
+
+/// A force-controlled tangential increment (`increment_with_force`: Brent on the shift) on the
+/// window and, with a ±0.5a window the contact does not fit in, on its whole-grid fallback
+/// (every evaluation on the whole grid): the same shift, pressure and shear as the whole grid's
+/// (to the solvers' tolerances), the history committed on the whole grid.
+#[test]
+fn a_force_controlled_increment_on_the_window_is_the_whole_grids() {
+    type F = halfspace_numerics::op::FftOperators;
+    let (mut whole, force) = problem::<F>(32, None);
+    let (mut windowed, _) = problem::<F>(32, Some(1.3));
+    let (mut small, _) = problem::<F>(32, Some(0.5));
+    let ramp = |p: &mut ContactProblem<F>| {
+        for i in 1..=4 {
+            p.increment(NormalLoad::Force(force * i as f64 / 4.0), [0.0, 0.0])
+                .unwrap();
+        }
+    };
+    ramp(&mut whole);
+    ramp(&mut windowed);
+    ramp(&mut small);
+    let misses = small.window_misses();
+    let q = 0.5 * LoopCase::default().friction * force;
+    let (_, d_whole) = whole
+        .increment_with_force(NormalLoad::Force(force), q, 0.04e-6)
+        .unwrap();
+    for (p, name) in [(&mut windowed, "window"), (&mut small, "fallback")] {
+        let (info, d) = p
+            .increment_with_force(NormalLoad::Force(force), q, 0.04e-6)
+            .unwrap();
+        assert!((info.tangential_force[0] / q - 1.0).abs() < 1e-5, "{name}");
+        assert!(
+            (d / d_whole - 1.0).abs() < 1e-5,
+            "{name}: shift {d} vs {d_whole}"
+        );
+        let diff = differences(whole.state(), p.state());
+        assert!(diff[0] <= 1e-6 && diff[2] <= 1e-5, "{name}: {diff:?}");
+        assert_eq!(p.state().shift, [d, 0.0]);
+    }
+    assert_eq!(windowed.window_misses(), 0);
+    assert_eq!(small.window_misses(), misses + 1);
 }

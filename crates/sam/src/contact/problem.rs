@@ -197,8 +197,12 @@ impl GridWindow {
             } else {
                 2 * reach.max(0.0) as usize + 1
             };
-            m.max(8).min(n)
+            // At least 8 cells, as many outside on either side (odd n: an odd count).
+            m.max(8 + n % 2).min(n)
         };
+        if grid.n1 < 8 || grid.n2 < 8 {
+            return Ok(None);
+        }
         let cells = [side(grid.n1, grid.half1), side(grid.n2, grid.half2)];
         if cells == [grid.n1, grid.n2] {
             return Ok(None);
@@ -336,6 +340,9 @@ pub struct ContactProblem<S: OperatorSet = FftOperators> {
     /// the solves it did not take.
     window: Option<Box<Windowed<S>>>,
     window_misses: usize,
+    /// Set while a force-controlled increment the window did not take runs on the whole grid
+    /// (its evaluations then skip the window).
+    whole_grid_only: bool,
 }
 
 impl ContactProblem {
@@ -461,6 +468,7 @@ impl<S: OperatorSet> ContactProblem<S> {
             compliance,
             window: None,
             window_misses: 0,
+            whole_grid_only: false,
         })
     }
 
@@ -655,18 +663,11 @@ impl<S: OperatorSet> ContactProblem<S> {
         true
     }
 
-    /// The whole grid's solve of an increment begun on the window (whose solve was not taken):
-    /// the friction history `w` from the committed state, as [`ContactProblem::begin`] makes it,
-    /// and the window's next solve a first one.
+    /// A solve of an increment begun on the window that runs on the whole grid (the window did
+    /// not take it): the window's next solve is a first one (its last `b` is not this solve's).
     fn on_whole_grid(&mut self) {
         if let Some(w) = &mut self.window {
             w.inner.solves = 0;
-        }
-        let n = self.state.tangential_displacement[0].len();
-        for a in 0..2 {
-            for k in 0..n {
-                self.w[a][k] = self.state.tangential_displacement[a][k] - self.state.shift[a];
-            }
         }
     }
 
@@ -885,7 +886,6 @@ impl<S: OperatorSet> ContactProblem<S> {
         self.solves = 0;
         if let Some(w) = &mut self.window {
             w.inner.begin();
-            return;
         }
         let n = self.state.tangential_displacement[0].len();
         for a in 0..2 {
@@ -952,7 +952,7 @@ impl<S: OperatorSet> ContactProblem<S> {
         shift: [f64; 2],
         slack: f64,
     ) -> Result<IncrementInfo, SamError> {
-        if self.enter_window() {
+        if !self.whole_grid_only && self.enter_window() {
             let w = self.window.as_mut().expect("a window");
             let solved = w.inner.solve_loosely(load, shift, slack);
             let outcome = solved.and_then(|info| self.finish_window_solve(false).map(|()| info));
@@ -1287,24 +1287,35 @@ impl<S: OperatorSet> ContactProblem<S> {
         force: f64,
         bracket: f64,
     ) -> Result<(IncrementInfo, f64), SamError> {
-        if self.enter_window() {
-            let w = self.window.as_mut().expect("a window");
-            let solved = w.inner.increment_with_force(load, force, bracket);
-            let outcome = solved.and_then(|done| self.finish_window_solve(true).map(|()| done));
-            match outcome {
-                Ok(done) => {
-                    self.sync_window_history();
-                    return Ok(done);
+        if !self.whole_grid_only && self.window.is_some() {
+            // On the window when it takes the increment; otherwise every evaluation on the whole
+            // grid, from the committed history and the increment's warm start.
+            if self.enter_window() {
+                let (warm_p, warm_q) = (self.state.pressure.clone(), self.state.shear.clone());
+                let w = self.window.as_mut().expect("a window");
+                let solved = w.inner.increment_with_force(load, force, bracket);
+                let outcome = solved.and_then(|done| self.finish_window_solve(true).map(|()| done));
+                match outcome {
+                    Ok(done) => {
+                        self.sync_window_history();
+                        return Ok(done);
+                    }
+                    // The history is not yet overwritten (the check comes first); the
+                    // window's own back to the whole grid's (its solve committed).
+                    Err(SamError::ContactOutsideWindow { .. } | SamError::ContactAtDomainEdge) => {
+                        self.window_misses += 1;
+                        self.sync_window_history();
+                        self.state.pressure = warm_p;
+                        self.state.shear = warm_q;
+                    }
+                    Err(e) => return Err(e),
                 }
-                // The whole grid from the committed history (not yet overwritten: the check
-                // comes first), below; the window's own history back to it (its solve
-                // committed).
-                Err(SamError::ContactOutsideWindow { .. } | SamError::ContactAtDomainEdge) => {
-                    self.window_misses += 1;
-                    self.sync_window_history();
-                }
-                Err(e) => return Err(e),
             }
+            self.on_whole_grid();
+            self.whole_grid_only = true;
+            let done = self.increment_with_force(load, force, bracket);
+            self.whole_grid_only = false;
+            return done;
         }
         let mu = self.params.friction;
         // Every evaluation solves the same increment from the same history and warm start.
