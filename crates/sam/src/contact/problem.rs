@@ -242,15 +242,22 @@ impl GridWindow {
 
     /// The window's values of a field on the grid of `n2` columns (empty stays empty).
     fn gather(&self, n2: usize, field: &[f64]) -> Vec<f64> {
+        let mut out = Vec::new();
+        self.gather_into(n2, field, &mut out);
+        out
+    }
+
+    /// [`GridWindow::gather`] into `out` (its allocation kept: the solves' copies allocate
+    /// nothing once sized).
+    fn gather_into(&self, n2: usize, field: &[f64], out: &mut Vec<f64>) {
+        out.clear();
         if field.is_empty() {
-            return Vec::new();
+            return;
         }
-        let mut out = Vec::with_capacity(self.cells[0] * self.cells[1]);
         for i in 0..self.cells[0] {
             let row = (self.first[0] + i) * n2 + self.first[1];
             out.extend_from_slice(&field[row..row + self.cells[1]]);
         }
-        out
     }
 
     /// Writes the window's values `window` into the field on the grid of `n2` columns (the cells
@@ -563,12 +570,10 @@ impl<S: OperatorSet> ContactProblem<S> {
             w.inner.trial_shift
         };
         // g = h₀ + u₃^eig − δ + K p + κ⟦P_B⟧ * q on the whole grid.
+        let coupled = self.shear_coupling()?;
+        let w = self.window.as_mut().expect("a window");
         self.normal.displacement(&self.state.pressure, &mut w.gap)?;
-        if let Some(op) = &mut self.shear_to_normal {
-            op.apply(
-                &[&self.state.shear[0], &self.state.shear[1]],
-                &mut [&mut self.u3],
-            )?;
+        if coupled {
             w.gap.iter_mut().zip(&self.u3).for_each(|(g, u)| *g += u);
         }
         let delta = self.state.approach;
@@ -592,18 +597,7 @@ impl<S: OperatorSet> ContactProblem<S> {
         if let Some(solver) = &mut self.tangential {
             let [t0, t1] = &mut self.tq;
             solver.displacement([&self.state.shear[0], &self.state.shear[1]], [t0, t1])?;
-            if let Some(op) = &mut self.pressure_to_tangential {
-                let [c0, c1] = &mut self.c;
-                op.apply(&[&self.state.pressure], &mut [c0, c1])?;
-            } else {
-                self.c[0].fill(0.0);
-                self.c[1].fill(0.0);
-            }
-            if let Some(eig) = &self.eigen {
-                for a in 0..2 {
-                    self.c[a].iter_mut().zip(&eig[a]).for_each(|(c, u)| *c += u);
-                }
-            }
+            self.tangential_known_part()?;
             for a in 0..2 {
                 for k in 0..self.trial_displacement[a].len() {
                     self.trial_displacement[a][k] = self.tq[a][k] + self.c[a][k];
@@ -648,11 +642,7 @@ impl<S: OperatorSet> ContactProblem<S> {
         let n2 = self.grid.n2;
         let w = self.window.as_mut().expect("a window");
         let (win, inner) = (w.window, &mut w.inner.state);
-        let copy = |field: &[f64], out: &mut Vec<f64>| {
-            if !field.is_empty() {
-                *out = win.gather(n2, field);
-            }
-        };
+        let copy = |field: &[f64], out: &mut Vec<f64>| win.gather_into(n2, field, out);
         copy(&self.state.pressure, &mut inner.pressure);
         for a in 0..2 {
             copy(&self.state.shear[a], &mut inner.shear[a]);
@@ -917,7 +907,8 @@ impl<S: OperatorSet> ContactProblem<S> {
             for a in 0..2 {
                 let field = &self.state.tangential_displacement[a];
                 if !field.is_empty() {
-                    w.inner.state.tangential_displacement[a] = w.window.gather(n2, field);
+                    w.window
+                        .gather_into(n2, field, &mut w.inner.state.tangential_displacement[a]);
                 }
             }
             w.inner.state.shift = self.state.shift;
@@ -975,6 +966,41 @@ impl<S: OperatorSet> ContactProblem<S> {
     }
 
     /// [`ContactProblem::solve_loosely`] on the calling thread.
+    /// `c = −κ⟦P_B⟧ * p + u_α^eig` of the current pressure into `self.c` (0 when neither term is
+    /// present): the known part of the tangential displacement (docs/theory-sam.md#incremental-friction-law).
+    fn tangential_known_part(&mut self) -> Result<(), SamError> {
+        if let Some(op) = &mut self.pressure_to_tangential {
+            let [c0, c1] = &mut self.c;
+            op.apply(&[&self.state.pressure], &mut [c0, c1])?;
+        }
+        if let Some(eig) = &self.eigen {
+            for a in 0..2 {
+                if self.pressure_to_tangential.is_none() {
+                    self.c[a].copy_from_slice(&eig[a]);
+                } else {
+                    self.c[a].iter_mut().zip(&eig[a]).for_each(|(c, u)| *c += u);
+                }
+            }
+        } else if self.pressure_to_tangential.is_none() {
+            self.c[0].fill(0.0);
+            self.c[1].fill(0.0);
+        }
+        Ok(())
+    }
+
+    /// `κ⟦P_B⟧ * q` of the current shear into `self.u3`; whether the coupling is present (else
+    /// `u3` is not written).
+    fn shear_coupling(&mut self) -> Result<bool, SamError> {
+        let Some(op) = &mut self.shear_to_normal else {
+            return Ok(false);
+        };
+        op.apply(
+            &[&self.state.shear[0], &self.state.shear[1]],
+            &mut [&mut self.u3],
+        )?;
+        Ok(true)
+    }
+
     fn solve_loosely_here(
         &mut self,
         load: NormalLoad,
@@ -1066,11 +1092,7 @@ impl<S: OperatorSet> ContactProblem<S> {
                 if let Some(eig) = &self.eigen {
                     self.h.iter_mut().zip(&eig[2]).for_each(|(h, u)| *h += u);
                 }
-                if let Some(op) = &mut self.shear_to_normal {
-                    op.apply(
-                        &[&self.state.shear[0], &self.state.shear[1]],
-                        &mut [&mut self.u3],
-                    )?;
+                if self.shear_coupling()? {
                     self.h.iter_mut().zip(&self.u3).for_each(|(h, u)| *h += u);
                 }
                 &self.h
@@ -1107,28 +1129,14 @@ impl<S: OperatorSet> ContactProblem<S> {
                 let dp = max_gap(&self.state.pressure, &self.p_prev);
                 first_change = if pmax > 0.0 { dp / pmax } else { f64::INFINITY };
             }
-            let Some(tangential) = self.tangential.as_mut() else {
+            if self.tangential.is_none() {
                 // μ = 0: no shear and no tangential fields (docs/theory-sam.md#normal-contact alone).
                 tangential_info = TangentialInfo::frictionless(normal_info.contact_cells);
                 break;
-            };
+            }
             // Tangential solve with p frozen: c = −κ⟦P_B⟧ * p + u_α^eig, b = w + D − c.
-            if let Some(op) = &mut self.pressure_to_tangential {
-                let [c0, c1] = &mut self.c;
-                op.apply(&[&self.state.pressure], &mut [c0, c1])?;
-            }
-            if let Some(eig) = &self.eigen {
-                for a in 0..2 {
-                    if self.pressure_to_tangential.is_none() {
-                        self.c[a].copy_from_slice(&eig[a]);
-                    } else {
-                        self.c[a].iter_mut().zip(&eig[a]).for_each(|(c, u)| *c += u);
-                    }
-                }
-            } else if self.pressure_to_tangential.is_none() {
-                self.c[0].fill(0.0);
-                self.c[1].fill(0.0);
-            }
+            self.tangential_known_part()?;
+            let tangential = self.tangential.as_mut().expect("μ > 0");
             // b and the bound; in a gauged re-solve's first alternation also the change of b
             // since the last alternation of the last solve (the change it meets).
             let measure_b = gauge_first && alternations == 1;
