@@ -1,7 +1,6 @@
 //! `halfspace fretting-loop`: the fretting loop of [LN11] (parse → `sam::drivers::fretting_loop` → write).
 
 use std::io::IsTerminal;
-use std::ops::ControlFlow;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -119,17 +118,29 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
     // The animation's frames: p and |q| over the window at every increment of the cycle, taken
     // from the solver's state after each increment (docs/composite.md#animation).
     let mut frames = (!args.no_animation).then(|| CycleFrames::new(&lp));
-    let outcome = lp.run(|l| {
-        if let Some(bar) = &bar {
-            bar.inc(1);
-        }
-        if let Some(f) = frames.as_mut() {
-            f.observe(l);
-        }
-        let done = l.rows().len();
-        let stop = args.stop_after.is_some_and(|m| done >= m) && done < total;
-        super::flow(checkpoints.after_step(stop, || snapshot_record(&l.snapshot(), (n, n))))
-    });
+    let mut run_loop = || {
+        let outcome = lp.run(|l| {
+            if let Some(bar) = &bar {
+                bar.inc(1);
+            }
+            if let Some(f) = frames.as_mut() {
+                f.observe(l);
+            }
+            let done = l.rows().len();
+            let stop = args.stop_after.is_some_and(|m| done >= m) && done < total;
+            super::flow(checkpoints.after_step(stop, || snapshot_record(&l.snapshot(), (n, n))))
+        });
+        (outcome, checkpoints.stopped)
+    };
+    // With inhomogeneities: the homogeneous loop of the same case, for the comparison ([LN11]
+    // Figs. 6–9 show both), run beside the nested loop (kept only when that one completes).
+    let ((outcome, stopped), reference) = if case.inhomogeneities.is_empty() {
+        (run_loop(), None)
+    } else {
+        FrettingLoop::run_beside(case.homogeneous(), run_loop, |(outcome, stopped)| {
+            outcome.is_ok() && !stopped
+        })
+    };
     if let Some(bar) = &bar {
         bar.finish_and_clear();
     }
@@ -139,22 +150,21 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
         let _ = write_record(&checkpoint, &snapshot_record(&lp.snapshot(), (n, n)));
         return Err(e.into());
     }
-    if checkpoints.stopped {
+    if stopped {
         return Ok(());
     }
     let metrics = lp.metrics()?;
-    // With inhomogeneities: the homogeneous loop of the same case, for the comparison ([LN11]
-    // Figs. 6–9 show both); cheap beside the nested loop.
-    let reference_start = Instant::now();
-    let reference = if case.inhomogeneities.is_empty() {
-        None
-    } else {
-        let mut r = FrettingLoop::new(case.homogeneous())?;
-        r.run(|_| ControlFlow::Continue(()))?;
-        let m = r.metrics()?;
-        Some((r, m))
+    let reference = match reference.transpose()? {
+        Some(r) => {
+            let m = r.metrics()?;
+            Some((r, m))
+        }
+        None => None,
     };
-    let reference_seconds = reference_start.elapsed().as_secs_f64();
+    // The reference's own increments (run beside the nested loop, they overlap its time).
+    let reference_seconds = reference
+        .as_ref()
+        .map_or(0.0, |(r, _)| r.seconds().increments);
     let fatigue = match &cfg.fatigue_config() {
         Some(f) => Some(evaluate_loop_fatigue(&lp, f)?),
         None => None,

@@ -9,8 +9,10 @@
 //! reference over every increment (in `p₀`) and a hash of the final state's bits (equal hashes
 //! from two binaries: bit for bit the same loop).
 //!
-//! Run: `cargo run --release -p halfspace-sam --example composite_outer -- N [increments] [m,η[,g][,t<tol>][,r<depth>][,plain|,gauged] ...]`
+//! Run: `cargo run --release -p halfspace-sam --example composite_outer -- N [increments] [m,η[,g][,t<tol>][,r<depth>][,plain|,gauged][,v|,c<s>] ...]`
 //! (`increments` 0: the whole loop; `g`: GMRES; `t<tol>`: the outer tolerance, default 1e-6;
+//! `v`: the verified stopping rule, `c<s>`: the contraction rule with safety `s`
+//! (`OuterStopping`; default the library's, the contraction rule with safety 1);
 //! `plain`, `gauged`: the contact solves' alternation scheme, `LoopCase::alternation`, default the
 //! library's — the reference variant always runs the plain one;
 //! `r<depth>`: block Jacobi with Anderson mixing recycled across an increment's passes,
@@ -27,7 +29,9 @@
 //! increment: per outer pass (`solve`) and alternation the changes `max|Δp|/max p` and
 //! `max|Δq|/(μ max p)` ([`halfspace_sam::contact::ContactProblem::alternation_trace`]).
 
-use halfspace_sam::contact::{Alternation, NestedParams, REFERENCE_EIM_CHANGE_FACTOR};
+use halfspace_sam::contact::{
+    Alternation, NestedParams, OuterStopping, REFERENCE_EIM_CHANGE_FACTOR,
+};
 use halfspace_sam::drivers::fretting_loop::{FrettingLoop, LoopCase};
 use halfspace_sam::eim::{EimMethod, EimParams, FibreLayout};
 
@@ -99,7 +103,7 @@ fn main() {
     case.grid = n;
     let p0 = case.hertz_pressure();
     let mut variants: Vec<(String, FrettingLoop)> = vec![(
-        "reference (per-increment Anderson, depth 3, EIM factor 1e-3)".into(),
+        "reference (per-increment Anderson, depth 3, EIM factor 1e-3, verified stopping)".into(),
         FrettingLoop::with_params(
             LoopCase {
                 alternation: Some(Alternation::Plain),
@@ -108,12 +112,23 @@ fn main() {
             NestedParams {
                 eim_change_factor: REFERENCE_EIM_CHANGE_FACTOR,
                 eim: EimParams::default(),
+                stopping: OuterStopping::Verified,
                 ..NestedParams::default()
             },
         )
         .unwrap(),
     )];
-    for &(m, eta, gmres, tolerance, recycled, alternation) in &specs {
+    for (&(m, eta, gmres, tolerance, recycled, alternation), spec) in specs
+        .iter()
+        .zip(args.iter().skip(2).chain(std::iter::repeat(&String::new())))
+    {
+        // `c<safety>`: the contraction stopping rule with that safety; `v`: the verified rule;
+        // neither: the library's default (`NestedParams::default().stopping`).
+        let stop: Option<f64> = spec
+            .split(',')
+            .skip(2)
+            .find_map(|x| x.strip_prefix('c'))
+            .map(|t| t.parse().unwrap());
         let base = NestedParams::default();
         let params = NestedParams {
             eim: EimParams {
@@ -128,12 +143,18 @@ fn main() {
             anderson_depth: m,
             eim_change_factor: eta,
             tolerance,
+            stopping: match stop {
+                Some(safety) => OuterStopping::Contraction { safety },
+                None if spec.split(',').any(|x| x == "v") => OuterStopping::Verified,
+                None => base.stopping,
+            },
             ..base
         };
         variants.push((
             format!(
-                "depth {m}, EIM factor {eta:e}, GMRES {gmres}, outer tolerance {tolerance:e}, EIM recycled depth {recycled}, alternation {:?}",
-                alternation.unwrap_or(case.alternation_scheme())
+                "depth {m}, EIM factor {eta:e}, GMRES {gmres}, outer tolerance {tolerance:e}, EIM recycled depth {recycled}, alternation {:?}, stopping {:?}",
+                alternation.unwrap_or(case.alternation_scheme()),
+                params.stopping
             ),
             FrettingLoop::with_params(
                 LoopCase {

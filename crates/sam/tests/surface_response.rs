@@ -364,7 +364,11 @@ fn a_checkpoint_records_the_eim_change_factor_used() {
         let mut whole = FrettingLoop::new(case.clone()).unwrap();
         whole.step().unwrap().unwrap();
         let snap = whole.snapshot();
-        let window = case.window_fingerprint().unwrap();
+        let window = format!(
+            "{}{}",
+            case.window_fingerprint().unwrap(),
+            case.stopping_fingerprint(NestedParams::default())
+        );
         assert_eq!(snap.fingerprint, format!("{used:?}{window}"));
         assert!(snap.fingerprint.contains("eim_change_factor: Some(0.003)"));
         let mut resumed = FrettingLoop::resume(case.clone(), snap.clone()).unwrap();
@@ -380,9 +384,14 @@ fn a_checkpoint_records_the_eim_change_factor_used() {
     // loop: accepted with the same keys, refused naming them under the defaults.
     // (Those checkpoints lack the alternation scheme too: the plain alternation, the default
     // then and now.) Since stop 46 every checkpoint of a build before the contact window is
-    // refused before these rules (tests/contact_window.rs), so the old forms are written here
-    // with the window's field, as checks of the rules themselves.
-    let window = case.window_fingerprint().unwrap();
+    // refused before these rules (tests/contact_window.rs), and since stop 47 every one without
+    // the outer loop's stopping rule (tests/outer_stopping.rs), so the old forms are written here
+    // with both fields, as checks of the rules themselves.
+    let window = format!(
+        "{}{}",
+        case.window_fingerprint().unwrap(),
+        case.stopping_fingerprint(NestedParams::default())
+    );
     let without_depth = |s: String| {
         s.replacen(", eim_recycled_depth: None", "", 1)
             .replacen(", alternation: None", "", 1)

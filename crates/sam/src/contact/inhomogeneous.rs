@@ -57,7 +57,38 @@ pub struct NestedParams {
     /// \[LN11\] Fig. 2 (the reference), or the surface-response operator built once
     /// (docs/theory-sam.md#surface-response-operator).
     pub body: BodyResponse,
+    /// When an increment's outer loop stops (docs/theory-sam.md#the-contraction-stopping-rule):
+    /// by default [`OuterStopping::Contraction`] with safety 1.
+    pub stopping: OuterStopping,
 }
+
+/// The outer loop's stopping rule (docs/theory-sam.md#the-contraction-stopping-rule).
+///
+/// Pass `k` solves the contact with the eigen-displacements `u_{k−1}`, then the EIM, and measures
+/// the change `c_k = max|G(u_{k−1}) − u_{k−1}| / max|G(u_{k−1})|`; the state an increment returns
+/// is a contact solve whose `u` the next EIM solve would change by less than the tolerance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum OuterStopping {
+    /// Stop after the pass whose measured change `c_k` is below the tolerance (its contact solve
+    /// at the full tolerance): that pass's EIM solve verified the state returned, its contact
+    /// solve (\[LN11\] Fig. 2's loop; the reference).
+    Verified,
+    /// Also stop when the change the next pass would measure, predicted from the slower of the
+    /// last two contractions `ρ = max(c_k / c_{k−1}, c_{k−1} / c_{k−2})` (from the third pass,
+    /// `ρ ≤` [`CONTRACTION_MAX_RATE`]) as `ρ c_k`, is below `tolerance / safety`: the next pass's
+    /// contact solve (at the full tolerance) is returned without the EIM solve, the surface
+    /// fields and the traction strains that would only have verified it
+    /// ([`NestedInfo::predicted_stop`]). The state is bit for bit the contact solve that
+    /// [`OuterStopping::Verified`]'s next pass makes when that pass runs at the full tolerance.
+    Contraction {
+        /// Safety factor `s ≥ 1` on the predicted change.
+        safety: f64,
+    },
+}
+
+/// The largest contraction of the outer loop [`OuterStopping::Contraction`] trusts: slower
+/// passes (the normal loading's first ones) are verified.
+pub const CONTRACTION_MAX_RATE: f64 = 0.5;
 
 /// How [`InhomogeneousContact`] obtains the surface eigen-displacements of the tractions.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -133,6 +164,7 @@ impl Default for NestedParams {
             cycle_predictor: true,
             eim_change_factor: DEFAULT_EIM_CHANGE_FACTOR,
             body: BodyResponse::Nested,
+            stopping: OuterStopping::Contraction { safety: 1.0 },
         }
     }
 }
@@ -177,6 +209,15 @@ impl NestedParams {
                 });
             }
         }
+        if let OuterStopping::Contraction { safety } = self.stopping {
+            if !(safety.is_finite() && safety >= 1.0) {
+                return Err(SamError::InvalidParameter {
+                    name: "contraction stopping rule's safety factor",
+                    value: safety,
+                    allowed: "finite and ≥ 1",
+                });
+            }
+        }
         if self.max_outer == 0 {
             return Err(SamError::InvalidParameter {
                 name: "outer iteration limit",
@@ -199,8 +240,12 @@ pub struct NestedInfo {
     pub eim_iterations: usize,
     /// The last EIM solve.
     pub last_eim: EimInfo,
-    /// Final relative change of the eigen-displacements.
+    /// Final relative change of the eigen-displacements: measured by the last EIM solve, or
+    /// predicted (`ρ c_k`) when [`NestedInfo::predicted_stop`].
     pub change: f64,
+    /// Whether the increment stopped by [`OuterStopping::Contraction`]'s prediction (its last
+    /// contact solve not followed by an EIM solve).
+    pub predicted_stop: bool,
     /// `min u₃^eig` (m; negative: the surface rises above a stiff inhomogeneity under load).
     pub min_eigen_displacement: f64,
     /// Contact solves summed over the outer iterations: Panagiotopoulos alternations, normal
@@ -494,6 +539,10 @@ impl InhomogeneousContact {
         // passes are cheap and the last ones are converged well below the outer tolerance
         // (docs/theory-sam.md#outer-loop-tolerances).
         let mut last_change: f64 = 1.0;
+        let mut final_pass = false;
+        let mut predicted_change = f64::NAN;
+        let mut rates = [f64::INFINITY; 2];
+        let mut previous_eim: Option<EimInfo> = None;
         for outer in 1..=self.params.max_outer {
             self.problem.set_eigen_displacements(Some([
                 &self.u_eig[0],
@@ -507,6 +556,7 @@ impl InhomogeneousContact {
             } else {
                 1.0
             };
+            let slack = if final_pass { 1.0 } else { slack };
             let contact = self.problem.solve_loosely(load, shift, slack)?;
             seconds.contact += t.elapsed().as_secs_f64();
             work.solves += 1;
@@ -515,6 +565,23 @@ impl InhomogeneousContact {
             work.tangential_iterations += contact.tangential.iterations;
             work.normal_iterations_total += contact.normal_iterations_total;
             work.tangential_iterations_total += contact.tangential_iterations_total;
+            if final_pass {
+                if let Some(last_eim) = previous_eim {
+                    // The contraction rule's last pass: the contact solve with the mixed u^eig,
+                    // whose EIM verification is predicted to pass.
+                    return Ok(NestedInfo {
+                        contact,
+                        outer_iterations: outer,
+                        eim_iterations,
+                        last_eim,
+                        change: predicted_change,
+                        predicted_stop: true,
+                        min_eigen_displacement: self.u_eig[2].iter().cloned().fold(0.0, f64::min),
+                        contact_work: work,
+                        seconds,
+                    });
+                }
+            }
             let last_eim = match &self.response {
                 Some(response) => {
                     let t = clock();
@@ -589,7 +656,25 @@ impl InhomogeneousContact {
                     }
                 }
             }
+            let previous_change = last_change;
             last_change = change;
+            previous_eim = Some(last_eim);
+            // The contraction rule: the slower of the last two contractions predicts the next
+            // pass's change (`rates[0]` this pass's, `rates[1]` the one before).
+            rates = [change / previous_change, rates[0]];
+            if let OuterStopping::Contraction { safety } = self.params.stopping {
+                let rate = rates[0].max(rates[1]);
+                if outer >= 3
+                    && rate <= CONTRACTION_MAX_RATE
+                    && change >= self.params.tolerance
+                    && rate * change * safety < self.params.tolerance
+                    && outer < self.params.max_outer
+                {
+                    final_pass = true;
+                    predicted_change = rate * change;
+                    continue;
+                }
+            }
             if change < self.params.tolerance && slack == 1.0 {
                 // The state is the contact solve with the previous u_eig, which agrees with the
                 // new one to `tol`.
@@ -599,6 +684,7 @@ impl InhomogeneousContact {
                     eim_iterations,
                     last_eim,
                     change,
+                    predicted_stop: false,
                     min_eigen_displacement: self.u_eig[2].iter().cloned().fold(0.0, f64::min),
                     contact_work: work,
                     seconds,

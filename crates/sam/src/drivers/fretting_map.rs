@@ -273,9 +273,10 @@ impl FrettingMap {
     pub fn point_fingerprint(&self, i: usize, j: usize) -> Result<String, SamError> {
         let case = self.point_case(i, j)?;
         Ok(format!(
-            "{:?}{}",
+            "{:?}{}{}",
             case.as_run(NestedParams::default()),
-            case.window_fingerprint()?
+            case.window_fingerprint()?,
+            case.stopping_fingerprint(NestedParams::default())
         ))
     }
 
@@ -293,7 +294,11 @@ impl FrettingMap {
         suffix: &str,
     ) -> Result<bool, SamError> {
         let case = self.point_case(i, j)?;
-        let window = case.window_fingerprint()?;
+        let window = format!(
+            "{}{}",
+            case.window_fingerprint()?,
+            case.stopping_fingerprint(NestedParams::default())
+        );
         let current = format!("{:?}{window}{suffix}", case.as_run(NestedParams::default()));
         let given = format!("{case:?}{window}{suffix}");
         Ok(case

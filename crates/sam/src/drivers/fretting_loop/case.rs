@@ -197,6 +197,10 @@ pub const CONTACT_WINDOW_OVER_A: f64 = 1.3;
 /// are refused.
 pub const CONTACT_WINDOW_FIELD: &str = "; contact window ";
 
+/// What a checkpoint fingerprint of a loop with inhomogeneities ends with, before the outer
+/// loop's stopping rule ([`crate::contact::OuterStopping`], [`LoopCase::stopping_fingerprint`]).
+pub const OUTER_STOPPING_FIELD: &str = "; outer stopping ";
+
 /// How a fingerprint (`{:?}` of [`LoopCase`]) spells the alternation scheme's field: absent
 /// from checkpoints written before it was recorded ([`LoopCase::check_fingerprint`]).
 const ALTERNATION_FIELD: &str = ", alternation: ";
@@ -334,6 +338,17 @@ impl LoopCase {
             "{CONTACT_WINDOW_FIELD}{:?}",
             self.contact_window()?.map(|w| w.cells)
         ))
+    }
+
+    /// What the loop's checkpoint fingerprint appends for the outer loop's stopping rule of
+    /// `nested` ([`OUTER_STOPPING_FIELD`] and the rule): nothing without inhomogeneities (no
+    /// outer loop).
+    pub fn stopping_fingerprint(&self, nested: NestedParams) -> String {
+        if self.inhomogeneities.is_empty() {
+            String::new()
+        } else {
+            format!("{OUTER_STOPPING_FIELD}{:?}", nested.stopping)
+        }
     }
 
     /// The case as it runs with the outer-loop parameters `nested`: the alternation scheme the

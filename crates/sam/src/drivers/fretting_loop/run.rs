@@ -3,7 +3,7 @@
 use std::ops::ControlFlow;
 use std::time::Instant;
 
-use super::case::{LoadPath, LoopCase, CONTACT_WINDOW_FIELD, POINT_LABELS};
+use super::case::{LoadPath, LoopCase, CONTACT_WINDOW_FIELD, OUTER_STOPPING_FIELD, POINT_LABELS};
 use super::history::{CycleSources, CycleStress};
 use super::metrics::LoopMetrics;
 use super::row::LoopRow;
@@ -167,7 +167,17 @@ impl FrettingLoop {
                     .into(),
             ));
         }
-        let given = format!("{:?}{}", lp.case, lp.case.window_fingerprint()?);
+        let stopping = lp.case.stopping_fingerprint(lp.nested);
+        if !stopping.is_empty() && !snapshot.fingerprint.contains(OUTER_STOPPING_FIELD) {
+            return Err(SamError::InvalidInput(
+                "the checkpoint was written by a build whose outer contact ↔ EIM loop verified \
+                 every increment's last pass (before the contraction stopping rule, \
+                 docs/theory-sam.md#the-contraction-stopping-rule): its increments would not be \
+                 repeated bit for bit; start the loop over"
+                    .into(),
+            ));
+        }
+        let given = format!("{:?}{}{stopping}", lp.case, lp.case.window_fingerprint()?);
         lp.case
             .check_fingerprint(lp.nested, &snapshot.fingerprint, &lp.fingerprint(), &given)?;
         lp.check_snapshot(&snapshot)?;
@@ -431,7 +441,8 @@ impl FrettingLoop {
     pub fn fingerprint(&self) -> String {
         // The case was validated when the loop was planned: its window is known.
         let window = self.case.window_fingerprint().unwrap_or_default();
-        format!("{:?}{window}", self.case.as_run(self.nested))
+        let stopping = self.case.stopping_fingerprint(self.nested);
+        format!("{:?}{window}{stopping}", self.case.as_run(self.nested))
     }
 
     /// The case.
@@ -676,6 +687,59 @@ impl FrettingLoop {
             self.seconds.cycle_stress += t.elapsed().as_secs_f64();
         }
         Ok(self.rows.last())
+    }
+
+    /// The loop of `case` run to its end on a thread of its own while `main` runs on the calling
+    /// thread; returns `main`'s result and, when `keep` accepts it, the finished loop (`None`
+    /// when `keep` refuses: the loop is stopped at its next increment and dropped).
+    ///
+    /// For the homogeneous reference of a loop with inhomogeneities ([`LoopCase::homogeneous`]):
+    /// the nested loop's contact solves run on one thread and leave the second core to poll, so
+    /// the reference's increments fit beside them (docs/performance.md, "The reference loop
+    /// beside the composite loop"). The loop runs in a rayon pool of one thread of its own, so
+    /// its solves never queue behind the global pool's jobs; its results are bit for bit those
+    /// of [`FrettingLoop::run`] on any pool (every sum of the solvers keeps its order). Without
+    /// a second thread (the global pool has one) it runs after `main`.
+    pub fn run_beside<T>(
+        case: LoopCase,
+        main: impl FnOnce() -> T,
+        keep: impl FnOnce(&T) -> bool,
+    ) -> (T, Option<Result<FrettingLoop, SamError>>) {
+        let run_to_end = |cancel: &std::sync::atomic::AtomicBool| {
+            let mut lp = FrettingLoop::new(case.clone())?;
+            let done = lp.run(|_| {
+                if cancel.load(std::sync::atomic::Ordering::Relaxed) {
+                    ControlFlow::Break(())
+                } else {
+                    ControlFlow::Continue(())
+                }
+            })?;
+            Ok(done.then_some(lp))
+        };
+        let cancel = std::sync::atomic::AtomicBool::new(false);
+        let pool = (rayon::current_num_threads() > 1)
+            .then(|| rayon::ThreadPoolBuilder::new().num_threads(1).build().ok())
+            .flatten();
+        let Some(pool) = pool else {
+            let out = main();
+            let reference = keep(&out)
+                .then(|| run_to_end(&cancel))
+                .map(Result::transpose);
+            return (out, reference.flatten());
+        };
+        std::thread::scope(|scope| {
+            let handle = scope.spawn(|| pool.install(|| run_to_end(&cancel)));
+            let out = main();
+            let wanted = keep(&out);
+            if !wanted {
+                cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+            }
+            let reference = match handle.join() {
+                Ok(r) => r.transpose(),
+                Err(panic) => std::panic::resume_unwind(panic),
+            };
+            (out, if wanted { reference } else { None })
+        })
     }
 
     /// Runs to the end, calling `observer` after every increment; the observer stops the loop

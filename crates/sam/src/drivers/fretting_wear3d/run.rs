@@ -287,7 +287,11 @@ impl FrettingWear3d {
     /// next wear step repeats the uninterrupted run's bit for bit.
     pub fn resume(case: WearCase, snapshot: WearSnapshot) -> Result<Self, SamError> {
         let mut run = Self::new(case)?;
-        let given = format!("{:?}", run.case);
+        let given = format!(
+            "{:?}{}",
+            run.case,
+            run.case.fretting.stopping_fingerprint(run.nested)
+        );
         run.case.fretting.check_fingerprint(
             run.nested,
             &snapshot.fingerprint,
@@ -440,7 +444,8 @@ impl FrettingWear3d {
             fretting: self.case.fretting.as_run(self.nested),
             ..self.case.clone()
         };
-        format!("{case:?}")
+        let stopping = self.case.fretting.stopping_fingerprint(self.nested);
+        format!("{case:?}{stopping}")
     }
 
     /// The case.
