@@ -4,7 +4,9 @@
 use std::path::Path;
 
 use crate::data::{AttrValue, DataError, Record};
-use crate::sam::contact::{ContactProblem, ContactSolver, ContactState, NestedWarmStart};
+use crate::sam::contact::{
+    ContactProblem, ContactSolver, ContactState, EimIterate, NestedWarmStart,
+};
 use crate::sam::drivers::fretting_loop::CycleSources;
 use crate::sam::drivers::fretting_loop::{
     FrettingLoop, LoopCase, LoopMetrics, LoopRow, LoopSnapshot, PointFields, POINT_LABELS,
@@ -104,7 +106,8 @@ pub fn case_parameters(case: &LoopCase) -> serde_json::Value {
 fn warm_start_record(rec: Record, w: &NestedWarmStart) -> Record {
     let u = &w.eigen_displacement;
     let (eps_prev, u_prev) = &w.previous;
-    rec.array("eigenstrain", w.eigenstrain.clone())
+    let mut rec = rec
+        .array("eigenstrain", w.eigenstrain.clone())
         .array("eigen_displacement_1", u[0].clone())
         .array("eigen_displacement_2", u[1].clone())
         .array("eigen_displacement_3", u[2].clone())
@@ -112,7 +115,16 @@ fn warm_start_record(rec: Record, w: &NestedWarmStart) -> Record {
         .array("eigen_displacement_previous_1", u_prev[0].clone())
         .array("eigen_displacement_previous_2", u_prev[1].clone())
         .array("eigen_displacement_previous_3", u_prev[2].clone())
-        .attr("committed", AttrValue::Int(w.committed as i64))
+        .attr("committed", AttrValue::Int(w.committed as i64));
+    // The last EIM iterates and their images (`NestedWarmStart::iterates`), where kept.
+    for (it, suffix) in w.iterates.iter().zip(["", "_previous"]) {
+        if let Some(it) = it {
+            rec = rec
+                .array(&format!("eim_iterate{suffix}"), it.iterate.clone())
+                .array(&format!("eim_iterate_image{suffix}"), it.image.clone());
+        }
+    }
+    rec
 }
 
 /// The contact state of a loop or wear snapshot as arrays of `rec` (`state_*`); read back by
@@ -153,9 +165,21 @@ fn contact_state_from_record<E>(
 fn warm_start_from_record<E>(
     eigenstrain: Vec<f64>,
     array: impl Fn(&str) -> Result<Vec<f64>, E>,
+    optional: impl Fn(&str) -> Option<Vec<f64>>,
     committed: impl FnOnce() -> Result<usize, E>,
 ) -> Result<NestedWarmStart, E> {
+    let iterate = |suffix: &str| -> Result<Option<EimIterate>, E> {
+        match optional(&format!("eim_iterate{suffix}")) {
+            None => Ok(None),
+            Some(iterate) => Ok(Some(EimIterate {
+                iterate,
+                image: array(&format!("eim_iterate_image{suffix}"))?,
+            })),
+        }
+    };
+    let iterates = [iterate("")?, iterate("_previous")?];
     Ok(NestedWarmStart {
+        iterates,
         eigenstrain,
         eigen_displacement: [
             array("eigen_displacement_1")?,
@@ -294,9 +318,12 @@ pub fn snapshot_from_record(rec: &Record, path: &Path) -> Result<LoopSnapshot, D
     }
     let state = contact_state_from_record(array, &scalars)?;
     let eigen = match rec.get("eigenstrain") {
-        Some(eps) => Some(warm_start_from_record(eps.to_vec(), array, || {
-            int("committed")
-        })?),
+        Some(eps) => Some(warm_start_from_record(
+            eps.to_vec(),
+            array,
+            |name| rec.get(name).map(<[f64]>::to_vec),
+            || int("committed"),
+        )?),
         None => None,
     };
     let max_transverse_slip = rec.float_attr("max_transverse_slip").ok_or_else(|| {
@@ -937,6 +964,7 @@ pub fn wear3d_snapshot_from_record(rec: &Record) -> Result<WearSnapshot, String>
         Some(_) => Some(warm_start_from_record(
             array("eigenstrain")?,
             array,
+            |name| rec.get(name).map(<[f64]>::to_vec),
             || match rec.get_attr("committed") {
                 Some(AttrValue::Int(v)) if *v >= 0 => Ok(*v as usize),
                 other => Err(format!("attribute committed is {other:?}")),

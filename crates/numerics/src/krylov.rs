@@ -808,6 +808,48 @@ impl RichardsonRecycle {
         self.mixing.reset();
         self.valid = false;
     }
+
+    /// The last solve's last iterate `x_J` (into `iterate`) and its image `A x_J = b_J − r_J`
+    /// (into `image`, as kept: `r_J` is the residual the iteration used), when a solve left them
+    /// ([`richardson_mixed`] keeps them at convergence; [`RichardsonRecycle::forget`] drops them).
+    /// Returns whether they were written.
+    /// Errors: a vector not of the recycled length.
+    pub fn last_iterate_image(
+        &self,
+        iterate: &mut [f64],
+        image: &mut [f64],
+    ) -> Result<bool, NumericsError> {
+        let n = self.start.len();
+        crate::linop::check_lengths(n, iterate, image)?;
+        if !self.valid {
+            return Ok(false);
+        }
+        iterate.copy_from_slice(&self.start);
+        for ((v, b), r) in image.iter_mut().zip(&self.rhs).zip(&self.residual) {
+            *v = b - r;
+        }
+        Ok(true)
+    }
+
+    /// Declares `image = A x` for a next solve warm-started from `x` bit for bit: that solve's
+    /// first residual is `b − image`, without an application of `A` (the recycled differences are
+    /// kept). With `image` a linear combination of kept images (`A(2x_n − x_{n−1}) = 2A x_n −
+    /// A x_{n−1}`) this is exact up to the rounding of the combination.
+    /// Errors: a vector not of the recycled length.
+    pub fn set_known_start(&mut self, x: &[f64], image: &[f64]) -> Result<(), NumericsError> {
+        let n = self.start.len();
+        crate::linop::check_lengths(n, x, image)?;
+        // The known-residual path computes `r = residual + (b − rhs)`: with `rhs = 0` and
+        // `residual = −image` that is `b − image` exactly.
+        self.start.copy_from_slice(x);
+        self.result.copy_from_slice(x);
+        self.rhs.fill(0.0);
+        for (r, v) in self.residual.iter_mut().zip(image) {
+            *r = -v;
+        }
+        self.valid = true;
+        Ok(())
+    }
 }
 
 /// [`richardson`] recycling what earlier solves with the same `A` and `M` learned, when `recycle`
@@ -1658,6 +1700,75 @@ mod tests {
         // fresh history, 64 with the first solve's.
         assert!(2 * k_mixed1 < k_plain1, "{k_mixed1} against {k_plain1}");
         assert!(k_recycled < k_fresh, "{k_recycled} against {k_fresh}");
+    }
+
+    /// A start declared with its image ([`RichardsonRecycle::set_known_start`]) is the solve
+    /// that applies `A` to it, bit for bit, with one application fewer; the kept last iterate's
+    /// image ([`RichardsonRecycle::last_iterate_image`]) is `A x_J` to the rounding of the kept
+    /// residual; with the history forgotten none is kept.
+    #[test]
+    fn a_start_with_its_image_saves_the_first_application_bit_for_bit() {
+        let n = 37;
+        let mut a = Tridiagonal::new(n, 11);
+        let mut pre = Jacobi(a.diagonal.clone());
+        let params = KrylovParams {
+            tolerance: 1e-10,
+            max_iterations: 500,
+            restart: 1,
+        };
+        let b: Vec<f64> = (0..n).map(|i| 1.0 + (0.7 * i as f64).sin()).collect();
+        let x0: Vec<f64> = (0..n).map(|i| 0.1 * (0.3 * i as f64).cos()).collect();
+        // A first solve makes a history; both runs below start from it.
+        let mut made = RichardsonRecycle::new(n, 4);
+        let mut x = vec![0.0; n];
+        richardson_mixed(&mut a, &mut pre, &b, &mut x, &params, Some(&mut made)).unwrap();
+        let (mut iterate, mut image) = (vec![0.0; n], vec![0.0; n]);
+        assert!(made.last_iterate_image(&mut iterate, &mut image).unwrap());
+        let mut direct = vec![0.0; n];
+        a.apply(&iterate, &mut direct).unwrap();
+        let scale = direct.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (p, q) in image.iter().zip(&direct) {
+            assert!((p - q).abs() <= 1e-13 * scale, "{p} {q}");
+        }
+        let b2: Vec<f64> = b.iter().map(|v| 0.9 * v + 0.01).collect();
+        let mut applied = made.clone();
+        applied.forget();
+        let mut declared = applied.clone();
+        assert!(!declared
+            .last_iterate_image(&mut iterate, &mut image)
+            .unwrap());
+        let mut x_applied = x0.clone();
+        let k_applied = richardson_mixed(
+            &mut a,
+            &mut pre,
+            &b2,
+            &mut x_applied,
+            &params,
+            Some(&mut applied),
+        )
+        .unwrap()
+        .iterations;
+        let mut ax0 = vec![0.0; n];
+        a.apply(&x0, &mut ax0).unwrap();
+        declared.set_known_start(&x0, &ax0).unwrap();
+        let mut x_declared = x0.clone();
+        let k_declared = richardson_mixed(
+            &mut a,
+            &mut pre,
+            &b2,
+            &mut x_declared,
+            &params,
+            Some(&mut declared),
+        )
+        .unwrap()
+        .iterations;
+        assert_eq!(k_declared + 1, k_applied);
+        assert!(x_declared
+            .iter()
+            .zip(&x_applied)
+            .all(|(p, q)| p.to_bits() == q.to_bits()));
+        // Wrong lengths are refused.
+        assert!(declared.set_known_start(&x0[1..], &ax0).is_err());
     }
 
     /// A system that is the identity beyond its first `d` unknowns, with `b` and the warm start

@@ -119,6 +119,21 @@ pub struct NestedWarmStart {
     pub previous: (Vec<f64>, [Vec<f64>; 3]),
     /// Increments committed.
     pub committed: usize,
+    /// The last EIM iterate and its image of the last increment and of the one before
+    /// ([`EimIterate`]; `None` where none was kept: the predictor then extrapolates the
+    /// eigenstrains and applies the operator once).
+    pub iterates: [Option<EimIterate>; 2],
+}
+
+/// An iterate `x` of an increment's last EIM solve and its image `A x` under the EIM operator
+/// (docs/theory-sam.md#the-predictors-image): the secant predictor extrapolates these pairs, so
+/// the next increment's first EIM residual costs no application.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EimIterate {
+    /// The iterate `x_J` (6 per inclusion cell).
+    pub iterate: Vec<f64>,
+    /// Its image `A x_J` (as the iteration kept it, `b_J − r_J`).
+    pub image: Vec<f64>,
 }
 
 /// The loosest alternation tolerance of an early outer pass's contact solve.
@@ -307,6 +322,12 @@ pub struct InhomogeneousContact {
     eps_prev: Vec<f64>,
     u_prev: [Vec<f64>; 3],
     committed: usize,
+    /// The last EIM iterate and its image of the last two increments (now, before), the
+    /// predicted start's image for the increment under way, and whether the start was given
+    /// ([`InhomogeneousContact::set_prediction`]: not extrapolated).
+    iterates: [Option<EimIterate>; 2],
+    predicted_image: Option<Vec<f64>>,
+    prediction_given: bool,
     /// The surface-response operator ([`BodyResponse::SurfaceOperator`]).
     response: Option<SurfaceResponse>,
     /// Whether `eps_star` is the EIM solution of the current tractions (always on the nested
@@ -381,6 +402,9 @@ impl InhomogeneousContact {
             eps_prev: vec![0.0; 6 * cells],
             u_prev: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
             committed: 0,
+            iterates: [None, None],
+            predicted_image: None,
+            prediction_given: false,
         })
     }
 
@@ -392,20 +416,50 @@ impl InhomogeneousContact {
         let info = self.solve(load, shift)?;
         self.problem.commit();
         self.committed += 1;
+        self.keep_iterate()?;
         Ok(info)
     }
 
+    /// After an increment: its last EIM iterate and image become the predictor's newest pair
+    /// (`None` on the operator path or when the solve kept none).
+    fn keep_iterate(&mut self) -> Result<(), SamError> {
+        let previous = self.iterates[1].take();
+        self.iterates[1] = self.iterates[0].take();
+        if self.response.is_some() || !self.params.predictor {
+            return Ok(());
+        }
+        // Reuse the oldest pair's vectors.
+        let mut pair = previous.unwrap_or_else(|| EimIterate {
+            iterate: vec![0.0; self.eps_star.len()],
+            image: vec![0.0; self.eps_star.len()],
+        });
+        if self
+            .system
+            .last_iterate_image(&mut pair.iterate, &mut pair.image)?
+        {
+            self.iterates[0] = Some(pair);
+        }
+        Ok(())
+    }
+
     /// The predictor of [`NestedParams::predictor`]: `x ← 2x − x_prev`, `x_prev ← x` (only the
-    /// latter before two increments are committed).
+    /// latter before two increments are committed). With the last two increments' last EIM
+    /// iterates kept ([`EimIterate`]), the eigenstrains start from `2 x_J − x_J'` instead and its
+    /// image `2 A x_J − A x_J'` is declared to the EIM iteration, whose first residual then costs
+    /// no application (docs/theory-sam.md#the-predictors-image).
     fn predict(&mut self) {
+        let image = self.predicted_image.take();
+        let given = std::mem::take(&mut self.prediction_given);
         if !self.params.predictor || self.committed == 0 {
             return;
         }
         let extrapolate = self.committed >= 2;
+        let from_iterates = extrapolate
+            && !given
+            && self.response.is_none()
+            && self.iterates.iter().all(Option::is_some);
         // The operator path solves no eigenstrains per increment: only u^eig is predicted.
-        let eps = self
-            .response
-            .is_none()
+        let eps = (self.response.is_none() && !from_iterates)
             .then_some((&mut self.eps_star, &mut self.eps_prev));
         let pairs = eps
             .into_iter()
@@ -419,6 +473,23 @@ impl InhomogeneousContact {
                 *p = current;
             }
         }
+        if let [Some(now), Some(before)] = &self.iterates {
+            if from_iterates {
+                self.eps_prev.copy_from_slice(&self.eps_star);
+                let mut image = image.unwrap_or_else(|| vec![0.0; now.image.len()]);
+                for (((x, v), (a, b)), (ia, ib)) in self
+                    .eps_star
+                    .iter_mut()
+                    .zip(image.iter_mut())
+                    .zip(now.iterate.iter().zip(&before.iterate))
+                    .zip(now.image.iter().zip(&before.image))
+                {
+                    *x = 2.0 * a - b;
+                    *v = 2.0 * ia - ib;
+                }
+                self.predicted_image = Some(image);
+            }
+        }
     }
 
     /// The state the next increment starts from (for a checkpoint).
@@ -428,6 +499,7 @@ impl InhomogeneousContact {
             eigen_displacement: self.u_eig.clone(),
             previous: (self.eps_prev.clone(), self.u_prev.clone()),
             committed: self.committed,
+            iterates: self.iterates.clone(),
         }
     }
 
@@ -439,6 +511,10 @@ impl InhomogeneousContact {
         for u in &w.previous.1 {
             check_len("previous eigen-displacement", u, self.u_prev[0].len())?;
         }
+        for it in w.iterates.iter().flatten() {
+            check_len("EIM iterate", &it.iterate, self.eps_star.len())?;
+            check_len("EIM iterate's image", &it.image, self.eps_star.len())?;
+        }
         let u = &w.eigen_displacement;
         self.restore(&w.eigenstrain, [&u[0], &u[1], &u[2]])?;
         self.eps_prev.copy_from_slice(&w.previous.0);
@@ -446,6 +522,7 @@ impl InhomogeneousContact {
             mine.copy_from_slice(theirs);
         }
         self.committed = w.committed;
+        self.iterates = w.iterates.clone();
         Ok(())
     }
 
@@ -465,6 +542,7 @@ impl InhomogeneousContact {
         }
         self.eps_star.copy_from_slice(eigenstrain);
         self.eps_prev.copy_from_slice(eigenstrain);
+        self.prediction_given = true;
         for ((x, prev), v) in self.u_eig.iter_mut().zip(self.u_prev.iter_mut()).zip(u_eig) {
             x.copy_from_slice(v);
             prev.copy_from_slice(v);
@@ -511,6 +589,8 @@ impl InhomogeneousContact {
         let (info, d) = shift_for_force(start[0], bracket, 1e-6 * mu * w, &mut eval)?;
         self.problem.commit();
         self.committed += 1;
+        // The last evaluation's iterate and image: a pair `(x, A x)` whichever evaluation it was.
+        self.keep_iterate()?;
         Ok((info, d))
     }
 
@@ -529,6 +609,12 @@ impl InhomogeneousContact {
         // The EIM history recycled across this increment's passes starts empty: the increment
         // depends only on the checkpointed state ([`InhomogeneousContact::set_warm_start`]).
         self.system.forget_recycled();
+        // The predicted start's image (when the predictor made one): the first pass's first EIM
+        // residual without an application.
+        if let Some(image) = &self.predicted_image {
+            self.system
+                .set_known_start(&self.eps_star, image, self.params.eim.recycled_depth)?;
+        }
         let mut eim_iterations = 0;
         let mut work = ContactWork::default();
         let mut seconds = NestedSeconds::default();

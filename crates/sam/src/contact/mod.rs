@@ -10,8 +10,8 @@ pub mod solver;
 
 pub use force_control::shift_for_force;
 pub use inhomogeneous::{
-    BodyResponse, ContactWork, InhomogeneousContact, NestedInfo, NestedParams, NestedSeconds,
-    NestedWarmStart, OuterStopping, CONTRACTION_MAX_RATE, DEFAULT_EIM_CHANGE_FACTOR,
+    BodyResponse, ContactWork, EimIterate, InhomogeneousContact, NestedInfo, NestedParams,
+    NestedSeconds, NestedWarmStart, OuterStopping, CONTRACTION_MAX_RATE, DEFAULT_EIM_CHANGE_FACTOR,
     DEFAULT_EIM_RECYCLED_DEPTH, LOOSE_CONTACT_CEILING, MAX_EIM_RECYCLED_DEPTH,
     REFERENCE_EIM_CHANGE_FACTOR,
 };

@@ -429,6 +429,45 @@ impl EimSystem {
         }
     }
 
+    /// The last recycled solve's last iterate `x_J` and its image `A x_J` (into `iterate`,
+    /// `image`; [`RichardsonRecycle::last_iterate_image`]): `false` when none is kept (no
+    /// recycled solve since the last [`EimSystem::forget_recycled`], or the GMRES or plain
+    /// iteration).
+    /// Errors: a vector not of [`LinearOperator::dim`] values.
+    pub fn last_iterate_image(
+        &self,
+        iterate: &mut [f64],
+        image: &mut [f64],
+    ) -> Result<bool, SamError> {
+        check_lengths(self.dim(), iterate, image)?;
+        match &self.mixing {
+            Some(m) if m.shape().0 == self.dim() => Ok(m.last_iterate_image(iterate, image)?),
+            _ => Ok(false),
+        }
+    }
+
+    /// Declares `image = A x` for the next recycled solve warm-started from `x` bit for bit
+    /// ([`RichardsonRecycle::set_known_start`]: its first residual `b − image` without an
+    /// application). Returns `false` (nothing declared) before a recycled solve has made the
+    /// history, or with another depth than `depth`.
+    /// Errors: a vector not of [`LinearOperator::dim`] values.
+    pub fn set_known_start(
+        &mut self,
+        x: &[f64],
+        image: &[f64],
+        depth: usize,
+    ) -> Result<bool, SamError> {
+        let n = self.dim();
+        check_lengths(n, x, image)?;
+        match self.mixing.as_mut() {
+            Some(m) if m.shape() == (n, depth) => {
+                m.set_known_start(x, image)?;
+                Ok(true)
+            }
+            _ => Ok(false),
+        }
+    }
+
     /// The disturbance strain of `eps_star` at the inclusion layers (the fields are kept for
     /// eigen-displacements).
     /// Errors: `eps_star` not of [`LinearOperator::dim`] values.

@@ -188,9 +188,11 @@ fretting_loop_keys! {
 /// The half-width of the fretting loop's contact window over the Hertz radius `a`
 /// ([`ContactProblem::set_window`](crate::contact::ContactProblem::set_window)): the contact of
 /// \[LN11\]'s loops reaches ≈ 1.05a (a ±1.04a window is too small, docs/performance.md, "A
-/// contact window for the 3D loops"); 1.3a leaves ≈ 8 cells at 128². A solve whose contact goes
-/// further runs on the whole grid.
-pub const CONTACT_WINDOW_OVER_A: f64 = 1.3;
+/// contact window for the 3D loops"); 1.17a leaves ≈ 3.7 cells at 128² (a 72² window, padded to
+/// 144² — 1.3a, an 80² window, until stop 47: the composite command's contact solves 18.8 → 15.5
+/// s, the same results to the solvers' tolerance, docs/performance.md "The contraction stopping
+/// rule (issue 21, stop 47)"). A solve whose contact goes further runs on the whole grid.
+pub const CONTACT_WINDOW_OVER_A: f64 = 1.17;
 
 /// What a loop's checkpoint fingerprint appends for its contact window
 /// ([`LoopCase::window_fingerprint`]); absent from checkpoints of builds before the window, which

@@ -380,6 +380,12 @@ impl FrettingLoop {
         if let Some(w) = &snapshot.eigen {
             finite("eigenstrain".into(), &w.eigenstrain, None)?;
             finite("eigenstrain_previous".into(), &w.previous.0, None)?;
+            for (it, suffix) in w.iterates.iter().zip(["", "_previous"]) {
+                if let Some(it) = it {
+                    finite(format!("eim_iterate{suffix}"), &it.iterate, None)?;
+                    finite(format!("eim_iterate_image{suffix}"), &it.image, None)?;
+                }
+            }
             for c in 0..3 {
                 finite(
                     format!("eigen_displacement_{}", c + 1),
