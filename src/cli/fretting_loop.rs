@@ -137,8 +137,10 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
     let ((outcome, stopped), reference) = if case.inhomogeneities.is_empty() {
         (run_loop(), None)
     } else {
+        // Kept only when the nested loop ran to its end (not stopped, no error, no checkpoint
+        // write that failed: `Ok(false)`).
         FrettingLoop::run_beside(case.homogeneous(), run_loop, |(outcome, stopped)| {
-            outcome.is_ok() && !stopped
+            matches!(outcome, Ok(true)) && !stopped
         })
     };
     if let Some(bar) = &bar {

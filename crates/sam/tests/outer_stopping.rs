@@ -3,10 +3,14 @@
 //! rule's next pass makes; over the composite fretting loop it stays at the verified rule's
 //! distance from a converged loop with fewer EIM applications.
 
+mod support;
+
 use halfspace_sam::contact::{
     ContactParams, ContactProblem, InhomogeneousContact, NestedParams, OuterStopping,
 };
-use halfspace_sam::drivers::fretting_loop::{FrettingLoop, LoopCase, OUTER_STOPPING_FIELD};
+use halfspace_sam::drivers::fretting_loop::{
+    FrettingLoop, LoopCase, OUTER_STOPPING_FIELD, PREDICTOR_IMAGE_FIELD,
+};
 use halfspace_sam::eim::{FibreLayout, Inhomogeneity, Shape};
 use halfspace_sam::normal::NormalLoad;
 use halfspace_sam::{Body, Compliance, SamError, SurfaceGrid};
@@ -197,7 +201,7 @@ fn checkpoints_record_the_stopping_rule() {
     lp.step().unwrap();
     let snap = lp.snapshot();
     assert!(snap.fingerprint.ends_with(&format!(
-        "{OUTER_STOPPING_FIELD}Contraction {{ safety: 1.0 }}"
+        "{OUTER_STOPPING_FIELD}Contraction {{ safety: 1.0 }}{PREDICTOR_IMAGE_FIELD}"
     )));
     let mut old = snap.clone();
     old.fingerprint
@@ -206,7 +210,13 @@ fn checkpoints_record_the_stopping_rule() {
         Err(e) => e.to_string(),
         Ok(_) => panic!("a checkpoint without the stopping rule was accepted"),
     };
-    assert!(e.contains("start the loop over"), "{e}");
+    assert!(e.contains("start over"), "{e}");
+    // One with the rule but without the predictor's image (written between the two changes).
+    let mut between = snap.clone();
+    between
+        .fingerprint
+        .truncate(between.fingerprint.find(PREDICTOR_IMAGE_FIELD).unwrap());
+    assert!(FrettingLoop::resume(case.clone(), between).is_err());
     assert!(FrettingLoop::resume(case.clone(), snap).is_ok());
     // Without inhomogeneities there is no outer loop and nothing is appended.
     let mut plain = FrettingLoop::new(case.homogeneous()).unwrap();
@@ -293,4 +303,16 @@ fn the_predictors_image_saves_the_first_application_of_each_increment() {
         "{k_with} {k_without}"
     );
     assert!(worst / p0 < 1e-6);
+}
+
+/// A loop with inhomogeneities snapshotted after five increments (its predictor's pairs kept,
+/// the EIM system of the resumed loop built anew) and resumed ends bit for bit where the
+/// uninterrupted loop ends: the resumed loop's first increment declares the predicted start's
+/// image to a fresh history, as the uninterrupted one does to its forgotten one.
+#[test]
+fn a_loop_resumed_after_its_pairs_were_kept_is_bit_for_bit() {
+    let case = support::stiff_sphere_loop();
+    let (_, snapshot) = support::assert_resumes_bit_for_bit::<FrettingLoop>(&case, 5);
+    let eigen = snapshot.eigen.expect("nested");
+    assert_eq!(eigen.iterates.iter().flatten().count(), 2);
 }

@@ -65,3 +65,17 @@ fn an_invalid_loop_beside_reports_its_error() {
     let (_, beside) = FrettingLoop::run_beside(case, || (), |_| true);
     assert!(beside.expect("kept").is_err());
 }
+
+/// A panic of the work beside the loop reaches the caller (the loop is cancelled at its next
+/// increment and joined first).
+#[test]
+fn a_panic_beside_the_loop_reaches_the_caller() {
+    let case = LoopCase {
+        grid: 32,
+        ..LoopCase::default()
+    };
+    let result = std::panic::catch_unwind(|| {
+        FrettingLoop::run_beside(case, || panic!("the work beside failed"), |_: &()| true)
+    });
+    assert!(result.is_err());
+}

@@ -330,8 +330,9 @@ pub struct InhomogeneousContact {
     prediction_given: bool,
     /// The surface-response operator ([`BodyResponse::SurfaceOperator`]).
     response: Option<SurfaceResponse>,
-    /// Whether `eps_star` is the EIM solution of the current tractions (always on the nested
-    /// path; on the operator path after [`InhomogeneousContact::sync_eigenstrain`]).
+    /// Whether `eps_star` is the EIM solution of the current tractions (on the nested path
+    /// always, to the outer tolerance: [`InhomogeneousContact::eigenstrain`]; on the operator
+    /// path after [`InhomogeneousContact::sync_eigenstrain`]).
     eigenstrain_current: bool,
 }
 
@@ -613,7 +614,7 @@ impl InhomogeneousContact {
         // residual without an application.
         if let Some(image) = &self.predicted_image {
             self.system
-                .set_known_start(&self.eps_star, image, self.params.eim.recycled_depth)?;
+                .set_known_start(&self.eps_star, image, &self.params.eim)?;
         }
         let mut eim_iterations = 0;
         let mut work = ContactWork::default();
@@ -864,8 +865,11 @@ impl InhomogeneousContact {
         self.system.set()
     }
 
-    /// The eigenstrains, 6 per inclusion cell (Voigt, tensor shear): of the current tractions on
-    /// the nested path, of the last [`InhomogeneousContact::sync_eigenstrain`] on the operator path.
+    /// The eigenstrains, 6 per inclusion cell (Voigt, tensor shear): on the nested path those of
+    /// the increment's last EIM solve — of the current tractions, or after a stop by
+    /// [`OuterStopping::Contraction`] of the pass before the returned contact solve (apart from
+    /// the current tractions' by the predicted change, below the outer tolerance); of the last
+    /// [`InhomogeneousContact::sync_eigenstrain`] on the operator path.
     pub fn eigenstrain(&self) -> &[f64] {
         &self.eps_star
     }

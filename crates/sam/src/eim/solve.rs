@@ -324,22 +324,7 @@ impl EimSystem {
             self.rhs = b;
             return Err(e);
         }
-        let method = match params.method {
-            EimMethod::Auto => {
-                // Shear-modulus ratio G_I/G_m (the matrix's 2G sits on the shear diagonal).
-                let gm = 0.5 * self.cm[5][5];
-                let wide = self.set.materials.iter().any(|&(ei, nui)| {
-                    let ratio = ei / (2.0 * (1.0 + nui)) / gm;
-                    !(0.2..=5.0).contains(&ratio)
-                });
-                if wide {
-                    EimMethod::Gmres
-                } else {
-                    EimMethod::BlockJacobi
-                }
-            }
-            m => m,
-        };
+        let method = self.resolved_method(params.method);
         // The Krylov basis holds restart + 1 vectors of the system's size: cap it at 2 GiB.
         let cap = ((2usize << 30) / (8 * n.max(1))).saturating_sub(1).max(1);
         let restart = params.restart.min(cap);
@@ -365,11 +350,7 @@ impl EimSystem {
                 r
             }
             EimMethod::BlockJacobi | EimMethod::Auto => {
-                // The recycled history holds (2·depth + 7) vectors of the system's size: capped
-                // at 2 GiB like the Krylov basis (the nested loop refuses depths above
-                // `MAX_EIM_RECYCLED_DEPTH` up front).
-                let vectors = (2usize << 30) / (8 * n.max(1));
-                let depth = params.recycled_depth.min(vectors.saturating_sub(7) / 2);
+                let depth = capped_recycled_depth(n, params.recycled_depth);
                 if depth == 0 {
                     // Plain block Jacobi on the kept work vectors (a kept history is dropped:
                     // a later recycled solve starts a fresh one).
@@ -446,26 +427,53 @@ impl EimSystem {
         }
     }
 
-    /// Declares `image = A x` for the next recycled solve warm-started from `x` bit for bit
+    /// The method a solve with `method` runs: [`EimMethod::Auto`] is GMRES when an inclusion's
+    /// shear modulus is outside `[0.2, 5]` times the matrix's, block Jacobi otherwise.
+    fn resolved_method(&self, method: EimMethod) -> EimMethod {
+        match method {
+            EimMethod::Auto => {
+                // Shear-modulus ratio G_I/G_m (the matrix's 2G sits on the shear diagonal).
+                let gm = 0.5 * self.cm[5][5];
+                let wide = self.set.materials.iter().any(|&(ei, nui)| {
+                    let ratio = ei / (2.0 * (1.0 + nui)) / gm;
+                    !(0.2..=5.0).contains(&ratio)
+                });
+                if wide {
+                    EimMethod::Gmres
+                } else {
+                    EimMethod::BlockJacobi
+                }
+            }
+            m => m,
+        }
+    }
+
+    /// Declares `image = A x` for the next solve with `params` warm-started from `x` bit for bit
     /// ([`RichardsonRecycle::set_known_start`]: its first residual `b − image` without an
-    /// application). Returns `false` (nothing declared) before a recycled solve has made the
-    /// history, or with another depth than `depth`.
+    /// application); a history of another depth, or none
+    /// yet (a system just built, e.g. after a resume), is replaced by a fresh one, as that solve
+    /// would make it. Returns `false` (nothing declared) unless that solve is the recycled block
+    /// Jacobi (not GMRES, not the plain iteration: [`EimParams::recycled_depth`] 0).
     /// Errors: a vector not of [`LinearOperator::dim`] values.
     pub fn set_known_start(
         &mut self,
         x: &[f64],
         image: &[f64],
-        depth: usize,
+        params: &EimParams,
     ) -> Result<bool, SamError> {
         let n = self.dim();
         check_lengths(n, x, image)?;
-        match self.mixing.as_mut() {
-            Some(m) if m.shape() == (n, depth) => {
-                m.set_known_start(x, image)?;
-                Ok(true)
-            }
-            _ => Ok(false),
+        let depth = capped_recycled_depth(n, params.recycled_depth);
+        if depth == 0 || self.resolved_method(params.method) == EimMethod::Gmres {
+            return Ok(false);
         }
+        let mixing = match self.mixing.take() {
+            Some(m) if m.shape() == (n, depth) => m,
+            _ => RichardsonRecycle::new(n, depth),
+        };
+        let mixing = self.mixing.insert(mixing);
+        mixing.set_known_start(x, image)?;
+        Ok(true)
     }
 
     /// The disturbance strain of `eps_star` at the inclusion layers (the fields are kept for
@@ -554,6 +562,14 @@ impl LinearOperator for EimSystem {
             });
         Ok(())
     }
+}
+
+/// The recycled block-Jacobi depth a solve of `n` unknowns uses for the requested `depth`: its
+/// history holds (2·depth + 7) vectors of the system's size, capped at 2 GiB like the Krylov
+/// basis (the nested loop refuses depths above `MAX_EIM_RECYCLED_DEPTH` up front).
+fn capped_recycled_depth(n: usize, depth: usize) -> usize {
+    let vectors = (2usize << 30) / (8 * n.max(1));
+    depth.min(vectors.saturating_sub(7) / 2)
 }
 
 /// Cells per task of the per-cell loops (the right-hand side, the restriction, the block

@@ -203,6 +203,11 @@ pub const CONTACT_WINDOW_FIELD: &str = "; contact window ";
 /// loop's stopping rule ([`crate::contact::OuterStopping`], [`LoopCase::stopping_fingerprint`]).
 pub const OUTER_STOPPING_FIELD: &str = "; outer stopping ";
 
+/// What a checkpoint fingerprint of a loop with inhomogeneities ends with since the predictor's
+/// EIM start carries its image ([`crate::contact::EimIterate`], stop 47): the snapshot holds the
+/// pairs a bit-for-bit resume needs.
+pub const PREDICTOR_IMAGE_FIELD: &str = "; EIM start from the predictor's image";
+
 /// How a fingerprint (`{:?}` of [`LoopCase`]) spells the alternation scheme's field: absent
 /// from checkpoints written before it was recorded ([`LoopCase::check_fingerprint`]).
 const ALTERNATION_FIELD: &str = ", alternation: ";
@@ -343,14 +348,34 @@ impl LoopCase {
     }
 
     /// What the loop's checkpoint fingerprint appends for the outer loop's stopping rule of
-    /// `nested` ([`OUTER_STOPPING_FIELD`] and the rule): nothing without inhomogeneities (no
-    /// outer loop).
+    /// `nested` ([`OUTER_STOPPING_FIELD`] and the rule, then [`PREDICTOR_IMAGE_FIELD`]): nothing
+    /// without inhomogeneities (no outer loop).
     pub fn stopping_fingerprint(&self, nested: NestedParams) -> String {
         if self.inhomogeneities.is_empty() {
             String::new()
         } else {
-            format!("{OUTER_STOPPING_FIELD}{:?}", nested.stopping)
+            format!(
+                "{OUTER_STOPPING_FIELD}{:?}{PREDICTOR_IMAGE_FIELD}",
+                nested.stopping
+            )
         }
+    }
+
+    /// Refuses, saying why, a checkpoint fingerprint `recorded` of a loop with inhomogeneities
+    /// written before the contraction stopping rule and the predictor's image (both stop 47):
+    /// its increments would not be repeated bit for bit.
+    pub fn check_stopping_recorded(&self, recorded: &str) -> Result<(), SamError> {
+        if self.inhomogeneities.is_empty()
+            || (recorded.contains(OUTER_STOPPING_FIELD) && recorded.contains(PREDICTOR_IMAGE_FIELD))
+        {
+            return Ok(());
+        }
+        Err(SamError::InvalidInput(
+            "the checkpoint was written by a build before the outer loop's contraction stopping \
+             rule and the predictor's EIM image (docs/theory-sam.md#the-contraction-stopping-rule, \
+             #the-predictors-image): its increments would not be repeated bit for bit; start over"
+                .into(),
+        ))
     }
 
     /// The case as it runs with the outer-loop parameters `nested`: the alternation scheme the

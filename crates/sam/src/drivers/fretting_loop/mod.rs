@@ -23,7 +23,7 @@ mod run;
 pub use case::{
     recycled_history_bytes, work_limit_hours, LoadPath, LoopCase, LoopEstimate, LoopKeys,
     CELL_INCREMENTS_PER_SECOND, CONTACT_WINDOW_FIELD, CONTACT_WINDOW_OVER_A, OUTER_STOPPING_FIELD,
-    POINT_LABELS, ROW_BYTES, UNRECORDED_EIM_CHANGE_FACTOR,
+    POINT_LABELS, PREDICTOR_IMAGE_FIELD, ROW_BYTES, UNRECORDED_EIM_CHANGE_FACTOR,
 };
 pub use history::{CycleSources, CycleStress};
 pub use metrics::{FrettingRegime, LoopMetrics};

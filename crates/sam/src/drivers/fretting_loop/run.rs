@@ -3,7 +3,7 @@
 use std::ops::ControlFlow;
 use std::time::Instant;
 
-use super::case::{LoadPath, LoopCase, CONTACT_WINDOW_FIELD, OUTER_STOPPING_FIELD, POINT_LABELS};
+use super::case::{LoadPath, LoopCase, CONTACT_WINDOW_FIELD, POINT_LABELS};
 use super::history::{CycleSources, CycleStress};
 use super::metrics::LoopMetrics;
 use super::row::LoopRow;
@@ -100,6 +100,16 @@ pub struct FrettingLoop {
     nested: NestedParams,
 }
 
+/// Sets its flag when dropped (on return or unwinding alike): [`FrettingLoop::run_beside`]'s
+/// cancellation of the loop beside.
+struct CancelOnDrop<'a>(&'a std::sync::atomic::AtomicBool);
+
+impl Drop for CancelOnDrop<'_> {
+    fn drop(&mut self) {
+        self.0.store(true, std::sync::atomic::Ordering::Relaxed);
+    }
+}
+
 impl FrettingLoop {
     /// Plans the loop of `case` with the default solver parameters; refuses up front a case that
     /// does not fit in memory.
@@ -167,16 +177,8 @@ impl FrettingLoop {
                     .into(),
             ));
         }
+        lp.case.check_stopping_recorded(&snapshot.fingerprint)?;
         let stopping = lp.case.stopping_fingerprint(lp.nested);
-        if !stopping.is_empty() && !snapshot.fingerprint.contains(OUTER_STOPPING_FIELD) {
-            return Err(SamError::InvalidInput(
-                "the checkpoint was written by a build whose outer contact ↔ EIM loop verified \
-                 every increment's last pass (before the contraction stopping rule, \
-                 docs/theory-sam.md#the-contraction-stopping-rule): its increments would not be \
-                 repeated bit for bit; start the loop over"
-                    .into(),
-            ));
-        }
         let given = format!("{:?}{}{stopping}", lp.case, lp.case.window_fingerprint()?);
         lp.case
             .check_fingerprint(lp.nested, &snapshot.fingerprint, &lp.fingerprint(), &given)?;
@@ -735,10 +737,15 @@ impl FrettingLoop {
         };
         std::thread::scope(|scope| {
             let handle = scope.spawn(|| pool.install(|| run_to_end(&cancel)));
+            // Cancelled unless kept, also when `main` or `keep` panics (the scope joins the
+            // loop before the panic goes on: it stops at its next increment).
+            let cancel_unless_kept = CancelOnDrop(&cancel);
             let out = main();
             let wanted = keep(&out);
-            if !wanted {
-                cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+            if wanted {
+                std::mem::forget(cancel_unless_kept);
+            } else {
+                drop(cancel_unless_kept);
             }
             let reference = match handle.join() {
                 Ok(r) => r.transpose(),

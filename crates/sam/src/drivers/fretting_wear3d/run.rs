@@ -287,6 +287,9 @@ impl FrettingWear3d {
     /// next wear step repeats the uninterrupted run's bit for bit.
     pub fn resume(case: WearCase, snapshot: WearSnapshot) -> Result<Self, SamError> {
         let mut run = Self::new(case)?;
+        run.case
+            .fretting
+            .check_stopping_recorded(&snapshot.fingerprint)?;
         let given = format!(
             "{:?}{}",
             run.case,
