@@ -455,6 +455,43 @@ fn requests_beyond_memory_are_refused_with_the_estimate() {
     assert!(err.contains("needs about") && err.contains("GiB"), "{err}");
 }
 
+/// With inhomogeneities the homogeneous reference loop runs beside the nested one, so the
+/// up-front memory check counts both: a limit between the nested loop's estimate and the sum is
+/// refused, saying so, before the output directory is touched.
+#[test]
+fn the_composite_loop_with_its_reference_beside_is_checked_for_memory_up_front() {
+    let cfg: halfspace::cases::config::LoopConfig = serde_json::from_str("{}").unwrap();
+    let case = cfg.case("composite", Some(32)).unwrap();
+    let own = case.estimate().bytes;
+    let both = own + case.homogeneous().estimate().bytes;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_halfspace"))
+        .env(
+            "HALFSPACE_MEMORY_LIMIT",
+            format!("{:e}", 0.5 * (own + both)),
+        )
+        .args([
+            "fretting-loop",
+            "--case",
+            "composite",
+            "--grid",
+            "32",
+            "--json",
+        ])
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("homogeneous reference loop beside it"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}
+
 /// The composite fretting loop ([LN11]'s fibres, `--case composite`) on a reduced case (32², 14
 /// increments; the paper's case is 128² and 180 increments): the stiff fibres raise the peak
 /// pressure and shrink the contact against the homogeneous loop of the same config, the new JSON

@@ -85,6 +85,13 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
     let case = cfg.case(&args.case, args.grid)?;
     // Refused before the directory is touched: runaway work (the loop checks it again).
     case.estimate().check("the fretting loop")?;
+    if !case.inhomogeneities.is_empty() {
+        // With its homogeneous reference loop beside it (`FrettingLoop::run_beside`): both
+        // alive at once.
+        let mut both = case.estimate();
+        both.bytes += case.homogeneous().estimate().bytes;
+        both.check_memory("the fretting loop with its homogeneous reference loop beside it")?;
+    }
     let start_mode = Start::of_flags(args.resume, args.force)?;
     let mut manifest = case_parameters(&case);
     manifest["preset"] = json!(args.case);
