@@ -86,11 +86,8 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
     // Refused before the directory is touched: runaway work (the loop checks it again).
     case.estimate().check("the fretting loop")?;
     if !case.inhomogeneities.is_empty() {
-        // With its homogeneous reference loop beside it (`FrettingLoop::run_beside`): both
-        // alive at once.
-        let mut both = case.estimate();
-        both.bytes += case.homogeneous().estimate().bytes;
-        both.check_memory("the fretting loop with its homogeneous reference loop beside it")?;
+        case.estimate_with_reference()
+            .check_memory("the fretting loop with its homogeneous reference loop beside it")?;
     }
     let start_mode = Start::of_flags(args.resume, args.force)?;
     let mut manifest = case_parameters(&case);

@@ -30,6 +30,58 @@ fn sphere_on_steel() -> (f64, f64, f64, f64, f64, f64) {
     )
 }
 
+/// The stiff sphere under contact of the nested-loop tests: [LN11]'s sphere on steel, 24² over 4a,
+/// an inhomogeneity `E_I = 2E` of radius 0.3a centred 0.5a deep; `(grid, inclusion, W, δ)` and
+/// a nested loop on it with `params`.
+struct StiffSphere {
+    grid: SurfaceGrid,
+    inclusion: Inhomogeneity,
+    w_max: f64,
+    delta: f64,
+    e: f64,
+    nu: f64,
+    h0: Vec<f64>,
+}
+
+impl StiffSphere {
+    fn new() -> Self {
+        let (r, w_max, e, nu, a, delta) = sphere_on_steel();
+        let grid = SurfaceGrid::square(24, 4.0 * a).unwrap();
+        let inclusion = Inhomogeneity {
+            shape: Shape::Sphere {
+                x: 0.0,
+                y: 0.0,
+                z: 0.5 * a,
+                r: 0.3 * a,
+            },
+            e: 2.0 * e,
+            nu,
+        };
+        let h0 = (0..grid.len())
+            .map(|k| {
+                let (x, y) = grid.centre(k / grid.n2, k % grid.n2);
+                (x * x + y * y) / (2.0 * r)
+            })
+            .collect();
+        Self {
+            grid,
+            inclusion,
+            w_max,
+            delta,
+            e,
+            nu,
+            h0,
+        }
+    }
+
+    fn nested(&self, params: NestedParams) -> InhomogeneousContact {
+        let c = Compliance::pair(Body::Rigid, Body::elastic(self.e, self.nu).unwrap()).unwrap();
+        let problem =
+            ContactProblem::new(self.grid, c, self.h0.clone(), ContactParams::default()).unwrap();
+        InhomogeneousContact::new(problem, self.e, self.nu, &[self.inclusion], params).unwrap()
+    }
+}
+
 fn max_diff(x: &[f64], y: &[f64]) -> f64 {
     x.iter()
         .zip(y)
@@ -43,32 +95,13 @@ fn max_diff(x: &[f64], y: &[f64]) -> f64 {
 /// passes at that pass, its state is the contraction rule's bit for bit.
 #[test]
 fn the_contraction_rule_returns_the_verified_rules_next_contact_solve() {
-    let (r, w_max, e, nu, a, delta) = sphere_on_steel();
-    let grid = SurfaceGrid::square(24, 4.0 * a).unwrap();
-    let inh = Inhomogeneity {
-        shape: Shape::Sphere {
-            x: 0.0,
-            y: 0.0,
-            z: 0.5 * a,
-            r: 0.3 * a,
-        },
-        e: 2.0 * e,
-        nu,
-    };
-    let c = Compliance::pair(Body::Rigid, Body::elastic(e, nu).unwrap()).unwrap();
-    let h0: Vec<f64> = (0..grid.len())
-        .map(|k| {
-            let (x, y) = grid.centre(k / grid.n2, k % grid.n2);
-            (x * x + y * y) / (2.0 * r)
-        })
-        .collect();
+    let sphere = StiffSphere::new();
+    let (w_max, delta) = (sphere.w_max, sphere.delta);
     let make = |stopping: OuterStopping| {
-        let problem = ContactProblem::new(grid, c, h0.clone(), ContactParams::default()).unwrap();
-        let params = NestedParams {
+        sphere.nested(NestedParams {
             stopping,
             ..NestedParams::default()
-        };
-        InhomogeneousContact::new(problem, e, nu, &[inh], params).unwrap()
+        })
     };
     let mut verified = make(OuterStopping::Verified);
     let mut contraction = make(OuterStopping::Contraction { safety: 1.0 });
@@ -233,29 +266,10 @@ fn checkpoints_record_the_stopping_rule() {
 fn the_predictors_image_saves_the_first_application_of_each_increment() {
     use halfspace_numerics::linop::LinearOperator;
     use halfspace_sam::eim::{EimFields, EimSystem, InclusionSet};
-    let (r, w_max, e, nu, a, delta) = sphere_on_steel();
-    let grid = SurfaceGrid::square(24, 4.0 * a).unwrap();
-    let inh = Inhomogeneity {
-        shape: Shape::Sphere {
-            x: 0.0,
-            y: 0.0,
-            z: 0.5 * a,
-            r: 0.3 * a,
-        },
-        e: 2.0 * e,
-        nu,
-    };
-    let c = Compliance::pair(Body::Rigid, Body::elastic(e, nu).unwrap()).unwrap();
-    let h0: Vec<f64> = (0..grid.len())
-        .map(|k| {
-            let (x, y) = grid.centre(k / grid.n2, k % grid.n2);
-            (x * x + y * y) / (2.0 * r)
-        })
-        .collect();
-    let make = || {
-        let problem = ContactProblem::new(grid, c, h0.clone(), ContactParams::default()).unwrap();
-        InhomogeneousContact::new(problem, e, nu, &[inh], NestedParams::default()).unwrap()
-    };
+    let sphere = StiffSphere::new();
+    let (grid, inh, e, nu) = (sphere.grid, sphere.inclusion, sphere.e, sphere.nu);
+    let (w_max, delta) = (sphere.w_max, sphere.delta);
+    let make = || sphere.nested(NestedParams::default());
     let set = InclusionSet::new(&grid, &[inh]).unwrap();
     let fields = EimFields::for_inclusions(grid, e, nu, &set).unwrap();
     let mut system = EimSystem::new(fields, set, e, nu).unwrap();

@@ -660,6 +660,17 @@ impl LoopCase {
         (deepest / cell).ceil() as usize + 1
     }
 
+    /// [`LoopCase::estimate`] with, for a case with inhomogeneities, the memory of its
+    /// homogeneous reference loop ([`LoopCase::homogeneous`]) run beside it
+    /// ([`FrettingLoop::run_beside`](super::FrettingLoop::run_beside)): both alive at once.
+    pub fn estimate_with_reference(&self) -> LoopEstimate {
+        let mut both = self.estimate();
+        if !self.inhomogeneities.is_empty() {
+            both.bytes += self.homogeneous().estimate().bytes;
+        }
+        both
+    }
+
     /// The cost of this loop ([`LoopEstimate`]), from the configuration alone.
     pub fn estimate(&self) -> LoopEstimate {
         let increments =
