@@ -43,6 +43,14 @@ pub fn problem_bytes_per_cell(frictional: bool, coupled: bool) -> f64 {
     per_cell
 }
 
+/// Estimated bytes that a contact window adds to a contact problem of `grid_cells` cells
+/// ([`ContactProblem::set_window`](crate::contact::ContactProblem::set_window)): the inner
+/// problem on the window's `window_cells` cells ([`problem_bytes_per_cell`]) and the whole grid's
+/// deformed gap of the outside check (8 bytes a cell).
+pub fn window_bytes(grid_cells: f64, window_cells: f64, frictional: bool, coupled: bool) -> f64 {
+    problem_bytes_per_cell(frictional, coupled) * window_cells + 8.0 * grid_cells
+}
+
 /// Refuses a problem whose [`problem_bytes`] exceeds the available memory.
 pub fn check_problem(grid: &SurfaceGrid, frictional: bool, coupled: bool) -> Result<(), SamError> {
     check_fits(

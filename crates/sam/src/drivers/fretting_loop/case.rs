@@ -683,6 +683,17 @@ impl LoopCase {
         // The frictional contact problem's footprint (`memory::problem_bytes`), with the two
         // coupling operators and fields when the pair is coupled.
         let frictional = crate::memory::problem_bytes_per_cell(true, self.is_coupled());
+        // The contact window's inner problem ([`LoopCase::contact_window`]; a case that fails
+        // `validate` has none counted here and is refused before it is built).
+        let window = match self.contact_window() {
+            Ok(Some(w)) => crate::memory::window_bytes(
+                cells,
+                (w.cells[0] * w.cells[1]) as f64,
+                true,
+                self.is_coupled(),
+            ),
+            _ => 0.0,
+        };
         let cell = self.extent() / self.grid as f64;
         let eigen_len = self.eigenstrain_values_bound();
         // The points A–D: eight surface fields each (and the von Mises fields, when asked); with
@@ -754,6 +765,7 @@ impl LoopCase {
             loops: 1.0,
             concurrent: 1.0,
             bytes: frictional * cells
+                + window
                 + points
                 + increments * ROW_BYTES
                 + history
