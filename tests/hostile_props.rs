@@ -214,3 +214,16 @@ proptest! {
         }
     }
 }
+
+/// The largest grid the configuration takes is estimated (and refused by the estimate) without a
+/// panic: the contact window's cell count is multiplied in `f64` (a `usize` product overflowed
+/// for `grid = 2⁶³ − 1`, found by the property above in CI, stop 48).
+#[test]
+fn the_largest_grid_is_estimated_without_overflow() {
+    let cfg: LoopConfig = toml::from_str("grid = 9223372036854775807\n").unwrap();
+    let case = cfg.case("homogeneous", None).unwrap();
+    assert!(case.contact_window().unwrap().is_some());
+    let est = case.estimate();
+    assert!(est.bytes.is_finite() && est.bytes > 1e30, "{}", est.bytes);
+    assert!(est.check("the fretting loop").is_err());
+}

@@ -45,10 +45,19 @@ pub fn problem_bytes_per_cell(frictional: bool, coupled: bool) -> f64 {
 
 /// Estimated bytes that a contact window adds to a contact problem of `grid_cells` cells
 /// ([`ContactProblem::set_window`](crate::contact::ContactProblem::set_window)): the inner
-/// problem on the window's `window_cells` cells ([`problem_bytes_per_cell`]) and the whole grid's
-/// deformed gap of the outside check (8 bytes a cell).
-pub fn window_bytes(grid_cells: f64, window_cells: f64, frictional: bool, coupled: bool) -> f64 {
-    problem_bytes_per_cell(frictional, coupled) * window_cells + 8.0 * grid_cells
+/// problem on the window's `window_cells` cells ([`problem_bytes_per_cell`]), the whole grid's
+/// deformed gap of the outside check (8 bytes a cell) and, with `eigen` (an inhomogeneous body),
+/// the window's three eigen-displacement fields and their three gathered copies (48 bytes a
+/// window cell).
+pub fn window_bytes(
+    grid_cells: f64,
+    window_cells: f64,
+    frictional: bool,
+    coupled: bool,
+    eigen: bool,
+) -> f64 {
+    let eigen = if eigen { 48.0 } else { 0.0 };
+    (problem_bytes_per_cell(frictional, coupled) + eigen) * window_cells + 8.0 * grid_cells
 }
 
 /// Refuses a problem whose [`problem_bytes`] exceeds the available memory.

@@ -671,8 +671,47 @@ impl LoopCase {
         both
     }
 
-    /// The cost of this loop ([`LoopEstimate`]), from the configuration alone.
+    /// Estimated bytes of the loop's frictional contact problem on its grid
+    /// ([`memory::problem_bytes_per_cell`](crate::memory::problem_bytes_per_cell), with the
+    /// coupling operators when the pair is coupled; with inhomogeneities its three
+    /// eigen-displacement fields, 24 bytes a cell) and, with `windowed`, of its contact window
+    /// ([`LoopCase::contact_window`], [`memory::window_bytes`](crate::memory::window_bytes); a
+    /// case that fails `validate` has none counted here and is refused before it is built).
+    pub fn contact_problem_bytes(&self, windowed: bool) -> f64 {
+        let cells = (self.grid as f64).powi(2);
+        let coupled = self.is_coupled();
+        let eigen = if self.inhomogeneities.is_empty() {
+            0.0
+        } else {
+            24.0
+        };
+        let whole = (crate::memory::problem_bytes_per_cell(true, coupled) + eigen) * cells;
+        let window = match self.contact_window() {
+            Ok(Some(w)) if windowed => crate::memory::window_bytes(
+                cells,
+                w.cells[0] as f64 * w.cells[1] as f64,
+                true,
+                coupled,
+                !self.inhomogeneities.is_empty(),
+            ),
+            _ => 0.0,
+        };
+        whole + window
+    }
+
+    /// The cost of this loop ([`LoopEstimate`]), from the configuration alone; its contact
+    /// solves on the contact window ([`LoopCase::contact_window`]).
     pub fn estimate(&self) -> LoopEstimate {
+        self.estimate_solved_on(true)
+    }
+
+    /// [`LoopCase::estimate`] of a run whose contact solves use the whole grid, not the contact
+    /// window (the wear run's, `drivers::fretting_wear3d`).
+    pub fn estimate_without_window(&self) -> LoopEstimate {
+        self.estimate_solved_on(false)
+    }
+
+    fn estimate_solved_on(&self, windowed: bool) -> LoopEstimate {
         let increments =
             self.normal_steps as f64 + 5.0 * quarter_steps(self.amplitude, self.shift_step);
         let cells = (self.grid as f64).powi(2);
@@ -680,20 +719,6 @@ impl LoopCase {
         // layer count before the geometry is built, count the inhomogeneities' cells as one
         // layer each (an upper bound's shape, not a timing model).
         let weight = 1.0 + 4.0 * self.inhomogeneities.len().min(64) as f64;
-        // The frictional contact problem's footprint (`memory::problem_bytes`), with the two
-        // coupling operators and fields when the pair is coupled.
-        let frictional = crate::memory::problem_bytes_per_cell(true, self.is_coupled());
-        // The contact window's inner problem ([`LoopCase::contact_window`]; a case that fails
-        // `validate` has none counted here and is refused before it is built).
-        let window = match self.contact_window() {
-            Ok(Some(w)) => crate::memory::window_bytes(
-                cells,
-                (w.cells[0] * w.cells[1]) as f64,
-                true,
-                self.is_coupled(),
-            ),
-            _ => 0.0,
-        };
         let cell = self.extent() / self.grid as f64;
         let eigen_len = self.eigenstrain_values_bound();
         // The points A–D: eight surface fields each (and the von Mises fields, when asked); with
@@ -764,8 +789,7 @@ impl LoopCase {
             cells,
             loops: 1.0,
             concurrent: 1.0,
-            bytes: frictional * cells
-                + window
+            bytes: self.contact_problem_bytes(windowed)
                 + points
                 + increments * ROW_BYTES
                 + history

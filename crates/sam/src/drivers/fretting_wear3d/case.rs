@@ -117,7 +117,8 @@ impl WearCase {
         let quarter = path.quarter as f64;
         let increments_per_cycle = 4.0 * quarter;
         let increments = (path.cycle_start() + 1) as f64 + wear_steps * increments_per_cycle;
-        let one = lc.estimate();
+        // The wear run solves its contacts on the whole grid (no contact window).
+        let one = lc.estimate_without_window();
         // With inhomogeneities, the cycle predictor's store (docs/wear3d.md#the-cycle-predictor):
         // eigenstrains and eigen-displacements of every increment of the last two computed
         // cycles, in the run and in its checkpoint's snapshot and record.
