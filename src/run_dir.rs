@@ -199,6 +199,11 @@ impl RunDir {
         let complete = manifest
             .as_ref()
             .is_some_and(|m| m["status"] == json!("complete"));
+        // A run that stopped on an error ([`RunDir::fail`]): its message.
+        let failure = manifest
+            .as_ref()
+            .filter(|m| m["status"] == json!("failed"))
+            .map(|m| m["error"].as_str().unwrap_or("?").to_string());
         let others: Vec<&String> = entries.iter().filter(|n| *n != LOCK).collect();
         match start {
             Start::Resume => {
@@ -234,6 +239,12 @@ impl RunDir {
                     return self.write_manifest("running", &[]);
                 }
                 Err(occupied(match &manifest {
+                    Some(_) if same && failure.is_some() => format!(
+                        "holds a run of these parameters that stopped on an error ({}); its \
+                         results hold what was done before it: --force starts it over, \
+                         --resume retries from its last checkpoint (if it wrote one)",
+                        failure.as_deref().unwrap_or("?")
+                    ),
                     Some(_) if !complete && same => {
                         "holds an interrupted run of these parameters: \
                          --resume continues it, --force starts it over"
@@ -328,14 +339,26 @@ impl RunDir {
     }
 
     fn write_manifest(&self, status: &str, files: &[String]) -> Result<(), RunDirError> {
-        let text = serde_json::to_string_pretty(&json!({
+        self.write_manifest_with(status, files, None)
+    }
+
+    fn write_manifest_with(
+        &self,
+        status: &str,
+        files: &[String],
+        error: Option<&str>,
+    ) -> Result<(), RunDirError> {
+        let mut manifest = json!({
             "command": self.kind.command,
             "generator": format!("halfspace {}", env!("CARGO_PKG_VERSION")),
             "status": status,
             "parameters": self.parameters,
             "files": files,
-        }))
-        .unwrap_or_default();
+        });
+        if let Some(error) = error {
+            manifest["error"] = json!(error);
+        }
+        let text = serde_json::to_string_pretty(&manifest).unwrap_or_default();
         let path = self.dir.join(MANIFEST);
         write_atomic(&path, |tmp| {
             std::fs::write(tmp, &text).map_err(|source| DataError::Io {
@@ -366,6 +389,13 @@ impl RunDir {
             .collect();
         let refs: Vec<&str> = names.iter().map(String::as_str).collect();
         self.complete(&refs)
+    }
+
+    /// Marks the run as stopped on `error` (status `failed`, the message recorded): a later run of
+    /// the same parameters is told so instead of being offered an interrupted run; `--resume`
+    /// retries it from its checkpoint, `--force` starts over.
+    pub fn fail(&self, error: &str) -> Result<(), RunDirError> {
+        self.write_manifest_with("failed", &[], Some(error))
     }
 
     /// Marks the run complete with the files it wrote (names in the directory): a later `--force`
@@ -446,6 +476,42 @@ fn take_lock(dir: &Path, lock: &Path) -> Result<(), RunDirError> {
 }
 
 /// The parameters that differ between two manifests, as `key: old → new`.
+/// The byte offset in `a` where the `, `-separated field holding the first difference between
+/// `a` and `b` starts (0 when the difference is in the first field or the texts are short).
+fn field_start(a: &str, b: &str) -> usize {
+    if a.chars().count() <= 60 && b.chars().count() <= 60 {
+        return 0;
+    }
+    let common = a
+        .char_indices()
+        .zip(b.chars())
+        .find(|((_, x), y)| x != y)
+        .map_or(a.len().min(b.len()), |((i, _), _)| i);
+    // Both texts are equal up to `common`, so a boundary found in `a` is one in `b` too.
+    let common = (0..=common)
+        .rev()
+        .find(|&i| a.is_char_boundary(i))
+        .unwrap_or(0);
+    let start = a[..common].rfind(", ").map_or(0, |i| i + 2);
+    if b.is_char_boundary(start) {
+        start
+    } else {
+        0
+    }
+}
+
+/// At most 60 characters of `t` from the byte offset `from` (a char boundary of `t`), with `…`
+/// where text is left out.
+fn excerpt(t: &str, from: usize) -> String {
+    let from = if t.is_char_boundary(from) { from } else { 0 };
+    let rest = &t[from..];
+    let lead = if from > 0 { "…" } else { "" };
+    match rest.char_indices().nth(57) {
+        Some((i, _)) if rest.chars().count() > 60 => format!("{lead}{}…", &rest[..i]),
+        _ => format!("{lead}{rest}"),
+    }
+}
+
 fn differences(old: &Value, new: &Value) -> String {
     let (Some(a), Some(b)) = (old.as_object(), new.as_object()) else {
         return "other parameters".into();
@@ -454,21 +520,15 @@ fn differences(old: &Value, new: &Value) -> String {
         .iter()
         .filter(|(k, v)| a.get(*k) != Some(*v))
         .map(|(k, v)| {
-            let short = |v: &Value| {
-                let t = v.to_string();
-                if t.len() > 60 {
-                    format!(
-                        "{}…",
-                        &t[..t.char_indices().nth(57).map_or(t.len(), |(i, _)| i)]
-                    )
-                } else {
-                    t
-                }
-            };
+            let old = a.get(k).map(Value::to_string);
+            let new = v.to_string();
+            // Long values (a configuration's whole dump) are shown around their first
+            // difference, from the start of the field that holds it.
+            let from = old.as_deref().map_or(0, |o| field_start(o, &new));
             format!(
                 "{k}: {} here, {} now",
-                a.get(k).map_or("absent".into(), short),
-                short(v)
+                old.as_deref().map_or("absent".into(), |o| excerpt(o, from)),
+                excerpt(&new, from)
             )
         })
         .collect();
@@ -523,6 +583,44 @@ mod tests {
         assert!(dir.path().join("notes.txt").exists(), "foreign files stay");
         drop(r);
         assert!(!dir.path().join(LOCK).exists());
+    }
+
+    /// A run that stopped on an error is reported as such (not as an interrupted run), can be
+    /// retried with `--resume` or replaced with `--force`; a configuration dump that differs in
+    /// one field is reported around that field.
+    #[test]
+    fn a_failed_run_is_named_and_long_parameters_show_their_difference() {
+        let dir = tempfile::tempdir().unwrap();
+        let r = RunDir::claim(dir.path(), KIND, json!({"a": 1}), Start::Fresh).unwrap();
+        std::fs::write(dir.path().join("results.h5"), "x").unwrap();
+        r.fail("Polonsky–Keer did not converge").unwrap();
+        drop(r);
+        let e = RunDir::claim(dir.path(), KIND, json!({"a": 1}), Start::Fresh).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            text.contains("stopped on an error (Polonsky–Keer did not converge)")
+                && text.contains("--force starts it over"),
+            "{text}"
+        );
+        drop(RunDir::claim(dir.path(), KIND, json!({"a": 1}), Start::Resume).unwrap());
+        drop(RunDir::claim(dir.path(), KIND, json!({"a": 1}), Start::Force).unwrap());
+
+        let dump = |cycles: u32| {
+            json!({"case": format!(
+                "WearCase {{ fretting: LoopCase {{ radius: 0.000105, e: 210000000000.0, nu: 0.3, \
+                 friction: 0.3, force: 0.08 }}, law: Archard, coefficient: 1e-15, cycles: {cycles}, \
+                 step_fraction: 0.0065 }}"
+            )})
+        };
+        let text = differences(&dump(300), &dump(400));
+        assert!(
+            text.contains("…cycles: 300, step_fraction") && text.contains("…cycles: 400, step"),
+            "{text}"
+        );
+        assert_eq!(
+            differences(&json!({"a": 1}), &json!({"a": 2})),
+            "a: 1 here, 2 now"
+        );
     }
 
     #[test]

@@ -187,7 +187,9 @@ pub fn run(args: FrettingArgs) -> Result<(), CliError> {
     if let Err(e) = result {
         // Keep what was done: the checkpoint holds the last good state.
         let _ = write_record(&checkpoint, &checkpoint_record(&sim));
-        return Err(fretting_error(e));
+        let e = fretting_error(e);
+        run_dir.fail(&e.to_string())?;
+        return Err(e);
     }
     if checkpoints.stopped {
         return Ok(());

@@ -154,7 +154,9 @@ pub fn run_loop(args: FrettingLoopArgs) -> Result<(), CliError> {
     if let Err(e) = outcome {
         // Keep what was done: the checkpoint holds the increments before the failing one.
         let _ = write_record(&checkpoint, &snapshot_record(&lp.snapshot(), (n, n)));
-        return Err(e.into());
+        let e = CliError::from(e);
+        run_dir.fail(&e.to_string())?;
+        return Err(e);
     }
     if stopped {
         return Ok(());

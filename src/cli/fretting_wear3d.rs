@@ -103,7 +103,8 @@ pub fn run(args: FrettingWear3dArgs) -> Result<(), CliError> {
     let mut run = if args.resume {
         if !checkpoint.exists() {
             return Err(CliError::Spec(format!(
-                "--resume: {} has no checkpoint.npz",
+                "--resume: {} has no checkpoint.npz (the run stopped before its first \
+                 checkpoint was written): --force starts it over",
                 args.out.display()
             )));
         }
@@ -125,7 +126,9 @@ pub fn run(args: FrettingWear3dArgs) -> Result<(), CliError> {
         // What was done stays: the results so far, and the checkpoint of the last whole step
         // (the failing step's cycle is not in it).
         write_record(&args.out.join("results.h5"), &wear3d_results_record(&run))?;
-        return Err(e.into());
+        let e = CliError::from(e);
+        run_dir.fail(&e.to_string())?;
+        return Err(e);
     }
     if checkpoints.stopped {
         return Ok(());
