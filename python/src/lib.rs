@@ -413,7 +413,8 @@ impl PyFrettingLoop {
 
 /// A Python value as TOML data for serde (`config::from_table`): dicts with string keys (a `None`
 /// value is an absent key: the default), lists and tuples, strings, booleans, integers (64-bit),
-/// floats; an object with a `spec()` method (an `Inhomogeneity`) is its `kind:key=value` spec.
+/// floats, NumPy arrays and scalars (as their `tolist()`); an object with a `spec()` method (an
+/// `Inhomogeneity`) is its `kind:key=value` spec.
 /// `path` names the value in errors (`config['grid']`).
 fn toml_value(value: &Bound<'_, PyAny>, path: &str) -> PyResult<toml::Value> {
     use toml::Value;
@@ -422,6 +423,11 @@ fn toml_value(value: &Bound<'_, PyAny>, path: &str) -> PyResult<toml::Value> {
     }
     if value.is_instance_of::<PyFloat>() {
         return Ok(Value::Float(value.extract()?));
+    }
+    // NumPy arrays and scalars (an `ndarray` has `__index__`, which fails for floats and
+    // arrays): their Python values (`tolist()`: a number, or nested lists).
+    if !value.is_instance_of::<PyInt>() && value.hasattr("tolist")? && value.hasattr("dtype")? {
+        return toml_value(&value.call_method0("tolist")?, path);
     }
     if value.is_instance_of::<PyInt>() || value.hasattr("__index__")? {
         return value.extract::<i64>().map(Value::Integer).map_err(|_| {

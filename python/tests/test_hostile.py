@@ -155,6 +155,24 @@ def test_hostile_input_raises_a_typed_error_naming_the_argument(k):
     assert time.monotonic() - start < 10, "refused up front"
 
 
+def test_numpy_values_in_a_config_are_their_python_values():
+    """NumPy scalars and arrays in a config dict are read as their `tolist()` values (an
+    `ndarray` has `__index__`, which used to send a 0-d float array or a list to the integer path
+    and its misleading "beyond 64 bits" error): the same loop as with plain Python values."""
+    import numpy as np
+
+    plain = hs.FrettingLoop(SMALL)
+    given = hs.FrettingLoop({**SMALL, "grid": np.int64(16), "shift_step": np.array(0.02e-6),
+                             "normal_steps": np.array([2])[0]})
+    assert len(given) == len(plain)
+    wear = {"law": "archard", "coefficient": 1e-12, "body": "gap", "cycles": 10,
+            "record_cycles": np.array([5])}
+    with pytest.raises(HalfspaceError) as info:  # a record cycle is fine; the grid is not
+        hs.fretting_wear3d({**SMALL, "grid": np.int64(3), "wear": wear})
+    assert "beyond 64 bits" not in str(info.value), str(info.value)
+    assert "grid" in str(info.value), str(info.value)
+
+
 def _interrupt(body: str, after: float) -> tuple[int, str, float]:
     """Runs `body` (Python) in a fresh interpreter, sends SIGINT `after` seconds after it prints
     'started', and returns (exit code, stderr, seconds from the signal to the process's end)."""
