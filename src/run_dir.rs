@@ -168,6 +168,12 @@ impl RunDir {
                 reason: "--resume: no interrupted run here (it has no checkpoints: the directory does not exist)".into(),
             });
         }
+        if dir.exists() && !dir.is_dir() {
+            return Err(RunDirError::Occupied {
+                dir: dir.to_path_buf(),
+                reason: "is a file, not a directory: choose a directory for --out".into(),
+            });
+        }
         std::fs::create_dir_all(dir).map_err(io)?;
         let lock = dir.join(LOCK);
         take_lock(dir, &lock)?;
@@ -621,6 +627,16 @@ mod tests {
             differences(&json!({"a": 1}), &json!({"a": 2})),
             "a: 1 here, 2 now"
         );
+    }
+
+    #[test]
+    fn a_file_given_as_the_directory_is_refused_and_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("results");
+        std::fs::write(&file, "mine").unwrap();
+        let e = RunDir::claim(&file, KIND, json!({}), Start::Force).unwrap_err();
+        assert!(e.to_string().contains("is a file, not a directory"), "{e}");
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine");
     }
 
     #[test]

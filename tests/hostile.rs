@@ -1394,7 +1394,7 @@ fn messages_name_the_input_the_rule_and_the_value() {
             "homogeneous",
         ),
         ("normal_steps = -3\n", vec!["normal_steps"], "homogeneous"),
-        ("grid = 1\n", vec!["grid", "≥ 2"], "homogeneous"),
+        ("grid = 1\n", vec!["grid", "≥ 8"], "homogeneous"),
         ("nu = 0.5\n", vec!["nu", "0.5"], "homogeneous"),
         (
             "layout = \"gap-centred\"\n",

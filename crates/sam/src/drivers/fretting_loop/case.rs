@@ -588,11 +588,12 @@ impl LoopCase {
                 allowed: "≥ 1",
             });
         }
-        if self.grid < 2 {
+        // The surface grid's own minimum (`SurfaceGrid::square`), stated here first.
+        if self.grid < 8 {
             return Err(SamError::InvalidParameter {
                 name: "grid (cells per side)",
                 value: self.grid as f64,
-                allowed: "≥ 2",
+                allowed: "≥ 8",
             });
         }
         // The scales of the loop (a, the cell, the Hertz pressure) must be normal numbers: a
