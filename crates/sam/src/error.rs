@@ -77,6 +77,32 @@ pub enum SamError {
         /// The limit (m).
         limit: f64,
     },
+    /// A wear run under approach control whose wear has removed the interference: the normal
+    /// force at the end of a computed cycle has fallen below [`WORN_OUT_OF_LOAD_FRACTION`] of the
+    /// Hertz force of the approach (docs/wear3d.md, "A wear that removes the load"). The step is
+    /// not applied; the run's state before it is intact.
+    ///
+    /// [`WORN_OUT_OF_LOAD_FRACTION`]: crate::drivers::fretting_wear3d::WORN_OUT_OF_LOAD_FRACTION
+    #[error(
+        "after {cycles} cycles the normal force under the fixed approach {approach:e} m has fallen \
+         to {force:e} N, {ratio:e} of the unworn contact's {hertz:e} N: the wear has removed the \
+         load (largest worn depth {depth:e} m); the run stops here with its results so far (ask \
+         for fewer cycles, or use force control)"
+    )]
+    WornOutOfLoad {
+        /// Cycles reached.
+        cycles: u64,
+        /// The normal force at the end of the cycle (N).
+        force: f64,
+        /// The Hertz force of the approach, unworn (N).
+        hertz: f64,
+        /// `force / hertz`.
+        ratio: f64,
+        /// The largest worn depth (m).
+        depth: f64,
+        /// The approach δ (m).
+        approach: f64,
+    },
     /// Tractions on cells outside the candidate region of the surface-response operator
     /// (docs/theory-sam.md#surface-response-operator): the contact grew past the cells the operator
     /// was built for.

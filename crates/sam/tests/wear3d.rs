@@ -8,7 +8,7 @@ use std::ops::ControlFlow;
 
 use halfspace_sam::contact::NestedParams;
 use halfspace_sam::drivers::fretting_wear3d::{
-    checkerboard_compliance, FrettingWear3d, WearCase, WearLaw, WornBody,
+    checkerboard_compliance, FrettingWear3d, WearCase, WearLaw, WornBody, WORN_OUT_OF_LOAD_FRACTION,
 };
 use halfspace_sam::eim::{Inhomogeneity, Shape};
 use halfspace_sam::{Body, Compliance, SamError, SurfaceGrid};
@@ -364,4 +364,54 @@ fn a_gauged_wear_run_resumes_bit_for_bit_and_old_checkpoints_only_on_plain() {
     );
     let resumed: FrettingWear3d = support::resumed(&plain, legacy);
     resumed.assert_same_end(&full);
+}
+
+/// Under approach control a wear that removes the interference stops with
+/// `SamError::WornOutOfLoad` once the normal force falls below `WORN_OUT_OF_LOAD_FRACTION` of the
+/// Hertz force of the approach (it used to run on in ΔN = 1 steps until the contact solve failed
+/// to converge on the vanishing load: the audit's 16² twin at ten times the gross-slip amplitude,
+/// after 268 of 300 cycles). The steps before it stay and the stopping step is not applied; the
+/// MDR twin (partial slip, whose wear rate vanishes in Popov's limit while the load stays) is
+/// not stopped by it (the other tests here run it to the end).
+#[test]
+fn a_wear_that_removes_the_load_under_approach_control_stops_with_a_message() {
+    let mut case = twin(16, 0.3);
+    case.fretting.amplitude = 1e-6;
+    case.fretting.shift_step = 1e-6;
+    case.law = WearLaw::Archard {
+        coefficient: 1.5430335e-12,
+    };
+    let approach = case.fretting.approach.expect("approach control");
+    let hertz = case.fretting.hertz_force();
+    let mut run = FrettingWear3d::new(case.clone()).expect("valid case");
+    let err = loop {
+        match run.step() {
+            Ok(Some(_)) => continue,
+            Ok(None) => panic!("the run ended without the stop"),
+            Err(e) => break e,
+        }
+    };
+    let SamError::WornOutOfLoad {
+        cycles,
+        force,
+        hertz: h,
+        ratio,
+        depth,
+        approach: d,
+    } = err
+    else {
+        panic!("{err}");
+    };
+    assert!((0.0..WORN_OUT_OF_LOAD_FRACTION).contains(&ratio), "{ratio}");
+    assert_eq!((d, h, force / hertz), (approach, hertz, ratio));
+    // Nothing of the stopping step is applied: the history ends at the cycle before it.
+    let last = run.history().last().expect("rows");
+    assert_eq!(last.cycles + last.delta_cycles, cycles);
+    assert!(cycles < 268 && cycles > 10, "{cycles}");
+    assert!(
+        depth > 0.9 * approach && depth < approach,
+        "{depth} of {approach}"
+    );
+    let text = err.to_string();
+    assert!(text.contains("removed the load") && text.contains(&format!("{cycles} cycles")));
 }

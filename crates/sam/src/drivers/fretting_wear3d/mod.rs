@@ -21,5 +21,5 @@ pub use case::{
 pub use laws::{WearLaw, WornBody};
 pub use run::{
     checkerboard_compliance, CycleEigen, FrettingWear3d, WearRecord, WearRow, WearSeconds,
-    WearSnapshot,
+    WearSnapshot, WORN_OUT_OF_LOAD_FRACTION,
 };

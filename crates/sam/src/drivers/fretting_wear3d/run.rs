@@ -105,6 +105,13 @@ pub struct WearRecord {
 /// ([`FrettingWear3d::step`]); above it the last cycle alone is the start.
 pub const MAX_CYCLE_RATIO: f64 = 2.0;
 
+/// Under approach control, the normal force at the end of a computed cycle over the Hertz force
+/// of the approach below which the run stops with [`SamError::WornOutOfLoad`]: the wear has
+/// removed the interference and the load decays toward 0 (on the 16² twin at ten times the
+/// gross-slip amplitude the dissipation falls by ≈ 8 % a cycle, and the contact solve failed near
+/// 1e-10 of the first cycle's).
+pub const WORN_OUT_OF_LOAD_FRACTION: f64 = 1e-6;
+
 /// The converged eigenstrains and eigen-displacements of every increment of one computed cycle
 /// (with inhomogeneities, on the nested path): increment `j`'s eigenstrains are
 /// `eigenstrain[j·m..(j+1)·m]` (`m` = 6 per inclusion cell) and its `u_c^eig` are
@@ -601,7 +608,10 @@ impl FrettingWear3d {
     /// final state without wear. Returns the row, or `None` when the run is complete. Refuses
     /// ([`SamError::WornIntoInhomogeneity`], nothing applied) a step that would wear the flat over
     /// an inhomogeneity deeper than [`WearCase::inhomogeneity_depth_cells`] cells (the contact state and
-    /// the cycle predictor's store have moved on: resume from the last snapshot).
+    /// the cycle predictor's store have moved on: resume from the last snapshot), and, under
+    /// approach control, a step whose normal force has fallen below [`WORN_OUT_OF_LOAD_FRACTION`]
+    /// of the Hertz force of the approach ([`SamError::WornOutOfLoad`]: the wear has removed the
+    /// load; nothing applied).
     pub fn step(&mut self) -> Result<Option<&WearRow>, SamError> {
         if self.done {
             return Ok(None);
@@ -757,6 +767,26 @@ impl FrettingWear3d {
             f64::INFINITY
         };
         let dn = accuracy.min(stability).min(cap).floor().max(1.0) as u64;
+        // Under approach control the wear can remove the interference: the load decays toward
+        // 0 while the stability bound keeps ΔN small — a run of steps that wear ever less until
+        // the contact solve can no longer resolve the load. Stopped here, with a message, once
+        // the force falls below WORN_OUT_OF_LOAD_FRACTION of the Hertz force of the approach.
+        // (Not a rule on the wear rate: in Popov's limit of partial slip the rate vanishes while
+        // the stick zone keeps the load.)
+        if let Some(approach) = self.case.fretting.approach {
+            let hertz = self.case.fretting.hertz_force();
+            let force = self.solver.problem().state().force;
+            if force < WORN_OUT_OF_LOAD_FRACTION * hertz {
+                return Err(SamError::WornOutOfLoad {
+                    cycles: self.cycles,
+                    force,
+                    hertz,
+                    ratio: force / hertz,
+                    depth: row.max_wear_depth,
+                    approach,
+                });
+            }
+        }
         if self.over_inhomogeneity.iter().any(|&b| b) {
             let limit = self.case.inhomogeneity_depth_cells
                 * 2.0
