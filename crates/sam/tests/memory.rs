@@ -9,6 +9,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use halfspace_sam::contact::{ContactParams, ContactProblem, GridWindow};
 use halfspace_sam::drivers::fretting_loop::{FrettingLoop, LoopCase};
 use halfspace_sam::eim::{Inhomogeneity, Shape};
+use halfspace_sam::indenter::Indenter;
 use halfspace_sam::memory::problem_bytes;
 use halfspace_sam::normal::NormalLoad;
 use halfspace_sam::{Body, Compliance, SurfaceGrid};
@@ -84,13 +85,7 @@ fn held_by_sphere_problem(
     if !coupled {
         compliance = compliance.uncoupled();
     }
-    let n = grid.n2;
-    let geometry: Vec<f64> = (0..grid.len())
-        .map(|k| {
-            let (x, y) = grid.centre(k / n, k % n);
-            (x * x + y * y) / (2.0 * R)
-        })
-        .collect();
+    let geometry = Indenter::sphere(R).gap(&grid).unwrap();
     let params = ContactParams {
         friction: 0.3,
         ..Default::default()
